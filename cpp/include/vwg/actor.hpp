@@ -1,0 +1,135 @@
+// Actors (paper §II.B.3): λ rewrites an actor for an event it responds to (eq. 4), θ shows it as a
+// string with no actors for a visual event (eq. 6). An ActorBehavior implements both for one type.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "vwg/alphabet.hpp"
+#include "vwg/event.hpp"
+#include "vwg/value.hpp"
+#include "vwg/world_string.hpp"
+
+namespace vwg {
+
+/// One actor a<attr> being evolved or shown: its type and attribute values, readable and (for λ)
+/// writable in place. Attribute i is the i-th of the type's schema.
+class ActorState {
+ public:
+  ActorState() = default;
+  /// Load the actor at node `index` of `s`.
+  void load(const WorldString& s, std::size_t index);
+  /// A fresh actor of type `id` with the given attributes (checked against the schema).
+  void assign(const Alphabet& alphabet, SymbolId id, std::span<const Datum> attributes);
+
+  SymbolId symbol() const { return symbol_; }
+  const SymbolInfo& info() const { return *info_; }
+  std::size_t size() const { return store_.size(); }
+  /// Index of the attribute `name`; throws SchemaError if the type has none.
+  std::size_t index_of(std::string_view name) const;
+
+  const Value& value(std::size_t i) const { return store_[static_cast<std::uint32_t>(i)]; }
+  Datum get(std::size_t i) const;
+  std::int64_t get_int(std::size_t i) const;
+  double get_real(std::size_t i) const;
+  double get_number(std::size_t i) const;  ///< Int or Real as double
+  bool get_bool(std::size_t i) const;
+  std::string_view get_text(std::size_t i) const;
+  const std::shared_ptr<const Blob>& get_blob(std::size_t i) const;
+  /// The actor's `id` attribute, if its type has one.
+  std::optional<std::int64_t> id() const;
+
+  void set(std::size_t i, const Datum& d);  ///< checked against the schema
+  void set_int(std::size_t i, std::int64_t v);
+  void set_real(std::size_t i, double v);  ///< throws SchemaError for NaN or infinity
+  void set_bool(std::size_t i, bool v);
+  void set_text(std::size_t i, std::string_view v);
+  void set_blob(std::size_t i, std::shared_ptr<const Blob> v);
+  /// Write access to a blob attribute: copied first if anyone else holds it (copy-on-write).
+  Blob& mutable_blob(std::size_t i);
+
+  const ValueStore& store() const { return store_; }
+
+ private:
+  void expect(std::size_t i, ValueKind kind) const;
+  SymbolId symbol_ = 0;
+  const SymbolInfo* info_ = nullptr;
+  ValueStore store_;  // attribute i is store_[i]; replaced text and blobs leave garbage until load
+};
+
+/// Canonical text of the actor, e.g. `ARobot<id=1, row=3, ...>`.
+std::string to_text(const ActorState& actor);
+
+/// What λ and θ know about the frame. `seed` is unique to (engine seed, frame, actor position,
+/// event position), so a random decision is reproducible.
+struct EvolutionContext {
+  std::uint64_t frame = 0;
+  double time = 0.0;
+  std::uint64_t seed = 0;
+};
+
+/// The result of one λ call. By default the actor stays one actor (its state, maybe changed in
+/// place). A behavior that returns any other string — ε, several symbols, the actor inside
+/// transformations — calls replace() and builds it.
+class Replacement {
+ public:
+  explicit Replacement(std::shared_ptr<const Alphabet> alphabet) : builder_(std::move(alphabet)) {}
+  /// Start (or continue) building the replacement string; include the actor with builder.actor(state).
+  StringBuilder& replace() {
+    replaced_ = true;
+    return builder_;
+  }
+  /// Replace by a ready-made string.
+  void replace_with(const WorldString& s) { replace().append(s); }
+  bool replaced() const { return replaced_; }
+  WorldString finish() {
+    replaced_ = false;
+    return builder_.finish();
+  }
+
+ private:
+  StringBuilder builder_;
+  bool replaced_ = false;
+};
+
+/// Numeric and boolean attribute columns of many actors of one type, for batch λ. Column j holds
+/// attribute j for every actor; text and blob attributes have empty columns (read-only in batch).
+struct ActorBatch {
+  SymbolId symbol = 0;
+  std::size_t count = 0;
+  std::vector<std::shared_ptr<std::vector<std::int64_t>>> ints;   // per attribute, or null
+  std::vector<std::shared_ptr<std::vector<double>>> reals;        // per attribute, or null
+  std::vector<std::shared_ptr<std::vector<std::uint8_t>>> bools;  // per attribute, or null
+};
+
+/// λ and θ of one actor type. Subclass in C++, or define an actor class in Python.
+class ActorBehavior {
+ public:
+  virtual ~ActorBehavior() = default;
+
+  /// λ(a, e) for an event whose type is in H (others never reach it; the actor stays unchanged,
+  /// eq. 4 last case). Change `self` in place, or build another string through `out`.
+  virtual void evolve(ActorState& self, const EventView& e, const EvolutionContext& ctx,
+                      Replacement& out) = 0;
+
+  /// θ(a, e) for a visual event in H ∩ V: append a string with no actors to `out`. Appending
+  /// nothing is ε (eq. 6). The default shows nothing.
+  virtual void visualize(const ActorState& self, const EventView& e, const EvolutionContext& ctx,
+                         StringBuilder& out) {
+    (void)self, (void)e, (void)ctx, (void)out;
+  }
+
+  /// True if λ runs over all actors of the type at once through evolve_batch. A batch behavior
+  /// keeps every actor a single actor of its type and changes only Int, Real and Bool attributes.
+  virtual bool batched() const { return false; }
+  /// Batch λ for one event over the actors in `batch` (those that receive it), in string order.
+  virtual void evolve_batch(ActorBatch& batch, const EventView& e, const EvolutionContext& ctx) {
+    (void)batch, (void)e, (void)ctx;
+  }
+};
+
+}  // namespace vwg

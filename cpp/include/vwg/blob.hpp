@@ -1,0 +1,69 @@
+// A large attribute value (an occupancy grid, an image, a path): an n-dimensional array held by
+// reference from the world string, shared between frames and copied only when written
+// (DESIGN.md choice 4).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string_view>
+#include <vector>
+
+namespace vwg {
+
+enum class DType : std::uint8_t { Int8, UInt8, Int16, Int32, Int64, Float32, Float64 };
+
+/// Size in bytes of one element of `dtype`.
+std::size_t dtype_size(DType dtype);
+/// numpy-style name: "int8", "uint8", ..., "float64".
+std::string_view dtype_name(DType dtype);
+/// Inverse of dtype_name; throws vwg::SchemaError for an unknown name.
+DType dtype_from_name(std::string_view name);
+
+/// An owned, contiguous, C-ordered array. Once a Blob is shared (held by a string, a snapshot or
+/// Python), it is treated as immutable: writers go through copy-on-write (ActorState::mutable_blob).
+class Blob {
+ public:
+  /// A zero-filled array of the given type and shape (each extent >= 0, at most 4 dimensions).
+  Blob(DType dtype, std::vector<std::int64_t> shape);
+  /// An array initialised from `nbytes` bytes at `data`; `nbytes` must match dtype and shape.
+  Blob(DType dtype, std::vector<std::int64_t> shape, const void* data, std::size_t nbytes);
+
+  DType dtype() const { return dtype_; }
+  std::span<const std::int64_t> shape() const { return shape_; }
+  std::size_t ndim() const { return shape_.size(); }
+  std::size_t size() const { return size_; }  ///< number of elements
+  std::size_t nbytes() const { return bytes_.size(); }
+  const std::byte* data() const { return bytes_.data(); }
+  /// Write access; forgets the cached hash. Only the sole owner may write (see class comment).
+  std::byte* mutable_data() {
+    hash_valid_ = false;
+    return bytes_.data();
+  }
+
+  template <class T>
+  std::span<const T> view() const {
+    return {reinterpret_cast<const T*>(bytes_.data()), size_};
+  }
+  template <class T>
+  std::span<T> mutable_view() {
+    return {reinterpret_cast<T*>(mutable_data()), size_};
+  }
+
+  /// A stable 64-bit hash of dtype, shape and bytes; the blob's name in the text form (`@hex`).
+  std::uint64_t content_hash() const;
+  /// Same dtype, shape and bytes.
+  bool same_content(const Blob& other) const;
+  std::shared_ptr<Blob> clone() const;
+
+ private:
+  DType dtype_;
+  std::vector<std::int64_t> shape_;
+  std::size_t size_ = 0;
+  std::vector<std::byte> bytes_;
+  mutable std::uint64_t hash_ = 0;
+  mutable bool hash_valid_ = false;
+};
+
+}  // namespace vwg

@@ -1,0 +1,85 @@
+// The system algorithm (paper §II.D):
+//   w = w0; t = 0
+//   while w ≠ ε:  S = events of all generators in priority order;  Z = visual events of S
+//                 w_next = η(w, S);  v = π(w, Z);  φ(v, G);  w = w_next;  t = t + 1
+// A frame is all or nothing: if any step throws, w and t stay as they were after the last
+// complete frame.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "vwg/backend.hpp"
+#include "vwg/event.hpp"
+#include "vwg/generator.hpp"
+#include "vwg/semantics.hpp"
+#include "vwg/world_string.hpp"
+
+namespace vwg {
+
+struct EngineOptions {
+  double dt = 0.1;          ///< simulated seconds per frame
+  std::uint64_t seed = 0;   ///< fixes every random choice of generators and actors
+};
+
+/// What one frame did, handed to frame observers (recorders, viewers) after the frame completes.
+struct FrameRecord {
+  std::uint64_t frame;
+  double time;
+  const WorldString& before;  ///< w at the start of the frame
+  const EventList& events;    ///< S
+  const WorldString& after;   ///< w_next
+};
+
+/// Why run() returned.
+enum class StopReason { Empty, FrameLimit, Requested };
+
+class Engine {
+ public:
+  using Observer = std::function<void(const FrameRecord&)>;
+
+  /// `generators` in priority order (first = highest). `backend` may be null (φ is skipped).
+  Engine(WorldString initial, std::vector<std::shared_ptr<Generator>> generators,
+         std::shared_ptr<Backend> backend, EngineOptions options = {});
+
+  /// Run one frame; returns false (and does nothing) if w = ε.
+  bool step();
+  /// One frame with the given events instead of the generators' (replaying a record).
+  bool step_with(const EventList& events);
+  /// Run until w = ε, `max_frames` more frames have run, or request_stop() was called.
+  StopReason run(std::uint64_t max_frames);
+  /// Ask run() to stop after the current frame (safe from another thread or a callback).
+  void request_stop() { stop_requested_ = true; }
+
+  const WorldString& string() const { return w_; }
+  /// Replace w (e.g. to load a snapshot); the frame counter is kept.
+  void set_string(WorldString w);
+  std::uint64_t frame() const { return frame_; }
+  double time() const { return static_cast<double>(frame_) * options_.dt; }
+  const EngineOptions& options() const { return options_; }
+  const EventList& last_events() const { return last_events_; }
+  const std::shared_ptr<Backend>& backend() const { return backend_; }
+  const std::vector<std::shared_ptr<Generator>>& generators() const { return generators_; }
+
+  /// Called after every completed frame, in the order added.
+  void add_observer(Observer observer) { observers_.push_back(std::move(observer)); }
+
+  /// The events the generators give for the current frame (used by step()).
+  EventList collect_events();
+
+ private:
+  bool run_frame(const EventList& events);
+  WorldString w_;
+  std::vector<std::shared_ptr<Generator>> generators_;
+  std::shared_ptr<Backend> backend_;
+  EngineOptions options_;
+  std::uint64_t frame_ = 0;
+  EventList last_events_;
+  std::vector<Observer> observers_;
+  std::atomic<bool> stop_requested_{false};
+};
+
+}  // namespace vwg

@@ -1,0 +1,49 @@
+// Event generators C^d : Time → (E^D)* (paper eq. 10). The engine asks each generator, in its
+// priority order, for the frame's events; earlier generators' events come first in S.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "vwg/event.hpp"
+#include "vwg/world_string.hpp"
+
+namespace vwg {
+
+/// The time instant a generator is asked about.
+struct FrameInfo {
+  std::uint64_t frame = 0;  ///< t in the system algorithm
+  double time = 0.0;        ///< simulated seconds: frame * dt
+  double dt = 0.1;          ///< seconds per frame
+  const WorldString* world = nullptr;  ///< the string w the events will be applied to
+};
+
+class Generator {
+ public:
+  virtual ~Generator() = default;
+  /// Append this frame's events to `out` (zero, one or several).
+  virtual void generate(const FrameInfo& frame, EventList& out) = 0;
+  /// Called once before the first frame with a seed derived from the engine's seed and the
+  /// generator's position, so random generators are reproducible.
+  virtual void reset(std::uint64_t seed) { (void)seed; }
+  /// A short name for messages ("every_frame(tick)", "gLaser").
+  virtual std::string name() const { return "generator"; }
+};
+
+/// One event of a fixed type (and fields) every frame: the paper's gDecide and gExecute.
+class EveryFrameGenerator final : public Generator {
+ public:
+  /// Fields are checked against the event type's schema here, not every frame.
+  EveryFrameGenerator(const Alphabet& alphabet, std::string_view type,
+                      std::vector<Datum> fields = {}, std::int64_t target = kNoTarget);
+  void generate(const FrameInfo& frame, EventList& out) override;
+  std::string name() const override;
+
+ private:
+  EventTypeId type_;
+  std::vector<Datum> fields_;
+  std::int64_t target_;
+  std::string name_;
+};
+
+}  // namespace vwg

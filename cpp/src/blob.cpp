@@ -1,0 +1,92 @@
+#include "vwg/blob.hpp"
+
+#include <cstring>
+#include <string>
+
+#include "vwg/error.hpp"
+#include "vwg/hash.hpp"
+
+namespace vwg {
+
+std::size_t dtype_size(DType dtype) {
+  switch (dtype) {
+    case DType::Int8:
+    case DType::UInt8:
+      return 1;
+    case DType::Int16:
+      return 2;
+    case DType::Int32:
+    case DType::Float32:
+      return 4;
+    case DType::Int64:
+    case DType::Float64:
+      return 8;
+  }
+  return 1;
+}
+
+std::string_view dtype_name(DType dtype) {
+  switch (dtype) {
+    case DType::Int8: return "int8";
+    case DType::UInt8: return "uint8";
+    case DType::Int16: return "int16";
+    case DType::Int32: return "int32";
+    case DType::Int64: return "int64";
+    case DType::Float32: return "float32";
+    case DType::Float64: return "float64";
+  }
+  return "?";
+}
+
+DType dtype_from_name(std::string_view name) {
+  for (DType d : {DType::Int8, DType::UInt8, DType::Int16, DType::Int32, DType::Int64,
+                  DType::Float32, DType::Float64}) {
+    if (dtype_name(d) == name) return d;
+  }
+  throw SchemaError("dtype", "unknown dtype '" + std::string(name) +
+                                 "'; expected int8, uint8, int16, int32, int64, float32 or float64");
+}
+
+namespace {
+std::size_t element_count(const std::vector<std::int64_t>& shape) {
+  if (shape.size() > 4) throw SchemaError("shape", "a blob has at most 4 dimensions");
+  std::size_t n = 1;
+  for (std::int64_t extent : shape) {
+    if (extent < 0) throw SchemaError("shape", "negative extent " + std::to_string(extent));
+    n *= static_cast<std::size_t>(extent);
+  }
+  return n;
+}
+}  // namespace
+
+Blob::Blob(DType dtype, std::vector<std::int64_t> shape)
+    : dtype_(dtype), shape_(std::move(shape)), size_(element_count(shape_)),
+      bytes_(size_ * dtype_size(dtype)) {}
+
+Blob::Blob(DType dtype, std::vector<std::int64_t> shape, const void* data, std::size_t nbytes)
+    : Blob(dtype, std::move(shape)) {
+  if (nbytes != bytes_.size()) {
+    throw SchemaError("blob", "got " + std::to_string(nbytes) + " bytes, expected " +
+                                  std::to_string(bytes_.size()) + " for this dtype and shape");
+  }
+  if (nbytes) std::memcpy(bytes_.data(), data, nbytes);
+}
+
+std::uint64_t Blob::content_hash() const {
+  if (!hash_valid_) {
+    std::uint64_t h = hash_combine(0x766567ULL, static_cast<std::uint64_t>(dtype_));
+    for (std::int64_t extent : shape_) h = hash_combine(h, static_cast<std::uint64_t>(extent));
+    hash_ = hash_bytes(bytes_.data(), bytes_.size(), h);
+    hash_valid_ = true;
+  }
+  return hash_;
+}
+
+bool Blob::same_content(const Blob& other) const {
+  if (this == &other) return true;
+  return dtype_ == other.dtype_ && shape_ == other.shape_ && bytes_ == other.bytes_;
+}
+
+std::shared_ptr<Blob> Blob::clone() const { return std::make_shared<Blob>(*this); }
+
+}  // namespace vwg

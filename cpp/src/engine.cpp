@@ -1,0 +1,99 @@
+#include "vwg/engine.hpp"
+
+#include <cmath>
+#include <string>
+#include <utility>
+
+#include "vwg/error.hpp"
+#include "vwg/random.hpp"
+#include "vwg/text.hpp"
+
+namespace vwg {
+
+Engine::Engine(WorldString initial, std::vector<std::shared_ptr<Generator>> generators,
+               std::shared_ptr<Backend> backend, EngineOptions options)
+    : w_(std::move(initial)), generators_(std::move(generators)), backend_(std::move(backend)),
+      options_(options), last_events_(w_.alphabet_ptr()) {
+  if (!(options_.dt > 0.0) || !std::isfinite(options_.dt)) {
+    throw SchemaError("EngineOptions.dt", "expected a finite time step > 0, got " + std::to_string(options_.dt));
+  }
+  for (std::size_t k = 0; k < generators_.size(); ++k) {
+    if (!generators_[k]) throw SchemaError("generators[" + std::to_string(k) + "]", "is null");
+    generators_[k]->reset(derive_seed(options_.seed, 0x67656EULL, k));
+  }
+}
+
+void Engine::set_string(WorldString w) {
+  if (w.alphabet_ptr() != w_.alphabet_ptr()) throw Error("set_string: the string uses another alphabet");
+  w_ = std::move(w);
+}
+
+EventList Engine::collect_events() {
+  EventList events(w_.alphabet_ptr());
+  const FrameInfo info{frame_, time(), options_.dt, &w_};
+  for (std::size_t k = 0; k < generators_.size(); ++k) {
+    try {
+      generators_[k]->generate(info, events);
+    } catch (...) {
+      const std::exception_ptr cause = std::current_exception();
+      throw FrameError(frame_, "generate", "", "", "generator " + std::to_string(k) + " '" + generators_[k]->name() + "'",
+                       describe_exception(cause), cause);
+    }
+  }
+  return events;
+}
+
+bool Engine::step() {
+  if (w_.empty()) return false;
+  return run_frame(collect_events());
+}
+
+bool Engine::step_with(const EventList& events) {
+  if (w_.empty()) return false;
+  if (events.alphabet_ptr() != w_.alphabet_ptr()) throw Error("step_with: the events use another alphabet");
+  return run_frame(events);
+}
+
+bool Engine::run_frame(const EventList& events) {
+  const FrameContext ctx{frame_, time(), options_.seed};
+  // η and π both read w; a string with no actors is its own evolution and its own display.
+  const bool has_actors = w_.actor_count() > 0;
+  WorldString next = has_actors ? evolve(w_, events, ctx) : w_;
+  if (backend_) {
+    const FrameInfo info{frame_, time(), options_.dt, &w_};
+    const WorldString shown = has_actors ? visualize(w_, events, ctx) : WorldString(w_.alphabet_ptr());
+    const WorldString& v = has_actors ? shown : w_;
+    std::string where = "backend '" + backend_->name() + "'";
+    try {
+      backend_->begin_frame(info);
+      display(v, *backend_);
+      backend_->end_frame(info);
+    } catch (...) {
+      const std::exception_ptr cause = std::current_exception();
+      throw FrameError(frame_, "display", "", "", where, describe_exception(cause), cause);
+    }
+  }
+  // The frame is complete: commit it, then tell the observers (a failing recorder does not undo
+  // a frame the backend has already run).
+  const WorldString before = std::exchange(w_, std::move(next));
+  last_events_ = events;
+  const std::uint64_t done = frame_++;
+  const FrameRecord record{done, static_cast<double>(done) * options_.dt, before, last_events_, w_};
+  for (const auto& observer : observers_) observer(record);
+  return true;
+}
+
+StopReason Engine::run(std::uint64_t max_frames) {
+  stop_requested_ = false;
+  for (std::uint64_t k = 0; k < max_frames; ++k) {
+    if (w_.empty()) return StopReason::Empty;
+    step();
+    if (stop_requested_) {
+      stop_requested_ = false;
+      return StopReason::Requested;
+    }
+  }
+  return w_.empty() ? StopReason::Empty : StopReason::FrameLimit;
+}
+
+}  // namespace vwg

@@ -1,0 +1,334 @@
+#include "vwg/semantics.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "vwg/error.hpp"
+#include "vwg/random.hpp"
+#include "vwg/text.hpp"
+
+namespace vwg {
+
+namespace {
+
+/// For each actor type, the positions in S of the events it receives (type in H, and visual for
+/// π), computed once per type per call.
+class EventRouting {
+ public:
+  EventRouting(const EventList& events, bool visual_only) : events_(events), visual_only_(visual_only) {}
+
+  const std::vector<std::uint32_t>& for_type(const SymbolInfo& info) {
+    if (info.id >= slot_.size()) slot_.resize(info.id + 1, -1);
+    int& slot = slot_[info.id];
+    if (slot < 0) {
+      slot = static_cast<int>(lists_.size());
+      std::vector<std::uint32_t> list;
+      const Alphabet& A = events_.alphabet();
+      for (std::size_t i = 0; i < events_.size(); ++i) {
+        const EventTypeId type = events_[i].type();
+        if (!info.responds.contains(type)) continue;
+        if (visual_only_ && !A.event_type(type).visual) continue;
+        list.push_back(static_cast<std::uint32_t>(i));
+      }
+      lists_.push_back(std::move(list));
+    }
+    return lists_[static_cast<std::size_t>(slot)];
+  }
+
+ private:
+  const EventList& events_;
+  bool visual_only_;
+  std::vector<int> slot_;
+  std::vector<std::vector<std::uint32_t>> lists_;
+};
+
+bool reaches(const EventView& e, const std::optional<std::int64_t>& actor_id) {
+  return !e.has_target() || (actor_id && *actor_id == e.target());
+}
+
+[[noreturn]] void rethrow_in_frame(const FrameContext& ctx, const char* stage, std::string actor,
+                                   std::string event, std::string where) {
+  const std::exception_ptr cause = std::current_exception();
+  try {
+    throw;
+  } catch (const FrameError&) {
+    throw;  // already located (an inner replacement's actor)
+  } catch (...) {
+  }
+  throw FrameError(ctx.frame, stage, std::move(actor), std::move(event), std::move(where),
+                   describe_exception(cause), cause);
+}
+
+// --- η ----------------------------------------------------------------------------------------
+
+class Evolver {
+ public:
+  Evolver(const EventList& events, const FrameContext& ctx) : events_(events), ctx_(ctx), routing_(events, false) {}
+
+  WorldString run(const WorldString& w) {
+    StringBuilder out(w.alphabet_ptr());
+    out.reserve(w.nodes().size() + 16, w.store().size() + 16, w.store().chars_size() + 64);
+    if (w.actor_count() == 0) {
+      out.append_range(w, 0, w.nodes().size());
+    } else {
+      walk(w, 0, out, 0);
+      apply_batches(w.alphabet(), out);
+    }
+    return out.finish();
+  }
+
+ private:
+  struct Level {
+    explicit Level(std::shared_ptr<const Alphabet> a) : replacement(std::move(a)) {}
+    ActorState state;
+    Replacement replacement;
+  };
+  struct BatchMember {
+    std::size_t node;           // index in the output
+    std::uint32_t first_event;  // the member receives events from this position of S on
+  };
+
+  /// Append η(w, S[first_event:]) to `out`.
+  void walk(const WorldString& w, std::uint32_t first_event, StringBuilder& out, std::size_t depth) {
+    const auto nodes = w.nodes();
+    std::size_t run = 0;
+    for (std::size_t i = 0; i < nodes.size(); ++i) {
+      if (nodes[i].kind != NodeKind::Actor) continue;
+      out.append_range(w, run, i);
+      evolve_actor(w, i, first_event, out, depth);
+      run = i + 1;
+    }
+    out.append_range(w, run, nodes.size());
+  }
+
+  Level& level(const Alphabet& A, std::size_t depth, const std::shared_ptr<const Alphabet>& ptr) {
+    (void)A;
+    while (levels_.size() <= depth) levels_.push_back(std::make_unique<Level>(ptr));
+    return *levels_[depth];
+  }
+
+  void evolve_actor(const WorldString& w, std::size_t i, std::uint32_t first_event, StringBuilder& out,
+                    std::size_t depth) {
+    const SymbolInfo& info = w.alphabet().symbol(w.nodes()[i].symbol);
+    const auto& relevant = routing_.for_type(info);
+    auto it = std::lower_bound(relevant.begin(), relevant.end(), first_event);
+    if (!info.behavior || it == relevant.end()) {
+      out.append_node(w, i);  // no event in H: unchanged (eq. 4, last case)
+      return;
+    }
+    if (info.behavior->batched()) {
+      out.append_node(w, i);
+      batches_[info.id].push_back(BatchMember{out.node_count() - 1, first_event});
+      return;
+    }
+    Level& L = level(w.alphabet(), depth, w.alphabet_ptr());
+    ActorState& state = L.state;
+    state.load(w, i);
+    std::optional<std::int64_t> id = state.id();
+    for (; it != relevant.end(); ++it) {
+      const EventView e = events_[*it];
+      if (!reaches(e, id)) continue;
+      const EvolutionContext ectx{ctx_.frame, ctx_.time, derive_seed(derive_seed(ctx_.seed, ctx_.frame, depth), i, *it)};
+      try {
+        info.behavior->evolve(state, e, ectx, L.replacement);
+      } catch (...) {
+        rethrow_in_frame(ctx_, "evolve", to_text(w.node(i)), to_text(e), "string position " + std::to_string(i));
+      }
+      if (L.replacement.replaced()) {
+        // The actors of the returned string take the remaining events (DESIGN.md choice 1).
+        WorldString replacement = L.replacement.finish();
+        walk(replacement, *it + 1, out, depth + 1);
+        return;
+      }
+      id = state.id();
+    }
+    out.actor(state);
+  }
+
+  /// Batch λ: for each batched actor type, the events it receives in S order, each over all the
+  /// members it reaches, on columns of the members' numeric attributes.
+  void apply_batches(const Alphabet& A, StringBuilder& out) {
+    for (auto& [symbol, members] : batches_) {
+      const SymbolInfo& info = A.symbol(symbol);
+      const auto& relevant = routing_.for_type(info);
+      const std::size_t nattr = info.schema.params.size();
+      ActorBatch all;
+      all.symbol = symbol;
+      all.count = members.size();
+      all.ints.resize(nattr);
+      all.reals.resize(nattr);
+      all.bools.resize(nattr);
+      for (std::size_t j = 0; j < nattr; ++j) {
+        switch (info.schema.params[j].kind) {
+          case ValueKind::Int: all.ints[j] = std::make_shared<std::vector<std::int64_t>>(members.size()); break;
+          case ValueKind::Real: all.reals[j] = std::make_shared<std::vector<double>>(members.size()); break;
+          case ValueKind::Bool: all.bools[j] = std::make_shared<std::vector<std::uint8_t>>(members.size()); break;
+          default: break;
+        }
+      }
+      for (std::size_t m = 0; m < members.size(); ++m) {
+        for (std::size_t j = 0; j < nattr; ++j) {
+          const Value& v = out.value(members[m].node, j);
+          if (all.ints[j]) (*all.ints[j])[m] = v.i;
+          if (all.reals[j]) (*all.reals[j])[m] = v.r;
+          if (all.bools[j]) (*all.bools[j])[m] = v.b;
+        }
+      }
+      const int id_attr = info.id_attribute;
+      for (std::uint32_t idx : relevant) {
+        const EventView e = events_[idx];
+        std::vector<std::size_t> rows;
+        for (std::size_t m = 0; m < members.size(); ++m) {
+          if (members[m].first_event > idx) continue;
+          if (e.has_target() && (id_attr < 0 || (*all.ints[static_cast<std::size_t>(id_attr)])[m] != e.target())) continue;
+          rows.push_back(m);
+        }
+        if (rows.empty()) continue;
+        const EvolutionContext ectx{ctx_.frame, ctx_.time, derive_seed(derive_seed(ctx_.seed, ctx_.frame, 1u << 20), symbol, idx)};
+        const std::string where = std::to_string(rows.size()) + " actors in a batch";
+        try {
+          if (rows.size() == members.size()) {
+            info.behavior->evolve_batch(all, e, ectx);
+          } else {
+            ActorBatch sub = gather(all, rows);
+            info.behavior->evolve_batch(sub, e, ectx);
+            scatter(sub, rows, all);
+          }
+          check_finite(info, all);
+        } catch (...) {
+          rethrow_in_frame(ctx_, "evolve", info.name, to_text(e), where);
+        }
+      }
+      for (std::size_t m = 0; m < members.size(); ++m) {
+        for (std::size_t j = 0; j < nattr; ++j) {
+          Value& v = out.value(members[m].node, j);
+          if (all.ints[j]) v.i = (*all.ints[j])[m];
+          if (all.reals[j]) v.r = (*all.reals[j])[m];
+          if (all.bools[j]) v.b = (*all.bools[j])[m] != 0;
+        }
+      }
+    }
+  }
+
+  static ActorBatch gather(const ActorBatch& all, const std::vector<std::size_t>& rows) {
+    ActorBatch sub;
+    sub.symbol = all.symbol;
+    sub.count = rows.size();
+    const std::size_t n = all.ints.size();
+    sub.ints.resize(n);
+    sub.reals.resize(n);
+    sub.bools.resize(n);
+    for (std::size_t j = 0; j < n; ++j) {
+      auto pick = [&](const auto& col, auto& dst) {
+        if (!col) return;
+        dst = std::make_shared<typename std::decay_t<decltype(*col)>>(rows.size());
+        for (std::size_t r = 0; r < rows.size(); ++r) (*dst)[r] = (*col)[rows[r]];
+      };
+      pick(all.ints[j], sub.ints[j]);
+      pick(all.reals[j], sub.reals[j]);
+      pick(all.bools[j], sub.bools[j]);
+    }
+    return sub;
+  }
+
+  static void scatter(const ActorBatch& sub, const std::vector<std::size_t>& rows, ActorBatch& all) {
+    for (std::size_t j = 0; j < all.ints.size(); ++j) {
+      auto put = [&](const auto& src, auto& col) {
+        if (!col) return;
+        for (std::size_t r = 0; r < rows.size(); ++r) (*col)[rows[r]] = (*src)[r];
+      };
+      put(sub.ints[j], all.ints[j]);
+      put(sub.reals[j], all.reals[j]);
+      put(sub.bools[j], all.bools[j]);
+    }
+  }
+
+  static void check_finite(const SymbolInfo& info, const ActorBatch& batch) {
+    for (std::size_t j = 0; j < batch.reals.size(); ++j) {
+      if (!batch.reals[j]) continue;
+      for (double x : *batch.reals[j]) {
+        if (!std::isfinite(x)) {
+          throw SchemaError(info.name + "." + info.schema.params[j].name, "batch λ wrote a non-finite real");
+        }
+      }
+    }
+  }
+
+  const EventList& events_;
+  const FrameContext& ctx_;
+  EventRouting routing_;
+  std::vector<std::unique_ptr<Level>> levels_;
+  std::map<SymbolId, std::vector<BatchMember>> batches_;
+};
+
+}  // namespace
+
+WorldString evolve(const WorldString& w, const EventList& events, const FrameContext& ctx) {
+  if (events.alphabet_ptr() != w.alphabet_ptr()) throw Error("evolve: events and string use different alphabets");
+  Evolver evolver(events, ctx);
+  return evolver.run(w);
+}
+
+// --- π ----------------------------------------------------------------------------------------
+
+WorldString visualize(const WorldString& w, const EventList& events, const FrameContext& ctx) {
+  if (events.alphabet_ptr() != w.alphabet_ptr()) throw Error("visualize: events and string use different alphabets");
+  StringBuilder out(w.alphabet_ptr());
+  out.reserve(w.nodes().size(), w.store().size(), w.store().chars_size());
+  EventRouting routing(events, true);
+  ActorState state;
+  const auto nodes = w.nodes();
+  std::size_t run = 0;
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    if (nodes[i].kind != NodeKind::Actor) continue;
+    out.append_range(w, run, i);
+    run = i + 1;
+    const SymbolInfo& info = w.alphabet().symbol(nodes[i].symbol);
+    if (!info.behavior) continue;  // θ = ε
+    const auto& relevant = routing.for_type(info);
+    if (relevant.empty()) continue;
+    state.load(w, i);
+    const auto id = state.id();
+    for (std::uint32_t idx : relevant) {
+      const EventView e = events[idx];
+      if (!reaches(e, id)) continue;
+      const EvolutionContext ectx{ctx.frame, ctx.time, derive_seed(derive_seed(ctx.seed, ctx.frame, 2u << 20), i, idx)};
+      const std::size_t actors_before = out.actor_count();
+      const std::size_t depth_before = out.depth();
+      try {
+        info.behavior->visualize(state, e, ectx, out);
+        if (out.actor_count() != actors_before) {
+          throw Error("θ must return primitives and transformations only (a string of L(M')), but it returned an actor");
+        }
+        if (out.depth() != depth_before) throw Error("θ left a scope open");
+      } catch (...) {
+        rethrow_in_frame(ctx, "visualize", to_text(w.node(i)), to_text(e), "string position " + std::to_string(i));
+      }
+    }
+  }
+  out.append_range(w, run, nodes.size());
+  return out.finish();
+}
+
+// --- φ ----------------------------------------------------------------------------------------
+
+void display(const WorldString& v, Backend& backend) {
+  const auto nodes = v.nodes();
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    const NodeView node(v, i);
+    switch (nodes[i].kind) {
+      case NodeKind::Primitive: backend.primitive(node); break;
+      case NodeKind::Transformation: backend.open(node); break;
+      case NodeKind::Close: backend.close(node); break;
+      case NodeKind::Actor:
+        throw Error("display: '" + to_text(node) + "' at position " + std::to_string(i) +
+                    " is an actor; only π's output (primitives and transformations) can be displayed");
+    }
+  }
+}
+
+}  // namespace vwg

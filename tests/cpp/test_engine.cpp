@@ -1,0 +1,160 @@
+// The system algorithm (§II.D): generator priority, frames, stopping, and all-or-nothing frames.
+#include <gtest/gtest.h>
+
+#include "helpers.hpp"
+
+using namespace vwg;
+using namespace vwg::testing;
+
+namespace {
+
+class FixedGenerator : public Generator {
+ public:
+  FixedGenerator(std::string type, std::int64_t k) : type_(std::move(type)), k_(k) {}
+  void generate(const FrameInfo&, EventList& out) override { out.emit(type_, {k_}); }
+  std::string name() const override { return type_; }
+
+ private:
+  std::string type_;
+  std::int64_t k_;
+};
+
+class RandomGenerator : public Generator {
+ public:
+  void reset(std::uint64_t seed) override { rng_.reseed(seed); }
+  void generate(const FrameInfo&, EventList& out) override {
+    out.emit("add", {static_cast<std::int64_t>(rng_.below(10))});
+  }
+
+ private:
+  Rng rng_;
+};
+
+std::shared_ptr<Alphabet> counter_alphabet(int fail_at_n = -1) {
+  auto a = std::make_shared<Alphabet>();
+  a->add_primitive("Lamp");
+  a->add_event_type("add", false, schema({integer("k")}));
+  a->add_event_type("mul", false, schema({integer("k")}));
+  a->add_event_type("show", true);
+  const EventTypeId add = *a->find_event_type("add");
+  a->add_actor("Counter", {"add", "mul", "show"}, schema({integer("n", 0)}),
+               std::make_shared<LambdaActor>(
+                   [add, fail_at_n](ActorState& s, const EventView& e, const EvolutionContext&, Replacement& out) {
+                     if (s.get_int(0) == fail_at_n) throw std::runtime_error("n reached " + std::to_string(fail_at_n));
+                     if (e.field_count() == 0) return;  // show: nothing to evolve
+                     const std::int64_t k = e.value(0).i;
+                     const std::int64_t n = e.type() == add ? s.get_int(0) + k : s.get_int(0) * k;
+                     if (n > 100) {
+                       out.replace();  // the counter vanishes past 100, ending the world
+                       return;
+                     }
+                     s.set_int(0, n);
+                   },
+                   [](const ActorState& s, const EventView&, StringBuilder& out) { out.primitive("Lamp", {s.get_int(0)}); }));
+  return a;
+}
+
+}  // namespace
+
+TEST(Engine, GeneratorPriorityOrdersTheEventsOfAFrame) {
+  auto a = counter_alphabet();
+  // Priority [add 2, mul 3]: (1 + 2) * 3 = 9. Priority [mul 3, add 2]: 1 * 3 + 2 = 5.
+  Engine first(parse_string(a, "Counter<n=1>"),
+               {std::make_shared<FixedGenerator>("add", 2), std::make_shared<FixedGenerator>("mul", 3)}, nullptr);
+  first.step();
+  EXPECT_EQ(to_text(first.string()), "Counter<n=9>");
+  Engine second(parse_string(a, "Counter<n=1>"),
+                {std::make_shared<FixedGenerator>("mul", 3), std::make_shared<FixedGenerator>("add", 2)}, nullptr);
+  second.step();
+  EXPECT_EQ(to_text(second.string()), "Counter<n=5>");
+}
+
+TEST(Engine, DisplaysTheStringOfTheFrameBeforeEvolution) {
+  auto a = counter_alphabet();
+  auto trace = std::make_shared<TraceBackend>();
+  auto show = std::make_shared<EveryFrameGenerator>(*a, "show");
+  Engine engine(parse_string(a, "Counter<n=1>"), {std::make_shared<FixedGenerator>("add", 2), show}, trace);
+  engine.step();
+  engine.step();
+  // v = π(w, Z) uses w before η: frame 0 shows n=1, frame 1 shows n=3.
+  const std::vector<std::string> expected = {"frame 0", "alpha Lamp<1>", "frame 1", "alpha Lamp<3>"};
+  EXPECT_EQ(trace->calls(), expected);
+  EXPECT_EQ(to_text(engine.string()), "Counter<n=5>");
+}
+
+TEST(Engine, StopsWhenTheWorldIsEmptyOrAtTheFrameLimit) {
+  auto a = counter_alphabet();
+  // n: 0 -> 30 -> 60 -> 90 -> vanishes at 120 (frame 3): ε after 4 frames.
+  Engine engine(parse_string(a, "Counter<n=0>"), {std::make_shared<FixedGenerator>("add", 30)}, nullptr);
+  EXPECT_EQ(engine.run(2), StopReason::FrameLimit);
+  EXPECT_EQ(engine.frame(), 2u);
+  EXPECT_EQ(engine.run(100), StopReason::Empty);
+  EXPECT_EQ(engine.frame(), 4u);
+  EXPECT_TRUE(engine.string().empty());
+  EXPECT_FALSE(engine.step());
+}
+
+TEST(Engine, StopsOnRequest) {
+  auto a = counter_alphabet();
+  Engine engine(parse_string(a, "Counter<n=0>"), {std::make_shared<FixedGenerator>("add", 0)}, nullptr);
+  engine.add_observer([&](const FrameRecord& r) {
+    if (r.frame == 6) engine.request_stop();
+  });
+  EXPECT_EQ(engine.run(1000), StopReason::Requested);
+  EXPECT_EQ(engine.frame(), 7u);
+}
+
+TEST(Engine, AFailedFrameLeavesTheLastCompleteFrame) {
+  auto a = counter_alphabet(/*fail_at_n=*/20);
+  Engine engine(parse_string(a, "Counter<n=0>"), {std::make_shared<FixedGenerator>("add", 10)}, nullptr);
+  engine.step();  // 0 -> 10
+  engine.step();  // 10 -> 20
+  try {
+    engine.step();  // λ throws at n = 20
+    FAIL() << "no error";
+  } catch (const FrameError& e) {
+    EXPECT_EQ(e.frame(), 2u);
+    EXPECT_EQ(e.actor(), "Counter<n=20>");
+    EXPECT_EQ(e.event(), "add<k=10>");
+  }
+  EXPECT_EQ(engine.frame(), 2u);
+  EXPECT_EQ(to_text(engine.string()), "Counter<n=20>");
+}
+
+TEST(Engine, GeneratorErrorsNameTheGenerator) {
+  class Broken : public Generator {
+    void generate(const FrameInfo&, EventList& out) override { out.emit("add", {1.5}); }  // wrong kind
+    std::string name() const override { return "broken"; }
+  };
+  auto a = counter_alphabet();
+  Engine engine(parse_string(a, "Counter<n=0>"), {std::make_shared<Broken>()}, nullptr);
+  try {
+    engine.step();
+    FAIL() << "no error";
+  } catch (const FrameError& e) {
+    EXPECT_EQ(e.stage(), "generate");
+    EXPECT_NE(e.where().find("broken"), std::string::npos);
+    EXPECT_NE(e.cause_message().find("add.k"), std::string::npos) << e.cause_message();
+  }
+  EXPECT_EQ(engine.frame(), 0u);
+}
+
+TEST(Engine, SameSeedSameTraceOtherSeedOtherTrace) {
+  auto a = counter_alphabet();
+  auto trace_of = [&](std::uint64_t seed) {
+    Engine engine(parse_string(a, "Counter<n=0> . Counter<n=0>"), {std::make_shared<RandomGenerator>()}, nullptr,
+                  EngineOptions{0.1, seed});
+    std::vector<std::uint64_t> hashes;
+    engine.add_observer([&](const FrameRecord& r) { hashes.push_back(r.after.content_hash()); });
+    engine.run(3);
+    return hashes;
+  };
+  EXPECT_EQ(trace_of(1), trace_of(1));
+  EXPECT_NE(trace_of(1), trace_of(2));
+}
+
+TEST(Engine, RefusesABadTimeStep) {
+  auto a = counter_alphabet();
+  EXPECT_THROW(Engine(parse_string(a, "Counter"), {}, nullptr, EngineOptions{0.0, 0}), SchemaError);
+  EXPECT_THROW(Engine(parse_string(a, "Counter"), {}, nullptr, EngineOptions{std::nan(""), 0}), SchemaError);
+}

@@ -1,0 +1,263 @@
+// η (eq. 8), π (eq. 9), φ (eq. 7) case by case. Every expected string below is worked out by hand
+// from the equations and DESIGN.md's choices, in the comment beside it.
+#include <gtest/gtest.h>
+
+#include "helpers.hpp"
+
+using namespace vwg;
+using namespace vwg::testing;
+
+namespace {
+
+/// P = {Robot, Lamp}, T = {Move<dist>, Rotate<angle>}, D = {add<k>, mul<k>, split, die, poke,
+/// show (visual), glow (visual), tick}, and actors:
+///   Counter<n> responds to add, mul, show:  add<k>: n+k   mul<k>: n*k   show: Lamp<n>
+///   Mortal responds to die, poke:           die: ε        poke: Move<1.0>(Mortal)
+///   Splitter<gen> responds to split:        split: Splitter<gen+1> . Splitter<gen+1>
+///   Tagged<id, hits> responds to poke:      poke: hits+1
+struct World {
+  std::shared_ptr<Alphabet> a = std::make_shared<Alphabet>();
+  World() {
+    a->add_primitive("Robot");
+    a->add_primitive("Lamp");
+    a->add_transformation("Move", schema({real("dist")}));
+    a->add_transformation("Rotate", schema({real("angle")}));
+    a->add_event_type("add", false, schema({integer("k")}));
+    a->add_event_type("mul", false, schema({integer("k")}));
+    a->add_event_type("split", false);
+    a->add_event_type("die", false);
+    a->add_event_type("poke", false);
+    a->add_event_type("show", true);
+    a->add_event_type("glow", true);
+    a->add_event_type("tick", false);
+    const EventTypeId add = *a->find_event_type("add"), mul = *a->find_event_type("mul");
+    a->add_actor("Counter", {"add", "mul", "show"}, schema({integer("n", 0)}),
+                 std::make_shared<LambdaActor>(
+                     [add, mul](ActorState& s, const EventView& e, const EvolutionContext&, Replacement&) {
+                       if (e.type() == add) s.set_int(0, s.get_int(0) + e.value(0).i);
+                       if (e.type() == mul) s.set_int(0, s.get_int(0) * e.value(0).i);
+                     },
+                     [](const ActorState& s, const EventView&, StringBuilder& out) {
+                       out.primitive("Lamp", {s.get_int(0)});
+                     }));
+    const EventTypeId die = *a->find_event_type("die");
+    a->add_actor("Mortal", {"die", "poke"}, {},
+                 std::make_shared<LambdaActor>(
+                     [die](ActorState& s, const EventView& e, const EvolutionContext&, Replacement& out) {
+                       if (e.type() == die) {
+                         out.replace();  // ε
+                       } else {
+                         out.replace().open("Move", {1.0}).actor(s).close();
+                       }
+                     }));
+    a->add_actor("Splitter", {"split"}, schema({integer("gen", 0)}),
+                 std::make_shared<LambdaActor>(
+                     [](ActorState& s, const EventView&, const EvolutionContext&, Replacement& out) {
+                       s.set_int(0, s.get_int(0) + 1);
+                       out.replace().actor(s).actor(s);
+                     }));
+    a->add_actor("Tagged", {"poke"}, schema({integer("id"), integer("hits", 0)}),
+                 std::make_shared<LambdaActor>(
+                     [](ActorState& s, const EventView&, const EvolutionContext&, Replacement&) {
+                       s.set_int(1, s.get_int(1) + 1);
+                     }));
+  }
+  WorldString parse(std::string_view s) const { return parse_string(a, s); }
+  EventList events(std::initializer_list<const char*> texts) const {
+    EventList list(a);
+    for (const char* t : texts) parse_event(list, t);
+    return list;
+  }
+  std::string eta(std::string_view w, std::initializer_list<const char*> s) const {
+    return to_text(evolve(parse(w), events(s), FrameContext{}));
+  }
+  std::string pi(std::string_view w, std::initializer_list<const char*> s) const {
+    return to_text(visualize(parse(w), events(s), FrameContext{}));
+  }
+};
+
+}  // namespace
+
+// --- η, eq. 8 ---------------------------------------------------------------------------------
+
+TEST(Eta, PrimitiveIsUnchanged) {
+  World W;
+  EXPECT_EQ(W.eta("Robot . Lamp<1, 2>", {"add<1>", "die"}), "Robot . Lamp<1, 2>");
+}
+
+TEST(Eta, TransformationKeepsItsScopeAndEvolvesInside) {
+  World W;
+  // η(Move<2>(Counter<1>), add<3>) = Move<2>(η(Counter<1>)) = Move<2>(Counter<4>)
+  EXPECT_EQ(W.eta("Move<2.0>(Counter<n=1>)", {"add<3>"}), "Move<2.0>(Counter<n=4>)");
+}
+
+TEST(Eta, ConcatenationEvolvesEachPart) {
+  World W;
+  // η(u . v) = η(u) . η(v): both counters take add<2>.
+  EXPECT_EQ(W.eta("Counter<n=1> . Robot . Counter<n=10>", {"add<2>"}), "Counter<n=3> . Robot . Counter<n=12>");
+}
+
+TEST(Eta, ActorFoldsOverSeveralEventsInOrder) {
+  World W;
+  // Fold: (1 + 2) * 3 = 9; in the other order 1 * 3 + 2 = 5.
+  EXPECT_EQ(W.eta("Counter<n=1>", {"add<2>", "mul<3>"}), "Counter<n=9>");
+  EXPECT_EQ(W.eta("Counter<n=1>", {"mul<3>", "add<2>"}), "Counter<n=5>");
+  // Events outside H in between change nothing: ((1 + 2) * 3) + 2 = 11.
+  EXPECT_EQ(W.eta("Counter<n=1>", {"add<2>", "die", "mul<3>", "tick", "add<2>"}), "Counter<n=11>");
+}
+
+TEST(Eta, UnchangedForEventsOutsideH) {
+  World W;
+  EXPECT_EQ(W.eta("Counter<n=1> . Mortal", {"split", "tick"}), "Counter<n=1> . Mortal");
+}
+
+TEST(Eta, ActorBecomesEmpty) {
+  World W;
+  EXPECT_EQ(W.eta("Mortal", {"die"}), "");
+  EXPECT_EQ(W.eta("Robot . Mortal . Lamp", {"die"}), "Robot . Lamp");
+  // Move<1>(ε) is not in L(M): the emptied scope goes with its transformation, nested too.
+  EXPECT_EQ(W.eta("Rotate<1.0>(Move<1.0>(Mortal)) . Robot", {"die"}), "Robot");
+  EXPECT_EQ(W.eta("Rotate<1.0>(Move<1.0>(Mortal) . Robot)", {"die"}), "Rotate<1.0>(Robot)");
+}
+
+TEST(Eta, ActorSpawnsSeveralSymbolsThatTakeTheRemainingEvents) {
+  World W;
+  // S<0> -split-> S<1> . S<1>; each takes the second split -> S<2> . S<2> . S<2> . S<2>.
+  EXPECT_EQ(W.eta("Splitter<gen=0>", {"split"}), "Splitter<gen=1> . Splitter<gen=1>");
+  EXPECT_EQ(W.eta("Splitter<gen=0>", {"split", "split"}),
+            "Splitter<gen=2> . Splitter<gen=2> . Splitter<gen=2> . Splitter<gen=2>");
+}
+
+TEST(Eta, ActorWrapsItselfInNestedScopes) {
+  World W;
+  // Mortal -poke-> Move<1>(Mortal); the inner Mortal takes the second poke -> Move<1>(Move<1>(Mortal)).
+  EXPECT_EQ(W.eta("Mortal", {"poke"}), "Move<1.0>(Mortal)");
+  EXPECT_EQ(W.eta("Rotate<0.5>(Mortal)", {"poke", "poke"}), "Rotate<0.5>(Move<1.0>(Move<1.0>(Mortal)))");
+  // poke then die: Move<1>(Mortal) then the inner Mortal dies: Move<1>(ε) -> ε.
+  EXPECT_EQ(W.eta("Mortal . Robot", {"poke", "die"}), "Robot");
+}
+
+TEST(Eta, TargetedEventsReachOnlyTheActorWithThatId) {
+  World W;
+  EXPECT_EQ(W.eta("Tagged<id=1> . Tagged<id=2> . Tagged<id=2>", {"poke<to=2>", "poke"}),
+            "Tagged<id=1, hits=1> . Tagged<id=2, hits=2> . Tagged<id=2, hits=2>");
+  // A type without an integer id never receives targeted events.
+  EXPECT_EQ(W.eta("Mortal", {"poke<to=1>"}), "Mortal");
+}
+
+TEST(Eta, TheInputStringIsNotChanged) {
+  World W;
+  const WorldString w = W.parse("Counter<n=1> . Move<1.0>(Counter<n=2>)");
+  const std::string before = to_text(w);
+  (void)evolve(w, W.events({"add<5>"}), FrameContext{});
+  EXPECT_EQ(to_text(w), before);
+}
+
+// --- π, eq. 9 ---------------------------------------------------------------------------------
+
+TEST(Pi, ActorsShowThemselvesForVisualEventsInHAndV) {
+  World W;
+  // Counter responds to show (visual): θ = Lamp<n>. glow is visual but not in Counter's H: ε.
+  // add is in H but not visual: ε. Primitives and transformations stay (π recurses in scopes).
+  EXPECT_EQ(W.pi("Robot . Move<1.0>(Counter<n=7>) . Counter<n=8>", {"add<1>", "show", "glow"}),
+            "Robot . Move<1.0>(Lamp<7>) . Lamp<8>");
+}
+
+TEST(Pi, ThetaIsEmptyOutsideHAndV) {
+  World W;
+  EXPECT_EQ(W.pi("Counter<n=7> . Mortal", {"glow", "add<1>"}), "");
+  // An actor with no visual events shows nothing; its scope empties and goes (t(ε) ∉ L(M')).
+  EXPECT_EQ(W.pi("Move<1.0>(Mortal) . Robot", {"show"}), "Robot");
+}
+
+TEST(Pi, SeveralVisualEventsConcatenateInOrder) {
+  World W;
+  // ∏ over S': θ(a, show) . θ(a, show).
+  EXPECT_EQ(W.pi("Counter<n=2>", {"show", "show"}), "Lamp<2> . Lamp<2>");
+}
+
+TEST(Pi, ThetaMustNotReturnActors) {
+  auto a = std::make_shared<Alphabet>();
+  a->add_event_type("show", true);
+  a->add_actor("Liar", {"show"}, {},
+               std::make_shared<LambdaActor>([](ActorState&, const EventView&, const EvolutionContext&, Replacement&) {},
+                                             [](const ActorState& s, const EventView&, StringBuilder& out) { out.actor(s); }));
+  EventList events(a);
+  events.emit("show");
+  try {
+    visualize(parse_string(a, "Liar"), events, FrameContext{3, 0.3, 0});
+    FAIL() << "no error";
+  } catch (const FrameError& e) {
+    EXPECT_EQ(e.frame(), 3u);
+    EXPECT_EQ(e.stage(), "visualize");
+    EXPECT_EQ(e.actor(), "Liar");
+    EXPECT_EQ(e.event(), "show");
+    EXPECT_NE(e.cause_message().find("L(M')"), std::string::npos);
+  }
+}
+
+// --- φ, eq. 7 ---------------------------------------------------------------------------------
+
+TEST(Phi, CallsAlphaBetaDeltaInStringOrderForNestedScopes) {
+  World W;
+  TraceBackend g;
+  display(W.parse("Move<1.0>(Rotate<2.0>(Robot) . Robot) . Lamp"), g);
+  const std::vector<std::string> expected = {"beta Move<1.0>",  "beta Rotate<2.0>", "alpha Robot",
+                                             "delta Rotate<2.0>", "alpha Robot",      "delta Move<1.0>",
+                                             "alpha Lamp"};
+  EXPECT_EQ(g.calls(), expected);
+}
+
+TEST(Phi, RefusesActors) {
+  World W;
+  TraceBackend g;
+  EXPECT_THROW(display(W.parse("Robot . Counter<n=1>"), g), Error);
+}
+
+// --- errors inside λ -------------------------------------------------------------------------
+
+TEST(Eta, AnErrorInLambdaNamesTheActorTheEventAndTheFrame) {
+  auto a = std::make_shared<Alphabet>();
+  a->add_event_type("boom", false, schema({integer("k")}));
+  a->add_actor("Fragile", {"boom"}, schema({integer("n", 0)}),
+               std::make_shared<LambdaActor>([](ActorState&, const EventView&, const EvolutionContext&, Replacement&) {
+                 throw std::runtime_error("cannot take it");
+               }));
+  EventList events(a);
+  events.emit("boom", {7});
+  try {
+    evolve(parse_string(a, "Fragile<n=2>"), events, FrameContext{12, 1.2, 0});
+    FAIL() << "no error";
+  } catch (const FrameError& e) {
+    EXPECT_EQ(e.frame(), 12u);
+    EXPECT_EQ(e.stage(), "evolve");
+    EXPECT_EQ(e.actor(), "Fragile<n=2>");
+    EXPECT_EQ(e.event(), "boom<k=7>");
+    EXPECT_EQ(e.cause_message(), "cannot take it");
+    EXPECT_NE(std::string(e.what()).find("frame 12"), std::string::npos);
+  }
+}
+
+// --- large attributes -------------------------------------------------------------------------
+
+TEST(Blob, CopyOnWriteLeavesTheOldStringsGridUntouched) {
+  auto a = std::make_shared<Alphabet>();
+  a->add_event_type("mark", false, schema({integer("cell")}));
+  a->add_actor("Mapper", {"mark"}, Schema{{ParamSpec{"grid", ValueKind::Blob, std::nullopt}}, false},
+               std::make_shared<LambdaActor>([](ActorState& s, const EventView& e, const EvolutionContext&, Replacement&) {
+                 s.mutable_blob(0).mutable_view<std::int8_t>()[static_cast<std::size_t>(e.value(0).i)] = 100;
+               }));
+  auto grid = std::make_shared<const Blob>(DType::Int8, std::vector<std::int64_t>{2, 2});
+  const WorldString w0 = StringBuilder(a).actor("Mapper", {Datum(grid)}).finish();
+  EventList events(a);
+  events.emit("mark", {1});
+  events.emit("mark", {3});
+  const WorldString w1 = evolve(w0, events, FrameContext{});
+  const auto& g0 = *w0.node(0).datum(0).as_blob();
+  const auto& g1 = *w1.node(0).datum(0).as_blob();
+  const std::vector<std::int8_t> before(g0.view<std::int8_t>().begin(), g0.view<std::int8_t>().end());
+  const std::vector<std::int8_t> after(g1.view<std::int8_t>().begin(), g1.view<std::int8_t>().end());
+  EXPECT_EQ(before, (std::vector<std::int8_t>{0, 0, 0, 0}));
+  EXPECT_EQ(after, (std::vector<std::int8_t>{0, 100, 0, 100}));
+  EXPECT_NE(to_text(w0), to_text(w1));  // the blob's name is its content hash
+}

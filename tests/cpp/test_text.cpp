@@ -1,0 +1,214 @@
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "helpers.hpp"
+
+using namespace vwg;
+using namespace vwg::testing;
+
+namespace {
+std::shared_ptr<Alphabet> case_study_alphabet() {
+  auto a = std::make_shared<Alphabet>();
+  a->add_primitive("Robot", schema({integer("id", 0)}));
+  a->add_primitive("Lamp");  // variadic
+  a->add_transformation("Move", schema({real("dist")}));
+  a->add_transformation("Rotate", schema({real("angle")}));
+  a->add_event_type("tick", false);
+  a->add_event_type("eLaser", false, schema({real("dist"), real("angle")}));
+  a->add_actor("ARobot", {"tick"},
+               Schema{{integer("id", 0), integer("row"), integer("column"), real("angle", 0.0),
+                       ParamSpec{"objective", ValueKind::Text, Datum("")}},
+                      false},
+               nullptr);
+  return a;
+}
+
+ParseError parse_error(const std::shared_ptr<Alphabet>& a, std::string_view text) {
+  try {
+    parse_string(a, text, "world.txt");
+  } catch (const ParseError& e) {
+    return e;
+  }
+  ADD_FAILURE() << "no ParseError for: " << text;
+  return ParseError("", 0, 0, "", "", "");
+}
+}  // namespace
+
+TEST(Text, CanonicalStringsPrintBackUnchanged) {
+  auto a = case_study_alphabet();
+  for (const char* s : {
+           "",
+           "Robot<0>",
+           "Move<0.5>(Robot<1>)",
+           "Rotate<0.3>(Move<0.5>(Robot<1>)) . Robot<2>",
+           "Move<1.0>(Robot<0> . Move<-2.5>(Robot<0> . Lamp) . Lamp<1, 2.0, true, \"x\">)",
+           "ARobot<id=1, row=3, column=4, angle=0.0, objective=\"kitchen\">",
+           "Lamp<\"quote \\\" backslash \\\\ newline \\n tab \\t\">",
+       }) {
+    EXPECT_EQ(canon(a, s), s);
+  }
+}
+
+TEST(Text, NonCanonicalInputIsNormalised) {
+  auto a = case_study_alphabet();
+  // Defaults filled, ints widened to reals, keywords to positions, '·' and spacing normalised.
+  EXPECT_EQ(canon(a, "Move<dist=1>( Robot )·Robot"), "Move<1.0>(Robot<0>) . Robot<0>");
+  EXPECT_EQ(canon(a, "ARobot<row=3, column=4>  # a comment\n"),
+            "ARobot<id=0, row=3, column=4, angle=0.0, objective=\"\">");
+  EXPECT_EQ(canon(a, "  # only a comment\n  "), "");
+  EXPECT_EQ(canon(a, "Lamp<+2, -0.0, 1e3, .5>"), "Lamp<2, -0.0, 1000.0, 0.5>");
+}
+
+TEST(Text, RealsPrintAsPythonRepr) {
+  // Expected texts are Python's repr() of the same floats.
+  const std::pair<double, const char*> cases[] = {
+      {0.5, "0.5"},          {3.0, "3.0"},     {-0.0, "-0.0"},    {0.1, "0.1"},
+      {1e16, "1e+16"},       {1e15, "1000000000000000.0"},       {1e-5, "1e-05"},
+      {0.0001, "0.0001"},    {1.5e300, "1.5e+300"},              {123.456, "123.456"},
+      {2.0 / 3.0, "0.6666666666666666"}, {5e-324, "5e-324"},     {1.7976931348623157e308, "1.7976931348623157e+308"},
+      {-12345678.9, "-12345678.9"},       {1234567890123456.0, "1234567890123456.0"},
+      {12345678901234567.0, "1.2345678901234568e+16"},
+  };
+  for (auto [value, text] : cases) EXPECT_EQ(format_real(value), text) << value;
+}
+
+TEST(Text, RealsRoundTripBitForBit) {
+  Rng rng(3);
+  auto a = case_study_alphabet();
+  for (int i = 0; i < 2000; ++i) {
+    std::uint64_t bits = rng.next_u64();
+    double x;
+    std::memcpy(&x, &bits, 8);
+    if (!std::isfinite(x)) continue;
+    const WorldString w = StringBuilder(a).open("Move", {x}).primitive("Lamp").close().finish();
+    const WorldString back = parse_string(a, to_text(w));
+    EXPECT_EQ(back, w) << to_text(w);
+  }
+}
+
+TEST(Text, ErrorsNameLineColumnFoundAndExpected) {
+  auto a = case_study_alphabet();
+  {
+    const ParseError e = parse_error(a, "Move<1>(Robot) .\n  Robt");
+    EXPECT_EQ(e.source(), "world.txt");
+    EXPECT_EQ(e.line(), 2u);
+    EXPECT_EQ(e.column(), 3u);
+    EXPECT_EQ(e.found(), "unknown symbol 'Robt'");
+    EXPECT_NE(e.expected().find("did you mean 'Robot'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("world.txt:2:3"), std::string::npos) << e.what();
+  }
+  {
+    const ParseError e = parse_error(a, "Move<1>(Robot");
+    EXPECT_EQ(e.column(), 14u);
+    EXPECT_EQ(e.found(), "end of text");
+    EXPECT_NE(e.expected().find("')' to close the scope of 'Move' opened at line 1, column 1"), std::string::npos);
+  }
+  {
+    const ParseError e = parse_error(a, "Move<1>()");
+    EXPECT_EQ(e.column(), 9u);
+    EXPECT_NE(e.expected().find("rule 5"), std::string::npos);
+  }
+  {
+    const ParseError e = parse_error(a, "Move<\"far\">(Robot)");
+    EXPECT_EQ(e.column(), 6u);
+    EXPECT_EQ(e.expected(), "real for Move.dist");
+    EXPECT_EQ(e.found(), "text \"far\"");
+  }
+  {
+    const ParseError e = parse_error(a, "ARobot<row=1, colum=2>");
+    EXPECT_EQ(e.column(), 21u);
+    EXPECT_EQ(e.found(), "'colum'");
+    EXPECT_NE(e.expected().find("id, row, column, angle, objective"), std::string::npos);
+  }
+  {
+    const ParseError e = parse_error(a, "ARobot<row=1>");
+    EXPECT_EQ(e.column(), 1u);
+    EXPECT_NE(e.expected().find("attribute 'column' of 'ARobot' (it has no default)"), std::string::npos);
+  }
+  {
+    const ParseError e = parse_error(a, "Robot(Robot)");
+    EXPECT_EQ(e.column(), 6u);
+    EXPECT_NE(e.expected().find("only transformations take a scope"), std::string::npos);
+  }
+  {
+    const ParseError e = parse_error(a, "Robot . tick");
+    EXPECT_NE(e.expected().find("'tick' is an event type"), std::string::npos);
+  }
+  {
+    const ParseError e = parse_error(a, "Robot)");
+    EXPECT_NE(e.expected().find("no scope is open"), std::string::npos);
+  }
+  {
+    const ParseError e = parse_error(a, "Lamp<nan>");
+    EXPECT_EQ(e.found(), "'nan'");
+  }
+  {
+    const ParseError e = parse_error(a, "Lamp<1e999>");
+    EXPECT_EQ(e.expected(), "a finite real number");
+  }
+  {
+    const ParseError e = parse_error(a, "Lamp<\"open");
+    EXPECT_NE(e.expected().find("to end the text that starts at line 1, column 6"), std::string::npos);
+  }
+  {  // Columns count characters: '·' is one column though two bytes.
+    const ParseError e = parse_error(a, "Robot·Robt");
+    EXPECT_EQ(e.column(), 7u);
+  }
+  {
+    const ParseError e = parse_error(a, "Robot . ");
+    EXPECT_EQ(e.found(), "end of text");
+  }
+  {
+    const ParseError e = parse_error(a, "Lamp<99999999999999999999>");
+    EXPECT_EQ(e.expected(), "an integer in the 64-bit range");
+  }
+}
+
+TEST(Text, DeepNestingParsesWithoutRecursion) {
+  auto a = case_study_alphabet();
+  std::string s;
+  const int depth = 100000;
+  for (int i = 0; i < depth; ++i) s += "Move<1.0>(";
+  s += "Robot<0>";
+  s += std::string(depth, ')');
+  const WorldString w = parse_string(a, s);
+  EXPECT_EQ(w.symbol_count(), static_cast<std::size_t>(depth + 1));
+  EXPECT_EQ(to_text(w), s);
+}
+
+TEST(Text, BlobsAreReferencedByContentHash) {
+  auto a = std::make_shared<Alphabet>();
+  a->add_actor("Mapper", {}, Schema{{ParamSpec{"grid", ValueKind::Blob, std::nullopt}}, false}, nullptr);
+  std::vector<std::int8_t> cells = {0, 100, -1, 0, 0, 100};
+  auto grid = std::make_shared<const Blob>(DType::Int8, std::vector<std::int64_t>{2, 3}, cells.data(), cells.size());
+  BlobTable table{{"g", grid}};
+  const WorldString w = parse_string(a, "Mapper<grid=@g>", "<string>", &table);
+  const std::string text = to_text(w);
+  EXPECT_EQ(text, "Mapper<grid=" + blob_name(*grid) + ">");
+  // The printed name resolves through a table keyed by the hash.
+  BlobTable by_hash{{blob_name(*grid).substr(1), grid}};
+  EXPECT_EQ(parse_string(a, text, "<string>", &by_hash), w);
+  // A different content has a different name; an unknown name is a parse error.
+  cells[0] = 100;
+  const Blob other(DType::Int8, {2, 3}, cells.data(), cells.size());
+  EXPECT_NE(blob_name(other), blob_name(*grid));
+  EXPECT_THROW(parse_string(a, "Mapper<grid=@nothere>", "<string>", &table), ParseError);
+  EXPECT_THROW(parse_string(a, "Mapper<grid=@g>"), ParseError);  // no table
+}
+
+TEST(Text, EventsParseAndPrint) {
+  auto a = case_study_alphabet();
+  EventList events(a);
+  parse_event(events, "eLaser<to=2, dist=1.5, angle=0.25>");
+  parse_event(events, "eLaser<3, 0.5>");
+  parse_event(events, "tick");
+  ASSERT_EQ(events.size(), 3u);
+  EXPECT_EQ(events[0].target(), 2);
+  EXPECT_EQ(to_text(events[0]), "eLaser<to=2, dist=1.5, angle=0.25>");
+  EXPECT_EQ(to_text(events[1]), "eLaser<dist=3.0, angle=0.5>");
+  EXPECT_EQ(to_text(events[2]), "tick");
+  EXPECT_THROW(parse_event(events, "Robot"), ParseError);
+  EXPECT_THROW(parse_event(events, "eLaser<dist=1.0>"), ParseError);  // angle has no default
+  EXPECT_THROW(parse_event(events, "eLaser<to=1.5, dist=1, angle=1>"), ParseError);
+}
