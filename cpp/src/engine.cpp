@@ -13,7 +13,7 @@ namespace vwg {
 Engine::Engine(WorldString initial, std::vector<std::shared_ptr<Generator>> generators,
                std::shared_ptr<Backend> backend, EngineOptions options)
     : w_(std::move(initial)), generators_(std::move(generators)), backend_(std::move(backend)),
-      options_(options), last_events_(w_.alphabet_ptr()) {
+      options_(options), frame_(options.first_frame), last_events_(w_.alphabet_ptr()) {
   if (!(options_.dt > 0.0) || !std::isfinite(options_.dt)) {
     throw SchemaError("EngineOptions.dt", "expected a finite time step > 0, got " + std::to_string(options_.dt));
   }
@@ -59,6 +59,11 @@ bool Engine::run_frame(const EventList& events) {
   // η and π both read w; a string with no actors is its own evolution and its own display.
   const bool has_actors = w_.actor_count() > 0;
   WorldString next = has_actors ? evolve(w_, events, ctx) : w_;
+  if (options_.max_symbols && next.symbol_count() > options_.max_symbols) {
+    throw FrameError(frame_, "evolve", "", "", "", "the string grew to " + std::to_string(next.symbol_count()) +
+                     " symbols, over the limit of " + std::to_string(options_.max_symbols) +
+                     " (max_symbols); raise the limit if this growth is intended", nullptr);
+  }
   if (backend_) {
     const FrameInfo info{frame_, time(), options_.dt, &w_};
     const WorldString shown = has_actors ? visualize(w_, events, ctx) : WorldString(w_.alphabet_ptr());
@@ -84,7 +89,6 @@ bool Engine::run_frame(const EventList& events) {
 }
 
 StopReason Engine::run(std::uint64_t max_frames) {
-  stop_requested_ = false;
   for (std::uint64_t k = 0; k < max_frames; ++k) {
     if (w_.empty()) return StopReason::Empty;
     step();

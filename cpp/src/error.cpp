@@ -8,8 +8,8 @@ namespace {
 std::string parse_message(const std::string& source, std::size_t line, std::size_t column,
                           const std::string& found, const std::string& expected,
                           const std::string& line_text) {
-  std::string m = source + ":" + std::to_string(line) + ":" + std::to_string(column) + ": expected " +
-                  expected + ", found " + found;
+  std::string m = source + ":" + std::to_string(line) + ":" + std::to_string(column) + ": found " + found +
+                  "; expected " + expected;
   if (!line_text.empty()) {
     m += "\n    " + line_text + "\n    ";
     // The caret sits under the column (columns count characters; the excerpt is the same line).
@@ -25,7 +25,7 @@ ParseError::ParseError(std::string source, std::size_t line, std::size_t column,
       source_(std::move(source)), line_(line), column_(column), found_(std::move(found)),
       expected_(std::move(expected)) {}
 
-std::string ParseError::reason() const { return "expected " + expected_ + ", found " + found_; }
+std::string ParseError::reason() const { return "found " + found_ + "; expected " + expected_; }
 
 namespace {
 std::string frame_message(std::uint64_t frame, const std::string& stage, const std::string& actor,

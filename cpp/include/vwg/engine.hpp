@@ -23,6 +23,10 @@ namespace vwg {
 struct EngineOptions {
   double dt = 0.1;          ///< simulated seconds per frame
   std::uint64_t seed = 0;   ///< fixes every random choice of generators and actors
+  std::uint64_t first_frame = 0;  ///< t of the first frame (a replay starts where its record did)
+  /// A frame whose next string would have more symbols than this fails with a FrameError instead
+  /// of exhausting memory (a world that spawns without bound); 0: no limit.
+  std::uint64_t max_symbols = 0;
 };
 
 /// What one frame did, handed to frame observers (recorders, viewers) after the frame completes.
@@ -51,7 +55,8 @@ class Engine {
   bool step_with(const EventList& events);
   /// Run until w = ε, `max_frames` more frames have run, or request_stop() was called.
   StopReason run(std::uint64_t max_frames);
-  /// Ask run() to stop after the current frame (safe from another thread or a callback).
+  /// Ask run() to stop after the current frame (safe from another thread or a callback). A
+  /// request made between runs stops the next run after its first frame.
   void request_stop() { stop_requested_ = true; }
 
   const WorldString& string() const { return w_; }

@@ -106,6 +106,8 @@ class StringBuilder {
   StringBuilder& append_node(const WorldString& s, std::size_t index);
 
   std::size_t depth() const { return open_.size(); }
+  const Alphabet& alphabet() const { return out_.alphabet(); }
+  const std::shared_ptr<const Alphabet>& alphabet_ptr() const { return out_.alphabet_ptr(); }
   /// Value k of node `node` built so far, for in-place updates of numbers (batch λ).
   Value& value(std::size_t node, std::size_t k) {
     return out_.store_[out_.nodes_[node].first_value + static_cast<std::uint32_t>(k)];

@@ -1,0 +1,180 @@
+// vwg._core.Engine: the system algorithm, run with the GIL released between Python callbacks.
+#include <chrono>
+#include <string>
+
+#include "common.hpp"
+
+namespace vwg::bindings {
+
+namespace {
+
+/// What an observer sees of a completed frame; valid only during the observer call.
+struct PyFrameRecord {
+  std::uint64_t frame = 0;
+  double time = 0.0;
+  const WorldString* before = nullptr;
+  const WorldString* after = nullptr;
+  const EventList* events = nullptr;
+  void check() const {
+    if (!before) throw SchemaError("FrameRecord", "is only available during the observer call");
+  }
+};
+
+/// The engine and the Python objects it calls (kept alive as long as it is).
+struct PyEngine {
+  std::unique_ptr<Engine> engine;
+  py::list keep_alive;
+};
+
+std::string stop_name(StopReason r) {
+  switch (r) {
+    case StopReason::Empty: return "empty";
+    case StopReason::FrameLimit: return "frames";
+    case StopReason::Requested: return "stopped";
+  }
+  return "?";
+}
+
+}  // namespace
+
+void init_engine(py::module_& m) {
+  py::class_<PyFrameRecord, std::shared_ptr<PyFrameRecord>>(m, "FrameRecord", "A completed frame, as observers see it (valid during the call).")
+      .def_readonly("frame", &PyFrameRecord::frame)
+      .def_readonly("time", &PyFrameRecord::time)
+      .def_property_readonly("before", [](const PyFrameRecord& r) { r.check(); return WorldString(*r.before); },
+                             "w at the start of the frame (a copy).")
+      .def_property_readonly("after", [](const PyFrameRecord& r) { r.check(); return WorldString(*r.after); },
+                             "w after the frame (a copy).")
+      .def_property_readonly("before_text", [](const PyFrameRecord& r) { r.check(); return to_text(*r.before); })
+      .def_property_readonly("after_text", [](const PyFrameRecord& r) { r.check(); return to_text(*r.after); })
+      .def_property_readonly("events", [](const PyFrameRecord& r) {
+        r.check();
+        py::list out;
+        for (std::size_t i = 0; i < r.events->size(); ++i) out.append(event_to_python((*r.events)[i]));
+        return out;
+      }, "S: the events of the frame, in priority order.")
+      .def_property_readonly("event_texts", [](const PyFrameRecord& r) {
+        r.check();
+        py::list out;
+        for (std::size_t i = 0; i < r.events->size(); ++i) out.append(to_text((*r.events)[i]));
+        return out;
+      })
+      .def_property_readonly("blobs", [](const PyFrameRecord& r) {
+        r.check();
+        py::dict out;
+        auto add = [&](const ValueStore& store, const Value& v) {
+          if (v.kind == ValueKind::Blob) out[py::str(blob_name(*store.blob(v)).substr(1))] = blob_to_python(store.blob(v));
+        };
+        for (const WorldString* w : {r.before, r.after}) {
+          for (const Node& n : w->nodes()) {
+            if (n.kind == NodeKind::Close) continue;
+            for (std::uint16_t k = 0; k < n.value_count; ++k) add(w->store(), w->store()[n.first_value + k]);
+          }
+        }
+        for (std::size_t i = 0; i < r.events->size(); ++i) {
+          const EventView e = (*r.events)[i];
+          for (std::size_t k = 0; k < e.field_count(); ++k) add(e.store(), e.value(k));
+        }
+        return out;
+      }, "The blobs referred to by the strings and events of the frame, by name.");
+
+  py::class_<PyEngine>(m, "Engine", R"doc(
+The system algorithm (paper §II.D). Each frame: S = the generators' events in priority order,
+w_next = η(w, S), v = π(w, Z), φ(v) on the backend, w = w_next. A frame is all or nothing: if λ, θ,
+a generator or the backend raises, the engine keeps the last complete frame and raises
+vwg.FrameError naming the frame, the stage, the actor and the event.)doc")
+      .def(py::init([](const WorldString& initial, py::list generators, py::object backend, double dt, std::uint64_t seed,
+                       std::uint64_t first_frame, std::uint64_t max_symbols) {
+             PyEngine e;
+             std::vector<std::shared_ptr<Generator>> gens;
+             std::size_t i = 0;
+             for (auto g : generators) {
+               if (!py::isinstance<Generator>(g)) {
+                 throw SchemaError("generators[" + std::to_string(i) + "]", "expected a vwg.Generator, got " +
+                                                                            std::string(py::str(py::type::handle_of(g).attr("__name__"))));
+               }
+               gens.push_back(g.cast<std::shared_ptr<Generator>>());
+               e.keep_alive.append(g);
+               ++i;
+             }
+             std::shared_ptr<Backend> b;
+             if (!backend.is_none()) {
+               if (!py::isinstance<Backend>(backend)) throw SchemaError("backend", "expected a vwg.Backend or None");
+               b = backend.cast<std::shared_ptr<Backend>>();
+               e.keep_alive.append(backend);
+             }
+             e.engine = std::make_unique<Engine>(initial, std::move(gens), std::move(b), EngineOptions{dt, seed, first_frame, max_symbols});
+             return e;
+           }),
+           py::arg("initial"), py::arg("generators") = py::list(), py::arg("backend") = py::none(), py::arg("dt") = 0.1,
+           py::arg("seed") = 0, py::arg("first_frame") = 0, py::arg("max_symbols") = 0)
+      .def("step", [](PyEngine& e) {
+        py::gil_scoped_release release;
+        return e.engine->step();
+      }, "Run one frame; False (and nothing done) if w = ε.")
+      .def("step_with", [](PyEngine& e, py::object events) {
+        EventList list = events_from_python(e.engine->string().alphabet_ptr(), events);
+        py::gil_scoped_release release;
+        return e.engine->step_with(list);
+      }, py::arg("events"), "Run one frame with these events instead of the generators' (replay).")
+      .def("run", [](PyEngine& e, std::uint64_t frames) {
+        // Frames run in chunks with the GIL released; between chunks Ctrl-C is honoured. Chunks
+        // grow while they take under 20 ms, so short frames do not pay for the switches.
+        std::uint64_t done = 0, chunk = 1;
+        while (done < frames) {
+          const std::uint64_t n = std::min(chunk, frames - done);
+          const auto t0 = std::chrono::steady_clock::now();
+          StopReason r;
+          const std::uint64_t before = e.engine->frame();
+          {
+            py::gil_scoped_release release;
+            r = e.engine->run(n);
+          }
+          done += e.engine->frame() - before;
+          if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+          if (r != StopReason::FrameLimit) return stop_name(r);
+          if (std::chrono::steady_clock::now() - t0 < std::chrono::milliseconds(20)) chunk *= 2;
+        }
+        return stop_name(StopReason::FrameLimit);
+      }, py::arg("frames"),
+      "Run until w = ε ('empty'), `frames` more frames ran ('frames'), or request_stop() ('stopped').")
+      .def("request_stop", [](PyEngine& e) { e.engine->request_stop(); }, "Stop run() after the current frame.")
+      .def_property_readonly("string", [](const PyEngine& e) { return e.engine->string(); }, "The current string w (a copy).")
+      .def("set_string", [](PyEngine& e, const WorldString& w) { e.engine->set_string(w); }, py::arg("w"))
+      .def_property_readonly("frame", [](const PyEngine& e) { return e.engine->frame(); }, "Frames completed so far (t).")
+      .def_property_readonly("time", [](const PyEngine& e) { return e.engine->time(); }, "Simulated seconds: frame * dt.")
+      .def_property_readonly("dt", [](const PyEngine& e) { return e.engine->options().dt; })
+      .def_property_readonly("seed", [](const PyEngine& e) { return e.engine->options().seed; })
+      .def_property_readonly("last_events", [](const PyEngine& e) {
+        py::list out;
+        const EventList& events = e.engine->last_events();
+        for (std::size_t i = 0; i < events.size(); ++i) out.append(event_to_python(events[i]));
+        return out;
+      }, "The events S of the last completed frame.")
+      .def("collect_events", [](PyEngine& e) {
+        EventList events = [&] {
+          py::gil_scoped_release release;
+          return e.engine->collect_events();
+        }();
+        py::list out;
+        for (std::size_t i = 0; i < events.size(); ++i) out.append(event_to_python(events[i]));
+        return out;
+      }, "Ask the generators for the current frame's events without running the frame.")
+      .def("add_observer", [](PyEngine& e, py::function fn) {
+        e.keep_alive.append(fn);
+        e.engine->add_observer([fn](const FrameRecord& r) {
+          py::gil_scoped_acquire gil;
+          auto record = std::make_shared<PyFrameRecord>(PyFrameRecord{r.frame, r.time, &r.before, &r.after, &r.events});
+          py::object arg = py::cast(record);
+          try {
+            fn(arg);
+          } catch (...) {
+            *record = PyFrameRecord{};
+            throw;
+          }
+          *record = PyFrameRecord{};  // the views end with the call
+        });
+      }, py::arg("observer"), "Call observer(record: FrameRecord) after every completed frame.");
+}
+
+}  // namespace vwg::bindings

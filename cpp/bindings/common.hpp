@@ -1,0 +1,73 @@
+// Shared declarations of the pybind11 module vwg._core (private to cpp/bindings/).
+#pragma once
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "vwg/vwg.hpp"
+
+namespace vwg::bindings {
+
+namespace py = pybind11;
+
+// --- module parts (one per file, as OMPL's py-bindings do) ---
+void init_errors(py::module_& m);
+void init_values(py::module_& m);
+void init_alphabet(py::module_& m);
+void init_strings(py::module_& m);
+void init_events(py::module_& m);
+void init_actors(py::module_& m);
+void init_generators(py::module_& m);
+void init_backends(py::module_& m);
+void init_engine(py::module_& m);
+void init_bench_actors(py::module_& m);
+
+// --- values ---
+/// A Python value as a Datum of the kind `spec` declares (or inferred when `spec` is null).
+/// Raises vwg::SchemaError naming `field` when it does not fit.
+Datum datum_from_python(py::handle obj, const ParamSpec* spec, const std::string& field);
+py::object value_to_python(const ValueStore& store, const Value& v);
+py::object datum_to_python(const Datum& d);
+/// A Blob from a vwg.Blob or a numpy array (copied).
+std::shared_ptr<const Blob> blob_from_python(py::handle obj, const std::string& field);
+py::object blob_to_python(const std::shared_ptr<const Blob>& blob);
+/// A schema from Python: None (any positional values, if allowed), a dict of name -> default
+/// value or type (int, float, bool, str, vwg.Blob), or a list of names (reals, required).
+Schema schema_from_python(py::handle spec, const std::string& owner, bool allow_variadic);
+/// Python description of a schema: {name: (kind, default or None)}.
+py::dict schema_to_python(const Schema& schema);
+
+// --- strings ---
+/// Append what a λ or θ returned: text, a vwg.String, an actor instance, a vwg.Sym, or a list or
+/// tuple of these (concatenated). Raises with `what` (e.g. "Blinker.on_tick") in the message.
+void append_python(StringBuilder& out, py::handle obj, const std::string& what);
+/// A Python vwg.Node for one node of a string.
+py::object node_to_python(const NodeView& node);
+
+// --- events ---
+/// A Python vwg.Event for one event.
+py::object event_to_python(const EventView& e);
+/// Append a Python vwg.Event (or its text) to `out`.
+void emit_python(EventList& out, py::handle obj, const std::string& what);
+EventList events_from_python(const std::shared_ptr<const Alphabet>& alphabet, py::handle events);
+
+// --- frames ---
+/// The Python view of a FrameInfo, valid only while the call it is passed to runs.
+struct PyFrame {
+  std::uint64_t frame = 0;
+  double time = 0.0;
+  double dt = 0.0;
+  const WorldString* world = nullptr;
+};
+py::object frame_to_python(const FrameInfo& info, std::shared_ptr<PyFrame>& holder);
+
+/// Cached Python objects of the pure-Python part of the package (vwg.actor.Actor, vwg.actor.Sym,
+/// vwg.errors.*), imported on first use.
+py::object python_class(const char* module, const char* name);
+
+}  // namespace vwg::bindings

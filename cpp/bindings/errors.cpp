@@ -1,0 +1,83 @@
+// C++ errors raised as the Python classes of vwg.errors, with their fields as attributes and, for
+// a FrameError, the original exception (a Python one raised inside an actor, say) as __cause__.
+#include <string>
+
+#include "common.hpp"
+
+namespace vwg::bindings {
+
+namespace {
+
+py::object make_exception(const char* cls_name, const std::string& message, const py::dict& attrs) {
+  py::object cls = python_class("vwg.errors", cls_name);
+  py::object exc = cls(message);
+  for (auto item : attrs) py::setattr(exc, item.first, item.second);
+  return exc;
+}
+
+/// The Python exception object for a C++ exception in flight (without raising it).
+py::object exception_object(const std::exception_ptr& p) {
+  try {
+    std::rethrow_exception(p);
+  } catch (py::error_already_set& e) {
+    return e.value();
+  } catch (const FrameError& e) {
+    py::dict attrs;
+    attrs["frame"] = e.frame();
+    attrs["stage"] = e.stage();
+    attrs["actor"] = e.actor();
+    attrs["event"] = e.event();
+    attrs["where"] = e.where();
+    std::string message = e.what();
+    py::object cause;
+    if (e.cause()) {
+      cause = exception_object(e.cause());
+      // Name a Python cause as "Type: message"; its traceback stays on __cause__.
+      if (!cause.is_none() && message.size() >= e.cause_message().size()) {
+        const std::string summary = std::string(py::str(py::type::handle_of(cause).attr("__name__"))) + ": " +
+                                    std::string(py::str(cause));
+        message = message.substr(0, message.size() - e.cause_message().size()) + summary;
+      }
+    }
+    py::object exc = make_exception("FrameError", message, attrs);
+    if (cause) {
+      PyException_SetCause(exc.ptr(), cause.release().ptr());  // steals the reference
+    }
+    return exc;
+  } catch (const ParseError& e) {
+    py::dict attrs;
+    attrs["source"] = e.source();
+    attrs["line"] = e.line();
+    attrs["column"] = e.column();
+    attrs["found"] = e.found();
+    attrs["expected"] = e.expected();
+    return make_exception("ParseError", e.what(), attrs);
+  } catch (const SchemaError& e) {
+    py::dict attrs;
+    attrs["field"] = e.field();
+    return make_exception("SchemaError", e.what(), attrs);
+  } catch (const Error& e) {
+    return make_exception("Error", e.what(), py::dict());
+  } catch (const std::exception& e) {
+    return py::reinterpret_borrow<py::object>(PyExc_RuntimeError)(e.what());
+  } catch (...) {
+    return py::reinterpret_borrow<py::object>(PyExc_RuntimeError)("unknown C++ exception");
+  }
+}
+
+}  // namespace
+
+void init_errors(py::module_&) {
+  py::register_exception_translator([](std::exception_ptr p) {
+    if (!p) return;
+    try {
+      std::rethrow_exception(p);
+    } catch (const Error&) {
+      py::object exc = exception_object(p);
+      PyErr_SetObject(reinterpret_cast<PyObject*>(Py_TYPE(exc.ptr())), exc.ptr());
+    }
+    // Anything else falls through to pybind11's own translators.
+  });
+}
+
+}  // namespace vwg::bindings

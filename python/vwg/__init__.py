@@ -1,0 +1,89 @@
+"""vwg, the Virtual Worlds Generator: worlds as strings of a grammar, evolved by actors, fed by
+event generators and shown on swappable backends (López-García et al., "A Grammatical Approach to
+the Modeling of an Autonomous Robot").
+
+    import vwg
+
+    class Blinker(vwg.Actor):
+        events = ("tick", "show")
+        attributes = {"on": False}
+        def on_tick(self, e):
+            return self.with_(on=not self.on)
+        def show_show(self, e):
+            return "Lamp" if self.on else ""
+
+    world = vwg.World(primitives=["Lamp"], transformations=["Move"], events=["tick", "show"],
+                      visual=["show"], actors=[Blinker])
+    engine = vwg.Engine(world, "Move<2.0>(Blinker<on=true>) . Blinker", backend=vwg.TraceBackend(),
+                        generators=[vwg.every_frame("tick"), vwg.every_frame("show")])
+    engine.run(frames=3)
+    print(engine.string)
+"""
+
+from __future__ import annotations
+
+from ._core import (
+    ActorBatch,
+    ActorBehavior,
+    Backend,
+    Blob,
+    Event,
+    EveryFrame,
+    FrameInfo,
+    FrameRecord,
+    Generator,
+    Node,
+    NullBackend,
+    PythonActor,
+    String,
+    TraceBackend,
+    __version__,
+    build_string,
+    display,
+    evolve,
+    visualize,
+    walker_behavior,
+)
+from .actor import Actor, Context, Sym
+from .engine import Engine
+from .errors import Error, FrameError, ParseError, ReplayError, SchemaError, WorldFileError
+from .generators import GeneratorSpec, Schedule, every_frame
+from .world import Alphabet, World
+
+__all__ = [
+    "Actor",
+    "ActorBatch",
+    "ActorBehavior",
+    "Alphabet",
+    "Backend",
+    "Blob",
+    "Context",
+    "Engine",
+    "Error",
+    "Event",
+    "EveryFrame",
+    "FrameError",
+    "FrameInfo",
+    "FrameRecord",
+    "Generator",
+    "GeneratorSpec",
+    "Node",
+    "NullBackend",
+    "ParseError",
+    "PythonActor",
+    "ReplayError",
+    "Schedule",
+    "SchemaError",
+    "String",
+    "Sym",
+    "TraceBackend",
+    "World",
+    "WorldFileError",
+    "__version__",
+    "build_string",
+    "display",
+    "every_frame",
+    "evolve",
+    "visualize",
+    "walker_behavior",
+]

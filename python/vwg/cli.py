@@ -1,0 +1,152 @@
+"""The ``vwg`` command: run a world file, replay a record, check a world file."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+import traceback
+from collections.abc import Sequence
+from pathlib import Path
+
+from . import _core
+from .errors import Error, FrameError
+
+__all__ = ["main"]
+
+
+def _clip(text: str, n: int = 200) -> str:
+    return text if len(text) <= n else text[: n - 3] + "..."
+
+
+def _print_summary(rows: list[tuple[str, str]]) -> None:
+    width = max(len(k) for k, _ in rows)
+    for k, v in rows:
+        print(f"  {k:<{width}}  {v}")
+
+
+def _cmd_run(args: argparse.Namespace) -> int:
+    from .engine import Engine
+    from .record import Recorder
+    from .worldfile import load_world
+
+    spec = load_world(args.world, seed=args.seed, frames=args.frames, dt=args.dt, backend=args.backend)
+    engine = Engine(spec.world, spec.initial, spec.generators, spec.backend, dt=spec.dt, seed=spec.seed,
+                    max_symbols=args.max_symbols)
+    recorder = Recorder(args.record, engine, world_file=spec.path, world_data=spec.data) if args.record else None
+    start = time.perf_counter()
+    try:
+        reason = engine.run(spec.frames, progress=None if args.progress is None else args.progress)
+    finally:
+        if recorder:
+            recorder.close()
+    wall = time.perf_counter() - start
+    w = engine.string
+    if not args.quiet:
+        print(f"vwg run {spec.path} — {spec.name}")
+        why = {"empty": "the world became empty", "stopped": "stopped"}.get(reason, "frame limit")
+        rows = [
+            ("frames", f"{engine.frame} ({why})"),
+            ("simulated time", f"{engine.time:.3f} s (dt {spec.dt} s)"),
+            ("seed", str(spec.seed)),
+            ("final string", f"{len(w)} symbols, {w.actor_count} actors"),
+            ("", _clip(str(w)) or "ε"),
+            ("wall time", f"{wall:.3f} s ({engine.frame / wall:.0f} frames/s)" if wall > 0 else "0 s"),
+        ]
+        if isinstance(spec.backend, _core.TraceBackend):
+            rows.append(("backend calls", f"{len(spec.backend.calls)} (trace)"))
+        if recorder:
+            rows.append(("record", f"{args.record} ({recorder.frames} frames)"))
+        _print_summary(rows)
+    return 0
+
+
+def _cmd_replay(args: argparse.Namespace) -> int:
+    from .record import read_record, replay
+    from .registry import backends
+    from .worldfile import load_world
+
+    world = load_world(args.world).world if args.world else None
+    backend = backends.create(args.backend, world=world) if args.backend else None
+    start = time.perf_counter()
+    engine = replay(args.record, world=world, backend=backend)
+    wall = time.perf_counter() - start
+    record = read_record(args.record)
+    print(f"vwg replay {args.record}: {len(record.frames)} frames replayed, every string as recorded "
+          f"({wall:.3f} s)")
+    print(f"  final string: {_clip(str(engine.string)) or 'ε'}")
+    return 0
+
+
+def _cmd_check(args: argparse.Namespace) -> int:
+    from .worldfile import load_world
+
+    spec = load_world(args.world)
+    a = spec.world.alphabet
+    print(f"{spec.path}: ok")
+    _print_summary([
+        ("primitives", ", ".join(a.primitives) or "-"),
+        ("transformations", ", ".join(a.transformations) or "-"),
+        ("actors", ", ".join(f"{n} {a.responds_to(n)}" for n in a.actors) or "-"),
+        ("events", ", ".join(a.event_types) or "-"),
+        ("visual events", ", ".join(a.visual_event_types) or "-"),
+        ("generators", ", ".join(g.name for g in spec.generators) or "-"),
+        ("initial string", _clip(str(spec.initial)) or "ε"),
+    ])
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="vwg", description="vwg, the Virtual Worlds Generator: run worlds written as strings of a grammar.")
+    parser.add_argument("--version", action="version", version=f"vwg {_core.__version__}")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+
+    run = sub.add_parser("run", help="run a world file", description="Run a world file and print a summary.")
+    run.add_argument("world", type=Path, help="the world file (YAML)")
+    run.add_argument("--frames", type=int, help="number of frames (default: the file's, else 100)")
+    run.add_argument("--seed", type=int, help="random seed (default: the file's, else 0)")
+    run.add_argument("--dt", type=float, help="seconds per frame (default: the file's, else 0.1)")
+    run.add_argument("--backend", help="backend by name, instead of the file's (trace, null, ...)")
+    run.add_argument("--max-symbols", type=int, default=10_000_000,
+                     help="fail if the string grows past this many symbols (default 10 000 000; 0: no limit)")
+    run.add_argument("--record", type=Path, help="write every frame to this JSON Lines file")
+    run.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
+                     help="show a progress bar (default: on a terminal)")
+    run.add_argument("--quiet", "-q", action="store_true", help="print nothing on success")
+    run.set_defaults(func=_cmd_run)
+
+    rep = sub.add_parser("replay", help="replay a record and check it",
+                         description="Run a record's events again and check every string against it.")
+    rep.add_argument("record", type=Path, help="a file written by `vwg run --record`")
+    rep.add_argument("--world", type=Path, help="the world file (default: the one the record names)")
+    rep.add_argument("--backend", help="show the replay on this backend (e.g. trace)")
+    rep.set_defaults(func=_cmd_replay)
+
+    chk = sub.add_parser("check", help="load a world file and report what it declares")
+    chk.add_argument("world", type=Path)
+    chk.set_defaults(func=_cmd_check)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        return int(args.func(args))
+    except FrameError as e:
+        cause = e.__cause__
+        if cause is not None and not isinstance(cause, Error):
+            traceback.print_exception(type(cause), cause, cause.__traceback__, file=sys.stderr)
+        print(f"vwg: error: {e}", file=sys.stderr)
+        return 1
+    except Error as e:
+        print(f"vwg: error: {e}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("vwg: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,66 @@
+"""The errors vwg raises. Each names where (file, line and column, field, or frame) and what was expected."""
+
+from __future__ import annotations
+
+__all__ = ["Error", "FrameError", "ParseError", "ReplayError", "SchemaError", "WorldFileError"]
+
+
+class Error(Exception):
+    """Base of all vwg errors."""
+
+
+class ParseError(Error, ValueError):
+    """Malformed text. Attributes: ``source``, ``line``, ``column`` (1-based, in characters),
+    ``found`` and ``expected``."""
+
+    source: str
+    line: int
+    column: int
+    found: str
+    expected: str
+
+
+class SchemaError(Error, ValueError):
+    """A value or declaration that does not fit: unknown attribute, wrong type, NaN, duplicate
+    name. ``field`` names what was wrong, e.g. ``"ARobot.row"``."""
+
+    field: str
+
+
+class FrameError(Error, RuntimeError):
+    """Something failed while running a frame; the engine keeps its last complete frame.
+
+    Attributes: ``frame``; ``stage`` ("generate", "evolve" for λ, "visualize" for θ, "display" for
+    φ on the backend); ``actor`` and ``event`` (text forms, or ""); ``where`` (generator or backend,
+    string position). The original exception is ``__cause__``."""
+
+    frame: int
+    stage: str
+    actor: str
+    event: str
+    where: str
+
+
+class WorldFileError(SchemaError):
+    """A bad world, map or record file. ``path`` is the file, ``line`` its line (or 0 when not
+    known) and ``field`` the key path inside it, e.g. ``"alphabet.events.show.visual"``."""
+
+    def __init__(self, path: str, field: str, message: str, line: int = 0) -> None:
+        where = f"{path}:{line}" if line else str(path)
+        super().__init__(f"{where}: {field}: {message}" if field else f"{where}: {message}")
+        self.path = str(path)
+        self.field = field
+        self.line = line
+
+
+class ReplayError(Error):
+    """A replay did not give the recorded string at ``frame``."""
+
+    def __init__(self, frame: int, expected: str, got: str) -> None:
+        def clip(s: str) -> str:
+            return s if len(s) <= 300 else s[:297] + "..."
+
+        super().__init__(f"frame {frame}: replay gave\n  {clip(got)}\nbut the record has\n  {clip(expected)}")
+        self.frame = frame
+        self.expected = expected
+        self.got = got

@@ -1,0 +1,57 @@
+"""Named registries of generators and backends, so world files can name them. A name is
+registered once; a second registration is refused."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator
+from typing import Any, Generic, TypeVar
+
+from .errors import SchemaError
+
+__all__ = ["Registry", "backends", "generators"]
+
+T = TypeVar("T")
+
+
+class Registry(Generic[T]):
+    """Factories by name: ``registry.register("sim", make_sim)`` then ``registry.create("sim", **args)``."""
+
+    def __init__(self, kind: str) -> None:
+        self.kind = kind
+        self._factories: dict[str, Callable[..., T]] = {}
+
+    def register(self, name: str, factory: Callable[..., T]) -> Callable[..., T]:
+        if name in self._factories:
+            raise SchemaError(f"{self.kind} '{name}' is already registered")
+        self._factories[name] = factory
+        return factory
+
+    def create(self, name: str, *args: Any, **kwargs: Any) -> T:
+        return self.get(name)(*args, **kwargs)
+
+    def get(self, name: str) -> Callable[..., T]:
+        try:
+            return self._factories[name]
+        except KeyError:
+            known = ", ".join(sorted(self._factories)) or "none"
+            raise SchemaError(f"unknown {self.kind} '{name}' (known: {known})") from None
+
+    def __contains__(self, name: object) -> bool:
+        return name in self._factories
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(sorted(self._factories))
+
+
+backends: Registry[Any] = Registry("backend")
+generators: Registry[Any] = Registry("generator")
+
+
+def _register_builtins() -> None:
+    from . import _core
+
+    backends.register("trace", lambda **_: _core.TraceBackend())
+    backends.register("null", lambda **_: _core.NullBackend())
+
+
+_register_builtins()

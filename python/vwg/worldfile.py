@@ -1,0 +1,208 @@
+"""World files: a world's alphabet, initial string, generators and backend in one YAML file.
+
+    alphabet:
+      primitives: [Lamp]                       # or {Lamp: {level: 1.0}}
+      transformations: {Move: {dist: 0.0}}
+      events: [tick, show]                     # or {eLaser: {dist: 0.0, angle: 0.0}}
+      visual: [show]
+      actors: ["blinker.py:Blinker"]           # a file beside the world file, or "package.module:Class"
+    initial: "Move<2.0>(Blinker<on=true>) . Blinker<on=false>"
+    generators:                                # in priority order
+      - every_frame: tick
+      - every_frame: show
+      - schedule: {10: ["tick"]}               # events at frames
+      - python: "gens.py:Noise"                # a vwg.Generator subclass, with optional args: {...}
+    backend: trace                             # trace, null, a registered name, or {python: ..., args: ...}
+    frames: 10
+    seed: 0
+    dt: 0.1
+
+Errors name the file, the line and the key path.
+"""
+
+from __future__ import annotations
+
+import importlib
+import importlib.util
+import sys
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from . import _core
+from .actor import Actor
+from .errors import Error, WorldFileError
+from .generators import Schedule, every_frame, resolve_generators
+from .registry import backends
+from .registry import generators as generator_registry
+from .world import Alphabet, World
+from .yamldoc import YamlDoc
+
+__all__ = ["WorldSpec", "build_world", "load_object", "load_world"]
+
+_TOP_KEYS = {"name", "alphabet", "initial", "generators", "backend", "frames", "seed", "dt", "description"}
+
+
+@dataclass
+class WorldSpec:
+    """A loaded world file, ready to run."""
+
+    path: Path
+    name: str
+    world: World
+    initial: _core.String
+    generators: list[_core.Generator]
+    backend: _core.Backend | None
+    frames: int
+    seed: int
+    dt: float
+    data: dict[str, Any] = field(default_factory=dict)  # the YAML, stored in records for replay
+
+
+def load_object(ref: str, base_dir: Path, where: str = "") -> Any:
+    """Import ``"file.py:Name"`` (relative to base_dir) or ``"package.module:Name"``."""
+    if ":" not in ref:
+        raise Error(f"{where}: '{ref}' is not of the form 'file.py:Name' or 'module:Name'")
+    module_ref, _, name = ref.rpartition(":")
+    if module_ref.endswith(".py"):
+        file = (base_dir / module_ref).resolve()
+        if not file.is_file():
+            raise Error(f"{where}: no file {file}")
+        module_name = f"vwg_user_{abs(hash(str(file)))}_{file.stem}"
+        module = sys.modules.get(module_name)
+        if module is None:
+            spec = importlib.util.spec_from_file_location(module_name, file)
+            if spec is None or spec.loader is None:
+                raise Error(f"{where}: cannot import {file}")
+            module = importlib.util.module_from_spec(spec)
+            sys.modules[module_name] = module
+            spec.loader.exec_module(module)
+    else:
+        module = importlib.import_module(module_ref)
+    try:
+        return getattr(module, name)
+    except AttributeError:
+        raise Error(f"{where}: {module_ref} has no '{name}'") from None
+
+
+def _wrap(doc: YamlDoc, path: tuple[Any, ...], fn: Any, *args: Any, **kwargs: Any) -> Any:
+    """Run fn; a vwg error inside is re-raised naming the file, line and key."""
+    try:
+        return fn(*args, **kwargs)
+    except WorldFileError:
+        raise
+    except (Error, ImportError, TypeError, ValueError) as e:
+        raise doc.error(path, str(e)) from e
+
+
+def build_world(doc: YamlDoc) -> World:
+    """The alphabet and actor classes of a world file."""
+    base = doc.path.parent
+    doc.get(("alphabet",), dict)
+    alphabet = Alphabet()
+    for key, adder in (("primitives", alphabet.add_primitive), ("transformations", alphabet.add_transformation)):
+        spec = doc.get(("alphabet", key), (list, dict), default=[])
+        items = spec.items() if isinstance(spec, dict) else ((n, None) for n in spec)
+        for i, (name, params) in enumerate(items):
+            path = ("alphabet", key, name if isinstance(spec, dict) else i)
+            if not isinstance(name, str):
+                raise doc.error(path, f"expected a name, got {name!r}")
+            _wrap(doc, path, adder, name, params)
+    visual = doc.get(("alphabet", "visual"), list, default=[])
+    events = doc.get(("alphabet", "events"), (list, dict), default=[])
+    items = events.items() if isinstance(events, dict) else ((n, None) for n in events)
+    declared = set()
+    for i, (name, fields) in enumerate(items):
+        path = ("alphabet", "events", name if isinstance(events, dict) else i)
+        if not isinstance(name, str):
+            raise doc.error(path, f"expected an event name, got {name!r}")
+        _wrap(doc, path, alphabet.add_event_type, name, name in visual, fields or None)
+        declared.add(name)
+    for i, name in enumerate(visual):
+        if name not in declared:
+            raise doc.error(("alphabet", "visual", i), f"'{name}' is not among alphabet.events")
+    for i, ref in enumerate(doc.get(("alphabet", "actors"), list, default=[])):
+        path = ("alphabet", "actors", i)
+        if not isinstance(ref, str):
+            raise doc.error(path, f"expected 'file.py:Class' or 'module:Class', got {ref!r}")
+        cls = _wrap(doc, path, load_object, ref, base, ref)
+        if not (isinstance(cls, type) and issubclass(cls, Actor)):
+            raise doc.error(path, f"'{ref}' is not a vwg.Actor subclass")
+        _wrap(doc, path, alphabet.add_actor_type, cls)
+    return World(alphabet)
+
+
+def _generator(doc: YamlDoc, world: World, i: int, entry: Any, dt: float) -> Any:
+    path = ("generators", i)
+    base = doc.path.parent
+    if isinstance(entry, str):
+        entry = {entry: {}}
+    if not isinstance(entry, dict) or len(entry) == 0:
+        raise doc.error(path, "expected a mapping such as {every_frame: tick}")
+    kind = next(iter(entry))
+    if kind == "every_frame":
+        event = doc.get((*path, "every_frame"), str)
+        fields = doc.get((*path, "fields"), dict, default={})
+        target = doc.get((*path, "target"), int, default=None)
+        return _wrap(doc, path, lambda: resolve_generators(world.alphabet, [every_frame(event, target, **fields)])[0])
+    if kind in ("schedule", "schedule_times"):
+        table = doc.get((*path, kind), dict)
+        for key, events in table.items():
+            if not isinstance(events, list):
+                raise doc.error((*path, kind, key), "expected a list of events")
+        if kind == "schedule":
+            return _wrap(doc, (*path, kind), Schedule, table)
+        return _wrap(doc, (*path, kind), Schedule.at_times, table, dt)
+    args = doc.get((*path, "args"), dict, default={})
+    if kind == "python":
+        ref = doc.get((*path, "python"), str)
+        cls = _wrap(doc, (*path, "python"), load_object, ref, base, ref)
+        gen = _wrap(doc, path, cls, **args)
+    else:
+        gen = _wrap(doc, path, generator_registry.create, kind, world=world, spec=entry)
+    return _wrap(doc, path, lambda: resolve_generators(world.alphabet, [gen])[0])
+
+
+def _backend(doc: YamlDoc, world: World) -> _core.Backend | None:
+    entry = doc.get(("backend",), (str, dict), default=None)
+    if entry is None:
+        return None
+    base = doc.path.parent
+    if isinstance(entry, str):
+        return _wrap(doc, ("backend",), backends.create, entry, world=world)
+    if "python" in entry:
+        ref = doc.get(("backend", "python"), str)
+        cls = _wrap(doc, ("backend", "python"), load_object, ref, base, ref)
+        args = doc.get(("backend", "args"), dict, default={})
+        return _wrap(doc, ("backend",), cls, **args)
+    name = doc.get(("backend", "type"), str)
+    return _wrap(doc, ("backend",), backends.create, name, world=world, spec=entry)
+
+
+def load_world(path: str | Path, *, seed: int | None = None, frames: int | None = None,
+               dt: float | None = None, backend: str | None = None) -> WorldSpec:
+    """Load and check a world file; the keyword arguments override the file's values."""
+    doc = YamlDoc(path)
+    if not isinstance(doc.data, dict):
+        raise WorldFileError(str(doc.path), "", "expected a mapping at the top of the world file")
+    for key in doc.data:
+        if key not in _TOP_KEYS:
+            raise doc.error((key,), f"unknown key (known: {', '.join(sorted(_TOP_KEYS))})")
+    world = build_world(doc)
+    initial_text = doc.get(("initial",), str)
+    initial = _wrap(doc, ("initial",), world.parse, initial_text, f"{doc.path}:initial")
+    dt_value = dt if dt is not None else doc.number(("dt",), 0.1, minimum=0.0, exclusive_minimum=True)
+    gens = [_generator(doc, world, i, g, dt_value) for i, g in enumerate(doc.get(("generators",), list, default=[]))]
+    backend_obj = _wrap(doc, ("backend",), backends.create, backend, world=world) if backend else _backend(doc, world)
+    return WorldSpec(
+        path=doc.path,
+        name=doc.get(("name",), str, default=doc.path.stem),
+        world=world,
+        initial=initial,
+        generators=gens,
+        backend=backend_obj,
+        frames=frames if frames is not None else doc.number(("frames",), 100, minimum=0, integer=True),
+        seed=seed if seed is not None else doc.number(("seed",), 0, minimum=0, integer=True),
+        dt=dt_value,
+        data=doc.data,
+    )

@@ -1,0 +1,89 @@
+"""Shared test worlds. The actors here are small enough that every expected string in the tests
+can be worked out by hand; the pure-Python reference (vwg.reference) is the second method for the
+generated cases."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import pytest
+
+import vwg
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+
+class Counter(vwg.Actor):
+    """add<k>: n + k; mul<k>: n * k; show (visual): Lamp<n>."""
+
+    events = ("add", "mul", "show")
+    attributes = {"n": 0}
+
+    def on_add(self, e):
+        return self.with_(n=self.n + e.k)
+
+    def on_mul(self, e):
+        return self.with_(n=self.n * e.k)
+
+    def show_show(self, e):
+        return vwg.Sym("Lamp", self.n)
+
+
+class Mortal(vwg.Actor):
+    """die: ε; poke: Move<1.0>(Mortal); glow (visual): Lamp<"m">."""
+
+    events = ("die", "poke", "glow")
+
+    def on_die(self, e):
+        return ""
+
+    def on_poke(self, e):
+        return vwg.Sym("Move", 1.0)(self)
+
+    def show_glow(self, e):
+        return 'Lamp<"m">'
+
+
+class Splitter(vwg.Actor):
+    """split: Splitter<gen+1> . Splitter<gen+1>."""
+
+    events = ("split",)
+    attributes = {"gen": 0}
+
+    def on_split(self, e):
+        child = self.with_(gen=self.gen + 1)
+        return [child, child]
+
+
+class Tagged(vwg.Actor):
+    """poke: hits + 1 (targeted pokes reach only the actor with that id); show: Lamp<id, hits>."""
+
+    events = ("poke", "show")
+    attributes = {"id": int, "hits": 0, "label": "t", "on": False}
+
+    def on_poke(self, e):
+        return self.with_(hits=self.hits + 1, on=not self.on)
+
+    def show_show(self, e):
+        return vwg.Sym("Lamp", self.id, self.hits)
+
+
+ACTORS = (Counter, Mortal, Splitter, Tagged)
+
+
+def make_world() -> vwg.World:
+    return vwg.World(
+        primitives={"Lamp": None, "Robot": {"id": 0}, "Dot": {"a": 0, "b": 0.0, "s": "", "f": False}},
+        transformations={"Move": {"dist": 0.0}, "Rotate": {"angle": 0.0}, "Group": None},
+        events={"add": {"k": 0}, "mul": {"k": 1}, "die": None, "poke": None, "split": None,
+                "show": None, "glow": None, "tick": None},
+        visual=["show", "glow"],
+        actors=ACTORS,
+    )
+
+
+@pytest.fixture
+def world() -> vwg.World:
+    return make_world()

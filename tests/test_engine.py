@@ -1,0 +1,193 @@
+"""The engine (system algorithm §II.D) with Python generators, backends and observers."""
+
+from __future__ import annotations
+
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import vwg
+from conftest import make_world
+
+
+class Adder(vwg.Generator):
+    def __init__(self, k):
+        super().__init__()
+        self.k = k
+
+    def generate(self, frame):
+        return [vwg.Event("add", k=self.k)]
+
+
+class Noise(vwg.Generator):
+    name = "noise"
+
+    def reset(self, seed):
+        self.rng = np.random.default_rng(seed)
+
+    def generate(self, frame):
+        return [vwg.Event("add", k=int(self.rng.integers(-3, 4)))] * 2
+
+
+def test_generator_priority_orders_s():
+    world = make_world()
+    for generators, expected in (([Adder(2), vwg.every_frame("mul", k=3)], 9),
+                                 ([vwg.every_frame("mul", k=3), Adder(2)], 5)):
+        engine = vwg.Engine(world, "Counter<n=1>", generators)
+        engine.step()
+        assert str(engine.string) == f"Counter<n={expected}>"
+
+
+def test_display_shows_the_string_before_evolution():
+    world = make_world()
+    trace = vwg.TraceBackend()
+    engine = vwg.Engine(world, "Counter<n=1>", [Adder(2), vwg.every_frame("show")], trace)
+    engine.run(2)
+    assert trace.calls == ["frame 0", "alpha Lamp<1>", "frame 1", "alpha Lamp<3>"]
+    assert [e.type for e in engine.last_events] == ["add", "show"]
+
+
+def test_run_stops_when_empty_at_the_limit_or_on_request():
+    world = make_world()
+    engine = vwg.Engine(world, "Mortal . Lamp", [vwg.Schedule({3: ["die"]})])
+    assert engine.run(2) == "frames"
+    assert engine.run(100) == "frames"  # Lamp stays: never empty
+    engine = vwg.Engine(world, "Mortal", [vwg.Schedule({3: ["die"]})])
+    assert engine.run(100) == "empty" and engine.frame == 4 and not engine.step()
+    engine = vwg.Engine(world, "Counter", [Adder(1)])
+    engine.add_observer(lambda r: engine.request_stop() if r.frame == 4 else None)
+    assert engine.run(1000) == "stopped" and engine.frame == 5
+
+
+def test_observers_see_each_completed_frame():
+    world = make_world()
+    seen = []
+    engine = vwg.Engine(world, "Counter<n=1>", [Adder(2)])
+    engine.add_observer(lambda r: seen.append((r.frame, r.before_text, r.event_texts, r.after_text)))
+    engine.run(2)
+    assert seen == [(0, "Counter<n=1>", ["add<k=2>"], "Counter<n=3>"),
+                    (1, "Counter<n=3>", ["add<k=2>"], "Counter<n=5>")]
+    kept = []
+    engine.add_observer(kept.append)
+    engine.step()
+    with pytest.raises(vwg.SchemaError, match="only available during"):
+        _ = kept[0].before
+
+
+def test_same_seed_same_trace_bit_for_bit():
+    world = make_world()
+
+    def trace(seed):
+        hashes = []
+        engine = vwg.Engine(world, "Counter . Tagged<id=1> . Splitter", [Noise(), vwg.every_frame("poke")], seed=seed)
+        engine.add_observer(lambda r: hashes.append(r.after.content_hash()))
+        engine.run(30)
+        return hashes
+
+    assert trace(5) == trace(5)
+    assert trace(5) != trace(6)
+
+
+def test_generator_and_backend_errors_keep_the_last_frame():
+    world = make_world()
+
+    class Broken(vwg.Generator):
+        def generate(self, frame):
+            if frame.frame == 2:
+                raise RuntimeError("sensor unplugged")
+            return ["add<k=1>"]
+
+    engine = vwg.Engine(world, "Counter", [Broken()])
+    with pytest.raises(vwg.FrameError) as info:
+        engine.run(5)
+    assert (info.value.frame, info.value.stage) == (2, "generate")
+    assert "Broken" in info.value.where and isinstance(info.value.__cause__, RuntimeError)
+    assert engine.frame == 2 and str(engine.string) == "Counter<n=2>"
+
+    class Screen(vwg.Backend):
+        def primitive(self, p):
+            raise OSError("screen off")
+
+    engine = vwg.Engine(world, "Counter", [Adder(1), vwg.every_frame("show")], Screen())
+    with pytest.raises(vwg.FrameError) as info:
+        engine.step()
+    assert info.value.stage == "display" and isinstance(info.value.__cause__, OSError)
+    assert engine.frame == 0 and str(engine.string) == "Counter<n=0>"
+
+
+def test_bad_events_from_a_generator_are_clear_errors():
+    world = make_world()
+
+    class Wrong(vwg.Generator):
+        def generate(self, frame):
+            return [vwg.Event("add", k=1.5)]
+
+    with pytest.raises(vwg.FrameError, match=r"add\.k: expected int, got float"):
+        vwg.Engine(world, "Counter", [Wrong()]).step()
+
+    class Unknown(vwg.Generator):
+        def generate(self, frame):
+            return [vwg.Event("nope")]
+
+    with pytest.raises(vwg.FrameError, match="unknown event type 'nope'"):
+        vwg.Engine(world, "Counter", [Unknown()]).step()
+
+
+def test_frame_info_and_world_view():
+    world = make_world()
+    seen = []
+
+    class Look(vwg.Generator):
+        def generate(self, frame):
+            seen.append((frame.frame, frame.time, len(frame.world)))
+            return []
+
+    vwg.Engine(world, "Counter . Lamp", [Look()], dt=0.25).run(3)
+    assert seen == [(0, 0.0, 2), (1, 0.25, 2), (2, 0.5, 2)]
+
+
+def test_max_symbols_stops_runaway_growth():
+    world = make_world()
+    engine = vwg.Engine(world, "Splitter", [vwg.every_frame("split")], max_symbols=1000)
+    with pytest.raises(vwg.FrameError, match="over the limit of 1000"):
+        engine.run(100)
+    assert len(engine.string) == 512  # the last complete frame: 2^9
+
+
+def test_bad_engine_settings():
+    world = make_world()
+    with pytest.raises(vwg.SchemaError, match="dt"):
+        vwg.Engine(world, "Lamp", dt=0.0)
+    with pytest.raises(vwg.SchemaError, match="generators"):
+        vwg.Engine(world, "Lamp", ["tick"])
+
+
+def test_run_releases_the_gil():
+    # Another Python thread keeps counting while the C++ frame loop runs; if run() held the GIL,
+    # the count would stand still for the whole run.
+    world = make_world()
+    engine = vwg.Engine(world, " . ".join(["Move<1.0>(Lamp)"] * 2000), [], vwg.NullBackend())
+    counter = [0]
+    stop = threading.Event()
+
+    def spin():
+        while not stop.is_set():
+            counter[0] += 1
+
+    t = threading.Thread(target=spin)
+    t.start()
+    try:
+        while counter[0] == 0:
+            pass
+        before = counter[0]
+        start = time.perf_counter()
+        engine.run(20000)
+        elapsed = time.perf_counter() - start
+        during = counter[0] - before
+    finally:
+        stop.set()
+        t.join()
+    assert elapsed > 0.05, "the run was too short to tell"
+    assert during > 10000
