@@ -16,7 +16,7 @@ py::list names_of(const Alphabet& a, SymbolKind kind) {
 }  // namespace
 
 void init_alphabet(py::module_& m) {
-  py::class_<Alphabet, std::shared_ptr<Alphabet>>(m, "Alphabet", R"doc(
+  declared_class<Alphabet, std::shared_ptr<Alphabet>>(m, "Alphabet", R"doc(
 The alphabet of a world (paper §II.A): primitives P, transformations T, actor types A (each with the
 event types H it responds to) and event types D with the visual subset V. Append-only; a name is
 registered once across all kinds.

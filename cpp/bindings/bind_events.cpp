@@ -24,7 +24,8 @@ std::string event_repr(const PyEvent& e) {
 
 }  // namespace
 
-py::object event_to_python(const EventView& e) {
+namespace {
+py::object make_event(const EventView& e) {
   PyEvent out;
   const EventTypeInfo& info = e.info();
   out.type = info.name;
@@ -32,6 +33,27 @@ py::object event_to_python(const EventView& e) {
   for (std::size_t k = 0; k < e.field_count(); ++k) out.fields[py::str(info.fields.params[k].name)] = value_to_python(e.store(), e.value(k));
   out.text = to_text(e);
   return py::cast(std::move(out));
+}
+
+/// The Python events of the last event list seen: every actor that receives an event gets the
+/// same (immutable) object instead of a new one per call.
+struct EventCache {
+  std::uint64_t serial = 0;
+  std::vector<py::object> objects;
+};
+}  // namespace
+
+py::object event_to_python(const EventView& e) {
+  PYBIND11_CONSTINIT static py::gil_safe_call_once_and_store<EventCache> storage;
+  EventCache& cache = const_cast<EventCache&>(storage.call_once_and_store_result([] { return EventCache{}; }).get_stored());
+  const EventList& list = e.list();
+  if (cache.serial != list.serial() || cache.objects.size() != list.size()) {
+    cache.serial = list.serial();
+    cache.objects.assign(list.size(), py::object());
+  }
+  py::object& slot = cache.objects[e.index()];
+  if (!slot) slot = make_event(e);
+  return slot;
 }
 
 void emit_python(EventList& out, py::handle obj, const std::string& what) {

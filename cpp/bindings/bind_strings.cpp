@@ -59,7 +59,7 @@ void init_strings(py::module_& m) {
       .def("__repr__", [](const PyNode& n) { return "vwg.Node(" + n.kind + " " + n.text + ")"; })
       .def("__str__", [](const PyNode& n) { return n.text; });
 
-  py::class_<WorldString>(m, "String", R"doc(
+  declared_class<WorldString>(m, "String", R"doc(
 A world string w ∈ L(M): primitives, transformations with their scopes, and actors. Immutable;
 ``str(w)`` is its canonical text, ``len(w)`` its number of symbols; equal strings compare and hash
 equal. Build one with ``World.parse`` or as the return value of an actor.)doc")

@@ -27,6 +27,14 @@ void init_backends(py::module_& m);
 void init_engine(py::module_& m);
 void init_bench_actors(py::module_& m);
 
+/// A class declared earlier in the module, to add methods to it.
+template <class... Options>
+py::class_<Options...> declared_class(py::module_& m, const char* name, const char* doc) {
+  auto cls = py::reinterpret_borrow<py::class_<Options...>>(m.attr(name));
+  if (doc) cls.attr("__doc__") = doc;
+  return cls;
+}
+
 // --- values ---
 /// A Python value as a Datum of the kind `spec` declares (or inferred when `spec` is null).
 /// Raises vwg::SchemaError naming `field` when it does not fit.

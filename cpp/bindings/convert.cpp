@@ -93,6 +93,21 @@ py::object blob_to_python(const std::shared_ptr<const Blob>& blob) {
 }
 
 Datum datum_from_python(py::handle obj, const ParamSpec* spec, const std::string& field) {
+  // Fast paths for the exact built-in types (no numpy type lookups).
+  PyObject* p = obj.ptr();
+  if (spec) {
+    if (spec->kind == ValueKind::Real && PyFloat_CheckExact(p)) {
+      const double r = PyFloat_AS_DOUBLE(p);
+      if (std::isfinite(r)) return Datum(r);
+    } else if (spec->kind == ValueKind::Int && PyLong_CheckExact(p)) {
+      int overflow = 0;
+      const long long v = PyLong_AsLongLongAndOverflow(p, &overflow);
+      if (!overflow && !(v == -1 && PyErr_Occurred())) return Datum(static_cast<std::int64_t>(v));
+      PyErr_Clear();
+    } else if (spec->kind == ValueKind::Bool && PyBool_Check(p)) {
+      return Datum(p == Py_True);
+    }
+  }
   const ValueKind kind = spec ? spec->kind : infer_kind(obj, field);
   auto mismatch = [&]() -> SchemaError {
     return SchemaError(field, "expected " + std::string(kind_name(kind)) + ", got " + describe_python(obj));

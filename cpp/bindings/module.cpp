@@ -7,12 +7,18 @@ PYBIND11_MODULE(_core, m) {
   using namespace vwg::bindings;
   init_errors(m);
   init_values(m);
-  init_alphabet(m);
-  init_strings(m);
+  // Classes whose methods refer to each other are declared first, so every signature names
+  // Python types (the methods are added by the init functions below).
+  py::class_<vwg::Alphabet, std::shared_ptr<vwg::Alphabet>>(m, "Alphabet");
+  py::class_<vwg::WorldString>(m, "String");
+  py::class_<vwg::ActorBehavior, std::shared_ptr<vwg::ActorBehavior>>(m, "ActorBehavior",
+                                                                      "λ and θ of an actor type (C++, or PythonActor).");
   init_events(m);
-  init_actors(m);
-  init_generators(m);
   init_backends(m);
+  init_generators(m);
+  init_actors(m);
+  init_strings(m);
+  init_alphabet(m);
   init_engine(m);
   init_bench_actors(m);
 }

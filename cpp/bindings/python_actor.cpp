@@ -68,8 +68,10 @@ class PythonActor final : public ActorBehavior {
     py::object result = h->wants_context ? h->fn(instance, event, make_context(ctx)) : h->fn(instance, event);
     if (result.ptr() == instance.ptr()) return;  // `return self`: unchanged
     const std::string what = name_ + ".on_" + e.info().name;
-    if (PyObject_IsInstance(result.ptr(), actor_base_.ptr()) == 1 &&
-        std::string(py::str(py::type::handle_of(result).attr("name"))) == name_) {
+    const bool same_type = py::type::handle_of(result).is(cls_) ||
+                           (PyObject_IsInstance(result.ptr(), actor_base_.ptr()) == 1 &&
+                            std::string(py::str(py::type::handle_of(result).attr("name"))) == name_);
+    if (same_type) {
       // Still one actor of this type: read its attributes back into the state.
       py::tuple values = result.attr("_v");
       const Schema& schema = self.info().schema;
@@ -169,8 +171,6 @@ void PythonActor::evolve_batch(ActorBatch& batch, const EventView& e, const Evol
 }  // namespace
 
 void init_actors(py::module_& m) {
-  py::class_<ActorBehavior, std::shared_ptr<ActorBehavior>>(m, "ActorBehavior",
-                                                              "λ and θ of an actor type (implemented in C++ or by PythonActor).");
   py::class_<PythonActor, ActorBehavior, std::shared_ptr<PythonActor>>(m, "PythonActor",
                                                                         "λ and θ of an actor class written in Python (see vwg.Actor).")
       .def(py::init<const Alphabet&, py::object, py::dict, py::dict, py::dict>(), py::arg("alphabet"), py::arg("cls"),

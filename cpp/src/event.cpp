@@ -1,5 +1,6 @@
 #include "vwg/event.hpp"
 
+#include <atomic>
 #include <string>
 
 #include "vwg/error.hpp"
@@ -28,8 +29,26 @@ double EventView::number(std::size_t i) const {
   throw SchemaError(info().name + "." + info().fields.params[i].name, "is not a number");
 }
 
+namespace {
+std::atomic<std::uint64_t> next_serial{1};
+}
+
+void EventList::touch() { serial_ = next_serial.fetch_add(1, std::memory_order_relaxed); }
+
 EventList::EventList(std::shared_ptr<const Alphabet> alphabet) : alphabet_(std::move(alphabet)) {
   if (!alphabet_) throw Error("an event list needs an alphabet");
+  touch();
+}
+
+EventList::EventList(const EventList& other)
+    : alphabet_(other.alphabet_), events_(other.events_), store_(other.store_), serial_(other.serial_) {}
+
+EventList& EventList::operator=(const EventList& other) {
+  alphabet_ = other.alphabet_;
+  events_ = other.events_;
+  store_ = other.store_;
+  serial_ = other.serial_;  // same content, same serial
+  return *this;
 }
 
 void EventList::emit(EventTypeId type, std::span<const Datum> fields, std::int64_t target) {
@@ -55,6 +74,7 @@ void EventList::emit(EventTypeId type, std::span<const Datum> fields, std::int64
   }
   for (const Datum& d : checked) store_.push(d);
   events_.push_back(r);
+  touch();
 }
 
 void EventList::emit(std::string_view type, std::initializer_list<Datum> fields, std::int64_t target) {
@@ -65,6 +85,7 @@ void EventList::append_from(const EventList& other, std::size_t i) {
   const Record& r = other.events_[i];
   const std::uint32_t first = store_.push_range(other.store_, r.first_value, r.value_count);
   events_.push_back(Record{r.type, first, r.value_count, r.target});
+  touch();
 }
 
 bool EventList::operator==(const EventList& other) const {

@@ -130,6 +130,7 @@ std::uint32_t ValueStore::push_range(const ValueStore& src, std::uint32_t first,
   const std::uint32_t start = size();
   values_.insert(values_.end(), src.values_.begin() + first, src.values_.begin() + first + count);
   // Numbers and booleans are copied as they are; text and blobs are re-homed in this store.
+  if (src.chars_.empty() && src.blobs_.empty()) return start;  // numbers only: the block copy is all
   for (std::uint32_t k = start; k < start + count; ++k) {
     Value& v = values_[k];
     if (v.kind == ValueKind::Text) {

@@ -187,6 +187,14 @@ StringBuilder& StringBuilder::append_range(const WorldString& s, std::size_t beg
     ++begin;
   }
   if (begin >= end) return *this;
+  if (begin == 0 && end == s.nodes_.size() && out_.nodes_.empty() && open_.empty()) {
+    // The whole of a string into an empty builder: a plain copy, no index to shift.
+    out_.nodes_ = s.nodes_;
+    out_.store_ = s.store_;
+    out_.actor_count_ = s.actor_count_;
+    out_.close_count_ = s.close_count_;
+    return *this;
+  }
   // The rest is a block copy: nodes, then their values (which are contiguous and in node order
   // in every WorldString), shifted by the difference of the stores. No scope in the block can be
   // empty: the source has none, and the block starts with a symbol.

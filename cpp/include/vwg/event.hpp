@@ -34,6 +34,7 @@ class EventView {
   double number(std::size_t i) const;
   const ValueStore& store() const;
   std::size_t index() const { return index_; }
+  const EventList& list() const { return *list_; }
 
  private:
   const EventList* list_;
@@ -43,6 +44,10 @@ class EventView {
 class EventList {
  public:
   explicit EventList(std::shared_ptr<const Alphabet> alphabet);
+  EventList(const EventList& other);
+  EventList& operator=(const EventList& other);
+  EventList(EventList&&) noexcept = default;
+  EventList& operator=(EventList&&) noexcept = default;
 
   /// Append an event; fields are checked against the event type's schema.
   void emit(EventTypeId type, std::span<const Datum> fields = {}, std::int64_t target = kNoTarget);
@@ -59,8 +64,12 @@ class EventList {
   void clear() {
     events_.clear();
     store_.clear();
+    touch();
   }
   bool operator==(const EventList& other) const;
+  /// A number no other list content has had in this process: it changes when the list does, so
+  /// caches of converted events can tell lists apart even at a reused address.
+  std::uint64_t serial() const { return serial_; }
 
  private:
   friend class EventView;
@@ -73,6 +82,8 @@ class EventList {
   std::shared_ptr<const Alphabet> alphabet_;
   std::vector<Record> events_;
   ValueStore store_;
+  std::uint64_t serial_;
+  void touch();
 };
 
 /// Canonical text of one event, e.g. `eLaser<dist=1.5, angle=0.25>`; a target is printed first as
