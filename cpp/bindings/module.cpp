@@ -21,4 +21,5 @@ PYBIND11_MODULE(_core, m) {
   init_alphabet(m);
   init_engine(m);
   init_bench_actors(m);
+  init_sim(m);
 }

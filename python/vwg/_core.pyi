@@ -4,8 +4,9 @@ The C++ core of vwg, the Virtual Worlds Generator (use it through `import vwg`).
 """
 from __future__ import annotations
 import collections.abc
+import numpy
 import typing
-__all__: list[str] = ['ActorBatch', 'ActorBehavior', 'Alphabet', 'Backend', 'Blob', 'Engine', 'Event', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'Generator', 'Node', 'NullBackend', 'PythonActor', 'String', 'TraceBackend', 'build_string', 'display', 'evolve', 'visualize', 'walker_behavior']
+__all__: list[str] = ['ActorBatch', 'ActorBehavior', 'Alphabet', 'Backend', 'Blob', 'Engine', 'Event', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'Generator', 'Node', 'NullBackend', 'PythonActor', 'String', 'TraceBackend', 'build_string', 'display', 'evolve', 'read_image', 'visualize', 'walker_behavior', 'write_image']
 class Blob:
     """
     A large attribute value held by reference from world strings (an occupancy grid, an image, a path).
@@ -447,6 +448,10 @@ def evolve(w: String, events: typing.Any, frame: typing.SupportsInt | typing.Sup
     """
     η(w, S) (paper eq. 8): every actor takes the events of S it responds to, in order.
     """
+def read_image(path: str) -> numpy.ndarray[typing.Any, numpy.dtype[typing.Any]]:
+    """
+    Read an image file (PNG, PGM, BMP, JPEG) as stored: uint8 or uint16, H×W, H×W×3 (RGB) or H×W×4 (RGBA).
+    """
 def visualize(w: String, events: typing.Any, frame: typing.SupportsInt | typing.SupportsIndex = 0, time: typing.SupportsFloat | typing.SupportsIndex = 0.0, seed: typing.SupportsInt | typing.SupportsIndex = 0) -> String:
     """
     π(w, Z) (paper eq. 9): the displayable string for the visual events among `events`.
@@ -456,5 +461,9 @@ def walker_behavior(alphabet: Alphabet, step: str, show: str | None = None, prim
     The behavior of a C++ actor type Walker<x: float, v: float>: λ(step<dt>) moves x by v·dt, and
     θ(show) is `primitive<x>`. Register it with ``alphabet.add_actor(name, [step, show],
     {"x": 0.0, "v": 1.0}, behavior)``.
+    """
+def write_image(path: str, image: numpy.ndarray[typing.Any, numpy.dtype[typing.Any]]) -> None:
+    """
+    Write an H×W (grey), H×W×3 (RGB) or H×W×4 (RGBA) uint8/uint16 image.
     """
 __version__: str = '0.1.0'

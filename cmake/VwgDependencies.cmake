@@ -1,0 +1,23 @@
+# The libraries of DESIGN.md. Debian 12 ships OpenCVConfig.cmake only in the large libopencv-dev
+# metapackage; with the split packages (libopencv-core-dev, ...) the libraries and headers are
+# found directly and given imported targets of the same names.
+find_package(Eigen3 REQUIRED NO_MODULE)
+find_package(box2d REQUIRED)
+
+set(VWG_OPENCV_COMPONENTS core imgproc imgcodecs videoio calib3d)
+find_package(OpenCV QUIET COMPONENTS ${VWG_OPENCV_COMPONENTS})
+if(NOT OpenCV_FOUND)
+  find_path(VWG_OPENCV_INCLUDE_DIR opencv2/core.hpp PATH_SUFFIXES opencv4 REQUIRED)
+  set(OpenCV_LIBS "")
+  foreach(component IN LISTS VWG_OPENCV_COMPONENTS)
+    find_library(VWG_OPENCV_${component}_LIBRARY opencv_${component} REQUIRED)
+    if(NOT TARGET opencv_${component})
+      add_library(opencv_${component} UNKNOWN IMPORTED)
+      set_target_properties(opencv_${component} PROPERTIES
+        IMPORTED_LOCATION "${VWG_OPENCV_${component}_LIBRARY}"
+        INTERFACE_INCLUDE_DIRECTORIES "${VWG_OPENCV_INCLUDE_DIR}")
+    endif()
+    list(APPEND OpenCV_LIBS opencv_${component})
+  endforeach()
+  message(STATUS "OpenCV: ${VWG_OPENCV_INCLUDE_DIR} (${OpenCV_LIBS}, found without OpenCVConfig.cmake)")
+endif()
