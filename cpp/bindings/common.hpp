@@ -27,6 +27,7 @@ void init_backends(py::module_& m);
 void init_engine(py::module_& m);
 void init_bench_actors(py::module_& m);
 void init_sim(py::module_& m);
+void init_physics(py::module_& m);
 
 /// A class declared earlier in the module, to add methods to it.
 template <class... Options>

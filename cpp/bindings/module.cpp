@@ -22,4 +22,5 @@ PYBIND11_MODULE(_core, m) {
   init_engine(m);
   init_bench_actors(m);
   init_sim(m);
+  init_physics(m);
 }

@@ -2,7 +2,35 @@
 
 #include <string>
 
+#include "vwg/error.hpp"
+
 namespace vwg {
+
+BackendGroup::BackendGroup(std::vector<std::shared_ptr<Backend>> backends) : backends_(std::move(backends)) {
+  for (const auto& b : backends_) {
+    if (!b) throw Error("BackendGroup: a backend is null");
+  }
+}
+void BackendGroup::begin_frame(const FrameInfo& frame) {
+  for (const auto& b : backends_) b->begin_frame(frame);
+}
+void BackendGroup::primitive(const NodeView& p) {
+  for (const auto& b : backends_) b->primitive(p);
+}
+void BackendGroup::open(const NodeView& t) {
+  for (const auto& b : backends_) b->open(t);
+}
+void BackendGroup::close(const NodeView& t) {
+  for (const auto& b : backends_) b->close(t);
+}
+void BackendGroup::end_frame(const FrameInfo& frame) {
+  for (const auto& b : backends_) b->end_frame(frame);
+}
+std::string BackendGroup::name() const {
+  std::string n;
+  for (const auto& b : backends_) n += (n.empty() ? "" : "+") + b->name();
+  return n;
+}
 
 void TraceBackend::begin_frame(const FrameInfo& frame) { calls_.push_back("frame " + std::to_string(frame.frame)); }
 void TraceBackend::primitive(const NodeView& p) { calls_.push_back("alpha " + to_text(p)); }

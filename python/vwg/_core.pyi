@@ -6,7 +6,7 @@ from __future__ import annotations
 import collections.abc
 import numpy
 import typing
-__all__: list[str] = ['ActorBatch', 'ActorBehavior', 'Alphabet', 'Backend', 'Blob', 'Engine', 'Event', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'Generator', 'Node', 'NullBackend', 'PythonActor', 'String', 'TraceBackend', 'build_string', 'display', 'evolve', 'read_image', 'visualize', 'walker_behavior', 'write_image']
+__all__: list[str] = ['ActorBatch', 'ActorBehavior', 'Alphabet', 'Backend', 'BackendGroup', 'Blob', 'CollisionGenerator', 'Engine', 'Event', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'Generator', 'Node', 'NullBackend', 'OdometryGenerator', 'PhysicsWorld', 'PythonActor', 'RobotState', 'SimBackend', 'String', 'TraceBackend', 'build_string', 'display', 'evolve', 'read_image', 'visualize', 'walker_behavior', 'write_image']
 class Blob:
     """
     A large attribute value held by reference from world strings (an occupancy grid, an image, a path).
@@ -436,6 +436,113 @@ class Engine:
         """
         Simulated seconds: frame * dt.
         """
+class RobotState:
+    """
+    A simulated robot: true pose, odometry estimate, motion.
+    """
+    def __repr__(self) -> str:
+        ...
+    @property
+    def busy(self) -> bool:
+        """
+        Executing a motion plan.
+        """
+    @property
+    def collisions(self) -> int:
+        ...
+    @property
+    def id(self) -> int:
+        ...
+    @property
+    def odometry(self) -> tuple:
+        """
+        The robot's own pose estimate (x, y, yaw), with odometry noise.
+        """
+    @property
+    def pose(self) -> tuple:
+        """
+        True pose (x, y, yaw).
+        """
+    @property
+    def radius(self) -> float:
+        ...
+    @property
+    def speed(self) -> float:
+        ...
+    @property
+    def travelled(self) -> float:
+        """
+        Metres driven.
+        """
+    @property
+    def turn_rate(self) -> float:
+        ...
+class PhysicsWorld:
+    """
+    The Box2D world of the simulator: walls from an occupancy grid (merged into few rectangles) and
+    differential-drive robots that execute motion plans under speed and acceleration limits, stepped at
+    a fixed time step. Robots are dicts or objects with id, start (x, y, yaw), and optionally radius,
+    max_speed, max_turn_rate, max_accel, max_turn_accel.
+    """
+    def __init__(self, grid: typing.Any, robots: list, step: typing.SupportsFloat | typing.SupportsIndex = 0.01, motor_noise: typing.SupportsFloat | typing.SupportsIndex = 0.0, odometry_noise: typing.SupportsFloat | typing.SupportsIndex = 0.0, seed: typing.SupportsInt | typing.SupportsIndex = 0, obstacle_threshold: typing.SupportsInt | typing.SupportsIndex = 50, walls_at_border: bool = True) -> None:
+        ...
+    def advance(self, seconds: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        """
+        Step the world for `seconds` at its fixed time step.
+        """
+    def command(self, robot: typing.SupportsInt | typing.SupportsIndex, plan: list) -> None:
+        """
+        Replace the robot's plan: a list of ('turn', radians) and ('drive', metres) steps.
+        """
+    def robot(self, id: typing.SupportsInt | typing.SupportsIndex) -> RobotState:
+        ...
+    def take_collisions(self) -> list:
+        """
+        Collisions since the last call: dicts with robot, other (0 = a wall), pose, time.
+        """
+    @property
+    def robots(self) -> list[RobotState]:
+        ...
+    @property
+    def time(self) -> float:
+        ...
+    @property
+    def wall_shapes(self) -> int:
+        """
+        Rectangles the walls were merged into.
+        """
+class SimBackend(Backend):
+    """
+    The simulator as the geometric system G (paper Table I): α(Robot<id>) makes robot `id` execute the
+    Move<d> and Rotate<a> transformations it is displayed under, outermost first; end_frame steps the
+    physics for the frame's dt.
+    """
+    def __init__(self, world: PhysicsWorld, robot: str = 'Robot', move: str = 'Move', rotate: str = 'Rotate') -> None:
+        ...
+    @property
+    def world(self) -> PhysicsWorld:
+        ...
+class OdometryGenerator(Generator):
+    """
+    Each frame, for each robot: event<to=id, x, y, angle, busy> with its odometry estimate.
+    """
+    def __init__(self, world: PhysicsWorld, alphabet: Alphabet, event: str = 'eOdometry') -> None:
+        ...
+class CollisionGenerator(Generator):
+    """
+    For each collision since the last frame: event<to=robot, other> (other = 0 for a wall).
+    """
+    def __init__(self, world: PhysicsWorld, alphabet: Alphabet, event: str = 'eCollision') -> None:
+        ...
+class BackendGroup(Backend):
+    """
+    Several backends as one: every call goes to each, in order (e.g. the simulator, then a renderer).
+    """
+    def __init__(self, backends: list) -> None:
+        ...
+    @property
+    def backends(self) -> list[Backend]:
+        ...
 def build_string(alphabet: Alphabet, parts: typing.Any) -> String:
     """
     A string from Python parts: text, vwg.String, actors, vwg.Sym, or lists of these.

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,23 @@ class NullBackend final : public Backend {
   void open(const NodeView&) override {}
   void close(const NodeView&) override {}
   std::string name() const override { return "null"; }
+};
+
+/// Several backends as one: every call goes to each, in the order given (e.g. the simulator
+/// first, then a renderer that draws what it did).
+class BackendGroup final : public Backend {
+ public:
+  explicit BackendGroup(std::vector<std::shared_ptr<Backend>> backends);
+  void begin_frame(const FrameInfo& frame) override;
+  void primitive(const NodeView& p) override;
+  void open(const NodeView& t) override;
+  void close(const NodeView& t) override;
+  void end_frame(const FrameInfo& frame) override;
+  std::string name() const override;
+  const std::vector<std::shared_ptr<Backend>>& backends() const { return backends_; }
+
+ private:
+  std::vector<std::shared_ptr<Backend>> backends_;
 };
 
 /// Records every call as text: "alpha Robot<1>", "beta Move<0.5>", "delta Move<0.5>", and

@@ -1,0 +1,16 @@
+// Conversions shared by the simulation bindings (private to cpp/bindings/).
+#pragma once
+
+#include "common.hpp"
+#include "vwg/sim/grid.hpp"
+
+namespace vwg::bindings {
+
+/// A C++ grid from a Python map: any object with `.data` (2-D int8 array, row 0 = bottom),
+/// `.resolution` and `.origin` (x, y, yaw) — vwg.maps.OccupancyGrid, for one.
+sim::OccupancyGrid grid_from_python(py::handle grid);
+/// (x, y, theta) from a 3-sequence.
+sim::Pose2 pose_from_python(py::handle pose, const std::string& field);
+py::tuple pose_to_python(const sim::Pose2& p);
+
+}  // namespace vwg::bindings

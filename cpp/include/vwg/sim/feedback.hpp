@@ -1,0 +1,45 @@
+// What the simulated robots tell about themselves, as event generators: their odometry every
+// frame, and their collisions when they happen (the paper's robot "responds to" these like any
+// other event; they are addressed to the robot by its id).
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "vwg/alphabet.hpp"
+#include "vwg/generator.hpp"
+#include "vwg/sim/physics.hpp"
+
+namespace vwg::sim {
+
+/// Each frame, for each robot: `<event><to=id, x, y, angle, busy>` — the odometry estimate (with
+/// odometry noise, not the truth) and whether the robot still executes a plan. The event type
+/// must declare the fields x, y, angle (real) and busy (bool), in this order.
+class OdometryGenerator final : public Generator {
+ public:
+  OdometryGenerator(std::shared_ptr<PhysicsWorld> world, const Alphabet& alphabet, const std::string& event = "eOdometry");
+  void generate(const FrameInfo& frame, EventList& out) override;
+  std::string name() const override { return "odometry"; }
+
+ private:
+  std::shared_ptr<PhysicsWorld> world_;
+  EventTypeId event_;
+};
+
+/// For each collision since the last frame: `<event><to=robot, other>` with the other robot's id,
+/// or 0 for a wall. The event type must declare the field other (int).
+class CollisionGenerator final : public Generator {
+ public:
+  CollisionGenerator(std::shared_ptr<PhysicsWorld> world, const Alphabet& alphabet, const std::string& event = "eCollision");
+  void generate(const FrameInfo& frame, EventList& out) override;
+  std::string name() const override { return "collisions"; }
+
+ private:
+  std::shared_ptr<PhysicsWorld> world_;
+  EventTypeId event_;
+};
+
+/// Throws SchemaError unless event type `id` declares exactly these fields with these kinds.
+void require_fields(const Alphabet& alphabet, EventTypeId id, std::initializer_list<std::pair<const char*, ValueKind>> fields);
+
+}  // namespace vwg::sim

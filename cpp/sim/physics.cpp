@@ -1,0 +1,352 @@
+#include "vwg/sim/physics.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <string>
+#include <utility>
+
+#include <box2d/box2d.h>
+
+#include "vwg/error.hpp"
+
+namespace vwg::sim {
+
+namespace {
+
+constexpr std::uintptr_t kWallTag = 0;  // fixture user data of walls; robots store their index + 1
+
+double approach(double current, double target, double max_change) {
+  if (target > current) return std::min(target, current + max_change);
+  return std::max(target, current - max_change);
+}
+
+/// Speed for a trapezoidal profile: accelerate towards the limit, brake so as to stop at the end.
+double profile_speed(double remaining, double current, double max_speed, double max_accel, double dt, bool& lands) {
+  const double direction = remaining >= 0 ? 1.0 : -1.0;
+  const double braking = std::sqrt(2.0 * max_accel * std::abs(remaining));
+  const double target = direction * std::min(max_speed, braking);
+  double speed = approach(current, target, max_accel * dt);
+  // The last step covers exactly what remains, so a plan ends where it should (no overshoot).
+  lands = std::abs(remaining) <= std::abs(speed) * dt + 1e-12 || std::abs(remaining) < 1e-9;
+  if (lands) speed = remaining / dt;
+  return speed;
+}
+
+void check_finite_positive(double v, const std::string& field) {
+  if (!std::isfinite(v) || v <= 0.0) throw SchemaError(field, "expected a finite value > 0, got " + std::to_string(v));
+}
+
+}  // namespace
+
+struct PhysicsWorld::Box2D {
+  b2World world{b2Vec2(0.0f, 0.0f)};  // seen from above: no gravity
+};
+
+struct PhysicsWorld::Robot {
+  RobotSettings settings;
+  b2Body* body = nullptr;  // owned by the b2World
+  Rng rng;
+  std::deque<MotionStep> plan;
+  bool stepping = false;  // a step of the plan is under way
+  MotionStep current{MotionStep::Turn, 0.0};
+  double target = 0.0;  // noisy amount of the current step
+  float start_angle = 0.0f;
+  b2Vec2 start_position{0.0f, 0.0f};
+  b2Vec2 direction{1.0f, 0.0f};
+  double speed = 0.0, turn_rate = 0.0;
+  bool lands = false;
+  int contacts = 0;
+  int stuck_steps = 0;
+};
+
+/// Counts contacts per robot and records the beginning of each as a Collision.
+class PhysicsWorld::Contacts : public b2ContactListener {
+ public:
+  explicit Contacts(PhysicsWorld& world) : world_(world) {}
+  void BeginContact(b2Contact* contact) override { update(contact, +1); }
+  void EndContact(b2Contact* contact) override { update(contact, -1); }
+
+ private:
+  void update(b2Contact* contact, int delta) {
+    const std::uintptr_t a = contact->GetFixtureA()->GetUserData().pointer;
+    const std::uintptr_t b = contact->GetFixtureB()->GetUserData().pointer;
+    for (auto [self, other] : {std::pair{a, b}, std::pair{b, a}}) {
+      if (self == kWallTag) continue;
+      Robot& r = world_.robots_[self - 1];
+      r.contacts += delta;
+      if (delta > 0) {
+        RobotState& s = world_.states_[self - 1];
+        ++s.collisions;
+        const int other_id = other == kWallTag ? 0 : world_.robots_[other - 1].settings.id;
+        world_.collisions_.push_back(Collision{r.settings.id, other_id, s.pose, world_.time_});
+      }
+    }
+  }
+  PhysicsWorld& world_;
+};
+
+std::vector<PhysicsWorld::CellRect> PhysicsWorld::merge_walls(const OccupancyGrid& grid, int threshold) {
+  std::vector<CellRect> rects;
+  std::vector<std::uint8_t> used(static_cast<std::size_t>(grid.width) * grid.height, 0);
+  auto free_wall = [&](int r, int c) {
+    return grid.at(r, c) >= threshold && !used[static_cast<std::size_t>(r) * grid.width + c];
+  };
+  for (int r = 0; r < grid.height; ++r) {
+    for (int c = 0; c < grid.width; ++c) {
+      if (!free_wall(r, c)) continue;
+      int c1 = c;
+      while (c1 < grid.width && free_wall(r, c1)) ++c1;
+      int r1 = r + 1;
+      while (r1 < grid.height) {
+        bool whole = true;
+        for (int k = c; k < c1 && whole; ++k) whole = free_wall(r1, k);
+        if (!whole) break;
+        ++r1;
+      }
+      for (int rr = r; rr < r1; ++rr) {
+        for (int k = c; k < c1; ++k) used[static_cast<std::size_t>(rr) * grid.width + k] = 1;
+      }
+      rects.push_back(CellRect{r, c, r1, c1});
+      c = c1 - 1;
+    }
+  }
+  return rects;
+}
+
+PhysicsWorld::PhysicsWorld(const OccupancyGrid& grid, std::span<const RobotSettings> robots, PhysicsSettings settings)
+    : grid_(grid), settings_(settings), box2d_(std::make_unique<Box2D>()) {
+  if (grid_.width <= 0 || grid_.height <= 0 || grid_.data.size() != static_cast<std::size_t>(grid_.width) * grid_.height) {
+    throw SchemaError("grid", "expected width × height cells");
+  }
+  check_finite_positive(grid_.resolution, "grid.resolution");
+  check_finite_positive(settings_.step, "physics.step");
+  for (double n : {settings_.noise.motors, settings_.noise.odometry}) {
+    if (!std::isfinite(n) || n < 0.0) throw SchemaError("noise", "expected finite standard deviations >= 0");
+  }
+
+  // Walls: one static body, one box fixture per merged rectangle.
+  b2BodyDef wall_def;
+  b2Body* walls = box2d_->world.CreateBody(&wall_def);
+  const double res = grid_.resolution;
+  auto add_box = [&](double u0, double v0, double u1, double v1) {  // grid units
+    double cx, cy;
+    grid_.grid_to_world((u0 + u1) / 2, (v0 + v1) / 2, cx, cy);
+    b2PolygonShape box;
+    box.SetAsBox(static_cast<float>((u1 - u0) * res / 2), static_cast<float>((v1 - v0) * res / 2),
+                 b2Vec2(static_cast<float>(cx), static_cast<float>(cy)), static_cast<float>(grid_.origin.theta));
+    b2FixtureDef fd;
+    fd.shape = &box;
+    fd.friction = 0.0f;
+    fd.userData.pointer = kWallTag;
+    walls->CreateFixture(&fd);
+    ++wall_shapes_;
+  };
+  for (const CellRect& r : merge_walls(grid_, settings_.obstacle_threshold)) add_box(r.col0, r.row0, r.col1, r.row1);
+  if (settings_.walls_at_border) {
+    const double w = grid_.width, h = grid_.height, t = 1.0;
+    add_box(-t, -t, w + t, 0);
+    add_box(-t, h, w + t, h + t);
+    add_box(-t, 0, 0, h);
+    add_box(w, 0, w + t, h);
+  }
+
+  // Robots.
+  robots_.reserve(robots.size());
+  states_.reserve(robots.size());
+  for (std::size_t i = 0; i < robots.size(); ++i) {
+    const RobotSettings& rs = robots[i];
+    const std::string who = "robot " + std::to_string(rs.id);
+    check_finite_positive(rs.radius, who + ".radius");
+    check_finite_positive(rs.limits.max_speed, who + ".max_speed");
+    check_finite_positive(rs.limits.max_turn_rate, who + ".max_turn_rate");
+    check_finite_positive(rs.limits.max_accel, who + ".max_accel");
+    check_finite_positive(rs.limits.max_turn_accel, who + ".max_turn_accel");
+    if (!std::isfinite(rs.start.x) || !std::isfinite(rs.start.y) || !std::isfinite(rs.start.theta)) {
+      throw SchemaError(who + ".start", "expected finite x, y, yaw");
+    }
+    for (const Robot& other : robots_) {
+      if (other.settings.id == rs.id) throw SchemaError(who, "the id is used twice");
+      const double d = std::hypot(other.settings.start.x - rs.start.x, other.settings.start.y - rs.start.y);
+      if (d < other.settings.radius + rs.radius) {
+        throw SchemaError(who + ".start", "overlaps robot " + std::to_string(other.settings.id));
+      }
+    }
+    double u, v;
+    grid_.world_to_grid(rs.start.x, rs.start.y, u, v);
+    if (u < 0 || v < 0 || u >= grid_.width || v >= grid_.height) throw SchemaError(who + ".start", "is outside the map");
+    const double rc = rs.radius / res;  // radius in cells
+    for (int row = static_cast<int>(std::floor(v - rc)); row <= static_cast<int>(std::floor(v + rc)); ++row) {
+      for (int col = static_cast<int>(std::floor(u - rc)); col <= static_cast<int>(std::floor(u + rc)); ++col) {
+        if (!grid_.blocked(row, col, settings_.obstacle_threshold)) continue;
+        const double du = std::max({col - u, 0.0, u - (col + 1)});
+        const double dv = std::max({row - v, 0.0, v - (row + 1)});
+        if (std::hypot(du, dv) < rc) {
+          throw SchemaError(who + ".start", "the robot at (" + std::to_string(rs.start.x) + ", " +
+                                                std::to_string(rs.start.y) + ") is inside a wall");
+        }
+      }
+    }
+    b2BodyDef bd;
+    bd.type = b2_dynamicBody;
+    bd.position.Set(static_cast<float>(rs.start.x), static_cast<float>(rs.start.y));
+    bd.angle = static_cast<float>(rs.start.theta);
+    bd.allowSleep = false;
+    Robot r;
+    r.settings = rs;
+    r.body = box2d_->world.CreateBody(&bd);
+    b2CircleShape circle;
+    circle.m_radius = static_cast<float>(rs.radius);
+    b2FixtureDef fd;
+    fd.shape = &circle;
+    fd.density = 1.0f;
+    fd.friction = 0.0f;
+    fd.userData.pointer = static_cast<std::uintptr_t>(i + 1);
+    r.body->CreateFixture(&fd);
+    r.rng.reseed(derive_seed(settings_.seed, 0x726F626FULL, static_cast<std::uint64_t>(rs.id)));
+    robots_.push_back(std::move(r));
+    RobotState s;
+    s.id = rs.id;
+    s.radius = rs.radius;
+    s.pose = s.odometry = rs.start;
+    states_.push_back(s);
+  }
+  contacts_ = std::make_unique<Contacts>(*this);
+  box2d_->world.SetContactListener(contacts_.get());
+}
+
+PhysicsWorld::~PhysicsWorld() {
+  if (box2d_) box2d_->world.SetContactListener(nullptr);
+}
+
+PhysicsWorld::Robot& PhysicsWorld::find(int id) {
+  for (Robot& r : robots_) {
+    if (r.settings.id == id) return r;
+  }
+  throw SchemaError("robot", "no robot with id " + std::to_string(id));
+}
+
+const RobotState& PhysicsWorld::robot(int id) const {
+  for (const RobotState& s : states_) {
+    if (s.id == id) return s;
+  }
+  throw SchemaError("robot", "no robot with id " + std::to_string(id));
+}
+
+void PhysicsWorld::command(int robot, std::vector<MotionStep> plan) {
+  Robot& r = find(robot);
+  for (const MotionStep& s : plan) {
+    if (!std::isfinite(s.amount)) throw SchemaError("robot " + std::to_string(robot) + " command", "non-finite amount");
+  }
+  r.plan.assign(plan.begin(), plan.end());
+  r.stepping = false;
+  r.stuck_steps = 0;
+}
+
+void PhysicsWorld::start_step(Robot& r) {
+  r.current = r.plan.front();
+  r.plan.pop_front();
+  const double noise = settings_.noise.motors > 0.0 ? r.rng.normal(0.0, settings_.noise.motors) : 0.0;
+  r.target = r.current.amount * (1.0 + noise);
+  r.start_angle = r.body->GetAngle();
+  r.start_position = r.body->GetPosition();
+  r.direction = b2Vec2(std::cos(r.start_angle), std::sin(r.start_angle));
+  r.stepping = true;
+  r.lands = false;
+  r.stuck_steps = 0;
+}
+
+void PhysicsWorld::step_robot(Robot& r, double dt) {
+  const RobotLimits& lim = r.settings.limits;
+  while (!r.stepping && !r.plan.empty()) {
+    start_step(r);
+    if (std::abs(r.target) < 1e-12) r.stepping = false;  // nothing to do
+  }
+  if (!r.stepping) {
+    // Idle: come to rest within the acceleration limits.
+    r.speed = approach(r.speed, 0.0, lim.max_accel * dt);
+    r.turn_rate = approach(r.turn_rate, 0.0, lim.max_turn_accel * dt);
+    const float a = r.body->GetAngle();
+    r.body->SetLinearVelocity(static_cast<float>(r.speed) * b2Vec2(std::cos(a), std::sin(a)));
+    r.body->SetAngularVelocity(static_cast<float>(r.turn_rate));
+    return;
+  }
+  if (r.current.kind == MotionStep::Turn) {
+    const double remaining = r.target - (r.body->GetAngle() - r.start_angle);
+    r.speed = 0.0;
+    r.turn_rate = profile_speed(remaining, r.turn_rate, lim.max_turn_rate, lim.max_turn_accel, dt, r.lands);
+    r.body->SetLinearVelocity(b2Vec2(0.0f, 0.0f));
+    r.body->SetAngularVelocity(static_cast<float>(r.turn_rate));
+  } else {
+    const b2Vec2 moved = r.body->GetPosition() - r.start_position;
+    const double remaining = r.target - b2Dot(moved, r.direction);
+    r.turn_rate = 0.0;
+    r.speed = profile_speed(remaining, r.speed, lim.max_speed, lim.max_accel, dt, r.lands);
+    r.body->SetLinearVelocity(static_cast<float>(r.speed) * r.direction);
+    r.body->SetAngularVelocity(0.0f);
+  }
+}
+
+void PhysicsWorld::advance(double seconds) {
+  if (!std::isfinite(seconds) || seconds < 0.0) throw SchemaError("advance", "expected a finite time >= 0");
+  const double dt = settings_.step;
+  const double total = pending_ + seconds;
+  const auto steps = static_cast<std::int64_t>(std::floor(total / dt + 1e-9));
+  pending_ = std::max(0.0, total - static_cast<double>(steps) * dt);
+  for (std::int64_t k = 0; k < steps; ++k) {
+    std::vector<b2Vec2> before(robots_.size());
+    std::vector<float> angle_before(robots_.size());
+    for (std::size_t i = 0; i < robots_.size(); ++i) {
+      step_robot(robots_[i], dt);
+      before[i] = robots_[i].body->GetPosition();
+      angle_before[i] = robots_[i].body->GetAngle();
+    }
+    box2d_->world.Step(static_cast<float>(dt), settings_.velocity_iterations, settings_.position_iterations);
+    time_ += dt;
+    for (std::size_t i = 0; i < robots_.size(); ++i) {
+      Robot& r = robots_[i];
+      RobotState& s = states_[i];
+      const b2Vec2 p = r.body->GetPosition();
+      const float a = r.body->GetAngle();
+      const b2Vec2 heading(std::cos(angle_before[i]), std::sin(angle_before[i]));
+      const double ds = b2Dot(p - before[i], heading);
+      const double da = static_cast<double>(a) - angle_before[i];
+      s.pose = Pose2{p.x, p.y, std::remainder(static_cast<double>(a), 2 * M_PI)};
+      s.travelled += std::abs(ds);
+      if (settings_.noise.odometry > 0.0) {
+        const double sigma = settings_.noise.odometry;
+        const double ds_m = ds + r.rng.normal(0.0, sigma * std::sqrt(std::abs(ds)));
+        const double da_m = da + r.rng.normal(0.0, sigma * std::sqrt(std::abs(da)));
+        s.odometry.theta += da_m / 2;
+        s.odometry.x += ds_m * std::cos(s.odometry.theta);
+        s.odometry.y += ds_m * std::sin(s.odometry.theta);
+        s.odometry.theta = std::remainder(s.odometry.theta + da_m / 2, 2 * M_PI);
+      } else {
+        s.odometry = s.pose;
+      }
+      // Pushing against a wall or a robot without getting anywhere: give up the plan.
+      if (r.stepping && r.current.kind == MotionStep::Drive && r.contacts > 0 &&
+          std::abs(ds) < 0.25 * std::abs(r.speed) * dt) {
+        if (++r.stuck_steps >= 20) {
+          r.plan.clear();
+          r.stepping = false;
+          r.speed = 0.0;
+        }
+      } else {
+        r.stuck_steps = 0;
+      }
+      if (r.stepping && r.lands) {
+        r.stepping = false;
+        if (r.current.kind == MotionStep::Drive) r.speed = 0.0;
+        if (r.current.kind == MotionStep::Turn) r.turn_rate = 0.0;
+      }
+      s.speed = r.speed;
+      s.turn_rate = r.turn_rate;
+      s.busy = r.stepping || !r.plan.empty();
+    }
+  }
+}
+
+std::vector<Collision> PhysicsWorld::take_collisions() { return std::exchange(collisions_, {}); }
+
+}  // namespace vwg::sim

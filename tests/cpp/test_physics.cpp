@@ -1,0 +1,185 @@
+// The Box2D world: merged walls, motion under limits, stopping at walls, noise, collisions.
+// Expected values are worked out by hand in the comments.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "vwg/error.hpp"
+#include "vwg/sim/physics.hpp"
+
+using namespace vwg::sim;
+
+namespace {
+
+/// An empty w × h map (cells) at `res` m/cell with the listed blocked cells.
+OccupancyGrid make_grid(int w, int h, double res, std::initializer_list<std::pair<int, int>> blocked = {}) {
+  OccupancyGrid g;
+  g.width = w;
+  g.height = h;
+  g.resolution = res;
+  g.data.assign(static_cast<std::size_t>(w) * h, kFree);
+  for (auto [r, c] : blocked) g.data[static_cast<std::size_t>(r) * w + c] = kOccupied;
+  return g;
+}
+
+void block_column(OccupancyGrid& g, int col) {
+  for (int r = 0; r < g.height; ++r) g.data[static_cast<std::size_t>(r) * g.width + col] = kOccupied;
+}
+
+RobotSettings robot_at(int id, double x, double y, double theta = 0.0) {
+  RobotSettings r;
+  r.id = id;
+  r.start = Pose2{x, y, theta};
+  r.radius = 0.2;
+  r.limits = RobotLimits{0.5, 1.5, 1.0, 4.0};
+  return r;
+}
+
+}  // namespace
+
+TEST(Physics, WallsMergeIntoFewRectanglesCoveringEveryBlockedCellOnce) {
+  // Rows from the bottom:      row 2: . X X .     An L: the run of row 0 grows into row 1
+  //                            row 1: X X . .     only if the whole run is blocked there (it is
+  //                            row 0: X X . .     not for cols 0-1 of row 2), so: [r0-2, c0-2) and
+  //                                                [r2, c1-3): two rectangles.
+  OccupancyGrid g = make_grid(4, 3, 1.0, {{0, 0}, {0, 1}, {1, 0}, {1, 1}, {2, 1}, {2, 2}});
+  const auto rects = PhysicsWorld::merge_walls(g, 50);
+  ASSERT_EQ(rects.size(), 2u);
+  EXPECT_EQ((std::array{rects[0].row0, rects[0].col0, rects[0].row1, rects[0].col1}), (std::array{0, 0, 2, 2}));
+  EXPECT_EQ((std::array{rects[1].row0, rects[1].col0, rects[1].row1, rects[1].col1}), (std::array{2, 1, 3, 3}));
+  // A 200 × 200 map whose border and two walls are blocked: far fewer shapes than cells.
+  OccupancyGrid big = make_grid(200, 200, 0.05);
+  for (int k = 0; k < 200; ++k) {
+    for (auto [r, c] : {std::pair{0, k}, {199, k}, {k, 0}, {k, 199}, {100, k}, {k, 50}}) {
+      big.data[static_cast<std::size_t>(r) * 200 + c] = kOccupied;
+    }
+  }
+  const auto merged = PhysicsWorld::merge_walls(big, 50);
+  std::vector<int> cover(200 * 200, 0);
+  for (const auto& r : merged) {
+    for (int rr = r.row0; rr < r.row1; ++rr) {
+      for (int cc = r.col0; cc < r.col1; ++cc) ++cover[static_cast<std::size_t>(rr) * 200 + cc];
+    }
+  }
+  for (std::size_t i = 0; i < cover.size(); ++i) EXPECT_EQ(cover[i], big.data[i] == kOccupied ? 1 : 0);
+  EXPECT_LT(merged.size(), 20u);
+}
+
+TEST(Physics, DrivesOneMetreExactlyWithinItsLimits) {
+  OccupancyGrid g = make_grid(200, 200, 0.05);  // 10 × 10 m, empty
+  const RobotSettings robots[] = {robot_at(1, 2.0, 2.0)};
+  PhysicsWorld world(g, robots, PhysicsSettings{});
+  world.command(1, {{MotionStep::Drive, 1.0}});
+  // Trapezoid: 0.5 s to reach 0.5 m/s (0.125 m), 0.125 m to brake, 0.75 m at 0.5 m/s (1.5 s):
+  // 0.5 + 1.5 + 0.5 = 2.5 s in all.
+  double top_speed = 0.0;
+  for (int k = 0; k < 24; ++k) {
+    world.advance(0.1);
+    top_speed = std::max(top_speed, world.robot(1).speed);
+  }
+  EXPECT_TRUE(world.robot(1).busy) << "done before 2.4 s";
+  world.advance(0.2);
+  EXPECT_FALSE(world.robot(1).busy) << "not done by 2.6 s";
+  EXPECT_LE(top_speed, 0.5 + 1e-9);
+  EXPECT_NEAR(world.robot(1).pose.x, 3.0, 1e-5);
+  EXPECT_NEAR(world.robot(1).pose.y, 2.0, 1e-6);
+  EXPECT_NEAR(world.robot(1).odometry.x, 3.0, 1e-5);  // no noise: odometry is the truth
+  EXPECT_NEAR(world.robot(1).travelled, 1.0, 1e-5);
+}
+
+TEST(Physics, TurnsThenDrivesAsAPlan) {
+  OccupancyGrid g = make_grid(200, 200, 0.05);
+  const RobotSettings robots[] = {robot_at(1, 5.0, 5.0)};
+  PhysicsWorld world(g, robots, PhysicsSettings{});
+  // Rotate<π/2>(Move<1>(Robot)): turn left a quarter, then 1 m along +y: (5, 6), heading π/2.
+  world.command(1, {{MotionStep::Turn, M_PI / 2}, {MotionStep::Drive, 1.0}});
+  world.advance(10.0);
+  const RobotState& s = world.robot(1);
+  EXPECT_FALSE(s.busy);
+  EXPECT_NEAR(s.pose.x, 5.0, 1e-5);
+  EXPECT_NEAR(s.pose.y, 6.0, 1e-5);
+  EXPECT_NEAR(s.pose.theta, M_PI / 2, 1e-5);
+  // A turn of 3π/2 more goes round the long way, not wrapped to -π/2: the robot ends facing 0
+  // after turning for at least 3π/2 / 1.5 = 3.14 s.
+  world.command(1, {{MotionStep::Turn, 3 * M_PI / 2}});
+  world.advance(3.1);
+  EXPECT_TRUE(world.robot(1).busy);
+  world.advance(2.0);
+  EXPECT_NEAR(std::remainder(world.robot(1).pose.theta, 2 * M_PI), 0.0, 1e-5);
+}
+
+TEST(Physics, StopsAtAWallAndReportsTheCollision) {
+  OccupancyGrid g = make_grid(200, 100, 0.05);
+  block_column(g, 80);  // a wall whose face is at x = 80 · 0.05 = 4.0 m
+  const RobotSettings robots[] = {robot_at(1, 2.0, 2.5)};
+  PhysicsWorld world(g, robots, PhysicsSettings{});
+  EXPECT_LT(world.wall_shapes(), 10u);
+  world.command(1, {{MotionStep::Drive, 5.0}});
+  world.advance(15.0);
+  const RobotState& s = world.robot(1);
+  EXPECT_FALSE(s.busy) << "the plan is given up at the wall";
+  EXPECT_NEAR(s.pose.x, 4.0 - 0.2, 0.02);  // touching: centre one radius from the face
+  const auto collisions = world.take_collisions();
+  ASSERT_GE(collisions.size(), 1u);
+  EXPECT_EQ(collisions[0].robot, 1);
+  EXPECT_EQ(collisions[0].other, 0);
+  EXPECT_TRUE(world.take_collisions().empty());
+}
+
+TEST(Physics, RobotsCollideWithEachOther) {
+  OccupancyGrid g = make_grid(200, 100, 0.05);
+  const RobotSettings robots[] = {robot_at(1, 2.0, 2.5), robot_at(2, 5.0, 2.5, M_PI)};
+  PhysicsWorld world(g, robots, PhysicsSettings{});
+  world.command(1, {{MotionStep::Drive, 3.0}});
+  world.command(2, {{MotionStep::Drive, 3.0}});
+  world.advance(10.0);
+  const auto collisions = world.take_collisions();
+  bool one_hit_two = false;
+  for (const auto& c : collisions) one_hit_two |= c.robot == 1 && c.other == 2;
+  EXPECT_TRUE(one_hit_two);
+  EXPECT_GE(world.robot(2).pose.x - world.robot(1).pose.x, 0.4 - 0.02);  // never through each other
+}
+
+TEST(Physics, NoiseIsSeededAndZeroNoiseIsExact) {
+  OccupancyGrid g = make_grid(200, 200, 0.05);
+  const RobotSettings robots[] = {robot_at(1, 2.0, 2.0)};
+  auto run = [&](double motors, double odometry, std::uint64_t seed) {
+    PhysicsSettings s;
+    s.noise = NoiseModel{motors, odometry};
+    s.seed = seed;
+    PhysicsWorld world(g, robots, s);
+    world.command(1, {{MotionStep::Drive, 2.0}, {MotionStep::Turn, 1.0}, {MotionStep::Drive, 1.0}});
+    world.advance(20.0);
+    return world.robot(1);
+  };
+  const RobotState exact = run(0, 0, 1);
+  const RobotState a = run(0.05, 0.05, 1), b = run(0.05, 0.05, 1), c = run(0.05, 0.05, 2);
+  EXPECT_EQ(a.pose.x, b.pose.x);
+  EXPECT_EQ(a.odometry.y, b.odometry.y);
+  EXPECT_NE(a.pose.x, c.pose.x);
+  EXPECT_GT(std::hypot(a.pose.x - exact.pose.x, a.pose.y - exact.pose.y), 1e-4);  // motors err
+  EXPECT_GT(std::hypot(a.odometry.x - a.pose.x, a.odometry.y - a.pose.y), 1e-5);  // odometry drifts
+  // Exact run by hand: (2, 2) + 2 m along 0, turn 1 rad, 1 m along 1 rad.
+  EXPECT_NEAR(exact.pose.x, 4.0 + std::cos(1.0), 1e-4);
+  EXPECT_NEAR(exact.pose.y, 2.0 + std::sin(1.0), 1e-4);
+}
+
+TEST(Physics, BadRobotsAreRefusedWithTheirField) {
+  OccupancyGrid g = make_grid(100, 100, 0.05);
+  block_column(g, 40);  // x in [2.0, 2.05)
+  auto refuse = [&](std::vector<RobotSettings> robots, const std::string& text) {
+    try {
+      PhysicsWorld world(g, robots, PhysicsSettings{});
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const vwg::SchemaError& e) {
+      EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
+    }
+  };
+  refuse({robot_at(1, 2.1, 2.0)}, "inside a wall");
+  refuse({robot_at(1, -1.0, 2.0)}, "outside the map");
+  refuse({robot_at(1, 1.0, 1.0), robot_at(1, 1.0, 3.0)}, "used twice");
+  refuse({robot_at(1, 1.0, 1.0), robot_at(2, 1.1, 1.0)}, "overlaps robot 1");
+  RobotSettings slow = robot_at(1, 1.0, 1.0);
+  slow.limits.max_speed = 0.0;
+  refuse({slow}, "max_speed");
+}
