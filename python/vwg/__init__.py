@@ -48,6 +48,18 @@ from .actor import Actor, Context, Sym
 from .engine import Engine
 from .errors import Error, FrameError, ParseError, ReplayError, SchemaError, WorldFileError
 from .generators import GeneratorSpec, Schedule, every_frame
+from .maps import OccupancyGrid, load_map, load_map_server, load_movingai, movingai_cell
+from .robotworld import (
+    CameraSpec,
+    KinectSpec,
+    LaserSpec,
+    NoiseSpec,
+    Order,
+    RobotSpec,
+    RobotWorld,
+    Room,
+    load_robot_world,
+)
 from .world import Alphabet, World
 
 __all__ = [
@@ -57,6 +69,7 @@ __all__ = [
     "Alphabet",
     "Backend",
     "Blob",
+    "CameraSpec",
     "Context",
     "Engine",
     "Error",
@@ -67,11 +80,19 @@ __all__ = [
     "FrameRecord",
     "Generator",
     "GeneratorSpec",
+    "KinectSpec",
+    "LaserSpec",
     "Node",
+    "NoiseSpec",
     "NullBackend",
+    "OccupancyGrid",
+    "Order",
     "ParseError",
     "PythonActor",
     "ReplayError",
+    "RobotSpec",
+    "RobotWorld",
+    "Room",
     "Schedule",
     "SchemaError",
     "String",
@@ -84,6 +105,11 @@ __all__ = [
     "display",
     "every_frame",
     "evolve",
+    "load_map",
+    "load_map_server",
+    "load_movingai",
+    "load_robot_world",
+    "movingai_cell",
     "visualize",
     "walker_behavior",
 ]

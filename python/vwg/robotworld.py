@@ -1,0 +1,466 @@
+"""World files of the robot case study (paper §III): a map, rooms named by AprilTag markers on walls, robots,
+their sensors, noise, and a timed script of user orders.
+
+    name: office                       # [file stem]
+    description: "..."                 # [""]
+    map: office/map.yaml               # map_server YAML relative to this file, a MovingAI .map,
+                                       # or {movingai: file.map, resolution: 0.1, origin: [0, 0, 0]}
+    wall_height: 2.5                   # [2.5] metres, for 3D views and cameras
+    rooms:                             # each room is named by a tag36h11 marker on a wall
+      kitchen:
+        marker: 3                      # tag id 0..586, unique across rooms
+        at: [12.0, 4.3]                # x, y (m) of the marker's centre, on a wall face
+        facing: 1.5708                 # direction the marker faces (outward normal of the wall), radians
+        size: 0.3                      # [0.3] edge of the tag's outer black square, metres
+        height: 1.2                    # [1.2] height of the marker centre above the floor
+        goal: [12.0, 3.3]              # [1 m in front of the marker] where a robot stands to have reached the room
+    robots:
+      - id: 1                          # int >= 1, unique
+        start: [2.0, 3.0, 0.0]         # x, y (m), yaw (rad)
+        radius: 0.18                   # [0.18] m
+        max_speed: 0.5                 # [0.5] m/s
+        max_turn_rate: 1.5             # [1.5] rad/s
+        max_accel: 1.0                 # [1.0] m/s²
+        max_turn_accel: 4.0            # [4.0] rad/s²
+        sensors: [laser, camera]       # [[laser, camera]]; any of laser, kinect, camera
+    laser: {beams: 360, fov: 6.283185307179586, max_range: 8.0, noise: 0.01}
+    kinect: {width: 640, height: 480, hfov: 1.0122909661567112, max_range: 4.5, min_range: 0.5, mount_height: 0.3}
+    camera: {width: 640, height: 480, hfov: 1.0471975511965976, mount_height: 0.5, noise: 0.0, blur: 0.0}
+    noise: {odometry: 0.0, motors: 0.0, laser: 0.01}   # laser defaults to laser.noise
+    frames: 3000                       # [3000]
+    dt: 0.1                            # [0.1] seconds per frame
+    seed: 0                            # [0]
+    orders:                            # [[]] the user's orders (gObjective), sorted by time when loaded
+      - {time: 0.0, robot: 1, room: kitchen}
+
+Sensors' image size is ``width``/``height`` (pixels) and their mounting height above the floor ``mount_height``
+(metres): one mapping cannot hold two ``height`` keys. Camera ``noise`` is the standard deviation of added grey
+levels (0..255), ``blur`` the Gaussian blur's sigma in pixels. ``noise.odometry`` and ``noise.motors`` are relative
+standard deviations (per metre travelled and per radian turned); 0 is exact.
+
+The loader checks what a run would trip over later, and names the file, the line and the field: unknown keys,
+wrong types, NaN or out-of-range numbers, duplicate marker or robot ids, a marker that is not on a wall face
+(within one cell of ``at`` along the facing line, the cell behind must be occupied and the cell in front free),
+a goal inside or closer to a wall than the largest robot's radius, a robot start off the map, in unknown space,
+inside a wall or within its radius of one, robots overlapping at start, and orders naming an unknown room or
+robot or a negative time. Unknown map cells count as walls for goals and starts.
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from .errors import WorldFileError
+from .maps import OccupancyGrid, _movingai_spec, load_map
+from .yamldoc import YamlDoc
+
+__all__ = ["CameraSpec", "KinectSpec", "LaserSpec", "NoiseSpec", "Order", "RobotSpec", "RobotWorld", "Room",
+           "load_robot_world"]
+
+SENSORS = ("laser", "kinect", "camera")
+MAX_MARKER = 586  # tag36h11 has 587 codes
+_TOP_KEYS = ("name", "description", "map", "wall_height", "rooms", "robots", "laser", "kinect", "camera", "noise",
+             "frames", "dt", "seed", "orders")
+_ROOM_KEYS = ("marker", "at", "facing", "size", "height", "goal")
+_ROBOT_KEYS = ("id", "start", "radius", "max_speed", "max_turn_rate", "max_accel", "max_turn_accel", "sensors")
+_ORDER_KEYS = ("time", "robot", "room")
+_GOAL_DISTANCE = 1.0  # default goal: this far in front of the marker, metres
+
+
+@dataclass(frozen=True)
+class Room:
+    """A room, named by the tag36h11 marker on one of its walls."""
+
+    name: str
+    marker: int
+    at: tuple[float, float]
+    facing: float
+    size: float = 0.3
+    height: float = 1.2
+    goal: tuple[float, float] = (0.0, 0.0)
+
+    @property
+    def normal(self) -> tuple[float, float]:
+        """Unit vector the marker faces (out of the wall)."""
+        return math.cos(self.facing), math.sin(self.facing)
+
+
+@dataclass(frozen=True)
+class RobotSpec:
+    """One robot: its id (the ``id`` attribute events are addressed to), start pose, size, limits, sensors."""
+
+    id: int
+    start: tuple[float, float, float]
+    radius: float = 0.18
+    max_speed: float = 0.5
+    max_turn_rate: float = 1.5
+    max_accel: float = 1.0
+    max_turn_accel: float = 4.0
+    sensors: tuple[str, ...] = ("laser", "camera")
+
+
+@dataclass(frozen=True)
+class LaserSpec:
+    """A planar range finder: ``beams`` rays over ``fov`` radians centred ahead, range noise std dev (m)."""
+
+    beams: int = 360
+    fov: float = 2 * math.pi
+    max_range: float = 8.0
+    noise: float = 0.01
+
+
+@dataclass(frozen=True)
+class KinectSpec:
+    """A depth camera: image size (pixels), horizontal field of view, range limits (m), mounting height (m)."""
+
+    width: int = 640
+    height: int = 480
+    hfov: float = math.radians(58.0)
+    max_range: float = 4.5
+    min_range: float = 0.5
+    mount_height: float = 0.3
+
+
+@dataclass(frozen=True)
+class CameraSpec:
+    """A colour camera for the markers: image size, horizontal field of view, mounting height, pixel noise, blur."""
+
+    width: int = 640
+    height: int = 480
+    hfov: float = math.pi / 3
+    mount_height: float = 0.5
+    noise: float = 0.0
+    blur: float = 0.0
+
+
+@dataclass(frozen=True)
+class NoiseSpec:
+    """Noise models: odometry and motors as relative std dev per metre/radian, laser range std dev (m)."""
+
+    odometry: float = 0.0
+    motors: float = 0.0
+    laser: float = 0.01
+
+
+@dataclass(frozen=True)
+class Order:
+    """A user order: at ``time`` seconds, send robot ``robot`` to room ``room``."""
+
+    time: float
+    robot: int
+    room: str
+
+
+@dataclass(eq=False)
+class RobotWorld:
+    """A loaded robot world file."""
+
+    path: Path
+    name: str
+    description: str
+    map_path: Path
+    grid: OccupancyGrid
+    wall_height: float
+    rooms: dict[str, Room]
+    robots: list[RobotSpec]
+    laser: LaserSpec
+    kinect: KinectSpec
+    camera: CameraSpec
+    noise: NoiseSpec
+    frames: int
+    dt: float
+    seed: int
+    orders: list[Order]
+    data: dict[str, Any] = field(default_factory=dict)  # the YAML as read
+
+    def robot(self, robot_id: int) -> RobotSpec:
+        """The robot with this id (KeyError if none)."""
+        for r in self.robots:
+            if r.id == robot_id:
+                return r
+        raise KeyError(robot_id)
+
+    def room_of_marker(self, marker: int) -> Room | None:
+        """The room a marker id names, or None."""
+        for room in self.rooms.values():
+            if room.marker == marker:
+                return room
+        return None
+
+    @property
+    def markers(self) -> dict[int, str]:
+        """Marker id -> room name."""
+        return {room.marker: name for name, room in self.rooms.items()}
+
+    def __repr__(self) -> str:
+        return (f"RobotWorld({self.name!r}, {self.grid.width}×{self.grid.height} cells at {self.grid.resolution} m, "
+                f"rooms={list(self.rooms)}, robots={[r.id for r in self.robots]}, orders={len(self.orders)})")
+
+
+# ---- helpers ----------------------------------------------------------------------------------------------
+def _p(x: float) -> str:
+    return repr(float(x))
+
+
+def _check_keys(doc: YamlDoc, path: tuple[Any, ...], value: dict[Any, Any], allowed: tuple[str, ...]) -> None:
+    for key in value:
+        if key not in allowed:
+            close = difflib.get_close_matches(str(key), allowed, n=1)
+            hint = f"; did you mean '{close[0]}'?" if close else f" (expected one of {', '.join(allowed)})"
+            raise doc.error((*path, key), f"unknown key{hint}")
+
+
+def _duplicate_keys(path: Path, text: str) -> None:
+    """PyYAML keeps the last of two equal keys silently; a world file with one is an error."""
+    root = yaml.compose(text, Loader=yaml.SafeLoader)
+
+    def walk(node: yaml.Node, where: str) -> None:
+        if isinstance(node, yaml.MappingNode):
+            seen: set[Any] = set()
+            for key, value in node.value:
+                k = key.value if isinstance(key, yaml.ScalarNode) else str(key)
+                here = f"{where}.{k}" if where else str(k)
+                if k in seen:
+                    hint = ""
+                    if k == "height" and where in ("kinect", "camera"):
+                        hint = "; the image size is width/height and the mounting height is 'mount_height'"
+                    raise WorldFileError(str(path), here, f"duplicate key{hint}", key.start_mark.line + 1)
+                seen.add(k)
+                walk(value, here)
+        elif isinstance(node, yaml.SequenceNode):
+            for i, item in enumerate(node.value):
+                walk(item, f"{where}[{i}]")
+
+    if root is not None:
+        walk(root, "")
+
+
+def _point(doc: YamlDoc, path: tuple[Any, ...], n: int, what: str) -> tuple[float, ...]:
+    value = doc.get(path, list)
+    if len(value) != n:
+        raise doc.error(path, f"expected {what}, got {len(value)} values")
+    return tuple(float(doc.number((*path, i))) for i in range(n))
+
+
+def _on_wall_face(grid: OccupancyGrid, x: float, y: float, facing: float) -> bool:
+    """Whether a wall face crosses the facing line within one cell of (x, y): some point there has an occupied
+    cell half a cell behind it and a free cell half a cell in front."""
+    nx, ny = math.cos(facing), math.sin(facing)
+    res = grid.resolution
+    for k in range(-4, 5):
+        t = k * res / 4
+        bx, by = x + (t - res / 2) * nx, y + (t - res / 2) * ny
+        fx, fy = x + (t + res / 2) * nx, y + (t + res / 2) * ny
+        rb, cb = grid.world_to_cell(bx, by)
+        rf, cf = grid.world_to_cell(fx, fy)
+        if grid.inside(rb, cb) and grid.inside(rf, cf) and grid.data[rb, cb] >= 50 and 0 <= grid.data[rf, cf] < 50:
+            return True
+    return False
+
+
+def _place_problem(grid: OccupancyGrid, x: float, y: float, radius: float) -> str:
+    """Why a disc of ``radius`` cannot stand at (x, y), or "" if it can."""
+    row, col = grid.world_to_cell(x, y)
+    if not grid.inside(row, col):
+        return (f"is outside the map ({grid.width_m:g} × {grid.height_m:g} m, lower-left corner at "
+                f"({_p(grid.origin[0])}, {_p(grid.origin[1])}))")
+    value = int(grid.data[row, col])
+    if value < 0:
+        return "is in unknown space"
+    if value >= 50:
+        return "is inside a wall"
+    clearance = grid.clearance(x, y, limit=radius + grid.resolution)
+    if clearance < radius:
+        return f"is {clearance:.3f} m from a wall, closer than the radius {_p(radius)} m"
+    return ""
+
+
+# ---- the loader -------------------------------------------------------------------------------------------
+def _load_grid(doc: YamlDoc, base: Path) -> tuple[OccupancyGrid, Path]:
+    spec = doc.get(("map",), (str, dict))
+    if isinstance(spec, dict):
+        grid = _movingai_spec(doc, ("map",), base)
+        return grid, Path(grid.source)
+    file = Path(spec).expanduser()
+    if not file.is_absolute():
+        file = base / file
+    if not file.is_file():
+        raise doc.error(("map",), f"map file {str(file)!r} not found")
+    return load_map(file), file
+
+
+def _robots(doc: YamlDoc, grid: OccupancyGrid) -> list[RobotSpec]:
+    entries = doc.get(("robots",), list)
+    if not entries:
+        raise doc.error(("robots",), "expected at least one robot")
+    robots: list[RobotSpec] = []
+    seen: dict[int, int] = {}
+    for i, entry in enumerate(entries):
+        path: tuple[Any, ...] = ("robots", i)
+        if not isinstance(entry, dict):
+            raise doc.error(path, f"expected a mapping with id and start, got {entry!r}")
+        _check_keys(doc, path, entry, _ROBOT_KEYS)
+        rid = int(doc.number((*path, "id"), minimum=1, integer=True))
+        if rid in seen:
+            raise doc.error((*path, "id"), f"robot id {rid} is already used by robots[{seen[rid]}]")
+        seen[rid] = i
+        x, y, yaw = _point(doc, (*path, "start"), 3, "[x, y, yaw]")
+        radius = float(doc.number((*path, "radius"), 0.18, minimum=0.0, exclusive_minimum=True))
+        limits = {key: float(doc.number((*path, key), default, minimum=0.0, exclusive_minimum=True))
+                  for key, default in (("max_speed", 0.5), ("max_turn_rate", 1.5), ("max_accel", 1.0),
+                                       ("max_turn_accel", 4.0))}
+        sensors = doc.get((*path, "sensors"), list, default=["laser", "camera"])
+        for j, s in enumerate(sensors):
+            if s not in SENSORS:
+                raise doc.error((*path, "sensors", j), f"unknown sensor {s!r} (expected {', '.join(SENSORS)})")
+            if s in sensors[:j]:
+                raise doc.error((*path, "sensors", j), f"sensor {s!r} listed twice")
+        problem = _place_problem(grid, x, y, radius)
+        if problem:
+            raise doc.error((*path, "start"), f"robot {rid} at ({_p(x)}, {_p(y)}) {problem}")
+        robots.append(RobotSpec(rid, (x, y, yaw), radius, sensors=tuple(sensors), **limits))
+    for i, a in enumerate(robots):
+        for j in range(i):
+            b = robots[j]
+            if math.hypot(a.start[0] - b.start[0], a.start[1] - b.start[1]) < a.radius + b.radius:
+                raise doc.error(("robots", i, "start"), f"robot {a.id} overlaps robot {b.id} at the start")
+    return robots
+
+
+def _rooms(doc: YamlDoc, grid: OccupancyGrid, wall_height: float, radius: float) -> dict[str, Room]:
+    entries = doc.get(("rooms",), dict, default={})
+    rooms: dict[str, Room] = {}
+    markers: dict[int, str] = {}
+    for name, entry in entries.items():
+        path: tuple[Any, ...] = ("rooms", name)
+        if not isinstance(name, str) or not name:
+            raise doc.error(path, f"a room name must be text, got {name!r}")
+        if not isinstance(entry, dict):
+            raise doc.error(path, f"expected a mapping with marker, at and facing, got {entry!r}")
+        _check_keys(doc, path, entry, _ROOM_KEYS)
+        marker = int(doc.number((*path, "marker"), minimum=0, maximum=MAX_MARKER, integer=True))
+        if marker in markers:
+            raise doc.error((*path, "marker"), f"marker {marker} already names room {markers[marker]!r}")
+        markers[marker] = name
+        x, y = _point(doc, (*path, "at"), 2, "[x, y]")
+        facing = float(doc.number((*path, "facing")))
+        size = float(doc.number((*path, "size"), 0.3, minimum=0.0, exclusive_minimum=True))
+        height = float(doc.number((*path, "height"), 1.2, minimum=0.0))
+        if height - size / 2 < 0 or height + size / 2 > wall_height:
+            raise doc.error((*path, "height"), f"a {_p(size)} m marker centred {_p(height)} m up does not fit on "
+                                               f"a wall {_p(wall_height)} m high")
+        if not grid.contains(x, y):
+            raise doc.error((*path, "at"), f"marker {marker} at ({_p(x)}, {_p(y)}) is outside the map")
+        if not _on_wall_face(grid, x, y, facing):
+            raise doc.error((*path, "at"), f"marker {marker} at ({_p(x)}, {_p(y)}) facing {facing:.4g} rad is not on "
+                                           "a wall face: within one cell of it the cell behind must be occupied and "
+                                           "the cell in front free")
+        nx, ny = math.cos(facing), math.sin(facing)
+        if doc.get((*path, "goal"), default=None) is None:
+            gx, gy = x + _GOAL_DISTANCE * nx, y + _GOAL_DISTANCE * ny
+        else:
+            gx, gy = _point(doc, (*path, "goal"), 2, "[x, y]")
+        problem = _place_problem(grid, gx, gy, radius)
+        if problem:
+            raise doc.error((*path, "goal"), f"goal ({_p(gx)}, {_p(gy)}) of room {name!r} {problem}"
+                                             + (" of the largest robot" if "radius" in problem else ""))
+        rooms[name] = Room(name, marker, (x, y), facing, size, height, (gx, gy))
+    return rooms
+
+
+def _sensors(doc: YamlDoc) -> tuple[LaserSpec, KinectSpec, CameraSpec, NoiseSpec]:
+    for key, allowed in (("laser", ("beams", "fov", "max_range", "noise")),
+                         ("kinect", ("width", "height", "hfov", "max_range", "min_range", "mount_height")),
+                         ("camera", ("width", "height", "hfov", "mount_height", "noise", "blur")),
+                         ("noise", ("odometry", "motors", "laser"))):
+        _check_keys(doc, (key,), doc.get((key,), dict, default={}), allowed)
+
+    def num(path: tuple[Any, ...], default: float, **kw: Any) -> float:
+        return float(doc.number(path, default, **kw))
+
+    def whole(path: tuple[Any, ...], default: int) -> int:
+        return int(doc.number(path, default, minimum=1, integer=True))
+
+    positive = {"minimum": 0.0, "exclusive_minimum": True}
+    laser_noise = num(("laser", "noise"), 0.01, minimum=0.0)
+    laser = LaserSpec(whole(("laser", "beams"), 360), num(("laser", "fov"), 2 * math.pi, maximum=2 * math.pi + 1e-9,
+                                                          **positive),
+                      num(("laser", "max_range"), 8.0, **positive), laser_noise)
+    kinect = KinectSpec(whole(("kinect", "width"), 640), whole(("kinect", "height"), 480),
+                        num(("kinect", "hfov"), math.radians(58.0), maximum=math.pi, **positive),
+                        num(("kinect", "max_range"), 4.5, **positive), num(("kinect", "min_range"), 0.5, minimum=0.0),
+                        num(("kinect", "mount_height"), 0.3, minimum=0.0))
+    if kinect.min_range >= kinect.max_range:
+        raise doc.error(("kinect", "min_range"), f"must be less than max_range ({_p(kinect.max_range)})")
+    camera = CameraSpec(whole(("camera", "width"), 640), whole(("camera", "height"), 480),
+                        num(("camera", "hfov"), math.pi / 3, maximum=math.pi, **positive),
+                        num(("camera", "mount_height"), 0.5, minimum=0.0), num(("camera", "noise"), 0.0, minimum=0.0),
+                        num(("camera", "blur"), 0.0, minimum=0.0))
+    noise = NoiseSpec(num(("noise", "odometry"), 0.0, minimum=0.0), num(("noise", "motors"), 0.0, minimum=0.0),
+                      num(("noise", "laser"), laser_noise, minimum=0.0))
+    given_twice = doc.get(("laser", "noise"), default=None) is not None and \
+        doc.get(("noise", "laser"), default=None) is not None
+    if given_twice and noise.laser != laser.noise:
+        raise doc.error(("noise", "laser"), f"{_p(noise.laser)} conflicts with laser.noise ({_p(laser.noise)}); "
+                                            "give one of them")
+    laser = LaserSpec(laser.beams, laser.fov, laser.max_range, noise.laser)
+    return laser, kinect, camera, noise
+
+
+def _orders(doc: YamlDoc, rooms: dict[str, Room], robots: list[RobotSpec]) -> list[Order]:
+    ids = {r.id for r in robots}
+    orders: list[Order] = []
+    for i, entry in enumerate(doc.get(("orders",), list, default=[])):
+        path: tuple[Any, ...] = ("orders", i)
+        if not isinstance(entry, dict):
+            raise doc.error(path, f"expected {{time, robot, room}}, got {entry!r}")
+        _check_keys(doc, path, entry, _ORDER_KEYS)
+        time = float(doc.number((*path, "time"), minimum=0.0))
+        robot = int(doc.number((*path, "robot"), integer=True))
+        if robot not in ids:
+            raise doc.error((*path, "robot"), f"no robot with id {robot} (robots: {sorted(ids)})")
+        room = doc.get((*path, "room"), str)
+        if room not in rooms:
+            close = difflib.get_close_matches(room, list(rooms), n=1)
+            hint = f"; did you mean {close[0]!r}?" if close else f" (rooms: {', '.join(rooms) or 'none'})"
+            raise doc.error((*path, "room"), f"no room named {room!r}{hint}")
+        orders.append(Order(time, robot, room))
+    return sorted(orders, key=lambda o: o.time)  # stable: equal times keep the file's order
+
+
+def load_robot_world(path: str | Path) -> RobotWorld:
+    """Load and check a robot world file (see the module docs for the schema); errors are WorldFileError
+    naming the file, the line and the field."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise WorldFileError(str(path), "", "file not found") from None
+    except (OSError, UnicodeDecodeError) as e:
+        raise WorldFileError(str(path), "", f"cannot read the file: {e}") from None
+    doc = YamlDoc(path, text)
+    if not isinstance(doc.data, dict):
+        raise doc.error((), "expected a mapping with map and robots")
+    _duplicate_keys(path, text)
+    _check_keys(doc, (), doc.data, _TOP_KEYS)
+    base = path.parent
+    name = doc.get(("name",), str, default=path.stem)
+    description = doc.get(("description",), str, default="")
+    grid, map_path = _load_grid(doc, base)
+    wall_height = float(doc.number(("wall_height",), 2.5, minimum=0.0, exclusive_minimum=True))
+    robots = _robots(doc, grid)
+    rooms = _rooms(doc, grid, wall_height, max(r.radius for r in robots))
+    laser, kinect, camera, noise = _sensors(doc)
+    frames = int(doc.number(("frames",), 3000, minimum=0, integer=True))
+    dt = float(doc.number(("dt",), 0.1, minimum=0.0, exclusive_minimum=True))
+    seed = int(doc.number(("seed",), 0, minimum=0, integer=True))
+    orders = _orders(doc, rooms, robots)
+    return RobotWorld(path=path, name=name, description=description, map_path=map_path, grid=grid,
+                      wall_height=wall_height, rooms=rooms, robots=robots, laser=laser, kinect=kinect, camera=camera,
+                      noise=noise, frames=frames, dt=dt, seed=seed, orders=orders, data=doc.data)
