@@ -23,4 +23,5 @@ PYBIND11_MODULE(_core, m) {
   init_bench_actors(m);
   init_sim(m);
   init_physics(m);
+  init_render(m);
 }

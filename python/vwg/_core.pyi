@@ -5,8 +5,9 @@ The C++ core of vwg, the Virtual Worlds Generator (use it through `import vwg`).
 from __future__ import annotations
 import collections.abc
 import numpy
+import os
 import typing
-__all__: list[str] = ['ActorBatch', 'ActorBehavior', 'Alphabet', 'Backend', 'BackendGroup', 'Blob', 'CollisionGenerator', 'Engine', 'Event', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'Generator', 'Node', 'NullBackend', 'OdometryGenerator', 'PhysicsWorld', 'PythonActor', 'RobotState', 'SimBackend', 'String', 'TraceBackend', 'build_string', 'display', 'evolve', 'read_image', 'visualize', 'walker_behavior', 'write_image']
+__all__: list[str] = ['ActorBatch', 'ActorBehavior', 'Alphabet', 'Backend', 'BackendGroup', 'Blob', 'CollisionGenerator', 'Engine', 'Event', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'Generator', 'ImageSequence', 'Node', 'NullBackend', 'OdometryGenerator', 'PhysicsWorld', 'PythonActor', 'RenderStyle', 'RobotState', 'SimBackend', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoWriter', 'build_string', 'display', 'evolve', 'read_image', 'visualize', 'walker_behavior', 'write_image']
 class Blob:
     """
     A large attribute value held by reference from world strings (an occupancy grid, an image, a path).
@@ -543,6 +544,466 @@ class BackendGroup(Backend):
     @property
     def backends(self) -> list[Backend]:
         ...
+class RenderStyle:
+    """
+    Size, colours (RGB tuples) and line widths of a TopDownRenderer.
+    """
+    def __init__(self) -> None:
+        ...
+    @property
+    def antialias(self) -> bool:
+        """
+        Smooth lines, discs and text.
+        """
+    @antialias.setter
+    def antialias(self, arg0: bool) -> None:
+        ...
+    @property
+    def background(self) -> tuple[int, int, int]:
+        """
+        Around the map.
+        """
+    @background.setter
+    def background(self, arg1: tuple[typing.SupportsInt | typing.SupportsIndex, typing.SupportsInt | typing.SupportsIndex, typing.SupportsInt | typing.SupportsIndex]) -> None:
+        ...
+    @property
+    def belief_free(self) -> tuple[int, int, int]:
+        """
+        Believed free space.
+        """
+    @belief_free.setter
+    def belief_free(self, arg1: tuple[typing.SupportsInt | typing.SupportsIndex, typing.SupportsInt | typing.SupportsIndex, typing.SupportsInt | typing.SupportsIndex]) -> None:
+        ...
+    @property
+    def belief_free_alpha(self) -> float:
+        """
+        Opacity of believed free space.
+        """
+    @belief_free_alpha.setter
+    def belief_free_alpha(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def belief_occupied(self) -> tuple[int, int, int]:
+        """
+        Believed walls.
+        """
+    @belief_occupied.setter
+    def belief_occupied(self, arg1: tuple[typing.SupportsInt | typing.SupportsIndex, typing.SupportsInt | typing.SupportsIndex, typing.SupportsInt | typing.SupportsIndex]) -> None:
+        ...
+    @property
+    def belief_occupied_alpha(self) -> float:
+        """
+        Opacity of believed walls.
+        """
+    @belief_occupied_alpha.setter
+    def belief_occupied_alpha(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def draw_misses(self) -> bool:
+        """
+        Draw max-range rays (faint).
+        """
+    @draw_misses.setter
+    def draw_misses(self, arg0: bool) -> None:
+        ...
+    @property
+    def even_size(self) -> bool:
+        """
+        Round the image up to even sides (for H.264).
+        """
+    @even_size.setter
+    def even_size(self, arg0: bool) -> None:
+        ...
+    @property
+    def font_scale(self) -> float:
+        """
+        Size of the text (OpenCV Hershey scale).
+        """
+    @font_scale.setter
+    def font_scale(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def free(self) -> tuple[int, int, int]:
+        """
+        Free cells.
+        """
+    @free.setter
+    def free(self, arg1: tuple[typing.SupportsInt | typing.SupportsIndex, typing.SupportsInt | typing.SupportsIndex, typing.SupportsInt | typing.SupportsIndex]) -> None:
+        ...
+    @property
+    def header(self) -> int:
+        """
+        Extra pixels above the map for the corner text.
+        """
+    @header.setter
+    def header(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def heading(self) -> tuple[int, int, int]:
+        """
+        Heading line of robots.
+        """
+    @heading.setter
+    def heading(self, arg1: tuple[typing.SupportsInt | typing.SupportsIndex, typing.SupportsInt | typing.SupportsIndex, typing.SupportsInt | typing.SupportsIndex]) -> None:
+        ...
+    @property
+    def hit(self) -> tuple[int, int, int]:
+        """
+        Laser hit points.
+        """
+    @hit.setter
+    def hit(self, arg1: tuple[typing.SupportsInt | typing.SupportsIndex, typing.SupportsInt | typing.SupportsIndex, typing.SupportsInt | typing.SupportsIndex]) -> None:
+        ...
+    @property
+    def hit_px(self) -> int:
+        """
+        Radius of a laser hit point, in pixels.
+        """
+    @hit_px.setter
+    def hit_px(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def label(self) -> tuple[int, int, int]:
+        """
+        Robot and marker labels.
+        """
+    @label.setter
+    def label(self, arg1: tuple[typing.SupportsInt | typing.SupportsIndex, typing.SupportsInt | typing.SupportsIndex, typing.SupportsInt | typing.SupportsIndex]) -> None:
+        ...
+    @property
+    def margin(self) -> int:
+        """
+        Pixels of background around the map.
+        """
+    @margin.setter
+    def margin(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def marker(self) -> tuple[int, int, int]:
+        """
+        Wall markers.
+        """
+    @marker.setter
+    def marker(self, arg1: tuple[typing.SupportsInt | typing.SupportsIndex, typing.SupportsInt | typing.SupportsIndex, typing.SupportsInt | typing.SupportsIndex]) -> None:
+        ...
+    @property
+    def marker_length(self) -> float:
+        """
+        Length of wall markers, in metres.
+        """
+    @marker_length.setter
+    def marker_length(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def marker_px(self) -> int:
+        """
+        Thickness of wall markers, in pixels.
+        """
+    @marker_px.setter
+    def marker_px(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def min_robot_px(self) -> float:
+        """
+        Smallest robot radius drawn, in pixels.
+        """
+    @min_robot_px.setter
+    def min_robot_px(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def occupied(self) -> tuple[int, int, int]:
+        """
+        Occupied cells.
+        """
+    @occupied.setter
+    def occupied(self, arg1: tuple[typing.SupportsInt | typing.SupportsIndex, typing.SupportsInt | typing.SupportsIndex, typing.SupportsInt | typing.SupportsIndex]) -> None:
+        ...
+    @property
+    def palette(self) -> list[tuple[int, int, int]]:
+        """
+        Robot colours: robot id i takes palette[i % len(palette)].
+        """
+    @palette.setter
+    def palette(self, arg1: collections.abc.Sequence[tuple[typing.SupportsInt | typing.SupportsIndex, typing.SupportsInt | typing.SupportsIndex, typing.SupportsInt | typing.SupportsIndex]]) -> None:
+        ...
+    @property
+    def path(self) -> tuple[int, int, int]:
+        """
+        Paths drawn without a robot id.
+        """
+    @path.setter
+    def path(self, arg1: tuple[typing.SupportsInt | typing.SupportsIndex, typing.SupportsInt | typing.SupportsIndex, typing.SupportsInt | typing.SupportsIndex]) -> None:
+        ...
+    @property
+    def path_px(self) -> int:
+        """
+        Thickness of planned paths, in pixels.
+        """
+    @path_px.setter
+    def path_px(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def pixels_per_cell(self) -> float:
+        """
+        Scale; ignored when width > 0.
+        """
+    @pixels_per_cell.setter
+    def pixels_per_cell(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def ray(self) -> tuple[int, int, int]:
+        """
+        Laser rays that hit.
+        """
+    @ray.setter
+    def ray(self, arg1: tuple[typing.SupportsInt | typing.SupportsIndex, typing.SupportsInt | typing.SupportsIndex, typing.SupportsInt | typing.SupportsIndex]) -> None:
+        ...
+    @property
+    def ray_miss(self) -> tuple[int, int, int]:
+        """
+        Laser rays at max range.
+        """
+    @ray_miss.setter
+    def ray_miss(self, arg1: tuple[typing.SupportsInt | typing.SupportsIndex, typing.SupportsInt | typing.SupportsIndex, typing.SupportsInt | typing.SupportsIndex]) -> None:
+        ...
+    @property
+    def robot_outline(self) -> tuple[int, int, int]:
+        """
+        Outline of robot discs.
+        """
+    @robot_outline.setter
+    def robot_outline(self, arg1: tuple[typing.SupportsInt | typing.SupportsIndex, typing.SupportsInt | typing.SupportsIndex, typing.SupportsInt | typing.SupportsIndex]) -> None:
+        ...
+    @property
+    def text(self) -> tuple[int, int, int]:
+        """
+        Corner text.
+        """
+    @text.setter
+    def text(self, arg1: tuple[typing.SupportsInt | typing.SupportsIndex, typing.SupportsInt | typing.SupportsIndex, typing.SupportsInt | typing.SupportsIndex]) -> None:
+        ...
+    @property
+    def text_box(self) -> tuple[int, int, int]:
+        """
+        Box under the corner text.
+        """
+    @text_box.setter
+    def text_box(self, arg1: tuple[typing.SupportsInt | typing.SupportsIndex, typing.SupportsInt | typing.SupportsIndex, typing.SupportsInt | typing.SupportsIndex]) -> None:
+        ...
+    @property
+    def text_box_alpha(self) -> float:
+        """
+        Opacity of the box under the corner text.
+        """
+    @text_box_alpha.setter
+    def text_box_alpha(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def trajectory(self) -> tuple[int, int, int]:
+        """
+        Trajectories drawn without a robot id.
+        """
+    @trajectory.setter
+    def trajectory(self, arg1: tuple[typing.SupportsInt | typing.SupportsIndex, typing.SupportsInt | typing.SupportsIndex, typing.SupportsInt | typing.SupportsIndex]) -> None:
+        ...
+    @property
+    def trajectory_fade(self) -> int:
+        """
+        Newest points over which a trail fades in.
+        """
+    @trajectory_fade.setter
+    def trajectory_fade(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def trajectory_faint(self) -> float:
+        """
+        Strength (0..1) of a trail's old part.
+        """
+    @trajectory_faint.setter
+    def trajectory_faint(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def trajectory_px(self) -> int:
+        """
+        Thickness of trajectories, in pixels.
+        """
+    @trajectory_px.setter
+    def trajectory_px(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def unknown(self) -> tuple[int, int, int]:
+        """
+        Unknown cells.
+        """
+    @unknown.setter
+    def unknown(self, arg1: tuple[typing.SupportsInt | typing.SupportsIndex, typing.SupportsInt | typing.SupportsIndex, typing.SupportsInt | typing.SupportsIndex]) -> None:
+        ...
+    @property
+    def width(self) -> int:
+        """
+        > 0: total image width in pixels (sets the scale).
+        """
+    @width.setter
+    def width(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+class TopDownRenderer:
+    """
+    Frames of the 2D simulation seen from above: the map (row 0 at the bottom), robots, laser rays, markers, paths, trajectories, the robot's belief and a corner text. Coordinates are world metres; images are H×W×3 uint8 RGB.
+    """
+    def __init__(self, grid: typing.Any, resolution: typing.SupportsFloat | typing.SupportsIndex | None = None, origin: tuple[typing.SupportsFloat | typing.SupportsIndex, typing.SupportsFloat | typing.SupportsIndex, typing.SupportsFloat | typing.SupportsIndex] | None = None, *, pixels_per_cell: typing.SupportsFloat | typing.SupportsIndex | None = None, width: typing.SupportsInt | typing.SupportsIndex | None = None, margin: typing.SupportsInt | typing.SupportsIndex | None = None, header: typing.SupportsInt | typing.SupportsIndex | None = None, style: RenderStyle | None = None) -> None:
+        """
+        grid: int8 array (rows × columns, row 0 = bottom; -1 unknown, 0 free, 100 occupied) with its resolution (m per cell) and origin (x, y, yaw) of cell (0, 0)'s lower-left corner, or a vwg.OccupancyGrid. Scale: pixels_per_cell (default 4) or width (total pixels); other settings in style.
+        """
+    def begin(self, frame: typing.SupportsInt | typing.SupportsIndex | None = None, time: typing.SupportsFloat | typing.SupportsIndex | None = None, status: str = '') -> None:
+        """
+        Start a frame: the map, and a corner text 'frame N   t = T s' with a status line (parts left out when None / empty).
+        """
+    def draw_belief(self, grid: typing.Any) -> None:
+        """
+        The robot's map: an int8 grid of the map's shape blended over it (unknown cells leave the map visible).
+        """
+    def draw_marker(self, x: typing.SupportsFloat | typing.SupportsIndex, y: typing.SupportsFloat | typing.SupportsIndex, facing: typing.SupportsFloat | typing.SupportsIndex, label: str = '', tag_id: typing.SupportsInt | typing.SupportsIndex = -1) -> None:
+        """
+        A wall marker at (x, y) facing the direction `facing` (radians): a thick segment along the wall, labelled 'label #tag_id' on the side it faces.
+        """
+    def draw_path(self, points: typing.Any, id: typing.SupportsInt | typing.SupportsIndex = -1) -> None:
+        """
+        A planned path: N×2 world points (metres), ending in a ring at the goal; robot id's colour if id >= 0.
+        """
+    def draw_robot(self, pose: tuple[typing.SupportsFloat | typing.SupportsIndex, typing.SupportsFloat | typing.SupportsIndex, typing.SupportsFloat | typing.SupportsIndex], radius: typing.SupportsFloat | typing.SupportsIndex, id: typing.SupportsInt | typing.SupportsIndex = 0, label: str | None = None, colour: tuple[typing.SupportsInt | typing.SupportsIndex, typing.SupportsInt | typing.SupportsIndex, typing.SupportsInt | typing.SupportsIndex] | None = None) -> None:
+        """
+        A disc of radius metres at pose (x, y, theta) with a heading line, in robot id's palette colour (or colour), labelled with the id (or label; '' for none).
+        """
+    def draw_scan(self, pose: tuple[typing.SupportsFloat | typing.SupportsIndex, typing.SupportsFloat | typing.SupportsIndex, typing.SupportsFloat | typing.SupportsIndex], angles: typing.Any, ranges: typing.Any, max_range: typing.SupportsFloat | typing.SupportsIndex = ...) -> None:
+        """
+        Laser rays from the sensor pose (x, y, theta): angles (radians, relative to theta) and ranges (metres), 1-D arrays of one length. Ranges that are inf/NaN or reach max_range are misses, drawn faint.
+        """
+    def draw_trajectory(self, points: typing.Any, id: typing.SupportsInt | typing.SupportsIndex = -1) -> None:
+        """
+        A trajectory: N×2 world points, oldest first, fading into the past.
+        """
+    def image(self) -> numpy.ndarray[typing.Any, numpy.dtype[typing.Any]]:
+        """
+        The frame as an H×W×3 uint8 RGB array (a copy).
+        """
+    def pixel_to_world(self, px: typing.SupportsFloat | typing.SupportsIndex, py: typing.SupportsFloat | typing.SupportsIndex) -> tuple[float, float]:
+        """
+        The world point (x, y) at continuous pixel coordinates.
+        """
+    def robot_colour(self, id: typing.SupportsInt | typing.SupportsIndex) -> tuple[int, int, int]:
+        """
+        The (r, g, b) colour robot id is drawn in.
+        """
+    def save(self, path: os.PathLike | str | bytes) -> None:
+        """
+        Write the frame to an image file (PNG; the format follows the extension).
+        """
+    def update_map(self, grid: typing.Any) -> None:
+        """
+        Replace the map's cells (same shape) and redraw the cached map layer.
+        """
+    def world_to_pixel(self, x: typing.SupportsFloat | typing.SupportsIndex, y: typing.SupportsFloat | typing.SupportsIndex) -> tuple[float, float]:
+        """
+        Continuous pixel coordinates (column, row) of a world point: pixel (i, j) covers [i, i+1) × [j, j+1), so image[int(row), int(col)] is the pixel under the point.
+        """
+    @property
+    def height(self) -> int:
+        """
+        Image height.
+        """
+    @property
+    def map_rect(self) -> tuple[int, int, int, int]:
+        """
+        Where the map lies in the image: (x, y, width, height) in pixels.
+        """
+    @property
+    def pixels_per_cell(self) -> float:
+        """
+        Scale.
+        """
+    @property
+    def pixels_per_metre(self) -> float:
+        """
+        Scale.
+        """
+    @property
+    def style(self) -> RenderStyle:
+        """
+        The settings (a copy: changing it does not change the renderer).
+        """
+    @property
+    def width(self) -> int:
+        """
+        Image width.
+        """
+class VideoWriter:
+    """
+    A video file, by extension: .mp4 (H.264, yuv420p, faststart: plays in browsers) or .gif. Frames are H×W×3 uint8 RGB arrays of one size (the first frame's, unless given). Use as a context manager, or call close(); a writer garbage-collected unclosed still finishes its file.
+    """
+    def __enter__(self) -> VideoWriter:
+        ...
+    def __exit__(self, type: typing.Any, value: typing.Any, traceback: typing.Any) -> bool:
+        ...
+    def __init__(self, path: os.PathLike | str | bytes, fps: typing.SupportsFloat | typing.SupportsIndex = 10.0, *, size: tuple[typing.SupportsInt | typing.SupportsIndex, typing.SupportsInt | typing.SupportsIndex] | None = None, backend: str = 'auto', crf: typing.SupportsInt | typing.SupportsIndex = 20, preset: str = 'fast', gif_dither: bool = False, gif_global_palette: bool = False, ffmpeg: str = 'ffmpeg') -> None:
+        """
+        size: (width, height), or None for the first frame's. backend: 'auto' (the ffmpeg command if found, else OpenCV for MP4), 'ffmpeg' or 'opencv'. crf/preset: H.264 quality and speed. gif_global_palette: one palette for the whole GIF (smaller, faster; holds every frame in memory until close, so for short clips).
+        """
+    def close(self) -> None:
+        """
+        Finish the file (waits for the encoder). Raises if no frame was written or the encoder failed.
+        """
+    def write(self, image: numpy.ndarray[typing.Any, numpy.dtype[typing.Any]]) -> None:
+        """
+        Append an H×W×3 uint8 RGB frame.
+        """
+    @property
+    def encoder(self) -> str:
+        """
+        'ffmpeg libx264', 'ffmpeg gif', 'opencv avc1', or '' before the first frame.
+        """
+    @property
+    def fps(self) -> float:
+        ...
+    @property
+    def frames(self) -> int:
+        """
+        Frames written.
+        """
+    @property
+    def is_open(self) -> bool:
+        ...
+    @property
+    def path(self) -> str:
+        ...
+    @property
+    def size(self) -> tuple[int, int]:
+        """
+        (width, height); (0, 0) before the first frame when not given.
+        """
+class ImageSequence:
+    """
+    Frames as numbered PNG files in a folder: frame_00001.png, frame_00002.png, ...
+    """
+    def __init__(self, directory: os.PathLike | str | bytes, prefix: str = 'frame_', first: typing.SupportsInt | typing.SupportsIndex = 1, digits: typing.SupportsInt | typing.SupportsIndex = 5) -> None:
+        """
+        Creates the folder if needed; frame files are prefix + the number with `digits` digits + '.png'.
+        """
+    def path_of(self, number: typing.SupportsInt | typing.SupportsIndex) -> str:
+        """
+        The path of frame `number`.
+        """
+    def write(self, image: numpy.ndarray[typing.Any, numpy.dtype[typing.Any]]) -> str:
+        """
+        Write the next H×W×3 uint8 RGB frame; returns the file's path.
+        """
+    @property
+    def directory(self) -> str:
+        ...
+    @property
+    def frames(self) -> int:
+        """
+        Frames written.
+        """
 def build_string(alphabet: Alphabet, parts: typing.Any) -> String:
     """
     A string from Python parts: text, vwg.String, actors, vwg.Sym, or lists of these.

@@ -1,0 +1,345 @@
+"""The 2D top-down renderer and the video writers from Python (vwg._core.TopDownRenderer, VideoWriter,
+ImageSequence). Expected pixels are worked out by hand from each test's geometry: pixel (i, j) covers
+[i, i+1) × [j, j+1), the map's bottom row is at the image bottom, and numpy indexes image[row, column]."""
+
+from __future__ import annotations
+
+import gc
+import math
+import shutil
+import subprocess
+import types
+
+import numpy as np
+import pytest
+
+import vwg
+from vwg.errors import Error, SchemaError
+
+core = vwg._core
+
+
+
+def test_ffmpeg_is_installed():
+    # The Makefile installs Debian's ffmpeg; video tests must fail, not skip, without it.
+    assert shutil.which("ffmpeg") and shutil.which("ffprobe"), "install ffmpeg (make deps)"
+
+
+
+def free_grid() -> np.ndarray:
+    """10 rows × 20 columns of free cells; at 0.1 m a cell, 2 m × 1 m."""
+    return np.zeros((10, 20), dtype=np.int8)
+
+
+def plain_style() -> core.RenderStyle:
+    """Plain colours, so expected pixels are simple numbers; 4 px per cell, 8 px margins."""
+    s = core.RenderStyle()
+    s.pixels_per_cell = 4.0
+    s.margin = 8
+    s.background = (0, 0, 255)
+    s.free = (255, 255, 255)
+    s.occupied = (0, 0, 0)
+    s.unknown = (128, 0, 128)
+    s.palette = [(10, 20, 30), (40, 50, 60), (200, 100, 0)]
+    s.hit = (255, 0, 0)
+    s.ray = (0, 255, 0)
+    s.ray_miss = (0, 200, 200)
+    s.belief_occupied = (0, 0, 255)
+    s.belief_occupied_alpha = 0.5
+    s.text_box = (0, 0, 0)
+    s.text_box_alpha = 0.5
+    return s
+
+
+def renderer(grid: np.ndarray | None = None, **kw) -> core.TopDownRenderer:
+    return core.TopDownRenderer(free_grid() if grid is None else grid, 0.1, (0.0, 0.0, 0.0), style=plain_style(), **kw)
+
+
+def probe(path) -> dict[str, str]:
+    """ffprobe's view of the first video stream, counting its frames."""
+    out = subprocess.run(["ffprobe", "-v", "error", "-select_streams", "v:0", "-count_frames", "-show_entries",
+                          "stream=codec_name,pix_fmt,width,height,nb_read_frames", "-of", "default=noprint_wrappers=1",
+                          str(path)], capture_output=True, text=True, check=True).stdout
+    return dict(line.split("=", 1) for line in out.split())
+
+
+def solid(width: int, height: int, i: int) -> np.ndarray:
+    """A frame of one colour, a different one per index."""
+    frame = np.empty((height, width, 3), dtype=np.uint8)
+    frame[:] = (40 + 20 * (i % 10), 200 - 15 * (i % 10), 90)
+    return frame
+
+
+# ------------------------------------------------------------------ geometry
+
+
+def test_image_size_and_map_corners():
+    r = renderer()
+    image = r.image()
+    # 20 cells × 4 px + 2 × 8 px margin wide, 10 × 4 + 16 high.
+    assert image.shape == (56, 96, 3)
+    assert image.dtype == np.uint8
+    assert (r.width, r.height) == (96, 56)
+    assert r.map_rect == (8, 8, 80, 40)
+    assert r.world_to_pixel(0.0, 0.0) == (8.0, 48.0)  # the map's lower-left corner: image bottom-left
+    assert r.world_to_pixel(2.0, 1.0) == (88.0, 8.0)  # upper-right corner
+    assert r.pixel_to_world(10.0, 46.0) == pytest.approx((0.05, 0.05))
+    assert r.pixels_per_metre == pytest.approx(40.0)
+
+
+def test_origin_offset_moves_the_world():
+    r = core.TopDownRenderer(free_grid(), 0.1, (-1.0, 2.0, 0.0), pixels_per_cell=4.0, margin=8)
+    assert r.world_to_pixel(-1.0, 2.0) == pytest.approx((8.0, 48.0))
+    assert r.world_to_pixel(0.0, 2.5) == pytest.approx((48.0, 28.0))  # 10 cells right, 5 up
+
+
+def test_width_sets_the_scale():
+    r = core.TopDownRenderer(free_grid(), 0.1, width=216, margin=8)
+    # 200 px of map for 20 cells: 10 px a cell; 10 rows: 100 px + 16.
+    assert r.pixels_per_cell == pytest.approx(10.0)
+    assert r.image().shape == (116, 216, 3)
+
+
+def test_header_adds_room_above_the_map():
+    r = renderer(header=30)
+    assert r.image().shape == (86, 96, 3)
+    assert r.world_to_pixel(0.0, 0.0) == (8.0, 78.0)
+
+
+def test_an_object_with_data_resolution_and_origin_is_a_grid():
+    grid = types.SimpleNamespace(data=free_grid(), resolution=0.1, origin=(-1.0, 2.0, 0.0))
+    r = core.TopDownRenderer(grid, pixels_per_cell=4.0, margin=8)
+    assert r.world_to_pixel(-1.0, 2.0) == pytest.approx((8.0, 48.0))
+
+
+def test_bad_grids_are_refused():
+    with pytest.raises(SchemaError, match="int8"):
+        core.TopDownRenderer(np.zeros((10, 20), dtype=np.float64), 0.1)
+    with pytest.raises(SchemaError, match="resolution"):
+        core.TopDownRenderer(free_grid())
+    with pytest.raises(SchemaError, match="2-D"):
+        core.TopDownRenderer(np.zeros(20, dtype=np.int8), 0.1)
+    with pytest.raises(Error):
+        core.TopDownRenderer(free_grid(), 0.1, pixels_per_cell=0.0)
+
+
+# ------------------------------------------------------------------ pixels
+
+
+def test_map_cells_have_their_colours():
+    grid = free_grid()
+    grid[0, 0] = 100   # row 0 = bottom row: pixels x 8..11, y 44..47
+    grid[9, 19] = -1   # top-right cell: x 84..87, y 8..11
+    grid[5, 5] = 50    # half way: x 28..31, y 24..27
+    image = renderer(grid).image()
+    assert tuple(image[46, 10]) == (0, 0, 0)
+    assert tuple(image[10, 86]) == (128, 0, 128)
+    assert tuple(image[26, 30]) == (128, 128, 128)  # 255 / 2 rounded
+    assert tuple(image[46, 14]) == (255, 255, 255)
+    assert tuple(image[2, 2]) == (0, 0, 255)
+
+
+def test_update_map_redraws():
+    r = renderer()
+    grid = free_grid()
+    grid[0, 0] = 100
+    r.update_map(grid)
+    r.begin()
+    assert tuple(r.image()[46, 10]) == (0, 0, 0)
+    with pytest.raises(SchemaError, match="shape"):
+        r.update_map(np.zeros((5, 5), dtype=np.int8))
+
+
+def test_robot_colours_the_pixel_at_its_centre():
+    r = renderer()
+    r.begin()
+    r.draw_robot((1.0, 0.5, math.pi / 2), 0.2, id=2)  # centre at pixel corner (48, 28); radius 8 px
+    image = r.image()
+    assert tuple(image[28, 48]) == (200, 100, 0)  # palette[2]
+    assert tuple(image[38, 48]) == (255, 255, 255)  # 10 px below: outside the disc
+    assert r.robot_colour(5) == (200, 100, 0)  # 5 mod 3
+    r.begin()
+    r.draw_robot([1.0, 0.5, 0.0], 0.2, id=0, label="", colour=(1, 2, 3))
+    assert tuple(r.image()[28, 47]) == (1, 2, 3)
+    with pytest.raises(SchemaError, match=r"0\.\.255"):
+        r.draw_robot((1.0, 0.5, 0.0), 0.2, colour=(0, 0, 300))
+
+
+def test_scan_hit_points_land_where_the_ranges_say():
+    r = renderer()
+    r.begin()
+    # The sensor at the centre of pixel (48, 28), facing +x; a hit at 0.25 m = 10 px right, a miss upwards.
+    pose = (1.0125, 0.4875, 0.0)
+    r.draw_scan(pose, np.array([0.0, math.pi / 2], dtype=np.float32), np.array([0.25, np.inf]), max_range=0.3)
+    image = r.image()
+    assert tuple(image[28, 58]) == (255, 0, 0)
+    assert np.abs(image[20, 48].astype(int) - (0, 200, 200)).max() <= 30  # the faint miss ray, 8 px up
+    assert tuple(image[12, 48]) == (255, 255, 255)  # beyond max_range (12 px up)
+    with pytest.raises(Error, match="2 angles but 1 ranges"):
+        r.draw_scan(pose, [0.0, 1.0], [1.0])
+
+
+def test_belief_is_blended_over_the_map():
+    r = renderer()
+    belief = np.full((10, 20), -1, dtype=np.int8)
+    belief[0, 0] = 100
+    r.draw_belief(belief)
+    image = r.image()
+    # Opacity 0.5 = 128/256 of (0, 0, 255) over white: 255·128 >> 8 = 127; blue stays 255.
+    assert tuple(image[46, 10]) == (127, 127, 255)
+    assert tuple(image[46, 14]) == (255, 255, 255)  # unknown belief: the map shows
+    with pytest.raises(SchemaError):
+        r.draw_belief(np.zeros((10, 19), dtype=np.int8))
+
+
+def test_paths_markers_and_trajectories_take_lists_and_arrays():
+    r = renderer()
+    r.draw_path([(0.5, 0.5), (1.5, 0.5)])  # along pixel row boundary 28, 2 px thick
+    assert tuple(r.image()[28, 40]) != (255, 255, 255)
+    r.draw_path(np.empty((0, 2)))
+    r.draw_trajectory(np.array([[0.2, 0.2], [0.4, 0.2], [0.6, 0.3]]), id=1)
+    r.draw_marker(1.0, 0.25, math.pi / 2, "kitchen", 3)
+    with pytest.raises(SchemaError, match="N×2"):
+        r.draw_path(np.zeros((3, 3)))
+
+
+def test_corner_text_sits_on_a_translucent_box():
+    r = renderer()
+    assert tuple(r.image()[3, 3]) == (0, 0, 255)  # no text, no box
+    r.begin(frame=3, time=0.3, status="exploring")
+    first = r.image()
+    assert np.abs(first[3, 3].astype(int) - (0, 0, 128)).max() <= 1  # half the background's blue
+    assert np.array_equal(r.image(), first)  # asking again does not draw it twice
+    r.begin()
+    assert tuple(r.image()[3, 3]) == (0, 0, 255)
+
+
+def test_image_is_a_copy_and_save_writes_it(tmp_path):
+    r = renderer()
+    image = r.image()
+    image[:] = 0
+    assert tuple(r.image()[30, 30]) == (255, 255, 255)
+    r.save(tmp_path / "frame.png")
+    assert np.array_equal(vwg._core.read_image(str(tmp_path / "frame.png")), r.image())
+
+
+def test_style_reads_back():
+    s = plain_style()
+    assert s.free == (255, 255, 255)
+    assert s.palette == [(10, 20, 30), (40, 50, 60), (200, 100, 0)]
+    r = renderer()
+    assert r.style.unknown == (128, 0, 128)
+
+
+# ------------------------------------------------------------------ video
+
+
+def test_mp4_is_h264_yuv420p_with_every_frame(tmp_path):
+    path = tmp_path / "run.mp4"
+    with core.VideoWriter(path, fps=10) as video:
+        for i in range(12):
+            video.write(solid(64, 48, i))
+        assert video.frames == 12
+        assert video.size == (64, 48)
+        assert video.encoder == "ffmpeg libx264"
+    info = probe(path)
+    assert info == {"codec_name": "h264", "width": "64", "height": "48", "pix_fmt": "yuv420p", "nb_read_frames": "12"}
+    head = path.read_bytes()[:65536]
+    assert head.index(b"moov") < head.index(b"mdat")  # faststart: the index first
+
+
+def test_gif_signature_and_frames(tmp_path):
+    path = tmp_path / "run.gif"
+    video = core.VideoWriter(str(path), fps=5)
+    for i in range(5):
+        video.write(solid(40, 30, i))
+    video.close()
+    assert not video.is_open
+    assert path.read_bytes()[:6] == b"GIF89a"
+    info = probe(path)
+    assert info["codec_name"] == "gif"
+    assert info["nb_read_frames"] == "5"
+
+
+def test_gif_with_one_global_palette(tmp_path):
+    path = tmp_path / "global.gif"
+    with core.VideoWriter(path, fps=5, gif_global_palette=True) as video:
+        for i in range(4):
+            video.write(solid(40, 30, i))
+    assert probe(path)["nb_read_frames"] == "4"
+
+
+def test_renderer_frames_go_into_a_video(tmp_path):
+    r = renderer()
+    with core.VideoWriter(tmp_path / "sim.mp4", fps=20) as video:
+        for i in range(6):
+            r.begin(frame=i, time=i * 0.05)
+            r.draw_robot((0.5 + 0.1 * i, 0.5, 0.0), 0.15, id=1)
+            video.write(r.image())
+    assert probe(tmp_path / "sim.mp4")["nb_read_frames"] == "6"
+
+
+def test_an_exception_in_the_block_passes_through_and_the_file_is_finished(tmp_path):
+    path = tmp_path / "partial.mp4"
+    with pytest.raises(KeyError), core.VideoWriter(path) as video:
+        video.write(solid(64, 48, 0))
+        video.write(solid(64, 48, 1))
+        raise KeyError("stop")
+    assert probe(path)["nb_read_frames"] == "2"
+
+
+def test_a_writer_dropped_without_close_finishes_its_file(tmp_path):
+    path = tmp_path / "dropped.mp4"
+    video = core.VideoWriter(path, fps=10)
+    for i in range(3):
+        video.write(solid(64, 48, i))
+    del video
+    gc.collect()
+    assert probe(path)["nb_read_frames"] == "3"
+
+
+def test_wrong_frames_are_refused(tmp_path):
+    path = tmp_path / "run.mp4"
+    with core.VideoWriter(path, fps=10, size=(64, 48)) as video:
+        with pytest.raises(Error, match="32×32") as e:
+            video.write(solid(32, 32, 0))
+        assert str(path) in str(e.value)
+        with pytest.raises(SchemaError, match="uint8"):
+            video.write(solid(64, 48, 0).astype(np.float32))
+        with pytest.raises(SchemaError, match="H×W×3"):
+            video.write(np.zeros((48, 64), dtype=np.uint8))
+        video.write(solid(64, 48, 0))  # still usable
+
+
+def test_bad_places_and_settings_are_named(tmp_path):
+    missing = tmp_path / "no" / "such" / "run.mp4"
+    with pytest.raises(Error, match="does not exist") as e:
+        core.VideoWriter(missing)
+    assert str(missing) in str(e.value)
+    with pytest.raises(Error, match="even"):
+        core.VideoWriter(tmp_path / "odd.mp4", size=(63, 48))
+    with pytest.raises(Error, match=r"\.mp4"):
+        core.VideoWriter(tmp_path / "run.avi")
+    with pytest.raises(SchemaError, match="backend"):
+        core.VideoWriter(tmp_path / "run.mp4", backend="nope")
+
+
+def test_closing_without_frames_is_an_error_and_leaves_no_file(tmp_path):
+    path = tmp_path / "empty.mp4"
+    video = core.VideoWriter(path)
+    with pytest.raises(Error, match="no frames"):
+        video.close()
+    assert not path.exists()
+
+
+def test_image_sequence_writes_numbered_pngs(tmp_path):
+    seq = core.ImageSequence(tmp_path / "frames")
+    paths = [seq.write(solid(20, 10, i)) for i in range(3)]
+    assert paths[0].endswith("frame_00001.png")
+    assert seq.frames == 3
+    assert sorted(p.name for p in (tmp_path / "frames").iterdir()) == [
+        "frame_00001.png", "frame_00002.png", "frame_00003.png"]
+    back = vwg._core.read_image(paths[1])
+    assert tuple(back[5, 5]) == (60, 185, 90)  # frame 1's colour, RGB kept
+    with pytest.raises(Error, match=r"frame_00004\.png"):
+        seq.write(solid(21, 10, 0))
