@@ -3,6 +3,7 @@
 # found directly and given imported targets of the same names.
 find_package(Eigen3 REQUIRED NO_MODULE)
 find_package(box2d REQUIRED)
+find_package(apriltag REQUIRED)
 
 set(VWG_OPENCV_COMPONENTS core imgproc imgcodecs videoio calib3d)
 find_package(OpenCV QUIET COMPONENTS ${VWG_OPENCV_COMPONENTS})

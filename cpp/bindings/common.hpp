@@ -29,6 +29,7 @@ void init_bench_actors(py::module_& m);
 void init_sim(py::module_& m);
 void init_physics(py::module_& m);
 void init_render(py::module_& m);
+void init_perception(py::module_& m);
 
 /// A class declared earlier in the module, to add methods to it.
 template <class... Options>

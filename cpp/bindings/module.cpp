@@ -24,4 +24,5 @@ PYBIND11_MODULE(_core, m) {
   init_sim(m);
   init_physics(m);
   init_render(m);
+  init_perception(m);
 }

@@ -5,9 +5,10 @@ The C++ core of vwg, the Virtual Worlds Generator (use it through `import vwg`).
 from __future__ import annotations
 import collections.abc
 import numpy
+import numpy.typing
 import os
 import typing
-__all__: list[str] = ['ActorBatch', 'ActorBehavior', 'Alphabet', 'Backend', 'BackendGroup', 'Blob', 'CollisionGenerator', 'Engine', 'Event', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'Generator', 'ImageSequence', 'Node', 'NullBackend', 'OdometryGenerator', 'PhysicsWorld', 'PythonActor', 'RenderStyle', 'RobotState', 'SimBackend', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoWriter', 'build_string', 'display', 'evolve', 'read_image', 'visualize', 'walker_behavior', 'write_image']
+__all__: list[str] = ['ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'Backend', 'BackendGroup', 'Blob', 'CollisionGenerator', 'Engine', 'Event', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'Generator', 'ImageSequence', 'Node', 'NullBackend', 'OdometryGenerator', 'PhysicsWorld', 'PythonActor', 'RenderStyle', 'RobotState', 'SimBackend', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoWriter', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'build_string', 'detect_apriltags', 'display', 'estimate_tag_pose', 'evolve', 'read_image', 'visualize', 'walker_behavior', 'write_image']
 class Blob:
     """
     A large attribute value held by reference from world strings (an occupancy grid, an image, a path).
@@ -1004,13 +1005,139 @@ class ImageSequence:
         """
         Frames written.
         """
+class AprilTagDetection:
+    """
+    One detected AprilTag. Pixel coordinates have x to the right, y down and pixel centres at +0.5 (the library's convention: subtract 0.5 for OpenCV's). Corners are the outer corners of the black border in the library's order: for an upright tag p0 bottom-left, p1 bottom-right, p2 top-right, p3 top-left.
+    """
+    def __repr__(self) -> str:
+        ...
+    @property
+    def center(self) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        The tag centre (x, y), pixels, as a float64 array of 2.
+        """
+    @property
+    def corners(self) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        4×2 float64 array of the corners p0..p3 (x, y), pixels.
+        """
+    @property
+    def decision_margin(self) -> float:
+        """
+        Mean distance of the bits from the threshold (a quality measure for small tags).
+        """
+    @property
+    def hamming(self) -> int:
+        """
+        Bit errors corrected when decoding.
+        """
+    @property
+    def homography(self) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        3×3 homography from tag coordinates ((-1, 1), (1, 1), (1, -1), (-1, -1) = p0..p3) to pixels.
+        """
+    @property
+    def id(self) -> int:
+        """
+        The tag's id (its code's index in the family).
+        """
+class AprilTagPose:
+    """
+    A tag's pose in the camera frame (x right, y down, z forward): p_camera = rotation @ p_tag + translation, metres. The tag frame has its origin at the tag centre, x right, y down, z into the tag.
+    """
+    def __repr__(self) -> str:
+        ...
+    @property
+    def bearing(self) -> float:
+        """
+        Angle of the tag centre from the optical axis in the camera's horizontal plane, radians, positive to the LEFT: atan2(-x, z).
+        """
+    @property
+    def distance(self) -> float:
+        """
+        Distance from the camera to the tag centre, metres.
+        """
+    @property
+    def error(self) -> float:
+        """
+        The library's object-space error of the chosen solution.
+        """
+    @property
+    def rotation(self) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        3×3 rotation, tag to camera.
+        """
+    @property
+    def translation(self) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        The tag centre in the camera frame, metres (array of 3).
+        """
+class AprilTagFamily:
+    """
+    A tag family's geometry, in bitmap cells.
+    """
+    def __repr__(self) -> str:
+        ...
+    @property
+    def bits(self) -> int:
+        """
+        Data bits per code.
+        """
+    @property
+    def codes(self) -> int:
+        """
+        Number of ids (0 .. codes-1).
+        """
+    @property
+    def min_hamming(self) -> int:
+        """
+        Minimum Hamming distance between codes.
+        """
+    @property
+    def name(self) -> str:
+        ...
+    @property
+    def reversed_border(self) -> bool:
+        ...
+    @property
+    def total_width(self) -> int:
+        """
+        Cells across the whole bitmap (apriltag_image's size at scale 1).
+        """
+    @property
+    def width_at_border(self) -> int:
+        """
+        Cells across the black border square (what a pose's tag_size measures).
+        """
+def apriltag_families() -> list[str]:
+    """
+    The AprilTag families this build supports.
+    """
+def apriltag_family(family: str) -> AprilTagFamily:
+    """
+    A family's geometry: codes, bits, min_hamming, width_at_border, total_width.
+    """
+def apriltag_image(id: typing.SupportsInt | typing.SupportsIndex, family: str = 'tag36h11', scale: typing.SupportsInt | typing.SupportsIndex = 1, border: typing.SupportsInt | typing.SupportsIndex = 0) -> numpy.typing.NDArray[numpy.uint8]:
+    """
+    The tag's bitmap (the library's apriltag_to_image) as an H×W uint8 array, white 255, black 0: total_width cells across (tag36h11: 10, a white ring around the 8×8 black-bordered code), as in AprilRobotics/apriltag-imgs. Each cell becomes scale×scale pixels, then border white pixels are added on every side. Raises vwg.SchemaError for an unknown family or an id outside the family.
+    """
 def build_string(alphabet: Alphabet, parts: typing.Any) -> String:
     """
     A string from Python parts: text, vwg.String, actors, vwg.Sym, or lists of these.
     """
+def detect_apriltags(image: typing.Any, family: str = 'tag36h11', quad_decimate: typing.SupportsFloat | typing.SupportsIndex = 2.0, refine_edges: bool = True, *, quad_sigma: typing.SupportsFloat | typing.SupportsIndex = 0.0, decode_sharpening: typing.SupportsFloat | typing.SupportsIndex = 0.25, threads: typing.SupportsInt | typing.SupportsIndex = 1, max_hamming: typing.SupportsInt | typing.SupportsIndex = 2) -> list:
+    """
+    Detect AprilTags in a 2-D uint8 grey image (H×W numpy array; a crop of one is fine).
+    
+    Returns a list of AprilTagDetection in the library's order. quad_decimate is 1, 1.5 or a whole number (2: fast, tags from about 20 px; 1: smaller tags). The image is never modified. Raises vwg.SchemaError for anything but a non-empty 2-D uint8 array or for bad settings. Releases the GIL; safe from several threads (detectors are cached per settings and never shared by two calls).
+    """
 def display(v: String, backend: Backend) -> None:
     """
     φ(v) (paper eq. 7) on a backend: α, β, δ in string order.
+    """
+def estimate_tag_pose(detection: AprilTagDetection, tag_size: typing.SupportsFloat | typing.SupportsIndex, fx: typing.SupportsFloat | typing.SupportsIndex, fy: typing.SupportsFloat | typing.SupportsIndex, cx: typing.SupportsFloat | typing.SupportsIndex, cy: typing.SupportsFloat | typing.SupportsIndex) -> AprilTagPose:
+    """
+    The pose of a detected tag (the library's estimate_tag_pose). tag_size: side of the black border square, metres. fx, fy, cx, cy: pinhole intrinsics in pixels, (cx, cy) in the detections' convention (pixel centres at +0.5: OpenCV's cx + 0.5). Raises vwg.SchemaError for bad values.
     """
 def evolve(w: String, events: typing.Any, frame: typing.SupportsInt | typing.SupportsIndex = 0, time: typing.SupportsFloat | typing.SupportsIndex = 0.0, seed: typing.SupportsInt | typing.SupportsIndex = 0) -> String:
     """
