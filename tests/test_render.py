@@ -343,3 +343,12 @@ def test_image_sequence_writes_numbered_pngs(tmp_path):
     assert tuple(back[5, 5]) == (60, 185, 90)  # frame 1's colour, RGB kept
     with pytest.raises(Error, match=r"frame_00004\.png"):
         seq.write(solid(21, 10, 0))
+
+
+def test_write_image_leaves_the_image_untouched(tmp_path):
+    image = np.zeros((4, 5, 3), np.uint8)
+    image[..., 0] = 200  # red
+    before = image.copy()
+    core.write_image(str(tmp_path / "red.png"), image)
+    np.testing.assert_array_equal(image, before)
+    np.testing.assert_array_equal(core.read_image(str(tmp_path / "red.png")), before)

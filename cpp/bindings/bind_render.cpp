@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "common.hpp"
+#include "sim_convert.hpp"
 #include "vwg/sim/image_io.hpp"
 #include "vwg/sim/render2d.hpp"
 #include "vwg/sim/video.hpp"
@@ -170,6 +171,9 @@ sim::VideoBackend backend_of(const std::string& name) {
 }
 
 }  // namespace
+
+std::vector<cv::Point2d> points_from_python(py::handle obj, const std::string& field) { return points_of(obj, field); }
+py::array rgb_to_numpy(const cv::Mat& image) { return image_to_numpy(image); }
 
 void init_render(py::module_& m) {
   // ---------------------------------------------------------------- RenderStyle

@@ -30,6 +30,8 @@ void init_sim(py::module_& m);
 void init_physics(py::module_& m);
 void init_render(py::module_& m);
 void init_perception(py::module_& m);
+void init_sensors(py::module_& m);
+void init_view(py::module_& m);
 
 /// A class declared earlier in the module, to add methods to it.
 template <class... Options>

@@ -25,4 +25,6 @@ PYBIND11_MODULE(_core, m) {
   init_physics(m);
   init_render(m);
   init_perception(m);
+  init_sensors(m);
+  init_view(m);
 }

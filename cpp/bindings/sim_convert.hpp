@@ -1,6 +1,8 @@
 // Conversions shared by the simulation bindings (private to cpp/bindings/).
 #pragma once
 
+#include <opencv2/core.hpp>
+
 #include "common.hpp"
 #include "vwg/sim/grid.hpp"
 
@@ -12,5 +14,9 @@ sim::OccupancyGrid grid_from_python(py::handle grid);
 /// (x, y, theta) from a 3-sequence.
 sim::Pose2 pose_from_python(py::handle pose, const std::string& field);
 py::tuple pose_to_python(const sim::Pose2& p);
+/// World points from an N×2 array or a list of (x, y) pairs.
+std::vector<cv::Point2d> points_from_python(py::handle obj, const std::string& field);
+/// An H×W×3 uint8 numpy copy of an RGB image.
+py::array rgb_to_numpy(const cv::Mat& image);
 
 }  // namespace vwg::bindings

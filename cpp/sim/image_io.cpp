@@ -25,9 +25,16 @@ cv::Mat read_image(const std::string& path) {
 }
 
 void write_image(const std::string& path, const cv::Mat& image) {
-  cv::Mat out = image;
-  if (image.channels() == 3) cv::cvtColor(image, out, cv::COLOR_RGB2BGR);
-  if (image.channels() == 4) cv::cvtColor(image, out, cv::COLOR_RGBA2BGRA);
+  // A new matrix for the conversion: `out = image` would share the caller's pixels and cvtColor
+  // would then reorder them in place.
+  cv::Mat out;
+  if (image.channels() == 3) {
+    cv::cvtColor(image, out, cv::COLOR_RGB2BGR);
+  } else if (image.channels() == 4) {
+    cv::cvtColor(image, out, cv::COLOR_RGBA2BGRA);
+  } else {
+    out = image;
+  }
   bool ok = false;
   try {
     ok = cv::imwrite(path, out);

@@ -26,6 +26,7 @@ from ._core import (
     ActorBatch,
     ActorBehavior,
     Backend,
+    BackendGroup,
     Blob,
     Event,
     EveryFrame,
@@ -60,14 +61,18 @@ from .robotworld import (
     Room,
     load_robot_world,
 )
+from .sim import MOTION_SYMBOLS, SIM_EVENTS, Simulation
 from .world import Alphabet, World
 
 __all__ = [
+    "MOTION_SYMBOLS",
+    "SIM_EVENTS",
     "Actor",
     "ActorBatch",
     "ActorBehavior",
     "Alphabet",
     "Backend",
+    "BackendGroup",
     "Blob",
     "CameraSpec",
     "Context",
@@ -95,6 +100,7 @@ __all__ = [
     "Room",
     "Schedule",
     "SchemaError",
+    "Simulation",
     "String",
     "Sym",
     "TraceBackend",

@@ -8,7 +8,7 @@ import numpy
 import numpy.typing
 import os
 import typing
-__all__: list[str] = ['ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'Backend', 'BackendGroup', 'Blob', 'CollisionGenerator', 'Engine', 'Event', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'Generator', 'ImageSequence', 'Node', 'NullBackend', 'OdometryGenerator', 'PhysicsWorld', 'PythonActor', 'RenderStyle', 'RobotState', 'SimBackend', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoWriter', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'build_string', 'detect_apriltags', 'display', 'estimate_tag_pose', 'evolve', 'read_image', 'visualize', 'walker_behavior', 'write_image']
+__all__: list[str] = ['ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'Backend', 'BackendGroup', 'Blob', 'CollisionGenerator', 'Engine', 'Event', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'Generator', 'GridRaycaster', 'ImageSequence', 'KinectGenerator', 'LaserGenerator', 'Node', 'NullBackend', 'OdometryGenerator', 'PhysicsWorld', 'PythonActor', 'RangeScanner', 'RenderStyle', 'RobotState', 'SimBackend', 'SimView', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoWriter', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'build_string', 'detect_apriltags', 'display', 'estimate_tag_pose', 'evolve', 'read_image', 'visualize', 'walker_behavior', 'write_image']
 class Blob:
     """
     A large attribute value held by reference from world strings (an occupancy grid, an image, a path).
@@ -1108,6 +1108,128 @@ class AprilTagFamily:
     def width_at_border(self) -> int:
         """
         Cells across the black border square (what a pose's tag_size measures).
+        """
+class GridRaycaster:
+    """
+    Exact raycasting over an occupancy grid (cells with a value >= threshold are obstacles): the
+    simulated laser. ``cast`` gives the hit cell, face and entry point; ``scan`` many ranges at once.
+    """
+    def __init__(self, grid: typing.Any, threshold: typing.SupportsInt | typing.SupportsIndex = 50) -> None:
+        ...
+    def cast(self, x: typing.SupportsFloat | typing.SupportsIndex, y: typing.SupportsFloat | typing.SupportsIndex, angle: typing.SupportsFloat | typing.SupportsIndex, max_range: typing.SupportsFloat | typing.SupportsIndex) -> dict:
+        """
+        The ray from (x, y) along `angle`: {distance, hit, row, col, face, point}.
+        """
+    def cast_dda(self, x: typing.SupportsFloat | typing.SupportsIndex, y: typing.SupportsFloat | typing.SupportsIndex, angle: typing.SupportsFloat | typing.SupportsIndex, max_range: typing.SupportsFloat | typing.SupportsIndex) -> dict:
+        """
+        The plain cell-walk reference of cast().
+        """
+    def scan(self, pose: typing.Any, angles: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], max_range: typing.SupportsFloat | typing.SupportsIndex) -> numpy.typing.NDArray[numpy.float32]:
+        """
+        Ranges (float32) from pose (x, y, yaw) along yaw + each angle.
+        """
+    def scans(self, poses: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], angles: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], max_range: typing.SupportsFloat | typing.SupportsIndex) -> numpy.typing.NDArray[numpy.float32]:
+        """
+        One scan per pose (N×3 array): an N×len(angles) float32 array (the benchmark's loop, in C++).
+        """
+class RangeScanner:
+    """
+    Ranges over a map's walls and the other robots of a physics world (shared by the laser and the Kinect).
+    """
+    def __init__(self, raycaster: GridRaycaster, world: PhysicsWorld) -> None:
+        ...
+class LaserGenerator(Generator):
+    """
+    gLaser: each frame a scan from the robot's true pose; eLaser<to=robot, dist, angle> for each beam
+    that hit something. ``ranges`` and ``angles`` are numpy views of the last scan (no copy).
+    """
+    def __init__(self, scanner: RangeScanner, robot: typing.SupportsInt | typing.SupportsIndex, alphabet: Alphabet, beams: typing.SupportsInt | typing.SupportsIndex = 360, fov: typing.SupportsFloat | typing.SupportsIndex = 6.283185307179586, min_range: typing.SupportsFloat | typing.SupportsIndex = 0.05, max_range: typing.SupportsFloat | typing.SupportsIndex = 8.0, noise: typing.SupportsFloat | typing.SupportsIndex = 0.0, event: str = 'eLaser') -> None:
+        ...
+    @property
+    def angles(self) -> numpy.ndarray[typing.Any, numpy.dtype[typing.Any]]:
+        """
+        The beam angles from the heading (radians).
+        """
+    @property
+    def max_range(self) -> float:
+        ...
+    @property
+    def ranges(self) -> numpy.ndarray[typing.Any, numpy.dtype[typing.Any]]:
+        """
+        The last scan's ranges (float32; max_range where nothing was hit), a view.
+        """
+    @property
+    def robot(self) -> int:
+        ...
+class KinectGenerator(Generator):
+    """
+    gKinect: each frame a depth image from the robot's true pose (walls extruded to wall_height, a
+    ceiling there, other robots as cylinders), turned into a scan as depthimage_to_laserscan does;
+    eLaser<to=robot, dist, angle> for each column with a valid range. ``depth`` (H×W float32, metres
+    along the optical axis, NaN = invalid), ``ranges`` and ``angles`` are views (no copy).
+    """
+    def __init__(self, scanner: RangeScanner, robot: typing.SupportsInt | typing.SupportsIndex, alphabet: Alphabet, width: typing.SupportsInt | typing.SupportsIndex = 640, height: typing.SupportsInt | typing.SupportsIndex = 480, hfov: typing.SupportsFloat | typing.SupportsIndex = 1.0122909661567112, min_range: typing.SupportsFloat | typing.SupportsIndex = 0.5, max_range: typing.SupportsFloat | typing.SupportsIndex = 4.5, mount_height: typing.SupportsFloat | typing.SupportsIndex = 0.3, wall_height: typing.SupportsFloat | typing.SupportsIndex = 2.5, noise: bool = False, scan_rows: typing.SupportsInt | typing.SupportsIndex = 1, event: str = 'eLaser') -> None:
+        ...
+    @property
+    def angles(self) -> numpy.ndarray[typing.Any, numpy.dtype[typing.Any]]:
+        ...
+    @property
+    def depth(self) -> numpy.ndarray[typing.Any, numpy.dtype[typing.Any]]:
+        ...
+    @property
+    def ranges(self) -> numpy.ndarray[typing.Any, numpy.dtype[typing.Any]]:
+        ...
+    @property
+    def robot(self) -> int:
+        ...
+class SimView(Backend):
+    """
+    The simulation drawn from above, as a backend (paper Table I: α(Robot) draws the robot): each
+    frame, the map, room markers, the robots displayed this frame at their true poses with their
+    trajectories, the scans of the lasers and Kinects added, and the paths and beliefs set. Put it
+    after the SimBackend in a BackendGroup. Frames go to a video (MP4 H.264 or GIF) and/or PNG files.
+    """
+    def __init__(self, world: PhysicsWorld, style: RenderStyle | None = None, width: typing.SupportsInt | typing.SupportsIndex = 800, header: typing.SupportsInt | typing.SupportsIndex = 40) -> None:
+        ...
+    def add_kinect(self, kinect: KinectGenerator) -> None:
+        ...
+    def add_laser(self, laser: LaserGenerator) -> None:
+        ...
+    def add_marker(self, x: typing.SupportsFloat | typing.SupportsIndex, y: typing.SupportsFloat | typing.SupportsIndex, facing: typing.SupportsFloat | typing.SupportsIndex, label: str, tag_id: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    def close(self) -> None:
+        """
+        Finish the video.
+        """
+    def image(self) -> numpy.ndarray[typing.Any, numpy.dtype[typing.Any]]:
+        """
+        The last frame (H×W×3 uint8, a copy).
+        """
+    def record_images(self, directory: str) -> None:
+        """
+        Write every frame as frame_00001.png, ...
+        """
+    def record_video(self, path: str, fps: typing.SupportsFloat | typing.SupportsIndex = 10.0) -> None:
+        """
+        Write every frame to an MP4 (H.264) or GIF video.
+        """
+    def set_belief(self, robot: typing.SupportsInt | typing.SupportsIndex, cells: typing.Any) -> None:
+        """
+        The robot's own grid (int8, the map's shape); None removes it.
+        """
+    def set_path(self, robot: typing.SupportsInt | typing.SupportsIndex, points: typing.Any) -> None:
+        """
+        The robot's planned path (N×2 world points); None or [] removes it.
+        """
+    def set_status(self, status: str) -> None:
+        ...
+    @property
+    def frames_written(self) -> int:
+        ...
+    @property
+    def trajectories(self) -> dict:
+        """
+        Each robot's true positions, one per frame (N×2).
         """
 def apriltag_families() -> list[str]:
     """

@@ -1,0 +1,150 @@
+// The grid raycaster and the range sensors (gLaser, gKinect) in Python. Scans and depth images
+// are numpy views of the generators' buffers: no copy; they change at the next frame.
+#include <string>
+
+#include "sim_convert.hpp"
+#include "vwg/sim/depth_camera.hpp"
+#include "vwg/sim/laser.hpp"
+#include "vwg/sim/raycast.hpp"
+
+namespace vwg::bindings {
+
+namespace {
+
+/// A read-only numpy view of `data` whose base is `owner` (which keeps the buffer alive).
+template <class T>
+py::array readonly_view(py::object owner, const T* data, std::vector<py::ssize_t> shape) {
+  std::vector<py::ssize_t> strides(shape.size());
+  py::ssize_t stride = sizeof(T);
+  for (std::size_t k = shape.size(); k-- > 0;) {
+    strides[k] = stride;
+    stride *= shape[k];
+  }
+  py::array a = py::array_t<T>(shape, strides, data, owner);
+  a.attr("flags").attr("writeable") = false;
+  return a;
+}
+
+py::dict hit_to_python(const sim::RayHit& h) {
+  py::dict d;
+  d["distance"] = h.distance;
+  d["hit"] = h.hit;
+  d["row"] = h.row;
+  d["col"] = h.col;
+  d["face"] = h.face;
+  d["point"] = py::make_tuple(h.x, h.y);
+  return d;
+}
+
+}  // namespace
+
+void init_sensors(py::module_& m) {
+  py::class_<sim::GridRaycaster, std::shared_ptr<sim::GridRaycaster>>(m, "GridRaycaster", R"doc(
+Exact raycasting over an occupancy grid (cells with a value >= threshold are obstacles): the
+simulated laser. ``cast`` gives the hit cell, face and entry point; ``scan`` many ranges at once.)doc")
+      .def(py::init([](py::object grid, int threshold) {
+             return std::make_shared<sim::GridRaycaster>(grid_from_python(grid), threshold);
+           }), py::arg("grid"), py::arg("threshold") = 50)
+      .def("cast", [](const sim::GridRaycaster& r, double x, double y, double angle, double max_range) {
+             return hit_to_python(r.cast(x, y, angle, max_range));
+           }, py::arg("x"), py::arg("y"), py::arg("angle"), py::arg("max_range"),
+           "The ray from (x, y) along `angle`: {distance, hit, row, col, face, point}.")
+      .def("cast_dda", [](const sim::GridRaycaster& r, double x, double y, double angle, double max_range) {
+             return hit_to_python(r.cast_dda(x, y, angle, max_range));
+           }, py::arg("x"), py::arg("y"), py::arg("angle"), py::arg("max_range"), "The plain cell-walk reference of cast().")
+      .def("scan", [](const sim::GridRaycaster& r, py::object pose, py::array_t<double, py::array::c_style | py::array::forcecast> angles,
+                      double max_range) {
+             const sim::Pose2 p = pose_from_python(pose, "pose");
+             py::array_t<float> out(angles.size());
+             {
+               py::gil_scoped_release release;
+               r.scan(p, std::span<const double>(angles.data(), static_cast<std::size_t>(angles.size())), max_range,
+                      std::span<float>(out.mutable_data(), static_cast<std::size_t>(angles.size())));
+             }
+             return out;
+           }, py::arg("pose"), py::arg("angles"), py::arg("max_range"),
+           "Ranges (float32) from pose (x, y, yaw) along yaw + each angle.")
+      .def("scans", [](const sim::GridRaycaster& r, py::array_t<double, py::array::c_style | py::array::forcecast> poses,
+                       py::array_t<double, py::array::c_style | py::array::forcecast> angles, double max_range) {
+             if (poses.ndim() != 2 || poses.shape(1) != 3) throw SchemaError("poses", "expected an N×3 array of (x, y, yaw)");
+             const auto n = static_cast<std::size_t>(poses.shape(0)), k = static_cast<std::size_t>(angles.size());
+             py::array_t<float> out({static_cast<py::ssize_t>(n), static_cast<py::ssize_t>(k)});
+             {
+               py::gil_scoped_release release;
+               for (std::size_t i = 0; i < n; ++i) {
+                 const double* p = poses.data() + 3 * i;
+                 r.scan(sim::Pose2{p[0], p[1], p[2]}, std::span<const double>(angles.data(), k), max_range,
+                        std::span<float>(out.mutable_data() + i * k, k));
+               }
+             }
+             return out;
+           }, py::arg("poses"), py::arg("angles"), py::arg("max_range"),
+           "One scan per pose (N×3 array): an N×len(angles) float32 array (the benchmark's loop, in C++).");
+
+  py::class_<sim::RangeScanner, std::shared_ptr<sim::RangeScanner>>(m, "RangeScanner",
+      "Ranges over a map's walls and the other robots of a physics world (shared by the laser and the Kinect).")
+      .def(py::init<std::shared_ptr<const sim::GridRaycaster>, std::shared_ptr<const sim::PhysicsWorld>>(),
+           py::arg("raycaster"), py::arg("world"));
+
+  py::class_<sim::LaserGenerator, Generator, std::shared_ptr<sim::LaserGenerator>>(m, "LaserGenerator", R"doc(
+gLaser: each frame a scan from the robot's true pose; eLaser<to=robot, dist, angle> for each beam
+that hit something. ``ranges`` and ``angles`` are numpy views of the last scan (no copy).)doc")
+      .def(py::init([](std::shared_ptr<const sim::RangeScanner> scanner, int robot, const Alphabet& alphabet, int beams,
+                       double fov, double min_range, double max_range, double noise, const std::string& event) {
+             return std::make_shared<sim::LaserGenerator>(scanner, robot, sim::LaserSpec{beams, fov, min_range, max_range, noise},
+                                                         alphabet, event);
+           }),
+           py::arg("scanner"), py::arg("robot"), py::arg("alphabet"), py::arg("beams") = 360, py::arg("fov") = 2 * M_PI,
+           py::arg("min_range") = 0.05, py::arg("max_range") = 8.0, py::arg("noise") = 0.0, py::arg("event") = "eLaser")
+      .def_property_readonly("ranges", [](py::object self) {
+        const auto& g = self.cast<const sim::LaserGenerator&>();
+        return readonly_view(self, g.ranges().data(), {static_cast<py::ssize_t>(g.ranges().size())});
+      }, "The last scan's ranges (float32; max_range where nothing was hit), a view.")
+      .def_property_readonly("angles", [](py::object self) {
+        const auto& g = self.cast<const sim::LaserGenerator&>();
+        return readonly_view(self, g.angles().data(), {static_cast<py::ssize_t>(g.angles().size())});
+      }, "The beam angles from the heading (radians).")
+      .def_property_readonly("robot", &sim::LaserGenerator::robot)
+      .def_property_readonly("max_range", [](const sim::LaserGenerator& g) { return g.spec().max_range; });
+
+  py::class_<sim::KinectGenerator, Generator, std::shared_ptr<sim::KinectGenerator>>(m, "KinectGenerator", R"doc(
+gKinect: each frame a depth image from the robot's true pose (walls extruded to wall_height, a
+ceiling there, other robots as cylinders), turned into a scan as depthimage_to_laserscan does;
+eLaser<to=robot, dist, angle> for each column with a valid range. ``depth`` (H×W float32, metres
+along the optical axis, NaN = invalid), ``ranges`` and ``angles`` are views (no copy).)doc")
+      .def(py::init([](std::shared_ptr<const sim::RangeScanner> scanner, int robot, const Alphabet& alphabet, int width,
+                       int height, double hfov, double min_range, double max_range, double mount_height, double wall_height,
+                       bool noise, int scan_rows, const std::string& event) {
+             sim::DepthCameraSpec spec;
+             spec.width = width;
+             spec.height = height;
+             spec.hfov = hfov;
+             spec.min_range = min_range;
+             spec.max_range = max_range;
+             spec.mount_height = mount_height;
+             spec.wall_height = wall_height;
+             spec.noise = noise;
+             spec.scan_rows = scan_rows;
+             return std::make_shared<sim::KinectGenerator>(scanner, robot, spec, alphabet, event);
+           }),
+           py::arg("scanner"), py::arg("robot"), py::arg("alphabet"), py::arg("width") = 640, py::arg("height") = 480,
+           py::arg("hfov") = 1.0122909661567112, py::arg("min_range") = 0.5, py::arg("max_range") = 4.5,
+           py::arg("mount_height") = 0.3, py::arg("wall_height") = 2.5, py::arg("noise") = false, py::arg("scan_rows") = 1,
+           py::arg("event") = "eLaser")
+      .def_property_readonly("depth", [](py::object self) {
+        const auto& g = self.cast<const sim::KinectGenerator&>();
+        const auto& s = g.camera().spec();
+        return readonly_view(self, g.depth().data(), {s.height, s.width});
+      })
+      .def_property_readonly("ranges", [](py::object self) {
+        const auto& g = self.cast<const sim::KinectGenerator&>();
+        return readonly_view(self, g.ranges().data(), {static_cast<py::ssize_t>(g.ranges().size())});
+      })
+      .def_property_readonly("angles", [](py::object self) {
+        const auto& g = self.cast<const sim::KinectGenerator&>();
+        return readonly_view(self, g.angles().data(), {static_cast<py::ssize_t>(g.angles().size())});
+      })
+      .def_property_readonly("robot", &sim::KinectGenerator::robot);
+}
+
+}  // namespace vwg::bindings

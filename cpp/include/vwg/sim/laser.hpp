@@ -1,0 +1,78 @@
+// Simulated range sensors as event generators (paper Table II): gLaser, a 2D laser scanner, and
+// gKinect, a depth camera turned into a scan as depthimage_to_laserscan does. Both make the same
+// events eLaser<dist, angle> (metres, radians from the robot's heading, counter-clockwise), one
+// per beam that met an obstacle, addressed to the robot — so either can replace the other.
+#pragma once
+
+#include <cmath>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "vwg/alphabet.hpp"
+#include "vwg/generator.hpp"
+#include "vwg/random.hpp"
+#include "vwg/sim/physics.hpp"
+#include "vwg/sim/raycast.hpp"
+
+namespace vwg::sim {
+
+struct LaserSpec {
+  int beams = 360;
+  double fov = 2 * M_PI;  ///< radians; a full circle has no duplicate beam at ±π
+  double min_range = 0.05;
+  double max_range = 8.0;
+  double noise = 0.0;  ///< standard deviation of each range, metres
+};
+
+/// The beam angles from the heading: a full circle is [-π, π) in `beams` steps, a smaller field
+/// of view runs from -fov/2 to +fov/2 inclusive.
+std::vector<double> beam_angles(const LaserSpec& spec);
+
+/// Ranges over the map's walls and the other robots (discs of their radius, at their true poses).
+class RangeScanner {
+ public:
+  RangeScanner(std::shared_ptr<const GridRaycaster> raycaster, std::shared_ptr<const PhysicsWorld> world);
+  /// out[i]: range from `pose` along pose.theta + angles[i], up to max_range; robot `self` is
+  /// not an obstacle to itself.
+  void scan(int self, const Pose2& pose, std::span<const double> angles, double max_range, std::span<float> out) const;
+  const GridRaycaster& raycaster() const { return *raycaster_; }
+  const PhysicsWorld& world() const { return *world_; }
+
+ private:
+  std::shared_ptr<const GridRaycaster> raycaster_;
+  std::shared_ptr<const PhysicsWorld> world_;
+};
+
+/// Checks the spec (beams >= 1, 0 < fov <= 2π, 0 <= min_range < max_range, finite noise >= 0);
+/// throws SchemaError naming `owner.field`.
+void check_laser_spec(const LaserSpec& spec, const std::string& owner);
+
+/// gLaser: each frame, a scan from the robot's true pose with range noise; an event
+/// `<event><to=robot, dist, angle>` for each beam that hit something within range.
+class LaserGenerator final : public Generator {
+ public:
+  LaserGenerator(std::shared_ptr<const RangeScanner> scanner, int robot, LaserSpec spec, const Alphabet& alphabet,
+                 const std::string& event = "eLaser");
+  void reset(std::uint64_t seed) override { rng_.reseed(derive_seed(seed, 0x6C61736572ULL, static_cast<std::uint64_t>(robot_))); }
+  void generate(const FrameInfo& frame, EventList& out) override;
+  std::string name() const override { return "gLaser(" + std::to_string(robot_) + ")"; }
+
+  /// The last scan: ranges (max_range where nothing was hit), and the beam angles.
+  std::span<const float> ranges() const { return ranges_; }
+  std::span<const double> angles() const { return angles_; }
+  int robot() const { return robot_; }
+  const LaserSpec& spec() const { return spec_; }
+
+ private:
+  std::shared_ptr<const RangeScanner> scanner_;
+  int robot_;
+  LaserSpec spec_;
+  EventTypeId event_;
+  std::vector<double> angles_;
+  std::vector<float> ranges_;
+  Rng rng_;
+};
+
+}  // namespace vwg::sim

@@ -1,0 +1,82 @@
+// The simulation drawn from above, as a backend (paper Table I, simulator column: "draw the robot
+// in the GS"): each frame, the map, the room markers, every robot displayed by α(Robot<id>) at its
+// true pose with its trajectory and latest scan, and the plans and beliefs the caller supplies;
+// written to a video and/or PNG files. Put it after the SimBackend in a BackendGroup, so it draws
+// the frame's motion.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "vwg/backend.hpp"
+#include "vwg/sim/depth_camera.hpp"
+#include "vwg/sim/laser.hpp"
+#include "vwg/sim/physics.hpp"
+#include "vwg/sim/render2d.hpp"
+#include "vwg/sim/sim_backend.hpp"
+#include "vwg/sim/video.hpp"
+
+namespace vwg::sim {
+
+class SimView final : public Backend {
+ public:
+  SimView(std::shared_ptr<const PhysicsWorld> world, RenderStyle style = {}, MotionSymbols symbols = {});
+
+  /// Scans to draw: a laser's or a Kinect's last scan, at its robot.
+  void add_laser(std::shared_ptr<const LaserGenerator> laser) { lasers_.push_back(std::move(laser)); }
+  void add_kinect(std::shared_ptr<const KinectGenerator> kinect) { kinects_.push_back(std::move(kinect)); }
+  void add_marker(double x, double y, double facing, std::string label, int tag_id);
+  /// A robot's planned path (world points) and its belief grid (same geometry as the map), shown
+  /// until replaced; an empty path / belief removes them.
+  void set_path(int robot, std::vector<cv::Point2d> path);
+  void set_belief(int robot, std::vector<std::int8_t> cells);
+  void set_status(std::string status) { status_ = std::move(status); }
+  /// Where frames go: an MP4/GIF video (opened at the first frame) and/or numbered PNG files.
+  void record_video(const std::string& path, double fps, VideoSettings settings = {});
+  void record_images(const std::string& directory);
+  /// Finish the video (also done by the destructor).
+  void close();
+
+  void begin_frame(const FrameInfo& frame) override;
+  void primitive(const NodeView& p) override;
+  void open(const NodeView& t) override { motion_.open(t); }
+  void close(const NodeView& t) override { motion_.close(t); }
+  void end_frame(const FrameInfo& frame) override;
+  std::string name() const override { return "view"; }
+
+  /// The last frame drawn (RGB).
+  const cv::Mat& image() { return renderer_.image(); }
+  TopDownRenderer& renderer() { return renderer_; }
+  std::int64_t frames_written() const { return written_; }
+  /// Each robot's trajectory so far (true positions, one per frame).
+  const std::map<int, std::vector<cv::Point2d>>& trajectories() const { return trajectories_; }
+
+ private:
+  struct Marker {
+    double x, y, facing;
+    std::string label;
+    int tag_id;
+  };
+  std::shared_ptr<const PhysicsWorld> world_;
+  TopDownRenderer renderer_;
+  MotionInterpreter motion_;
+  std::vector<std::shared_ptr<const LaserGenerator>> lasers_;
+  std::vector<std::shared_ptr<const KinectGenerator>> kinects_;
+  std::vector<Marker> markers_;
+  std::map<int, std::vector<cv::Point2d>> paths_;
+  std::map<int, std::vector<std::int8_t>> beliefs_;
+  std::map<int, std::vector<cv::Point2d>> trajectories_;
+  std::map<int, std::vector<MotionStep>> commanded_;  // robots displayed this frame, with their plan
+  std::string status_;
+  std::optional<VideoWriter> video_;
+  std::string video_path_;
+  double video_fps_ = 10;
+  VideoSettings video_settings_;
+  std::optional<ImageSequence> images_;
+  std::int64_t written_ = 0;
+};
+
+}  // namespace vwg::sim

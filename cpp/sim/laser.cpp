@@ -1,0 +1,86 @@
+#include "vwg/sim/laser.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "vwg/error.hpp"
+#include "vwg/sim/feedback.hpp"
+
+namespace vwg::sim {
+
+std::vector<double> beam_angles(const LaserSpec& spec) {
+  std::vector<double> angles(static_cast<std::size_t>(spec.beams));
+  const bool full_circle = spec.fov >= 2 * M_PI - 1e-9;
+  for (int i = 0; i < spec.beams; ++i) {
+    if (full_circle) {
+      angles[static_cast<std::size_t>(i)] = -M_PI + 2 * M_PI * i / spec.beams;
+    } else {
+      angles[static_cast<std::size_t>(i)] = spec.beams == 1 ? 0.0 : -spec.fov / 2 + spec.fov * i / (spec.beams - 1);
+    }
+  }
+  return angles;
+}
+
+void check_laser_spec(const LaserSpec& spec, const std::string& owner) {
+  if (spec.beams < 1 || spec.beams > 100000) throw SchemaError(owner + ".beams", "expected 1 to 100000 beams");
+  if (!std::isfinite(spec.fov) || spec.fov <= 0 || spec.fov > 2 * M_PI + 1e-9) {
+    throw SchemaError(owner + ".fov", "expected a field of view in (0, 2π] radians");
+  }
+  if (!std::isfinite(spec.min_range) || !std::isfinite(spec.max_range) || spec.min_range < 0 || spec.max_range <= spec.min_range) {
+    throw SchemaError(owner + ".max_range", "expected 0 <= min_range < max_range, finite");
+  }
+  if (!std::isfinite(spec.noise) || spec.noise < 0) throw SchemaError(owner + ".noise", "expected a finite std dev >= 0");
+}
+
+RangeScanner::RangeScanner(std::shared_ptr<const GridRaycaster> raycaster, std::shared_ptr<const PhysicsWorld> world)
+    : raycaster_(std::move(raycaster)), world_(std::move(world)) {
+  if (!raycaster_ || !world_) throw Error("RangeScanner: needs a raycaster and a physics world");
+}
+
+void RangeScanner::scan(int self, const Pose2& pose, std::span<const double> angles, double max_range,
+                        std::span<float> out) const {
+  raycaster_->scan(pose, angles, max_range, out);
+  // Other robots are discs: the nearest intersection in front of the sensor, if nearer.
+  for (const RobotState& other : world_->robots()) {
+    if (other.id == self) continue;
+    const double cx = other.pose.x - pose.x, cy = other.pose.y - pose.y;
+    const double dist = std::hypot(cx, cy);
+    if (dist - other.radius > max_range) continue;
+    const double r2 = other.radius * other.radius;
+    for (std::size_t i = 0; i < angles.size(); ++i) {
+      const double a = pose.theta + angles[i];
+      const double dx = std::cos(a), dy = std::sin(a);
+      const double along = cx * dx + cy * dy;
+      const double across2 = cx * cx + cy * cy - along * along;
+      if (across2 > r2) continue;
+      const double t = along - std::sqrt(r2 - across2);
+      if (t >= 0.0 && t < out[i]) out[i] = static_cast<float>(t);
+    }
+  }
+}
+
+LaserGenerator::LaserGenerator(std::shared_ptr<const RangeScanner> scanner, int robot, LaserSpec spec,
+                               const Alphabet& alphabet, const std::string& event)
+    : scanner_(std::move(scanner)), robot_(robot), spec_(spec), event_(alphabet.event_type_id(event)),
+      angles_(beam_angles(spec_)), ranges_(angles_.size(), static_cast<float>(spec_.max_range)) {
+  check_laser_spec(spec_, "laser");
+  require_fields(alphabet, event_, {{"dist", ValueKind::Real}, {"angle", ValueKind::Real}});
+  (void)scanner_->world().robot(robot_);  // throws if there is no such robot
+}
+
+void LaserGenerator::generate(const FrameInfo&, EventList& out) {
+  const Pose2 pose = scanner_->world().robot(robot_).pose;
+  scanner_->scan(robot_, pose, angles_, spec_.max_range, ranges_);
+  for (std::size_t i = 0; i < ranges_.size(); ++i) {
+    double r = ranges_[i];
+    if (r >= spec_.max_range) continue;  // no obstacle: no event (Table II: "if obstacle")
+    if (spec_.noise > 0.0) r = std::clamp(r + rng_.normal(0.0, spec_.noise), spec_.min_range, spec_.max_range);
+    ranges_[i] = static_cast<float>(r);
+    if (r < spec_.min_range) continue;
+    const Datum fields[] = {r, angles_[i]};
+    out.emit(event_, fields, robot_);
+  }
+}
+
+}  // namespace vwg::sim

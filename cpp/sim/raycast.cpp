@@ -1,0 +1,753 @@
+// Exact grid raycasting by free-square skipping.
+//
+// For each quadrant of travel (+u+v, -u+v, +u-v, -u-v) each cell stores the side d of the largest
+// free square that has the cell at its corner and extends the way the ray goes. From a cell the
+// ray jumps straight to where it leaves that square, then looks again; near walls the squares
+// shrink to one cell and the walk becomes the plain DDA. Exactness comes from two rules shared
+// with the reference walk:
+// - the parameter at which the ray crosses a grid line is always `crossing(line, start, 1/dir)`,
+//   computed from the start (never accumulated), so both walks compare identical numbers;
+// - after a jump, the cell held just before the crossing is found by rounding and then checked
+//   against those same crossings, so ties (the ray through a grid corner) are seen exactly as the
+//   reference sees them.
+// scan() runs the same jumps on 16 beams at once with AVX-512 when the CPU has it (a beam that
+// ends is replaced at once by the next one, so the lanes stay busy), else beam by beam.
+#include "vwg/sim/raycast.hpp"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstdlib>
+#include <iterator>
+#include <string>
+#include <string_view>
+
+#include "vwg/error.hpp"
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#define VWG_RAYCAST_X86 1
+#endif
+
+namespace vwg::sim {
+
+namespace {
+
+constexpr int kMaxClearance = 255;
+/// Starts farther than this from the grid (in cells) are refused, so cell indices fit an int.
+constexpr double kMaxStartCells = 1e9;
+
+/// The ray parameter (cells travelled) at which the ray crosses grid line `line` of one axis.
+/// The one expression every walk uses, so equal crossings compare equal everywhere.
+inline double crossing(double line, double start, double inv_dir) { return (line - start) * inv_dir; }
+
+/// floor() for |x| < 2^31, without a libm call on baseline x86-64.
+inline int floor_to_int(double x) {
+  const int truncated = static_cast<int>(x);
+  return truncated - (x < truncated ? 1 : 0);
+}
+
+/// Along one axis: the cell the ray holds just before parameter t (it holds `current` now, at a
+/// parameter <= t), and whether it crosses a grid line exactly at t. `step` is the direction
+/// (+1/-1). Rounding start + t * dir is at most one cell off; the crossings settle it.
+inline int cell_before(int current, double start, double dir, double inv_dir, int step, double t, bool& crosses_at_t) {
+  int cell = floor_to_int(start + t * dir);
+  const double exit_side = step > 0 ? 1.0 : 0.0;  // which line of a cell the ray leaves it by
+  double exit = crossing(cell + exit_side, start, inv_dir);
+  if (exit < t) {
+    cell += step;
+    exit = crossing(cell + exit_side, start, inv_dir);
+  } else if (cell != current) {
+    const double entry = crossing(cell + (1.0 - exit_side), start, inv_dir);
+    if (entry >= t) {
+      cell -= step;
+      exit = entry;
+    }
+  }
+  crosses_at_t = exit == t;
+  return cell;
+}
+
+// ---- Directions -------------------------------------------------------------------------------
+// A ray's direction is the cosine and sine of its angle in grid axes. libm's sincos took a fifth
+// of a scan, so they come from a Cody-Waite reduction and Taylor polynomials instead, 8 angles at
+// a time with AVX-512 (within 1 ulp of libm's; std::sin and std::cos beyond |angle| = 1e5).
+// Every method takes its directions from grid_directions(), so all see the same bits: on a CPU
+// with AVX-512 every ray, single or in a scan, uses the AVX-512 code (which rounds each operation
+// on its own, never fused); without it, every ray uses the one compiled copy of the scalar code.
+
+constexpr double kTwoOverPi = 0x1.45f306dc9c883p-1;
+constexpr double kHalfPiHigh = 0x1.921fb544p+0;  // pi/2 in three parts; the first two have 33
+constexpr double kHalfPiMid = 0x1.0b4611a6p-34;  // bits, so k * part is exact for |k| < 2^20
+constexpr double kHalfPiLow = 0x1.3198a2e037073p-69;
+constexpr double kRoundToInteger = 0x1.8p52;  // (x + it) - it rounds x to an integer, |x| < 2^51
+constexpr double kReduceLimit = 1e5;
+
+constexpr double inverse_factorial(int n) {
+  double f = 1.0;
+  for (int i = 2; i <= n; ++i) f *= i;  // exact up to 18!
+  return 1.0 / f;
+}
+// Taylor coefficients; on |r| <= pi/4 the first terms left out are below 1e-19.
+constexpr double kSin[] = {-inverse_factorial(3),  inverse_factorial(5),  -inverse_factorial(7),
+                           inverse_factorial(9),   -inverse_factorial(11), inverse_factorial(13),
+                           -inverse_factorial(15), inverse_factorial(17)};
+constexpr double kCos[] = {inverse_factorial(4),   -inverse_factorial(6),  inverse_factorial(8),
+                           -inverse_factorial(10), inverse_factorial(12),  -inverse_factorial(14),
+                           inverse_factorial(16)};
+
+/// What the SIMD scan kernels need besides the beams' directions.
+struct ScanSetup {
+  const std::uint8_t* clearance;
+  int width, height;
+  double cells;       ///< width * height, the size of one quadrant's table
+  double u0, v0;      ///< start, cells
+  int col0, row0;     ///< start cell, inside the map and free
+  double t_max;       ///< cells
+  double resolution;  ///< metres per cell
+  double max_range;   ///< metres, written for misses
+};
+
+/// The directions of a run of beams, as set_direction makes them.
+struct BeamDirections {
+  const double *du, *dv, *inv_du, *inv_dv;
+};
+
+#ifdef VWG_RAYCAST_X86
+
+// GCC 12's AVX-512 headers pass _mm512_undefined_pd() around, which -Wmaybe-uninitialized flags.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+
+/// Rounded to nearest, each operation apart: the compiler cannot fuse these into an FMA, which
+/// would round differently from the scalar code.
+constexpr int kRoundNearest = _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC;
+#define VWG_AVX512 __attribute__((target("avx2,avx512f"), always_inline)) inline
+VWG_AVX512 __m512d mul(__m512d a, __m512d b) { return _mm512_mul_round_pd(a, b, kRoundNearest); }
+VWG_AVX512 __m512d add(__m512d a, __m512d b) { return _mm512_add_round_pd(a, b, kRoundNearest); }
+VWG_AVX512 __m512d sub(__m512d a, __m512d b) { return _mm512_sub_round_pd(a, b, kRoundNearest); }
+VWG_AVX512 __m128d mul(__m128d a, __m128d b) { return _mm_mul_round_sd(a, b, kRoundNearest); }  // lane 0 only
+VWG_AVX512 __m128d add(__m128d a, __m128d b) { return _mm_add_round_sd(a, b, kRoundNearest); }
+VWG_AVX512 __m128d sub(__m128d a, __m128d b) { return _mm_sub_round_sd(a, b, kRoundNearest); }
+template <class V>
+V splat(double x);
+template <>
+VWG_AVX512 __m512d splat<__m512d>(double x) { return _mm512_set1_pd(x); }
+template <>
+VWG_AVX512 __m128d splat<__m128d>(double x) { return _mm_set_sd(x); }
+
+/// The steps of sincos_portable() up to the quadrant: the nearest quarter turn k to x, and the
+/// sine and cosine of r = x - k pi/2. V: 8 lanes, or 1 (lane 0) for single rays.
+template <class V>
+VWG_AVX512 void reduced_sincos(V x, V& k, V& sin_r, V& cos_r) {
+  const V round = splat<V>(kRoundToInteger);
+  k = sub(add(mul(x, splat<V>(kTwoOverPi)), round), round);
+  const V r = sub(sub(sub(x, mul(k, splat<V>(kHalfPiHigh))), mul(k, splat<V>(kHalfPiMid))),
+                  mul(k, splat<V>(kHalfPiLow)));
+  const V z = mul(r, r);
+  V p = splat<V>(kSin[7]);
+  for (int i = 6; i >= 0; --i) p = add(mul(p, z), splat<V>(kSin[i]));
+  sin_r = add(r, mul(mul(r, z), p));
+  V q = splat<V>(kCos[6]);
+  for (int i = 5; i >= 0; --i) q = add(mul(q, z), splat<V>(kCos[i]));
+  cos_r = add(sub(splat<V>(1.0), mul(splat<V>(0.5), z)), mul(mul(z, z), q));
+}
+
+/// sincos_portable() on 8 lanes (angles within kReduceLimit).
+VWG_AVX512 void sincos_x8(__m512d x, __m512d& sin_x, __m512d& cos_x) {
+  __m512d k, sin_r, cos_r;
+  reduced_sincos(x, k, sin_r, cos_r);
+  const __m512d fours = _mm512_roundscale_pd(mul(k, _mm512_set1_pd(0.25)), _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+  const __m512d quarter = sub(k, mul(_mm512_set1_pd(4.0), fours));  // k mod 4, exactly
+  const __mmask8 is1 = _mm512_cmp_pd_mask(quarter, _mm512_set1_pd(1.0), _CMP_EQ_OQ);
+  const __mmask8 is2 = _mm512_cmp_pd_mask(quarter, _mm512_set1_pd(2.0), _CMP_EQ_OQ);
+  const __mmask8 is3 = _mm512_cmp_pd_mask(quarter, _mm512_set1_pd(3.0), _CMP_EQ_OQ);
+  const __mmask8 odd = static_cast<__mmask8>(is1 | is3);
+  const __m512d s = _mm512_mask_blend_pd(odd, sin_r, cos_r), c = _mm512_mask_blend_pd(odd, cos_r, sin_r);
+  const __m512d zero = _mm512_setzero_pd();
+  sin_x = _mm512_mask_sub_pd(s, static_cast<__mmask8>(is2 | is3), zero, s);  // 0 - s: +0 where -s is -0,
+  cos_x = _mm512_mask_sub_pd(c, static_cast<__mmask8>(is1 | is2), zero, c);  // made alike by grid_directions
+}
+
+/// sin and cos of n angles, 8 at a time.
+__attribute__((target("avx2,avx512f"))) void sincos_avx512(const double* x, std::size_t n, double* sin_x,
+                                                           double* cos_x) {
+  for (std::size_t i = 0; i < n; i += 8) {
+    const __mmask8 lanes = static_cast<__mmask8>(n - i >= 8 ? 0xFF : (1u << (n - i)) - 1);
+    const __m512d angle = _mm512_maskz_loadu_pd(lanes, x + i);
+    __m512d s, c;
+    sincos_x8(angle, s, c);
+    _mm512_mask_storeu_pd(sin_x + i, lanes, s);
+    _mm512_mask_storeu_pd(cos_x + i, lanes, c);
+  }
+  for (std::size_t i = 0; i < n; ++i)
+    if (!(std::abs(x[i]) <= kReduceLimit)) sin_x[i] = std::sin(x[i]), cos_x[i] = std::cos(x[i]);
+}
+
+/// The same for one angle, on one lane: cheaper for single rays.
+__attribute__((target("avx2,avx512f"))) void sincos_avx512(double x, double& sin_x, double& cos_x) {
+  if (!(std::abs(x) <= kReduceLimit)) {
+    sin_x = std::sin(x), cos_x = std::cos(x);
+    return;
+  }
+  __m128d k, sin_r, cos_r;
+  reduced_sincos(_mm_set_sd(x), k, sin_r, cos_r);
+  const int quarter = static_cast<int>(_mm_cvtsd_f64(k)) & 3;
+  const double s = _mm_cvtsd_f64(quarter & 1 ? cos_r : sin_r), c = _mm_cvtsd_f64(quarter & 1 ? sin_r : cos_r);
+  sin_x = quarter >= 2 ? -s : s;
+  cos_x = quarter == 1 || quarter == 2 ? -c : c;
+}
+
+/// cell_before() on 8 lanes, with the same expressions. exit_side: 1 forward, 0 backward.
+__attribute__((target("avx2,avx512f"), always_inline)) inline __m512d cell_before_x8(
+    __m512d start, __m512d dir, __m512d inv_dir, __m512d step, __m512d exit_side, __m512d current, __m512d t,
+    __mmask8& crosses_at_t) {
+  const __m512d one = _mm512_set1_pd(1.0);
+  const __m512d guess = _mm512_add_pd(start, _mm512_mul_pd(t, dir));
+  __m512d cell = _mm512_roundscale_pd(guess, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+  const __m512d exit = _mm512_mul_pd(_mm512_sub_pd(_mm512_add_pd(cell, exit_side), start), inv_dir);
+  const __m512d entry_side = _mm512_sub_pd(one, exit_side);
+  const __m512d entry = _mm512_mul_pd(_mm512_sub_pd(_mm512_add_pd(cell, entry_side), start), inv_dir);
+  const __mmask8 behind = _mm512_cmp_pd_mask(exit, t, _CMP_LT_OQ);
+  const __mmask8 moved = _mm512_mask_cmp_pd_mask(static_cast<__mmask8>(~behind), cell, current, _CMP_NEQ_UQ);
+  const __mmask8 ahead = static_cast<__mmask8>(moved & _mm512_cmp_pd_mask(entry, t, _CMP_GE_OQ));
+  cell = _mm512_mask_add_pd(cell, behind, cell, step);
+  cell = _mm512_mask_sub_pd(cell, ahead, cell, step);
+  const __m512d settled_exit = _mm512_mul_pd(_mm512_sub_pd(_mm512_add_pd(cell, exit_side), start), inv_dir);
+  crosses_at_t = _mm512_cmp_pd_mask(settled_exit, t, _CMP_EQ_OQ);
+  return cell;
+}
+
+/// 8 beams in flight: which beams, their directions, where they are (the cell, and the
+/// parameter at which they entered it).
+struct Lanes {
+  __m512i beam;
+  __m512d du, dv, inv_du, inv_dv;
+  __m512d exit_u, exit_v;  ///< which line of a cell the ray leaves it by: 1 forward, 0 backward
+  __m512d table;           ///< where the clearance of the beam's quadrant starts
+  __m512d col, row, t;
+  __mmask8 active;
+};
+
+VWG_AVX512 void start_lanes(Lanes& lanes) {
+  const __m512d one = _mm512_set1_pd(1.0);
+  lanes.beam = _mm512_setzero_si512();
+  lanes.du = lanes.dv = lanes.inv_du = lanes.inv_dv = lanes.exit_u = lanes.exit_v = one;
+  lanes.col = lanes.row = lanes.t = lanes.table = _mm512_setzero_pd();
+  lanes.active = 0;
+}
+
+/// Starts beams next, next + 1, ... in the idle lanes, while there are beams left.
+VWG_AVX512 void refill(Lanes& lanes, const ScanSetup& s, const BeamDirections& beams, int n, int& next) {
+  __mmask8 starting = static_cast<__mmask8>(~lanes.active);
+  if (starting == 0 || next >= n) return;
+  // Fewer beams left than idle lanes: keep the lowest ones.
+  for (int extra = std::popcount(static_cast<unsigned>(starting)) - (n - next); extra > 0; --extra)
+    starting = static_cast<__mmask8>(starting & ~(1u << (31 - std::countl_zero(static_cast<unsigned>(starting)))));
+  const __m512d zero = _mm512_setzero_pd(), one = _mm512_set1_pd(1.0);
+  lanes.du = _mm512_mask_expandloadu_pd(lanes.du, starting, beams.du + next);
+  lanes.dv = _mm512_mask_expandloadu_pd(lanes.dv, starting, beams.dv + next);
+  lanes.inv_du = _mm512_mask_expandloadu_pd(lanes.inv_du, starting, beams.inv_du + next);
+  lanes.inv_dv = _mm512_mask_expandloadu_pd(lanes.inv_dv, starting, beams.inv_dv + next);
+  const __m512i ids = _mm512_add_epi64(_mm512_set1_epi64(next), _mm512_set_epi64(7, 6, 5, 4, 3, 2, 1, 0));
+  lanes.beam = _mm512_mask_expand_epi64(lanes.beam, starting, ids);
+  const __mmask8 back_u = _mm512_cmp_pd_mask(lanes.du, zero, _CMP_LT_OQ);
+  const __mmask8 back_v = _mm512_cmp_pd_mask(lanes.dv, zero, _CMP_LT_OQ);
+  lanes.exit_u = _mm512_mask_blend_pd(back_u, one, zero);
+  lanes.exit_v = _mm512_mask_blend_pd(back_v, one, zero);
+  const __m512d cells = _mm512_set1_pd(s.cells);  // quadrant_table()
+  const __m512d two_cells = _mm512_add_pd(cells, cells);
+  lanes.table = _mm512_add_pd(_mm512_maskz_mov_pd(back_u, cells), _mm512_maskz_mov_pd(back_v, two_cells));
+  lanes.col = _mm512_mask_mov_pd(lanes.col, starting, _mm512_set1_pd(s.col0));
+  lanes.row = _mm512_mask_mov_pd(lanes.row, starting, _mm512_set1_pd(s.row0));
+  lanes.t = _mm512_mask_mov_pd(lanes.t, starting, zero);
+  next += std::popcount(static_cast<unsigned>(starting));
+  lanes.active = static_cast<__mmask8>(lanes.active | starting);
+}
+
+/// One jump of GridRaycaster::trace for every active lane. Beams that end are written to out
+/// (the hit range, max_range on a miss, -1 for the scalar code when the jump ends exactly on a
+/// grid corner) and their lanes go idle.
+VWG_AVX512 void advance(Lanes& lanes, const ScanSetup& s, float* out) {
+  const __m512d zero = _mm512_setzero_pd(), one = _mm512_set1_pd(1.0), two = _mm512_set1_pd(2.0);
+  const __m512d u0 = _mm512_set1_pd(s.u0), v0 = _mm512_set1_pd(s.v0);
+  const __m512d width = _mm512_set1_pd(s.width), height = _mm512_set1_pd(s.height);
+  const __mmask8 active = lanes.active;
+  const __m512d col = lanes.col, row = lanes.row;
+
+  // The clearance of each lane's cell (all inside the map); 0 means the ray stopped there.
+  const __m512d index = _mm512_maskz_add_pd(active, _mm512_add_pd(_mm512_mul_pd(row, width), col), lanes.table);
+  const __m256i raw = _mm256_i32gather_epi32(reinterpret_cast<const int*>(s.clearance),
+                                             _mm512_maskz_cvttpd_epi32(0xFF, index), 1);
+  const __m512d d = _mm512_maskz_cvtepi32_pd(0xFF, _mm256_and_si256(raw, _mm256_set1_epi32(0xFF)));
+  const __mmask8 hit = _mm512_mask_cmp_pd_mask(active, d, zero, _CMP_EQ_OQ);
+  const __mmask8 moving = static_cast<__mmask8>(active & ~hit);
+
+  // Leave the free square: its far line is col + d going forward, col + 1 - d going back.
+  const __m512d step_u = _mm512_sub_pd(_mm512_mul_pd(two, lanes.exit_u), one);
+  const __m512d step_v = _mm512_sub_pd(_mm512_mul_pd(two, lanes.exit_v), one);
+  const __m512d line_u = _mm512_add_pd(_mm512_sub_pd(col, _mm512_sub_pd(lanes.exit_u, one)), _mm512_mul_pd(step_u, d));
+  const __m512d line_v = _mm512_add_pd(_mm512_sub_pd(row, _mm512_sub_pd(lanes.exit_v, one)), _mm512_mul_pd(step_v, d));
+  const __m512d t_u = _mm512_mul_pd(_mm512_sub_pd(line_u, u0), lanes.inv_du);
+  const __m512d t_v = _mm512_mul_pd(_mm512_sub_pd(line_v, v0), lanes.inv_dv);
+  const __m512d t_next = _mm512_min_pd(t_u, t_v);
+  const __mmask8 out_of_range = _mm512_mask_cmp_pd_mask(moving, t_next, _mm512_set1_pd(s.t_max), _CMP_NLE_UQ);
+
+  __mmask8 cross_u, cross_v;
+  __m512d next_col = cell_before_x8(u0, lanes.du, lanes.inv_du, step_u, lanes.exit_u, col, t_next, cross_u);
+  __m512d next_row = cell_before_x8(v0, lanes.dv, lanes.inv_dv, step_v, lanes.exit_v, row, t_next, cross_v);
+  next_col = _mm512_mask_add_pd(next_col, cross_u, next_col, step_u);
+  next_row = _mm512_mask_add_pd(next_row, cross_v, next_row, step_v);
+  const __mmask8 corner = static_cast<__mmask8>(moving & cross_u & cross_v & ~out_of_range);
+  const __mmask8 outside = static_cast<__mmask8>(_mm512_mask_cmp_pd_mask(moving, next_col, zero, _CMP_LT_OQ) |
+                                                 _mm512_mask_cmp_pd_mask(moving, next_col, width, _CMP_GE_OQ) |
+                                                 _mm512_mask_cmp_pd_mask(moving, next_row, zero, _CMP_LT_OQ) |
+                                                 _mm512_mask_cmp_pd_mask(moving, next_row, height, _CMP_GE_OQ));
+  const __mmask8 missed = static_cast<__mmask8>(out_of_range | (outside & ~corner));
+
+  const __mmask8 done = static_cast<__mmask8>(hit | missed | corner);
+  if (done != 0) {  // the range as range() computes it
+    __m512d value = _mm512_add_pd(_mm512_mul_pd(lanes.t, _mm512_set1_pd(s.resolution)), zero);
+    value = _mm512_mask_mov_pd(value, missed, _mm512_set1_pd(s.max_range));
+    value = _mm512_mask_mov_pd(value, corner, _mm512_set1_pd(-1.0));
+    _mm512_mask_i64scatter_ps(out, done, lanes.beam, _mm512_cvtpd_ps(value), 4);
+  }
+  lanes.col = _mm512_mask_mov_pd(col, moving, next_col);
+  lanes.row = _mm512_mask_mov_pd(row, moving, next_row);
+  lanes.t = _mm512_mask_mov_pd(lanes.t, moving, t_next);
+  lanes.active = static_cast<__mmask8>(active & ~done);
+}
+
+/// The jumps of GridRaycaster::trace on 16 beams at once, in two independent groups of 8 so
+/// one group computes while the other waits for its gather.
+__attribute__((target("avx2,avx512f"))) void scan_avx512(const ScanSetup& s, const BeamDirections& beams, int n,
+                                                         float* out) {
+  Lanes first, second;
+  start_lanes(first);
+  start_lanes(second);
+  int next = 0;
+  for (;;) {
+    refill(first, s, beams, n, next);
+    refill(second, s, beams, n, next);
+    if ((first.active | second.active) == 0) break;
+    advance(first, s, out);
+    advance(second, s, out);
+  }
+}
+#undef VWG_AVX512
+
+#pragma GCC diagnostic pop
+
+// ---- The scan on CPUs with AVX2 but not AVX-512 ----------------------------------------------
+// The same jumps on 4 lanes of doubles, two groups at a time. No FMA is enabled here, so no
+// expression is fused. Lanes live in memory between jumps, so ending and starting beams is plain
+// scalar code.
+#define VWG_AVX2 __attribute__((target("avx2"), always_inline)) inline
+
+struct QuadLanes {
+  alignas(32) double du[4], dv[4], inv_du[4], inv_dv[4];
+  alignas(32) double exit_u[4], exit_v[4], table[4], col[4], row[4], t[4];
+  alignas(16) int beam[4];  ///< -1 when idle
+};
+
+/// Starts beams next, next + 1, ... in the idle lanes, while there are beams left.
+void refill(QuadLanes& lanes, const ScanSetup& s, const BeamDirections& beams, int n, int& next) {
+  for (int lane = 0; lane < 4 && next < n; ++lane) {
+    if (lanes.beam[lane] >= 0) continue;
+    const int b = next++;
+    lanes.beam[lane] = b;
+    lanes.du[lane] = beams.du[b], lanes.dv[lane] = beams.dv[b];
+    lanes.inv_du[lane] = beams.inv_du[b], lanes.inv_dv[lane] = beams.inv_dv[b];
+    lanes.exit_u[lane] = beams.du[b] < 0.0 ? 0.0 : 1.0;
+    lanes.exit_v[lane] = beams.dv[b] < 0.0 ? 0.0 : 1.0;
+    lanes.table[lane] = s.cells * ((beams.du[b] < 0.0 ? 1 : 0) + (beams.dv[b] < 0.0 ? 2 : 0));  // quadrant_table()
+    lanes.col[lane] = s.col0, lanes.row[lane] = s.row0, lanes.t[lane] = 0.0;
+  }
+}
+
+/// cell_before() on 4 lanes, with the same expressions. exit_side: 1 forward, 0 backward.
+VWG_AVX2 __m256d cell_before_x4(__m256d start, __m256d dir, __m256d inv_dir, __m256d step, __m256d exit_side,
+                                __m256d current, __m256d t, __m256d& crosses_at_t) {
+  __m256d cell = _mm256_floor_pd(_mm256_add_pd(start, _mm256_mul_pd(t, dir)));
+  const __m256d exit = _mm256_mul_pd(_mm256_sub_pd(_mm256_add_pd(cell, exit_side), start), inv_dir);
+  const __m256d entry_side = _mm256_sub_pd(_mm256_set1_pd(1.0), exit_side);
+  const __m256d entry = _mm256_mul_pd(_mm256_sub_pd(_mm256_add_pd(cell, entry_side), start), inv_dir);
+  const __m256d behind = _mm256_cmp_pd(exit, t, _CMP_LT_OQ);
+  const __m256d ahead = _mm256_andnot_pd(
+      behind, _mm256_and_pd(_mm256_cmp_pd(cell, current, _CMP_NEQ_UQ), _mm256_cmp_pd(entry, t, _CMP_GE_OQ)));
+  cell = _mm256_add_pd(cell, _mm256_and_pd(behind, step));
+  cell = _mm256_sub_pd(cell, _mm256_and_pd(ahead, step));
+  const __m256d settled_exit = _mm256_mul_pd(_mm256_sub_pd(_mm256_add_pd(cell, exit_side), start), inv_dir);
+  crosses_at_t = _mm256_cmp_pd(settled_exit, t, _CMP_EQ_OQ);
+  return cell;
+}
+
+/// One jump of GridRaycaster::trace for every active lane; beams that end are written to out
+/// as advance() does for 8 lanes.
+VWG_AVX2 void advance(QuadLanes& lanes, const ScanSetup& s, float* out) {
+  const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0), two = _mm256_set1_pd(2.0);
+  const __m256d u0 = _mm256_set1_pd(s.u0), v0 = _mm256_set1_pd(s.v0);
+  const __m256d width = _mm256_set1_pd(s.width), height = _mm256_set1_pd(s.height);
+  const __m256d active = _mm256_cmp_pd(_mm256_cvtepi32_pd(_mm_load_si128(reinterpret_cast<const __m128i*>(lanes.beam))),
+                                       zero, _CMP_GE_OQ);
+  const __m256d col = _mm256_load_pd(lanes.col), row = _mm256_load_pd(lanes.row), t = _mm256_load_pd(lanes.t);
+  const __m256d du = _mm256_load_pd(lanes.du), dv = _mm256_load_pd(lanes.dv);
+  const __m256d inv_du = _mm256_load_pd(lanes.inv_du), inv_dv = _mm256_load_pd(lanes.inv_dv);
+  const __m256d exit_u = _mm256_load_pd(lanes.exit_u), exit_v = _mm256_load_pd(lanes.exit_v);
+
+  // The clearance of each lane's cell (all inside the map); 0 means the ray stopped there.
+  const __m256d index = _mm256_and_pd(active, _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(row, width), col),
+                                                            _mm256_load_pd(lanes.table)));
+  const __m128i raw = _mm_i32gather_epi32(reinterpret_cast<const int*>(s.clearance), _mm256_cvttpd_epi32(index), 1);
+  const __m256d d = _mm256_cvtepi32_pd(_mm_and_si128(raw, _mm_set1_epi32(0xFF)));
+  const __m256d hit = _mm256_and_pd(active, _mm256_cmp_pd(d, zero, _CMP_EQ_OQ));
+  const __m256d moving = _mm256_andnot_pd(hit, active);
+
+  // Leave the free square: its far line is col + d going forward, col + 1 - d going back.
+  const __m256d step_u = _mm256_sub_pd(_mm256_mul_pd(two, exit_u), one);
+  const __m256d step_v = _mm256_sub_pd(_mm256_mul_pd(two, exit_v), one);
+  const __m256d line_u = _mm256_add_pd(_mm256_sub_pd(col, _mm256_sub_pd(exit_u, one)), _mm256_mul_pd(step_u, d));
+  const __m256d line_v = _mm256_add_pd(_mm256_sub_pd(row, _mm256_sub_pd(exit_v, one)), _mm256_mul_pd(step_v, d));
+  const __m256d t_u = _mm256_mul_pd(_mm256_sub_pd(line_u, u0), inv_du);
+  const __m256d t_v = _mm256_mul_pd(_mm256_sub_pd(line_v, v0), inv_dv);
+  const __m256d t_next = _mm256_min_pd(t_u, t_v);
+  const __m256d out_of_range = _mm256_and_pd(moving, _mm256_cmp_pd(t_next, _mm256_set1_pd(s.t_max), _CMP_NLE_UQ));
+
+  __m256d cross_u, cross_v;
+  __m256d next_col = cell_before_x4(u0, du, inv_du, step_u, exit_u, col, t_next, cross_u);
+  __m256d next_row = cell_before_x4(v0, dv, inv_dv, step_v, exit_v, row, t_next, cross_v);
+  next_col = _mm256_add_pd(next_col, _mm256_and_pd(cross_u, step_u));
+  next_row = _mm256_add_pd(next_row, _mm256_and_pd(cross_v, step_v));
+  const __m256d corner = _mm256_andnot_pd(out_of_range, _mm256_and_pd(moving, _mm256_and_pd(cross_u, cross_v)));
+  const __m256d outside = _mm256_or_pd(
+      _mm256_or_pd(_mm256_cmp_pd(next_col, zero, _CMP_LT_OQ), _mm256_cmp_pd(next_col, width, _CMP_GE_OQ)),
+      _mm256_or_pd(_mm256_cmp_pd(next_row, zero, _CMP_LT_OQ), _mm256_cmp_pd(next_row, height, _CMP_GE_OQ)));
+  const __m256d missed = _mm256_or_pd(out_of_range, _mm256_andnot_pd(corner, _mm256_and_pd(moving, outside)));
+
+  _mm256_store_pd(lanes.col, _mm256_blendv_pd(col, next_col, moving));
+  _mm256_store_pd(lanes.row, _mm256_blendv_pd(row, next_row, moving));
+  _mm256_store_pd(lanes.t, _mm256_blendv_pd(t, t_next, moving));
+  const int hits = _mm256_movemask_pd(hit), misses = _mm256_movemask_pd(missed), corners = _mm256_movemask_pd(corner);
+  for (int lane = 0; lane < 4; ++lane) {  // the range as range() computes it, or -1 for the scalar code
+    const int bit = 1 << lane;
+    if (!((hits | misses | corners) & bit)) continue;
+    const double range = hits & bit ? lanes.t[lane] * s.resolution + 0.0 : misses & bit ? s.max_range : -1.0;
+    out[lanes.beam[lane]] = static_cast<float>(range);
+    lanes.beam[lane] = -1;
+  }
+}
+
+/// The jumps of GridRaycaster::trace on 8 beams at once, in two independent groups of 4.
+__attribute__((target("avx2"))) void scan_avx2(const ScanSetup& s, const BeamDirections& beams, int n,
+                                               float* out) {
+  QuadLanes groups[2]{};
+  for (QuadLanes& lanes : groups) std::fill(std::begin(lanes.beam), std::end(lanes.beam), -1);
+  int next = 0;
+  for (;;) {
+    bool busy = false;
+    for (QuadLanes& lanes : groups) {
+      refill(lanes, s, beams, n, next);
+      busy = busy || std::any_of(std::begin(lanes.beam), std::end(lanes.beam), [](int b) { return b >= 0; });
+    }
+    if (!busy) break;
+    for (QuadLanes& lanes : groups) advance(lanes, s, out);
+  }
+}
+#undef VWG_AVX2
+#endif  // VWG_RAYCAST_X86
+
+/// sin and cos of x, by the same operations as sincos_x8. Not inlined: one compiled copy.
+[[gnu::noinline]] void sincos_portable(double x, double& sin_x, double& cos_x) {
+  if (!(std::abs(x) <= kReduceLimit)) {
+    sin_x = std::sin(x), cos_x = std::cos(x);
+    return;
+  }
+  const double k = (x * kTwoOverPi + kRoundToInteger) - kRoundToInteger;  // nearest quarter turn
+  const double r = ((x - k * kHalfPiHigh) - k * kHalfPiMid) - k * kHalfPiLow;
+  const double z = r * r;
+  double p = kSin[7];
+  for (int i = 6; i >= 0; --i) p = p * z + kSin[i];
+  const double sin_r = r + (r * z) * p;
+  double q = kCos[6];
+  for (int i = 5; i >= 0; --i) q = q * z + kCos[i];
+  const double cos_r = (1.0 - 0.5 * z) + (z * z) * q;
+  const int quarter = static_cast<int>(k) & 3;
+  const double s = quarter & 1 ? cos_r : sin_r, c = quarter & 1 ? sin_r : cos_r;
+  sin_x = quarter >= 2 ? -s : s;
+  cos_x = quarter == 1 || quarter == 2 ? -c : c;
+}
+
+/// Unit directions in grid axes of n angles relative to the grid's yaw: du = cos, dv = sin.
+/// Zero components are +0 (+ 0.0 turns -0 into +0), so they step +1 and cross at +infinity.
+void grid_directions(const double* relative, std::size_t n, double* du, double* dv,
+                     [[maybe_unused]] bool avx512) {
+#ifdef VWG_RAYCAST_X86
+  if (avx512 && n == 1) {
+    sincos_avx512(*relative, *dv, *du);
+  } else if (avx512) {
+    sincos_avx512(relative, n, dv, du);
+  } else
+#endif
+  {
+    for (std::size_t i = 0; i < n; ++i) sincos_portable(relative[i], dv[i], du[i]);
+  }
+  for (std::size_t i = 0; i < n; ++i) du[i] += 0.0, dv[i] += 0.0;
+}
+
+}  // namespace
+
+/// A ray in grid axes (cells).
+struct GridRaycaster::Ray {
+  double u0 = 0, v0 = 0;          ///< start
+  double du = 0, dv = 0;          ///< unit direction
+  double inv_du = 0, inv_dv = 0;  ///< 1 / direction
+  double t_max = 0;               ///< max range in cells
+  double max_range = 0;           ///< max range in metres
+  int step_u = 1, step_v = 1;     ///< direction of travel along columns / rows
+  int col0 = 0, row0 = 0;         ///< start cell
+  std::size_t table = 0;          ///< where the clearance of its quadrant of travel starts
+};
+
+/// Where a walk ended: parameter t (cells), and the blocked cell and face when it hit.
+struct GridRaycaster::Walk {
+  double t = 0;
+  int col = -1, row = -1, face = -1;
+  bool hit = false;
+};
+
+GridRaycaster::GridRaycaster(const OccupancyGrid& grid, int threshold)
+    : width_(grid.width),
+      height_(grid.height),
+      resolution_(grid.resolution),
+      origin_(grid.origin),
+      yaw_cos_(std::cos(grid.origin.theta)),
+      yaw_sin_(std::sin(grid.origin.theta)) {
+  if (grid.width < 0 || grid.height < 0) throw Error("GridRaycaster: negative grid size");
+  const auto cells = static_cast<std::uint64_t>(grid.width) * static_cast<std::uint64_t>(grid.height);
+  if (cells >= (std::uint64_t{1} << 29)) throw Error("GridRaycaster: grids of 2^29 cells or more are not supported");
+  if (grid.data.size() != cells)
+    throw Error("GridRaycaster: the grid has " + std::to_string(grid.data.size()) + " values for " +
+                std::to_string(grid.width) + " x " + std::to_string(grid.height) + " cells");
+  if (!(grid.resolution > 0.0) || !std::isfinite(grid.resolution))
+    throw Error("GridRaycaster: the resolution must be a positive number of metres per cell");
+  if (!std::isfinite(grid.origin.x) || !std::isfinite(grid.origin.y) || !std::isfinite(grid.origin.theta))
+    throw Error("GridRaycaster: the grid origin must be finite");
+#ifdef VWG_RAYCAST_X86
+  __builtin_cpu_init();  // in case a raycaster is made before libgcc's own initialisation
+  if (__builtin_cpu_supports("avx2")) simd_ = __builtin_cpu_supports("avx512f") ? Simd::kAvx512 : Simd::kAvx2;
+  if (const char* cap = std::getenv("VWG_RAYCAST_SIMD")) {
+    const std::string_view level = cap;
+    if (level == "none") simd_ = Simd::kNone;
+    if (level == "avx2" && simd_ == Simd::kAvx512) simd_ = Simd::kAvx2;
+  }
+#endif
+
+  // Per quadrant, the largest free square anchored at each cell: 1 + the smallest of its three
+  // neighbours ahead (the maximal-square recurrence), sweeping from the far corner back.
+  // Outside cells count as free and unbounded.
+  cells_ = cells;
+  clearance_.assign(4 * cells + 4, 0);  // + 4: 4-byte gathers at the last cell stay inside
+  const int w = width_, h = height_;
+  for (int quadrant = 0; quadrant < 4; ++quadrant) {
+    std::uint8_t* square = clearance_.data() + quadrant * cells;
+    const int step_u = quadrant & 1 ? -1 : 1, step_v = quadrant & 2 ? -1 : 1;
+    auto ahead = [&](int row, int col) -> int {
+      return row < 0 || col < 0 || row >= h || col >= w ? kMaxClearance : square[cell_index(row, col)];
+    };
+    for (int i = 0; i < h; ++i)
+      for (int j = 0; j < w; ++j) {
+        const int row = step_v > 0 ? h - 1 - i : i, col = step_u > 0 ? w - 1 - j : j;
+        const std::size_t at = cell_index(row, col);
+        if (grid.data[at] >= threshold) continue;  // blocked: 0
+        const int smallest =
+            std::min({ahead(row, col + step_u), ahead(row + step_v, col), ahead(row + step_v, col + step_u)});
+        square[at] = static_cast<std::uint8_t>(std::min(kMaxClearance, smallest + 1));
+      }
+  }
+}
+
+void GridRaycaster::set_start(double x, double y, Ray& ray) const {
+  if (!std::isfinite(x) || !std::isfinite(y)) throw Error("raycast: the start (x, y) must be finite");
+  const double dx = x - origin_.x, dy = y - origin_.y;  // as OccupancyGrid::world_to_grid
+  ray.u0 = (yaw_cos_ * dx + yaw_sin_ * dy) / resolution_;
+  ray.v0 = (-yaw_sin_ * dx + yaw_cos_ * dy) / resolution_;
+  if (!(std::abs(ray.u0) < kMaxStartCells) || !(std::abs(ray.v0) < kMaxStartCells))
+    throw Error("raycast: the start is too far from the grid");
+  ray.col0 = floor_to_int(ray.u0);
+  ray.row0 = floor_to_int(ray.v0);
+}
+
+void GridRaycaster::set_direction(double angle, double yaw, bool avx512, Ray& ray) {
+  if (!std::isfinite(angle)) throw Error("raycast: the angle must be finite");
+  const double relative = angle - yaw;
+  grid_directions(&relative, 1, &ray.du, &ray.dv, avx512);
+  ray.inv_du = 1.0 / ray.du;
+  ray.inv_dv = 1.0 / ray.dv;
+  ray.step_u = ray.du >= 0.0 ? 1 : -1;
+  ray.step_v = ray.dv >= 0.0 ? 1 : -1;
+}
+
+std::size_t GridRaycaster::quadrant_table(const Ray& ray) const {
+  return cells_ * ((ray.step_u > 0 ? 0 : 1) + (ray.step_v > 0 ? 0 : 2));
+}
+
+GridRaycaster::Ray GridRaycaster::make_ray(double x, double y, double angle, double max_range) const {
+  if (!(max_range >= 0.0)) throw Error("raycast: max_range must be >= 0 (it may be infinite)");
+  Ray ray;
+  set_start(x, y, ray);
+  set_direction(angle, origin_.theta, simd_ == Simd::kAvx512, ray);
+  ray.max_range = max_range;
+  ray.t_max = max_range / resolution_;
+  ray.table = quadrant_table(ray);
+  return ray;
+}
+
+GridRaycaster::Walk GridRaycaster::miss(const Ray& ray) {
+  Walk walk;
+  walk.t = ray.t_max;
+  return walk;
+}
+
+bool GridRaycaster::gone_for_good(const Ray& ray, int col, int row) const {
+  return (col < 0 && ray.du <= 0.0) || (col >= width_ && ray.du >= 0.0) || (row < 0 && ray.dv <= 0.0) ||
+         (row >= height_ && ray.dv >= 0.0);
+}
+
+bool GridRaycaster::cross_lines(const Ray& ray, double t, bool cross_u, bool cross_v, int& col, int& row,
+                                Walk& stop) const {
+  const int face_u = ray.step_u > 0 ? 0 : 1, face_v = ray.step_v > 0 ? 2 : 3;
+  if (cross_u && cross_v) {  // through a corner: the x side, then the y side, then the diagonal
+    if (blocked(row, col + ray.step_u)) return stop = Walk{t, col + ray.step_u, row, face_u, true}, true;
+    if (blocked(row + ray.step_v, col)) return stop = Walk{t, col, row + ray.step_v, face_v, true}, true;
+  }
+  if (cross_u) col += ray.step_u;
+  if (cross_v) row += ray.step_v;
+  if (blocked(row, col)) return stop = Walk{t, col, row, cross_u ? face_u : face_v, true}, true;
+  return false;
+}
+
+GridRaycaster::Walk GridRaycaster::trace_dda(const Ray& ray) const {
+  int col = ray.col0, row = ray.row0;
+  if (blocked(row, col)) return Walk{0.0, col, row, -1, true};
+  double line_u = ray.step_u > 0 ? col + 1.0 : col;  // the next grid line ahead on each axis
+  double line_v = ray.step_v > 0 ? row + 1.0 : row;
+  double t_u = crossing(line_u, ray.u0, ray.inv_du);
+  double t_v = crossing(line_v, ray.v0, ray.inv_dv);
+  for (;;) {
+    const double t = std::min(t_u, t_v);
+    if (!(t <= ray.t_max)) return miss(ray);
+    const bool cross_u = t_u == t, cross_v = t_v == t;
+    Walk stop;
+    if (cross_lines(ray, t, cross_u, cross_v, col, row, stop)) return stop;
+    if (cross_u) t_u = crossing(line_u += ray.step_u, ray.u0, ray.inv_du);
+    if (cross_v) t_v = crossing(line_v += ray.step_v, ray.v0, ray.inv_dv);
+    if (gone_for_good(ray, col, row)) return miss(ray);
+  }
+}
+
+GridRaycaster::Walk GridRaycaster::trace(const Ray& ray) const {
+  int col = ray.col0, row = ray.row0;
+  if (blocked(row, col)) return Walk{0.0, col, row, -1, true};
+  for (;;) {
+    // Where the ray leaves a free box around the current cell, on each axis.
+    double t_u, t_v;
+    if (row >= 0 && col >= 0 && row < height_ && col < width_) {
+      const int d = clearance_[ray.table + cell_index(row, col)];
+      t_u = crossing(ray.step_u > 0 ? col + d : col + 1 - d, ray.u0, ray.inv_du);
+      t_v = crossing(ray.step_v > 0 ? row + d : row + 1 - d, ray.v0, ray.inv_dv);
+    } else {  // outside, free up to the next line of the map's edges (bounded, so cells fit an int)
+      if (gone_for_good(ray, col, row)) return miss(ray);
+      const bool right = ray.step_u > 0, up = ray.step_v > 0;
+      const double edge_u = col < 0 ? 0.0 : col >= width_ ? width_ : right ? width_ : 0.0;
+      const double edge_v = row < 0 ? 0.0 : row >= height_ ? height_ : up ? height_ : 0.0;
+      t_u = crossing(edge_u, ray.u0, ray.inv_du);
+      t_v = crossing(edge_v, ray.v0, ray.inv_dv);
+    }
+    const double t = std::min(t_u, t_v);
+    if (!(t <= ray.t_max)) return miss(ray);
+    bool cross_u = false, cross_v = false;
+    col = cell_before(col, ray.u0, ray.du, ray.inv_du, ray.step_u, t, cross_u);
+    row = cell_before(row, ray.v0, ray.dv, ray.inv_dv, ray.step_v, t, cross_v);
+    Walk stop;
+    if (cross_lines(ray, t, cross_u, cross_v, col, row, stop)) return stop;
+  }
+}
+
+RayHit GridRaycaster::to_hit(const Ray& ray, const Walk& walk) const {
+  RayHit hit;
+  hit.hit = walk.hit;
+  hit.row = walk.row;
+  hit.col = walk.col;
+  hit.face = walk.face;
+  hit.distance = walk.hit ? walk.t * resolution_ + 0.0 : ray.max_range;  // + 0.0: no -0 at the start
+  double u = ray.u0 + walk.t * ray.du, v = ray.v0 + walk.t * ray.dv;
+  if (walk.face == 0 || walk.face == 1) u = walk.col + (walk.face == 0 ? 0.0 : 1.0);  // exactly on the line
+  if (walk.face == 2 || walk.face == 3) v = walk.row + (walk.face == 2 ? 0.0 : 1.0);
+  if (walk.hit && walk.face == -1) u = ray.u0, v = ray.v0;
+  hit.x = origin_.x + (yaw_cos_ * u - yaw_sin_ * v) * resolution_;  // as OccupancyGrid::grid_to_world
+  hit.y = origin_.y + (yaw_sin_ * u + yaw_cos_ * v) * resolution_;
+  return hit;
+}
+
+RayHit GridRaycaster::cast(double x, double y, double angle, double max_range) const {
+  const Ray ray = make_ray(x, y, angle, max_range);
+  return to_hit(ray, trace(ray));
+}
+
+double GridRaycaster::range(double x, double y, double angle, double max_range) const {
+  const Ray ray = make_ray(x, y, angle, max_range);
+  const Walk walk = trace(ray);
+  return walk.hit ? walk.t * resolution_ + 0.0 : max_range;
+}
+
+RayHit GridRaycaster::cast_dda(double x, double y, double angle, double max_range) const {
+  const Ray ray = make_ray(x, y, angle, max_range);
+  return to_hit(ray, trace_dda(ray));
+}
+
+void GridRaycaster::scan(const Pose2& pose, std::span<const double> angles, double max_range,
+                         std::span<float> out) const {
+  if (out.size() != angles.size())
+    throw Error("scan: " + std::to_string(out.size()) + " outputs for " + std::to_string(angles.size()) + " angles");
+  Ray ray = make_ray(pose.x, pose.y, pose.theta, max_range);
+  auto scalar = [&](std::size_t first, std::size_t last) {
+    for (std::size_t i = first; i < last; ++i) {
+      set_direction(pose.theta + angles[i], origin_.theta, simd_ == Simd::kAvx512, ray);
+      ray.table = quadrant_table(ray);
+      const Walk walk = trace(ray);
+      out[i] = static_cast<float>(walk.hit ? walk.t * resolution_ + 0.0 : max_range);
+    }
+  };
+#ifdef VWG_RAYCAST_X86
+  const bool start_free_inside =
+      ray.row0 >= 0 && ray.col0 >= 0 && ray.row0 < height_ && ray.col0 < width_ && !blocked(ray.row0, ray.col0);
+  if (start_free_inside && simd_ != Simd::kNone) {
+    const ScanSetup setup{clearance_.data(), width_,   height_,   static_cast<double>(cells_), ray.u0,   ray.v0,
+                          ray.col0,          ray.row0, ray.t_max, resolution_,                 max_range};
+    constexpr std::size_t kChunk = 256;  // beams set up at a time, on the stack
+    std::array<double, kChunk> relative, du, dv, inv_du, inv_dv;
+    for (std::size_t first = 0; first < angles.size(); first += kChunk) {
+      const std::size_t count = std::min(kChunk, angles.size() - first);
+      for (std::size_t i = 0; i < count; ++i) {
+        const double angle = pose.theta + angles[first + i];  // as the caller of range() would
+        if (!std::isfinite(angle)) throw Error("raycast: the angle must be finite");
+        relative[i] = angle - origin_.theta;
+      }
+      grid_directions(relative.data(), count, du.data(), dv.data(), simd_ == Simd::kAvx512);
+      for (std::size_t i = 0; i < count; ++i) inv_du[i] = 1.0 / du[i], inv_dv[i] = 1.0 / dv[i];
+      const BeamDirections beams{du.data(), dv.data(), inv_du.data(), inv_dv.data()};
+      if (simd_ == Simd::kAvx512)
+        scan_avx512(setup, beams, static_cast<int>(count), out.data() + first);
+      else
+        scan_avx2(setup, beams, static_cast<int>(count), out.data() + first);
+      for (std::size_t i = first; i < first + count; ++i)
+        if (out[i] < 0.0f) scalar(i, i + 1);  // the rare beam through a grid corner
+    }
+    return;
+  }
+#endif
+  scalar(0, angles.size());
+}
+
+}  // namespace vwg::sim

@@ -1,0 +1,94 @@
+#include "vwg/sim/sim_view.hpp"
+
+#include <cmath>
+
+#include "vwg/error.hpp"
+
+namespace vwg::sim {
+
+SimView::SimView(std::shared_ptr<const PhysicsWorld> world, RenderStyle style, MotionSymbols symbols)
+    : world_(std::move(world)), renderer_(world_ ? world_->grid() : OccupancyGrid{}, style), motion_(std::move(symbols)) {
+  if (!world_) throw Error("SimView: no physics world");
+}
+
+void SimView::add_marker(double x, double y, double facing, std::string label, int tag_id) {
+  markers_.push_back(Marker{x, y, facing, std::move(label), tag_id});
+}
+
+void SimView::set_path(int robot, std::vector<cv::Point2d> path) {
+  if (path.empty()) {
+    paths_.erase(robot);
+  } else {
+    paths_[robot] = std::move(path);
+  }
+}
+
+void SimView::set_belief(int robot, std::vector<std::int8_t> cells) {
+  if (cells.empty()) {
+    beliefs_.erase(robot);
+    return;
+  }
+  const auto& g = world_->grid();
+  if (cells.size() != g.data.size()) throw SchemaError("belief", "expected one value per map cell");
+  beliefs_[robot] = std::move(cells);
+}
+
+void SimView::record_video(const std::string& path, double fps, VideoSettings settings) {
+  video_path_ = path;
+  video_fps_ = fps;
+  video_settings_ = settings;
+  video_.emplace();  // opened with the first frame's size
+}
+
+void SimView::record_images(const std::string& directory) { images_.emplace(directory); }
+
+void SimView::close() {
+  if (video_ && video_->is_open()) video_->close();
+}
+
+void SimView::begin_frame(const FrameInfo&) {
+  motion_.begin_frame();
+  commanded_.clear();
+}
+
+void SimView::primitive(const NodeView& p) {
+  int id = 0;
+  std::vector<MotionStep> plan;
+  if (motion_.robot(p, id, plan)) commanded_[id] = std::move(plan);
+}
+
+void SimView::end_frame(const FrameInfo& frame) {
+  // Trajectories grow every frame, whether or not the robot was displayed.
+  for (const RobotState& s : world_->robots()) trajectories_[s.id].emplace_back(s.pose.x, s.pose.y);
+  renderer_.begin(FrameText{static_cast<std::int64_t>(frame.frame), frame.time, status_});
+  for (const auto& [id, cells] : beliefs_) {
+    (void)id;
+    renderer_.draw_belief(cells);
+  }
+  for (const Marker& m : markers_) renderer_.draw_marker(m.x, m.y, m.facing, m.label, m.tag_id);
+  for (const auto& [id, points] : trajectories_) renderer_.draw_trajectory(points, id);
+  for (const auto& [id, points] : paths_) renderer_.draw_path(points, id);
+  std::vector<float> angles;
+  for (const auto& laser : lasers_) {
+    angles.assign(laser->angles().begin(), laser->angles().end());
+    renderer_.draw_scan(world_->robot(laser->robot()).pose, angles, laser->ranges(), laser->spec().max_range);
+  }
+  for (const auto& kinect : kinects_) {
+    angles.assign(kinect->angles().begin(), kinect->angles().end());
+    renderer_.draw_scan(world_->robot(kinect->robot()).pose, angles, kinect->ranges(), kinect->camera().spec().max_range);
+  }
+  // Robots displayed this frame (Table I: α(Robot) draws the robot); others are not drawn.
+  for (const auto& [id, plan] : commanded_) {
+    const RobotState& s = world_->robot(id);
+    renderer_.draw_robot(s.pose, s.radius, id);
+  }
+  const cv::Mat& image = renderer_.image();
+  if (video_) {
+    if (!video_->is_open()) video_->open(video_path_, image.cols, image.rows, video_fps_, video_settings_);
+    video_->write(image);
+  }
+  if (images_) images_->write(image);
+  if (video_ || images_) ++written_;
+}
+
+}  // namespace vwg::sim

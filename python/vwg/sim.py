@@ -1,0 +1,109 @@
+"""The simulator of the case study for a robot world: the physics (the backend G that executes the
+robots' Move/Rotate actions), the range sensors and the robots' feedback (event generators), and a
+view (a backend that draws the simulation and records video).
+
+    world = vwg.load_robot_world("maps/office.yaml")
+    sim = vwg.Simulation(world)
+    engine = vwg.Engine(world_of_symbols, initial,
+                        generators=[*sim.sensors(alphabet), *others, *sim.feedback(alphabet)],
+                        backend=vwg.BackendGroup([sim.backend, sim.view(video="run.mp4")]))
+
+The events the sensors and feedback make (declare them in the alphabet; ``SIM_EVENTS`` has them):
+``eLaser<dist, angle>`` per beam that met an obstacle, ``eOdometry<x, y, angle, busy>`` per robot
+per frame, ``eCollision<other>`` per contact; all addressed to the robot (``to=id``).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import Any
+
+from . import _core
+from .robotworld import NoiseSpec, RobotWorld
+
+__all__ = ["MOTION_SYMBOLS", "SIM_EVENTS", "Simulation"]
+
+#: Event types of the simulator's generators, as Alphabet(events=...) takes them.
+SIM_EVENTS: dict[str, dict[str, Any]] = {
+    "eLaser": {"dist": 0.0, "angle": 0.0},
+    "eOdometry": {"x": 0.0, "y": 0.0, "angle": 0.0, "busy": False},
+    "eCollision": {"other": 0},
+}
+
+#: The primitive and transformations of the case study (paper Table I).
+MOTION_SYMBOLS: dict[str, dict[str, dict[str, Any]]] = {
+    "primitives": {"Robot": {"id": 0}},
+    "transformations": {"Move": {"dist": 0.0}, "Rotate": {"angle": 0.0}},
+}
+
+
+class Simulation:
+    """One robot world simulated: ``physics`` (Box2D), ``backend`` (α/β/δ of Robot, Move, Rotate),
+    ``raycaster`` and ``scanner`` (walls and other robots), and factories for the generators."""
+
+    def __init__(self, world: RobotWorld, *, seed: int | None = None, noise: NoiseSpec | None = None,
+                 step: float = 0.01) -> None:
+        self.world = world
+        self.noise = noise if noise is not None else world.noise
+        self.seed = world.seed if seed is None else seed
+        self.physics = _core.PhysicsWorld(world.grid, list(world.robots), step=step, motor_noise=self.noise.motors,
+                                          odometry_noise=self.noise.odometry, seed=self.seed)
+        self.raycaster = _core.GridRaycaster(world.grid)
+        self.scanner = _core.RangeScanner(self.raycaster, self.physics)
+        self.backend = _core.SimBackend(self.physics)
+        self.lasers: list[_core.LaserGenerator] = []
+        self.kinects: list[_core.KinectGenerator] = []
+
+    def laser(self, alphabet: _core.Alphabet, robot: int, **overrides: Any) -> _core.LaserGenerator:
+        """gLaser for one robot, with the world's laser settings (and these overrides)."""
+        spec = dataclasses.replace(self.world.laser, **overrides)
+        noise = overrides.get("noise", self.noise.laser)
+        gen = _core.LaserGenerator(self.scanner, robot, alphabet, beams=spec.beams, fov=spec.fov,
+                                   max_range=spec.max_range, noise=noise)
+        self.lasers.append(gen)
+        return gen
+
+    def kinect(self, alphabet: _core.Alphabet, robot: int, **overrides: Any) -> _core.KinectGenerator:
+        """gKinect for one robot, with the world's Kinect settings (and these overrides)."""
+        spec = dataclasses.replace(self.world.kinect, **{k: v for k, v in overrides.items() if k != "noise"})
+        gen = _core.KinectGenerator(self.scanner, robot, alphabet, width=spec.width, height=spec.height,
+                                    hfov=spec.hfov, min_range=spec.min_range, max_range=spec.max_range,
+                                    mount_height=spec.mount_height, wall_height=self.world.wall_height,
+                                    noise=bool(overrides.get("noise", False)))
+        self.kinects.append(gen)
+        return gen
+
+    def sensors(self, alphabet: _core.Alphabet, kinds: tuple[str, ...] = ("laser", "kinect")) -> list[_core.Generator]:
+        """The range sensors each robot lists (of `kinds`), robot by robot, in the world's order."""
+        gens: list[_core.Generator] = []
+        for robot in self.world.robots:
+            for sensor in robot.sensors:
+                if sensor == "laser" and "laser" in kinds:
+                    gens.append(self.laser(alphabet, robot.id))
+                elif sensor == "kinect" and "kinect" in kinds:
+                    gens.append(self.kinect(alphabet, robot.id))
+        return gens
+
+    def feedback(self, alphabet: _core.Alphabet) -> list[_core.Generator]:
+        """Odometry and collisions of every robot, as events."""
+        return [_core.OdometryGenerator(self.physics, alphabet), _core.CollisionGenerator(self.physics, alphabet)]
+
+    def view(self, *, width: int = 800, video: str | None = None, fps: float | None = None,
+             images: str | None = None) -> _core.SimView:
+        """A backend drawing the simulation: map, markers, robots, scans of the sensors made so far,
+        trajectories; recording to `video` (MP4/GIF) and/or PNG files in `images`."""
+        view = _core.SimView(self.physics, width=width)
+        for room in self.world.rooms.values():
+            view.add_marker(room.at[0], room.at[1], room.facing, room.name, room.marker)
+        for laser in self.lasers:
+            view.add_laser(laser)
+        for kinect in self.kinects:
+            view.add_kinect(kinect)
+        if video:
+            view.record_video(str(video), fps if fps is not None else 1.0 / self.world.dt)
+        if images:
+            view.record_images(str(images))
+        return view
+
+    def robot(self, robot: int) -> _core.RobotState:
+        return self.physics.robot(robot)

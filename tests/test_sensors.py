@@ -1,0 +1,140 @@
+"""Range sensors: the laser and the Kinect-style depth camera, against distances worked out by hand,
+and against each other (the paper's device-independence test)."""
+
+from __future__ import annotations
+
+import math
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+import vwg
+from conftest import ROOT
+from vwg import _core
+
+
+def box_map(cells=100, res=0.05):
+    """A (cells·res)² m room whose border cells are walls: inner faces at res and (cells-1)·res."""
+    data = np.zeros((cells, cells), np.int8)
+    data[0, :] = data[-1, :] = data[:, 0] = data[:, -1] = 100
+    return SimpleNamespace(data=data, resolution=res, origin=(0.0, 0.0, 0.0))
+
+
+def sim_world(grid, robots):
+    alphabet = vwg.Alphabet(events=vwg.SIM_EVENTS, **vwg.MOTION_SYMBOLS)
+    physics = _core.PhysicsWorld(grid, robots)
+    scanner = _core.RangeScanner(_core.GridRaycaster(grid), physics)
+    return alphabet, physics, scanner
+
+
+def test_laser_ranges_and_events_by_hand():
+    alphabet, _, scanner = sim_world(box_map(), [{"id": 7, "start": (2.52, 2.51, 0.0)}])
+    laser = _core.LaserGenerator(scanner, 7, alphabet, beams=4, max_range=10.0)
+    engine = vwg.Engine(vwg.World(alphabet), "Robot<7>", [laser])
+    engine.step()
+    # Beams at -π, -π/2, 0, π/2 from heading 0; faces at x = 0.05, 4.95 and y = 0.05, 4.95.
+    expected = [2.52 - 0.05, 2.51 - 0.05, 4.95 - 2.52, 4.95 - 2.51]
+    assert laser.angles.tolist() == pytest.approx([-math.pi, -math.pi / 2, 0.0, math.pi / 2])
+    assert laser.ranges.tolist() == pytest.approx(expected, abs=1e-6)
+    events = engine.last_events
+    assert [e.target for e in events] == [7] * 4
+    assert [e.dist for e in events] == pytest.approx(expected, abs=1e-6)
+    assert [e.angle for e in events] == pytest.approx(laser.angles.tolist())
+    assert not laser.ranges.flags.writeable
+
+
+def test_laser_sees_other_robots_and_only_hits_make_events():
+    grid = box_map(200)  # 10 m room
+    robots = [{"id": 1, "start": (2.0, 5.0, 0.0)}, {"id": 2, "start": (6.0, 5.0, 0.0), "radius": 0.3}]
+    alphabet, _, scanner = sim_world(grid, robots)
+    laser = _core.LaserGenerator(scanner, 1, alphabet, beams=2, fov=math.pi, max_range=3.0)
+    engine = vwg.Engine(vwg.World(alphabet), "Robot<1>", [laser])
+    engine.step()
+    # Beams at -π/2 (wall at 5 - 0.05 = 4.95 m: beyond 3 m, no event) and +π/2 (same), none hit.
+    assert len(engine.last_events) == 0
+    laser = _core.LaserGenerator(scanner, 1, alphabet, beams=1, fov=0.1, max_range=10.0)
+    engine = vwg.Engine(vwg.World(alphabet), "Robot<1>", [laser])
+    engine.step()
+    # Straight ahead: robot 2's disc surface at 6.0 - 0.3 = 5.7 m, 3.7 m away (nearer than the wall).
+    assert [e.dist for e in engine.last_events] == pytest.approx([3.7], abs=1e-6)
+
+
+def test_kinect_depth_image_by_hand():
+    grid = box_map(200)  # inner faces at 0.05 and 9.95
+    alphabet, _, scanner = sim_world(grid, [{"id": 1, "start": (7.95, 5.0, 0.0)}])
+    kinect = _core.KinectGenerator(scanner, 1, alphabet, min_range=0.5, max_range=4.5, mount_height=0.3,
+                                   wall_height=2.5)
+    vwg.Engine(vwg.World(alphabet), "Robot<1>", [kinect]).step()
+    depth = kinect.depth
+    assert depth.shape == (480, 640) and depth.dtype == np.float32
+    fx = 320 / math.tan(math.radians(29))  # 640 px over 58°
+    # Centre columns look at the wall 2.0 m ahead; depth is along the optical axis.
+    u = 320
+    z_wall = 2.0 / math.sqrt(1 + ((u - 319.5) / fx) ** 2)
+    assert depth[240, u] == pytest.approx(z_wall, abs=1e-5)
+    # The top row sees the wall too (its top is 2.2 m above the camera, at 47.7° > 22.5°).
+    assert depth[0, u] == pytest.approx(z_wall, abs=1e-5)
+    # The bottom row sees the floor 0.3 m below, nearer than the wall's foot.
+    down = (479 - 239.5) / fx
+    assert depth[479, u] == pytest.approx(0.3 / down, abs=1e-5)
+    # Its scan: one range per column, √(x² + z²) = 2.0 / cos(angle) at the wall.
+    angles = kinect.angles
+    assert angles[0] == pytest.approx(math.atan(319.5 / fx))  # leftmost column, positive to the left
+    assert kinect.ranges[u] == pytest.approx(2.0 / math.cos(angles[u]), abs=1e-5)
+
+
+def test_kinect_blind_zone_and_range():
+    grid = box_map(200)
+    alphabet, _, scanner = sim_world(grid, [{"id": 1, "start": (9.6, 5.0, 0.0)}])
+    kinect = _core.KinectGenerator(scanner, 1, alphabet)
+    engine = vwg.Engine(vwg.World(alphabet), "Robot<1>", [kinect])
+    engine.step()
+    # The wall is 0.35 m ahead: inside the 0.5 m blind zone, so the centre column has no range.
+    assert math.isnan(kinect.ranges[320])
+
+
+def scans_around(sensor_kind, world, alphabet, spots):
+    """The obstacle cells a sensor's eLaser events mark as the robot turns in place at each spot."""
+    marked = np.zeros(world.grid.data.shape, bool)
+    for x, y in spots:
+        robot_world = vwg.World(alphabet)
+        physics = _core.PhysicsWorld(world.grid, [{"id": 1, "start": (x, y, 0.0)}])
+        scanner = _core.RangeScanner(_core.GridRaycaster(world.grid), physics)
+        gen = (_core.LaserGenerator(scanner, 1, alphabet, beams=360, max_range=4.5) if sensor_kind == "laser"
+               else _core.KinectGenerator(scanner, 1, alphabet))
+        engine = vwg.Engine(robot_world, "Robot<1>", [gen])
+        for _ in range(12):  # 12 headings, 30° apart: the Kinect's 58° sees all around
+            physics.command(1, [("turn", 0.0)])
+            engine.step()
+            _, _, theta = physics.robot(1).pose
+            for e in engine.last_events:
+                hx = x + e.dist * math.cos(theta + e.angle)
+                hy = y + e.dist * math.sin(theta + e.angle)
+                row, col = world.grid.world_to_cell(hx + 1e-3 * math.cos(theta + e.angle),
+                                                    hy + 1e-3 * math.sin(theta + e.angle))
+                if world.grid.inside(row, col):
+                    marked[row, col] = True
+            physics.command(1, [("turn", math.pi / 6)])
+            physics.advance(2.0)
+    return marked
+
+
+def test_kinect_and_laser_build_nearly_the_same_grid():
+    world = vwg.load_robot_world(ROOT / "maps" / "office.yaml")
+    alphabet = vwg.Alphabet(events=vwg.SIM_EVENTS, **vwg.MOTION_SYMBOLS)
+    spots = [(1.5, 9.0), (5.5, 9.0), (12.0, 9.0), (5.0, 14.0)]
+    laser = scans_around("laser", world, alphabet, spots)
+    kinect = scans_around("kinect", world, alphabet, spots)
+    # Compare up to one cell of slack: each cell one sensor marked has a marked neighbour in the other.
+    def near(a, b):
+        grown = b.copy()
+        for dr in (-1, 0, 1):
+            for dc in (-1, 0, 1):
+                grown |= np.roll(np.roll(b, dr, 0), dc, 1)
+        return (a & grown).sum() / a.sum()
+    laser_in_kinect, kinect_in_laser = near(laser, kinect), near(kinect, laser)
+    print(f"laser cells near kinect cells {laser_in_kinect:.3f}, kinect near laser {kinect_in_laser:.3f}, "
+          f"cells: laser {laser.sum()}, kinect {kinect.sum()}")
+    assert laser.sum() > 200 and kinect.sum() > 200
+    assert laser_in_kinect > 0.9 and kinect_in_laser > 0.9
