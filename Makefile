@@ -90,7 +90,7 @@ cpp-package: deps
 	cd $(BUILD)/example-cpp && ctest --output-on-failure
 
 bench: install
-	$(PY) benchmarks/bench_core.py
+	@for b in benchmarks/bench_*.py; do echo "== $$b"; $(PY) $$b; done
 
 clean:
 	rm -rf $(BUILD) out

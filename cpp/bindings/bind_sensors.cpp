@@ -65,21 +65,28 @@ simulated laser. ``cast`` gives the hit cell, face and entry point; ``scan`` man
            }, py::arg("pose"), py::arg("angles"), py::arg("max_range"),
            "Ranges (float32) from pose (x, y, yaw) along yaw + each angle.")
       .def("scans", [](const sim::GridRaycaster& r, py::array_t<double, py::array::c_style | py::array::forcecast> poses,
-                       py::array_t<double, py::array::c_style | py::array::forcecast> angles, double max_range) {
+                       py::array_t<double, py::array::c_style | py::array::forcecast> angles, double max_range,
+                       const std::string& method) {
              if (poses.ndim() != 2 || poses.shape(1) != 3) throw SchemaError("poses", "expected an N×3 array of (x, y, yaw)");
+             if (method != "fast" && method != "dda") throw SchemaError("method", "expected 'fast' or 'dda'");
+             const bool dda = method == "dda";
              const auto n = static_cast<std::size_t>(poses.shape(0)), k = static_cast<std::size_t>(angles.size());
              py::array_t<float> out({static_cast<py::ssize_t>(n), static_cast<py::ssize_t>(k)});
              {
                py::gil_scoped_release release;
                for (std::size_t i = 0; i < n; ++i) {
                  const double* p = poses.data() + 3 * i;
-                 r.scan(sim::Pose2{p[0], p[1], p[2]}, std::span<const double>(angles.data(), k), max_range,
-                        std::span<float>(out.mutable_data() + i * k, k));
+                 float* row = out.mutable_data() + i * k;
+                 if (dda) {
+                   for (std::size_t j = 0; j < k; ++j) row[j] = static_cast<float>(r.cast_dda(p[0], p[1], p[2] + angles.data()[j], max_range).distance);
+                 } else {
+                   r.scan(sim::Pose2{p[0], p[1], p[2]}, std::span<const double>(angles.data(), k), max_range, std::span<float>(row, k));
+                 }
                }
              }
              return out;
-           }, py::arg("poses"), py::arg("angles"), py::arg("max_range"),
-           "One scan per pose (N×3 array): an N×len(angles) float32 array (the benchmark's loop, in C++).");
+           }, py::arg("poses"), py::arg("angles"), py::arg("max_range"), py::arg("method") = "fast",
+           "One scan per pose (N×3 array): an N×len(angles) float32 array, by the fast scan or the plain DDA.");
 
   py::class_<sim::RangeScanner, std::shared_ptr<sim::RangeScanner>>(m, "RangeScanner",
       "Ranges over a map's walls and the other robots of a physics world (shared by the laser and the Kinect).")

@@ -1128,9 +1128,9 @@ class GridRaycaster:
         """
         Ranges (float32) from pose (x, y, yaw) along yaw + each angle.
         """
-    def scans(self, poses: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], angles: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], max_range: typing.SupportsFloat | typing.SupportsIndex) -> numpy.typing.NDArray[numpy.float32]:
+    def scans(self, poses: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], angles: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], max_range: typing.SupportsFloat | typing.SupportsIndex, method: str = 'fast') -> numpy.typing.NDArray[numpy.float32]:
         """
-        One scan per pose (N×3 array): an N×len(angles) float32 array (the benchmark's loop, in C++).
+        One scan per pose (N×3 array): an N×len(angles) float32 array, by the fast scan or the plain DDA.
         """
 class RangeScanner:
     """

@@ -1,0 +1,134 @@
+"""Speed of the simulated sensors and physics.
+
+    laser   full 360-beam scans from random free poses on 1000×1000-cell maps (0.05 m cells, 10 m
+            range), one core: the fast scan, and the plain cell walk (DDA) on the same poses in the
+            same run (ranges checked equal)
+    box2d   one physics step (Box2D, 0.01 s) with 1 to 1,000 robots driving about and colliding
+
+    python benchmarks/bench_sensors.py [--quick]      prints tables, writes benchmarks/results/bench_sensors.json
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import platform
+import sys
+import time
+from pathlib import Path
+from types import SimpleNamespace
+
+import numpy as np
+
+import vwg
+from vwg import _core
+
+ROOT = Path(__file__).resolve().parents[1]
+RESULTS = Path(__file__).resolve().parent / "results" / "bench_sensors.json"
+
+
+def office_1000() -> SimpleNamespace:
+    """The shipped office floor tiled 2×3 and cut to 1000×1000 cells (50 × 50 m)."""
+    office = vwg.load_map(ROOT / "maps" / "office" / "map.yaml").data
+    tiled = np.tile(office, (3, 2))[:1000, :1000]
+    return SimpleNamespace(data=np.ascontiguousarray(tiled), resolution=0.05, origin=(0.0, 0.0, 0.0))
+
+
+def willow_1000() -> SimpleNamespace:
+    """The real Willow Garage map cut to 1000×1000 cells."""
+    willow = vwg.load_map(ROOT / "maps" / "willow" / "map.yaml").data
+    return SimpleNamespace(data=np.ascontiguousarray(willow[100:1100, 66:1066]), resolution=0.05,
+                           origin=(0.0, 0.0, 0.0))
+
+
+def free_poses(grid: SimpleNamespace, n: int, rng: np.random.Generator) -> np.ndarray:
+    rows, cols = np.nonzero(grid.data == 0)
+    pick = rng.integers(len(rows), size=n)
+    x = (cols[pick] + rng.random(n)) * grid.resolution
+    y = (rows[pick] + rng.random(n)) * grid.resolution
+    return np.column_stack([x, y, rng.uniform(-math.pi, math.pi, n)])
+
+
+def best(repeats: int, fn, *args, **kwargs) -> float:
+    """The shortest of `repeats` timings of fn(*args, **kwargs)."""
+    times = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        fn(*args, **kwargs)
+        times.append(time.perf_counter() - t0)
+    return min(times)
+
+
+def bench_laser(quick: bool) -> dict:
+    angles = np.linspace(-math.pi, math.pi, 360, endpoint=False)
+    rng = np.random.default_rng(1)
+    out = {}
+    print(f"  {'map':<10} {'fast scan':>14} {'DDA':>12} {'ratio':>7}  ranges equal")
+    for name, grid in (("office", office_1000()), ("willow", willow_1000())):
+        caster = _core.GridRaycaster(grid)
+        poses = free_poses(grid, 500 if quick else 4000, rng)
+        dda_poses = poses[: 50 if quick else 300]
+        t_fast = best(3, caster.scans, poses, angles, 10.0)
+        t_dda = best(2, caster.scans, dda_poses, angles, 10.0, method="dda")
+        fast_rays = poses.shape[0] * 360 / t_fast
+        dda_rays = dda_poses.shape[0] * 360 / t_dda
+        equal = bool(np.array_equal(caster.scans(dda_poses, angles, 10.0),
+                                    caster.scans(dda_poses, angles, 10.0, method="dda")))
+        out[name] = {"rays_per_s": fast_rays, "dda_rays_per_s": dda_rays, "ratio": fast_rays / dda_rays,
+                     "poses": int(poses.shape[0]), "equal_to_dda": equal}
+        ratio = fast_rays / dda_rays
+        print(f"  {name:<10} {fast_rays / 1e6:10.1f} M/s {dda_rays / 1e6:8.2f} M/s {ratio:6.1f}x  {equal}")
+    return out
+
+
+def bench_box2d(quick: bool) -> dict:
+    counts = [1, 10, 100] if quick else [1, 10, 100, 1000]
+    size = 52.0
+    grid = SimpleNamespace(data=np.zeros((round(size / 0.05), round(size / 0.05)), np.int8), resolution=0.05,
+                           origin=(0.0, 0.0, 0.0))
+    rng = np.random.default_rng(2)
+    out = {}
+    print(f"\n  {'robots':>7} {'ms per step':>12} {'µs per robot-step':>18}")
+    for n in counts:
+        side = math.ceil(math.sqrt(n))
+        robots = [{"id": i + 1, "start": (1.0 + 1.6 * (i % side), 1.0 + 1.6 * (i // side), float(rng.uniform(-3, 3)))}
+                  for i in range(n)]
+        physics = _core.PhysicsWorld(grid, robots)
+        for r in robots:
+            physics.command(r["id"], [("turn", float(rng.uniform(-3, 3))), ("drive", float(rng.uniform(1, 5)))])
+        physics.advance(0.5)  # get them moving and touching
+        steps = 100 if n < 1000 else 30
+        t = best(3, physics.advance, steps * 0.01) / steps
+        out[str(n)] = {"ms_per_step": t * 1e3, "us_per_robot_step": t * 1e6 / n, "wall_shapes": physics.wall_shapes}
+        print(f"  {n:>7} {t * 1e3:12.3f} {t * 1e6 / n:18.2f}")
+    return out
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="fewer poses and robots (a smoke run)")
+    args = parser.parse_args()
+    print("Laser: 360 beams over 2π, 10 m range, 1000×1000 cells at 0.05 m, one core")
+    laser = bench_laser(args.quick)
+    print("\nBox2D: one 0.01 s step, robots driving and colliding on a 52 × 52 m floor")
+    box2d = bench_box2d(args.quick)
+    results = {
+        "laser_rays_per_s": min(v["rays_per_s"] for v in laser.values()),
+        "laser_dda_rays_per_s": min(v["dda_rays_per_s"] for v in laser.values()),
+        "laser": laser,
+        "box2d": box2d,
+        "box2d_step_ms_1000_robots": box2d.get("1000", {}).get("ms_per_step"),
+        "quick": args.quick,
+        "machine": {"python": sys.version.split()[0], "platform": platform.platform()},
+        "vwg": vwg.__version__,
+    }
+    print(f"\n  laser_rays_per_s (the slower map): {results['laser_rays_per_s'] / 1e6:.1f} M  (aim: >= 20 M)")
+    RESULTS.parent.mkdir(parents=True, exist_ok=True)
+    RESULTS.write_text(json.dumps(results, indent=2) + "\n")
+    print(f"  wrote {RESULTS}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
