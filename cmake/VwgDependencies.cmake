@@ -4,6 +4,7 @@
 find_package(Eigen3 REQUIRED NO_MODULE)
 find_package(box2d REQUIRED)
 find_package(apriltag REQUIRED)
+find_package(ompl REQUIRED)
 
 set(VWG_OPENCV_COMPONENTS core imgproc imgcodecs videoio calib3d)
 find_package(OpenCV QUIET COMPONENTS ${VWG_OPENCV_COMPONENTS})

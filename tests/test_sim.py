@@ -36,7 +36,7 @@ def case_study_world():
     return vwg.World(primitives={"Robot": {"id": 0}},
                      transformations={"Move": {"dist": 0.0}, "Rotate": {"angle": 0.0}},
                      events={"go": None, "eCollision": {"other": 0},
-                             "eOdometry": {"x": 0.0, "y": 0.0, "angle": 0.0, "busy": False}},
+                             "eOdometry": {"x": 0.0, "y": 0.0, "angle": 0.0, "busy": False, "commands": 0}},
                      visual=["go"], actors=[Driver])
 
 
@@ -80,8 +80,8 @@ def test_odometry_events_reach_the_robot_each_frame():
     engine = vwg.Engine(world, "Driver", [_core.OdometryGenerator(physics, world.alphabet)], _core.SimBackend(physics))
     engine.step()
     events = engine.last_events
-    assert [(e.type, e.target, e.x, e.y, e.busy) for e in events] == [
-        ("eOdometry", 1, 2.0, 2.5, False), ("eOdometry", 2, 5.0, 2.5, False)]
+    assert [(e.type, e.target, e.x, e.y, e.busy, e.commands) for e in events] == [
+        ("eOdometry", 1, 2.0, 2.5, False, 0), ("eOdometry", 2, 5.0, 2.5, False, 0)]
 
 
 def test_same_seed_same_trace_with_noise():

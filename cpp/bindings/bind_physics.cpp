@@ -90,6 +90,7 @@ void init_physics(py::module_& m) {
       .def_readonly("speed", &sim::RobotState::speed)
       .def_readonly("turn_rate", &sim::RobotState::turn_rate)
       .def_readonly("busy", &sim::RobotState::busy, "Executing a motion plan.")
+      .def_readonly("commands", &sim::RobotState::commands, "Motion plans received so far.")
       .def_readonly("collisions", &sim::RobotState::collisions)
       .def_readonly("travelled", &sim::RobotState::travelled, "Metres driven.")
       .def("__repr__", [](const sim::RobotState& s) {
@@ -153,7 +154,7 @@ physics for the frame's dt.)doc")
       .def_property_readonly("world", &sim::SimBackend::world);
 
   py::class_<sim::OdometryGenerator, Generator, std::shared_ptr<sim::OdometryGenerator>>(m, "OdometryGenerator",
-      "Each frame, for each robot: event<to=id, x, y, angle, busy> with its odometry estimate.")
+      "Each frame, for each robot: event<to=id, x, y, angle, busy, commands> with its odometry estimate.")
       .def(py::init<std::shared_ptr<sim::PhysicsWorld>, const Alphabet&, const std::string&>(), py::arg("world"),
            py::arg("alphabet"), py::arg("event") = "eOdometry");
   py::class_<sim::CollisionGenerator, Generator, std::shared_ptr<sim::CollisionGenerator>>(m, "CollisionGenerator",

@@ -27,4 +27,6 @@ PYBIND11_MODULE(_core, m) {
   init_perception(m);
   init_sensors(m);
   init_view(m);
+  init_plan(m);
+  init_robot(m);
 }

@@ -23,12 +23,13 @@ void require_fields(const Alphabet& alphabet, EventTypeId id, std::initializer_l
 
 OdometryGenerator::OdometryGenerator(std::shared_ptr<PhysicsWorld> world, const Alphabet& alphabet, const std::string& event)
     : world_(std::move(world)), event_(alphabet.event_type_id(event)) {
-  require_fields(alphabet, event_, {{"x", ValueKind::Real}, {"y", ValueKind::Real}, {"angle", ValueKind::Real}, {"busy", ValueKind::Bool}});
+  require_fields(alphabet, event_, {{"x", ValueKind::Real}, {"y", ValueKind::Real}, {"angle", ValueKind::Real}, {"busy", ValueKind::Bool},
+                                     {"commands", ValueKind::Int}});
 }
 
 void OdometryGenerator::generate(const FrameInfo&, EventList& out) {
   for (const RobotState& s : world_->robots()) {
-    const Datum fields[] = {s.odometry.x, s.odometry.y, s.odometry.theta, s.busy};
+    const Datum fields[] = {s.odometry.x, s.odometry.y, s.odometry.theta, s.busy, static_cast<std::int64_t>(s.commands)};
     out.emit(event_, fields, s.id);
   }
 }

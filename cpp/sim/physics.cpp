@@ -241,6 +241,9 @@ void PhysicsWorld::command(int robot, std::vector<MotionStep> plan) {
   r.plan.assign(plan.begin(), plan.end());
   r.stepping = false;
   r.stuck_steps = 0;
+  RobotState& s = states_[static_cast<std::size_t>(&r - robots_.data())];
+  ++s.commands;
+  s.busy = !r.plan.empty();
 }
 
 void PhysicsWorld::start_step(Robot& r) {

@@ -8,7 +8,7 @@ import numpy
 import numpy.typing
 import os
 import typing
-__all__: list[str] = ['ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'Backend', 'BackendGroup', 'Blob', 'CollisionGenerator', 'Engine', 'Event', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'Generator', 'GridRaycaster', 'ImageSequence', 'KinectGenerator', 'LaserGenerator', 'Node', 'NullBackend', 'OdometryGenerator', 'PhysicsWorld', 'PythonActor', 'RangeScanner', 'RenderStyle', 'RobotState', 'SimBackend', 'SimView', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoWriter', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'build_string', 'detect_apriltags', 'display', 'estimate_tag_pose', 'evolve', 'read_image', 'visualize', 'walker_behavior', 'write_image']
+__all__: list[str] = ['ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'Backend', 'BackendGroup', 'Blob', 'CollisionGenerator', 'DStarLite', 'Decider', 'DecisionInput', 'Engine', 'Event', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'Generator', 'GridDecider', 'GridRaycaster', 'ImageSequence', 'KinectGenerator', 'LaserGenerator', 'Node', 'NullBackend', 'OdometryGenerator', 'OmplDecider', 'OmplPlan', 'OmplPlanner', 'PhysicsWorld', 'PythonActor', 'RandomDecider', 'RangeScanner', 'RenderStyle', 'RobotState', 'SimBackend', 'SimView', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoWriter', 'add_arobot', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'arobot_action', 'arobot_event_types', 'astar', 'build_string', 'detect_apriltags', 'display', 'estimate_tag_pose', 'evolve', 'plan_ompl', 'read_image', 'robot_map', 'visualize', 'walker_behavior', 'write_image']
 class Blob:
     """
     A large attribute value held by reference from world strings (an occupancy grid, an image, a path).
@@ -453,6 +453,11 @@ class RobotState:
     def collisions(self) -> int:
         ...
     @property
+    def commands(self) -> int:
+        """
+        Motion plans received so far.
+        """
+    @property
     def id(self) -> int:
         ...
     @property
@@ -526,7 +531,7 @@ class SimBackend(Backend):
         ...
 class OdometryGenerator(Generator):
     """
-    Each frame, for each robot: event<to=id, x, y, angle, busy> with its odometry estimate.
+    Each frame, for each robot: event<to=id, x, y, angle, busy, commands> with its odometry estimate.
     """
     def __init__(self, world: PhysicsWorld, alphabet: Alphabet, event: str = 'eOdometry') -> None:
         ...
@@ -1231,6 +1236,228 @@ class SimView(Backend):
         """
         Each robot's true positions, one per frame (N×2).
         """
+class DStarLite:
+    """
+    Incremental shortest paths (D* Lite, Koenig & Likhachev 2002).
+    
+    Same grid, moves and costs as vwg.astar; path() always has A*'s length from the current start, but
+    after cells change or the robot moves it repairs its previous search instead of starting again.
+    
+        planner = vwg.DStarLite(blocked, start, goal)
+        path, length = planner.path()
+        planner.move_to(path[1])                      # the robot took a step
+        planner.update_cells([(5, 7), (5, 8)], True)  # it saw new obstacles
+        path, length = planner.path()
+    """
+    def __init__(self, blocked: numpy.typing.NDArray[numpy.bool_], start: tuple[int, int], goal: tuple[int, int], diagonal: bool = True, corner_cutting: bool = False, heuristic: str = 'euclidean') -> None:
+        ...
+    def move_to(self, cell: tuple[int, int]) -> None:
+        """
+        The robot is now at this free (row, col) cell; the next path() starts there.
+        """
+    def path(self) -> tuple[list[tuple[int, int]] | None, float]:
+        """
+        (path, length) from the current start to the goal, as vwg.astar returns them; (None, inf) if none.
+        """
+    def update_cells(self, cells: collections.abc.Iterable[tuple[int, int]], blocked: bool = True) -> None:
+        """
+        Cells (an iterable of (row, col), or an N×2 integer array) became blocked (or free, blocked=False).
+        """
+    @property
+    def expanded(self) -> int:
+        """
+        Vertex expansions since construction: the work the searches did.
+        """
+    @property
+    def goal(self) -> tuple[int, int]:
+        """
+        The goal cell (row, col).
+        """
+    @property
+    def start(self) -> tuple[int, int]:
+        """
+        The robot's cell (row, col): where path() starts.
+        """
+class OmplPlan:
+    """
+    The outcome of an OMPL plan (vwg.plan_ompl, OmplPlanner.plan).
+    """
+    def __bool__(self) -> bool:
+        ...
+    def __repr__(self) -> str:
+        ...
+    @property
+    def length(self) -> float:
+        """
+        Metres travelled in x-y; inf on failure.
+        """
+    @property
+    def plan_time(self) -> float:
+        """
+        Seconds the planner ran.
+        """
+    @property
+    def planner(self) -> str:
+        ...
+    @property
+    def simplify_time(self) -> float:
+        """
+        Seconds spent shortening the path.
+        """
+    @property
+    def solved(self) -> bool:
+        """
+        Whether the goal pose was reached.
+        """
+    @property
+    def status(self) -> str:
+        """
+        "exact solution", or why not: "timeout", "approximate solution", "invalid goal: ...".
+        """
+    @property
+    def waypoints(self) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        N×3 float array of (x, y, yaw) from start to goal in the world frame; 0×3 on failure.
+        """
+class OmplPlanner:
+    """
+    OMPL planners for a disc robot on a map, reusable.
+    
+    blocked: 2-D numpy bool array, True = blocked, row 0 the BOTTOM row (smallest y) as in
+    vwg.OccupancyGrid (flip an image-ordered mask with mask[::-1]); resolution: metres per cell; origin:
+    (x, y) or (x, y, yaw) of the lower-left corner of cell (0, 0) in the world frame; robot_radius: metres.
+    A pose is valid when the robot's disc stays strictly clear of blocked cells and inside the map;
+    motions are checked exactly (no sampling), so paths never cross or graze an obstacle.
+    """
+    @staticmethod
+    def planners() -> list[str]:
+        """
+        The planner names plan() accepts.
+        """
+    def __init__(self, blocked: numpy.typing.NDArray[numpy.bool_], resolution: float, origin: tuple[float, float] | tuple[float, float, float], robot_radius: float) -> None:
+        ...
+    def clearance(self, x: typing.SupportsFloat | typing.SupportsIndex, y: typing.SupportsFloat | typing.SupportsIndex, cap: typing.SupportsFloat | typing.SupportsIndex = 1.0) -> float:
+        """
+        Metres from (x, y) to the nearest obstacle or map edge, at most cap.
+        """
+    def motion_valid(self, x0: typing.SupportsFloat | typing.SupportsIndex, y0: typing.SupportsFloat | typing.SupportsIndex, x1: typing.SupportsFloat | typing.SupportsIndex, y1: typing.SupportsFloat | typing.SupportsIndex) -> bool:
+        """
+        Whether the robot can move straight from (x0, y0) to (x1, y1).
+        """
+    def plan(self, start_pose: tuple[float, float] | tuple[float, float, float], goal_pose: tuple[float, float] | tuple[float, float, float], planner: str = 'RRTConnect', time_limit: float = 1.0, seed: int = 0, *, simplify: bool = True, spacing: float | None = None, iterations: int = 0) -> OmplPlan:
+        """
+        Plan from start_pose to goal_pose ((x, y) or (x, y, yaw)); see vwg.plan_ompl for the options.
+        """
+    def valid(self, x: typing.SupportsFloat | typing.SupportsIndex, y: typing.SupportsFloat | typing.SupportsIndex) -> bool:
+        """
+        Whether the robot fits at (x, y).
+        """
+    @property
+    def resolution(self) -> float:
+        ...
+    @property
+    def robot_radius(self) -> float:
+        ...
+class DecisionInput:
+    """
+    What the robot knows when it decides (valid only during decide()): its id, believed pose
+    (x, y, yaw), goal point, radius (with the clearance it keeps), step length, its map (int16 numpy
+    view: -1 unknown, 0 free, 100 wall, 101 seen obstacle, 1000 + tag id a marker), the map's
+    resolution and origin, the current path (N×2) and a seed for random choices.
+    """
+    def follow(self, points: typing.Any) -> typing.Any:
+        """
+        (turn, distance) towards the farthest reachable point of a path within a step, or None.
+        """
+    def segment_clear(self, x0: typing.SupportsFloat | typing.SupportsIndex, y0: typing.SupportsFloat | typing.SupportsIndex, x1: typing.SupportsFloat | typing.SupportsIndex, y1: typing.SupportsFloat | typing.SupportsIndex) -> bool:
+        """
+        Whether the robot (its radius and clearance) can move straight from (x0, y0) to (x1, y1) on its map.
+        """
+    @property
+    def goal(self) -> tuple[float, float]:
+        ...
+    @property
+    def grid(self) -> numpy.ndarray[typing.Any, numpy.dtype[typing.Any]]:
+        ...
+    @property
+    def origin(self) -> tuple:
+        ...
+    @property
+    def path(self) -> numpy.ndarray[typing.Any, numpy.dtype[typing.Any]]:
+        ...
+    @property
+    def pose(self) -> tuple:
+        ...
+    @property
+    def radius(self) -> float:
+        ...
+    @property
+    def resolution(self) -> float:
+        ...
+    @property
+    def robot(self) -> int:
+        ...
+    @property
+    def seed(self) -> int:
+        ...
+    @property
+    def step_length(self) -> float:
+        ...
+class Decider:
+    """
+    The decision inside λ(ARobot, eDecide) (paper test 1). Subclass it in Python and define
+    ``decide(self, robot: DecisionInput)`` returning ``(turn, distance)`` — turn on the spot, then drive —
+    optionally with a path (N×2 points) to show, or None when there is no way. Built-in deciders:
+    RandomDecider, AStarDecider, DStarLiteDecider, OmplDecider.
+    """
+    def __init__(self) -> None:
+        ...
+    @property
+    def name(self) -> str:
+        ...
+class RandomDecider(Decider):
+    """
+    The paper's first algorithm: random clear moves until the goal happens to be reached.
+    """
+    def __init__(self) -> None:
+        ...
+class GridDecider(Decider):
+    """
+    Shortest paths on the robot's own map, inflated by its radius: full A* (8-connected, √2 diagonals,
+    no corner cutting, Euclidean heuristic, obstacles infinite — the paper's second algorithm) or D* Lite,
+    which repairs its search as obstacles appear. Replans when the path becomes blocked.
+    """
+    def __init__(self, algorithm: str = 'astar') -> None:
+        ...
+    @property
+    def search_seconds(self) -> float:
+        """
+        Time spent searching so far.
+        """
+    @property
+    def searches(self) -> int:
+        """
+        Searches (plans and repairs) so far.
+        """
+class OmplDecider(Decider):
+    """
+    Sampling-based motion planning with OMPL on the robot's map (SE2, a disc robot): RRTConnect, RRTstar
+    or PRM. Replans when the path becomes blocked.
+    """
+    def __init__(self, planner: str = 'RRTConnect', time_limit: typing.SupportsFloat | typing.SupportsIndex = 0.5) -> None:
+        ...
+    @property
+    def search_seconds(self) -> float:
+        ...
+    @property
+    def searches(self) -> int:
+        ...
+def add_arobot(alphabet: Alphabet, decider: Decider, grid: typing.Any, rooms: dict, radius: typing.SupportsFloat | typing.SupportsIndex = 0.18, margin: typing.SupportsFloat | typing.SupportsIndex = 0.07, goal_tolerance: typing.SupportsFloat | typing.SupportsIndex = 0.25, step_length: typing.SupportsFloat | typing.SupportsIndex = 1.0, carve: bool = True, name: str = 'ARobot') -> None:
+    """
+    Register the actor type ARobot (paper eq. 11) with its decider. `grid` gives the map geometry,
+    `rooms` the known rooms as {marker id: (x, y) goal}. The alphabet must already have the symbols
+    Robot, Move, Rotate and the events of arobot_event_types().
+    """
 def apriltag_families() -> list[str]:
     """
     The AprilTag families this build supports.
@@ -1242,6 +1469,27 @@ def apriltag_family(family: str) -> AprilTagFamily:
 def apriltag_image(id: typing.SupportsInt | typing.SupportsIndex, family: str = 'tag36h11', scale: typing.SupportsInt | typing.SupportsIndex = 1, border: typing.SupportsInt | typing.SupportsIndex = 0) -> numpy.typing.NDArray[numpy.uint8]:
     """
     The tag's bitmap (the library's apriltag_to_image) as an H×W uint8 array, white 255, black 0: total_width cells across (tag36h11: 10, a white ring around the 8×8 black-bordered code), as in AprilRobotics/apriltag-imgs. Each cell becomes scale×scale pixels, then border white pixels are added on every side. Raises vwg.SchemaError for an unknown family or an id outside the family.
+    """
+def arobot_action(robot: typing.SupportsInt | typing.SupportsIndex, turn: typing.SupportsFloat | typing.SupportsIndex, distance: typing.SupportsFloat | typing.SupportsIndex) -> str:
+    """
+    The action string of a decision: Rotate<turn>(Move<distance>(Robot<robot>)).
+    """
+def arobot_event_types() -> dict:
+    """
+    The event types ARobot responds to, with their fields {name: (kind, default)}.
+    """
+def astar(blocked: numpy.typing.NDArray[numpy.bool_], start: tuple[int, int], goal: tuple[int, int], diagonal: bool = True, corner_cutting: bool = False, heuristic: str = 'euclidean') -> tuple[list[tuple[int, int]] | None, float]:
+    """
+    Shortest path on a grid by A*.
+    
+    blocked: 2-D numpy bool array, True = blocked (any row order: the search is on (row, col) indices).
+    start, goal: (row, col). diagonal: 8-connected (else 4); corner_cutting: a diagonal move may pass a
+    blocked orthogonal neighbour; heuristic: "euclidean" (default, as in the paper), "octile",
+    "manhattan" (4-connected only) or "zero". Straight moves cost 1, diagonal moves √2.
+    
+    Returns (path, length): path a list of (row, col) tuples from start to goal inclusive, length a
+    float; (None, inf) when there is no path (a blocked goal has none). Raises vwg.SchemaError naming
+    the argument for a start or goal outside the grid, a blocked start, or a mask that is not 2-D bool.
     """
 def build_string(alphabet: Alphabet, parts: typing.Any) -> String:
     """
@@ -1265,9 +1513,31 @@ def evolve(w: String, events: typing.Any, frame: typing.SupportsInt | typing.Sup
     """
     η(w, S) (paper eq. 8): every actor takes the events of S it responds to, in order.
     """
+def plan_ompl(blocked: numpy.typing.NDArray[numpy.bool_], resolution: float, origin: tuple[float, float] | tuple[float, float, float], start_pose: tuple[float, float] | tuple[float, float, float], goal_pose: tuple[float, float] | tuple[float, float, float], robot_radius: float, planner: str = 'RRTConnect', time_limit: float = 1.0, seed: int = 0, *, simplify: bool = True, spacing: float | None = None, iterations: int = 0) -> OmplPlan:
+    """
+    Plan a path for a disc robot with an OMPL planner, in SE(2).
+    
+    blocked: 2-D numpy bool array, True = blocked, row 0 the BOTTOM row (smallest y) as in vwg.OccupancyGrid;
+    resolution: metres per cell; origin: (x, y[, yaw]) of the lower-left corner of cell (0, 0);
+    start_pose, goal_pose: (x, y[, yaw]) in the world frame; robot_radius: metres.
+    planner: an OMPL geometric planner by name ("RRTConnect", "RRT", "RRTstar", "PRM", ...: see
+    vwg.OmplPlanner.planners()); time_limit: seconds (anytime planners such as RRT* use all of it);
+    seed: OMPL's random seed, so plans repeat (for planners that stop by themselves; PRM does not repeat);
+    simplify: shorten the path; spacing: metres between returned waypoints (None: one cell, 0: vertices only);
+    iterations: also stop after this many planner iterations (makes RRT* and the like repeatable).
+    
+    Returns a vwg.OmplPlan: solved, status, waypoints (N×3: x, y, yaw), length (metres, x-y), plan_time.
+    A failure (no path in time, goal in collision) is a plan with solved False, no waypoints and length
+    inf. Raises vwg.SchemaError for a start pose off the map or in collision, an unknown planner or a bad
+    argument. Each call computes the map's distance transform: reuse a vwg.OmplPlanner to plan many times.
+    """
 def read_image(path: str) -> numpy.ndarray[typing.Any, numpy.dtype[typing.Any]]:
     """
     Read an image file (PNG, PGM, BMP, JPEG) as stored: uint8 or uint16, H×W, H×W×3 (RGB) or H×W×4 (RGBA).
+    """
+def robot_map(grid: typing.Any, knows_map: bool = True) -> Blob:
+    """
+    A robot's grid (an int16 vwg.Blob): the known map (walls 100, free 0, unknown -1), or all free (eq. 13).
     """
 def visualize(w: String, events: typing.Any, frame: typing.SupportsInt | typing.SupportsIndex = 0, time: typing.SupportsFloat | typing.SupportsIndex = 0.0, seed: typing.SupportsInt | typing.SupportsIndex = 0) -> String:
     """

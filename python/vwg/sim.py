@@ -9,7 +9,7 @@ view (a backend that draws the simulation and records video).
                         backend=vwg.BackendGroup([sim.backend, sim.view(video="run.mp4")]))
 
 The events the sensors and feedback make (declare them in the alphabet; ``SIM_EVENTS`` has them):
-``eLaser<dist, angle>`` per beam that met an obstacle, ``eOdometry<x, y, angle, busy>`` per robot
+``eLaser<dist, angle>`` per beam that met an obstacle, ``eOdometry<x, y, angle, busy, commands>`` per robot
 per frame, ``eCollision<other>`` per contact; all addressed to the robot (``to=id``).
 """
 
@@ -26,7 +26,7 @@ __all__ = ["MOTION_SYMBOLS", "SIM_EVENTS", "Simulation"]
 #: Event types of the simulator's generators, as Alphabet(events=...) takes them.
 SIM_EVENTS: dict[str, dict[str, Any]] = {
     "eLaser": {"dist": 0.0, "angle": 0.0},
-    "eOdometry": {"x": 0.0, "y": 0.0, "angle": 0.0, "busy": False},
+    "eOdometry": {"x": 0.0, "y": 0.0, "angle": 0.0, "busy": False, "commands": 0},
     "eCollision": {"other": 0},
 }
 

@@ -12,9 +12,10 @@
 
 namespace vwg::sim {
 
-/// Each frame, for each robot: `<event><to=id, x, y, angle, busy>` — the odometry estimate (with
-/// odometry noise, not the truth) and whether the robot still executes a plan. The event type
-/// must declare the fields x, y, angle (real) and busy (bool), in this order.
+/// Each frame, for each robot: `<event><to=id, x, y, angle, busy, commands>` — the odometry
+/// estimate (with odometry noise, not the truth), whether the robot still executes a plan, and
+/// how many motion commands it has received (so the robot knows its last one arrived). The event
+/// type must declare the fields x, y, angle (real), busy (bool) and commands (int), in this order.
 class OdometryGenerator final : public Generator {
  public:
   OdometryGenerator(std::shared_ptr<PhysicsWorld> world, const Alphabet& alphabet, const std::string& event = "eOdometry");

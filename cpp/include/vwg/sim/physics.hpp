@@ -62,6 +62,7 @@ struct RobotState {
   double speed = 0.0;      ///< m/s along the heading
   double turn_rate = 0.0;  ///< rad/s
   bool busy = false;       ///< executing a motion plan
+  std::uint64_t commands = 0;  ///< motion plans received so far (a robot can tell its last one arrived)
   std::uint64_t collisions = 0;
   double travelled = 0.0;  ///< metres driven (true)
 };

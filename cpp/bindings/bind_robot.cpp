@@ -1,0 +1,183 @@
+// The case-study actor ARobot and its deciders in Python; deciders may be written in Python.
+#include <string>
+
+#include "sim_convert.hpp"
+#include "vwg/robot/arobot.hpp"
+#include "vwg/robot/decider.hpp"
+#include "vwg/robot/planners.hpp"
+
+namespace vwg::bindings {
+
+namespace {
+
+/// What a Python decider sees; valid only during decide() (the arrays are views of the robot's
+/// grid and path, which the next frame may replace).
+struct PyDecisionInput {
+  const robot::DecisionInput* in = nullptr;
+  const robot::DecisionInput& get() const {
+    if (!in) throw SchemaError("DecisionInput", "is only available during decide()");
+    return *in;
+  }
+};
+
+class PyDecider : public robot::Decider {
+ public:
+  robot::Decision decide(const robot::DecisionInput& in) override {
+    py::gil_scoped_acquire gil;
+    py::function fn = py::get_override(static_cast<const robot::Decider*>(this), "decide");
+    if (!fn) throw Error("a vwg.Decider subclass must define decide(self, robot)");
+    auto holder = std::make_shared<PyDecisionInput>(PyDecisionInput{&in});
+    py::object result;
+    try {
+      result = fn(py::cast(holder));
+    } catch (...) {
+      holder->in = nullptr;
+      throw;
+    }
+    holder->in = nullptr;
+    robot::Decision d;
+    if (result.is_none()) {
+      d.kind = robot::Decision::Kind::NoPath;
+      return d;
+    }
+    py::sequence s = result.cast<py::sequence>();
+    if (py::len(s) < 2 || py::len(s) > 3) {
+      throw SchemaError(name() + ".decide", "return (turn, distance), (turn, distance, path) or None for no way");
+    }
+    d.turn = s[0].cast<double>();
+    d.distance = s[1].cast<double>();
+    if (!std::isfinite(d.turn) || !std::isfinite(d.distance)) throw SchemaError(name() + ".decide", "turn and distance must be finite");
+    if (py::len(s) == 3) {
+      for (const auto& p : points_from_python(s[2], name() + ".decide path")) {
+        d.path.push_back(p.x);
+        d.path.push_back(p.y);
+      }
+    } else {
+      d.path = {in.pose.x, in.pose.y, in.pose.x + d.distance * std::cos(in.pose.theta + d.turn),
+                in.pose.y + d.distance * std::sin(in.pose.theta + d.turn)};
+    }
+    return d;
+  }
+  std::string name() const override {
+    py::gil_scoped_acquire gil;
+    py::object self = py::cast(this);
+    if (py::hasattr(self, "name") && PyUnicode_Check(self.attr("name").ptr())) return self.attr("name").cast<std::string>();
+    return py::str(py::type::handle_of(self).attr("__name__"));
+  }
+};
+
+template <class T>
+py::array readonly(py::object owner, const T* data, std::vector<py::ssize_t> shape) {
+  py::array a = py::array_t<T>(shape, {}, data, owner);
+  a.attr("flags").attr("writeable") = false;
+  return a;
+}
+
+robot::MapGeometry geometry_of(py::handle grid) { return robot::MapGeometry::of(grid_from_python(grid)); }
+
+}  // namespace
+
+void init_robot(py::module_& m) {
+  py::class_<PyDecisionInput, std::shared_ptr<PyDecisionInput>>(m, "DecisionInput", R"doc(
+What the robot knows when it decides (valid only during decide()): its id, believed pose
+(x, y, yaw), goal point, radius (with the clearance it keeps), step length, its map (int16 numpy
+view: -1 unknown, 0 free, 100 wall, 101 seen obstacle, 1000 + tag id a marker), the map's
+resolution and origin, the current path (N×2) and a seed for random choices.)doc")
+      .def_property_readonly("robot", [](const PyDecisionInput& i) { return i.get().robot; })
+      .def_property_readonly("pose", [](const PyDecisionInput& i) { return pose_to_python(i.get().pose); })
+      .def_property_readonly("goal", [](const PyDecisionInput& i) { return py::make_tuple(i.get().goal_x, i.get().goal_y); })
+      .def_property_readonly("radius", [](const PyDecisionInput& i) { return i.get().radius; })
+      .def_property_readonly("step_length", [](const PyDecisionInput& i) { return i.get().step_length; })
+      .def_property_readonly("seed", [](const PyDecisionInput& i) { return i.get().seed; })
+      .def_property_readonly("resolution", [](const PyDecisionInput& i) { return i.get().geometry->resolution; })
+      .def_property_readonly("origin", [](const PyDecisionInput& i) { return pose_to_python(i.get().geometry->origin); })
+      .def_property_readonly("grid", [](py::object self) {
+        const auto& in = self.cast<const PyDecisionInput&>().get();
+        return readonly(self, in.map->view<std::int16_t>().data(), {in.geometry->height, in.geometry->width});
+      })
+      .def_property_readonly("path", [](py::object self) {
+        const auto& in = self.cast<const PyDecisionInput&>().get();
+        return readonly(self, in.path.data(), {static_cast<py::ssize_t>(in.path.size() / 2), 2});
+      })
+      .def("segment_clear", [](const PyDecisionInput& i, double x0, double y0, double x1, double y1) {
+             const auto& in = i.get();
+             return robot::segment_clear(*in.map, *in.geometry, x0, y0, x1, y1, in.radius);
+           }, py::arg("x0"), py::arg("y0"), py::arg("x1"), py::arg("y1"),
+           "Whether the robot (its radius and clearance) can move straight from (x0, y0) to (x1, y1) on its map.")
+      .def("follow", [](const PyDecisionInput& i, py::object points) -> py::object {
+             std::vector<double> xy;
+             for (const auto& p : points_from_python(points, "points")) {
+               xy.push_back(p.x);
+               xy.push_back(p.y);
+             }
+             robot::Decision d;
+             if (!robot::follow_path(i.get(), xy, d)) return py::none();
+             return py::make_tuple(d.turn, d.distance);
+           }, py::arg("points"), "(turn, distance) towards the farthest reachable point of a path within a step, or None.");
+
+  py::class_<robot::Decider, PyDecider, std::shared_ptr<robot::Decider>>(m, "Decider", R"doc(
+The decision inside λ(ARobot, eDecide) (paper test 1). Subclass it in Python and define
+``decide(self, robot: DecisionInput)`` returning ``(turn, distance)`` — turn on the spot, then drive —
+optionally with a path (N×2 points) to show, or None when there is no way. Built-in deciders:
+RandomDecider, AStarDecider, DStarLiteDecider, OmplDecider.)doc")
+      .def(py::init<>())
+      .def_property_readonly("name", &robot::Decider::name);
+  py::class_<robot::RandomDecider, robot::Decider, std::shared_ptr<robot::RandomDecider>>(m, "RandomDecider",
+      "The paper's first algorithm: random clear moves until the goal happens to be reached.")
+      .def(py::init<>());
+  py::class_<robot::GridDecider, robot::Decider, std::shared_ptr<robot::GridDecider>>(m, "GridDecider", R"doc(
+Shortest paths on the robot's own map, inflated by its radius: full A* (8-connected, √2 diagonals,
+no corner cutting, Euclidean heuristic, obstacles infinite — the paper's second algorithm) or D* Lite,
+which repairs its search as obstacles appear. Replans when the path becomes blocked.)doc")
+      .def(py::init([](const std::string& algorithm) {
+             if (algorithm != "astar" && algorithm != "dstar") throw SchemaError("algorithm", "expected 'astar' or 'dstar'");
+             return std::make_shared<robot::GridDecider>(algorithm == "dstar" ? robot::GridDecider::Algorithm::DStarLite
+                                                                             : robot::GridDecider::Algorithm::AStar);
+           }), py::arg("algorithm") = "astar")
+      .def_property_readonly("search_seconds", &robot::GridDecider::search_seconds, "Time spent searching so far.")
+      .def_property_readonly("searches", &robot::GridDecider::searches, "Searches (plans and repairs) so far.");
+  py::class_<robot::OmplDecider, robot::Decider, std::shared_ptr<robot::OmplDecider>>(m, "OmplDecider", R"doc(
+Sampling-based motion planning with OMPL on the robot's map (SE2, a disc robot): RRTConnect, RRTstar
+or PRM. Replans when the path becomes blocked.)doc")
+      .def(py::init<std::string, double>(), py::arg("planner") = "RRTConnect", py::arg("time_limit") = 0.5)
+      .def_property_readonly("search_seconds", &robot::OmplDecider::search_seconds)
+      .def_property_readonly("searches", &robot::OmplDecider::searches);
+
+  m.def("robot_map", [](py::object grid, bool knows_map) {
+         return std::const_pointer_cast<Blob>(std::shared_ptr<const Blob>(robot::make_robot_map(grid_from_python(grid), knows_map)));
+       }, py::arg("grid"), py::arg("knows_map") = true,
+       "A robot's grid (an int16 vwg.Blob): the known map (walls 100, free 0, unknown -1), or all free (eq. 13).");
+
+  m.def("add_arobot", [](Alphabet& alphabet, std::shared_ptr<robot::Decider> decider, py::object grid, py::dict rooms,
+                         double radius, double margin, double goal_tolerance, double step_length, bool carve,
+                         const std::string& name) {
+         robot::ARobotConfig config;
+         config.map = geometry_of(grid);
+         config.radius = radius;
+         config.margin = margin;
+         config.goal_tolerance = goal_tolerance;
+         config.step_length = step_length;
+         config.carve_free_space = carve;
+         for (auto item : rooms) {
+           py::sequence xy = item.second.cast<py::sequence>();
+           config.rooms[item.first.cast<int>()] = {xy[0].cast<double>(), xy[1].cast<double>()};
+         }
+         const SymbolId id = alphabet.add_actor(name, robot::arobot_events(), robot::arobot_attributes(), nullptr);
+         alphabet.set_behavior(id, std::make_shared<robot::ARobot>(alphabet, config, std::move(decider)));
+       },
+       py::arg("alphabet"), py::arg("decider"), py::arg("grid"), py::arg("rooms"), py::arg("radius") = 0.18,
+       py::arg("margin") = 0.07, py::arg("goal_tolerance") = 0.25, py::arg("step_length") = 1.0, py::arg("carve") = true,
+       py::arg("name") = "ARobot",
+       R"doc(Register the actor type ARobot (paper eq. 11) with its decider. `grid` gives the map geometry,
+`rooms` the known rooms as {marker id: (x, y) goal}. The alphabet must already have the symbols
+Robot, Move, Rotate and the events of arobot_event_types().)doc");
+  m.def("arobot_event_types", []() {
+    py::dict out;
+    for (const auto& [name, schema] : robot::arobot_event_types()) out[py::str(name)] = schema_to_python(schema);
+    return out;
+  }, "The event types ARobot responds to, with their fields {name: (kind, default)}.");
+  m.def("arobot_action", &robot::ARobot::action_text, py::arg("robot"), py::arg("turn"), py::arg("distance"),
+        "The action string of a decision: Rotate<turn>(Move<distance>(Robot<robot>)).");
+}
+
+}  // namespace vwg::bindings

@@ -1,0 +1,95 @@
+// D* Lite (Koenig & Likhachev, "D* Lite", AAAI 2002, optimized version of Fig. 4): shortest paths
+// on the grid graph of A* that are repaired, not recomputed, when cells become blocked or free
+// and when the robot moves. It searches backwards, from the goal, so the g-values it keeps stay
+// valid as the start (the robot) moves. Two departures from the paper's pseudocode: a changed
+// cell has its rhs and its 8 neighbours' recomputed from their moves (a cell changes the cost of
+// every move into, out of and, without corner cutting, diagonally past it), rather than edge by
+// edge; and the search stops only once the queue's keys exceed the start's by more than rounding
+// error, which floating-point ties otherwise break the wrong way (see compute_shortest_path).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "vwg/plan/grid_graph.hpp"
+
+namespace vwg::plan {
+
+/// Incremental replanning for a robot walking to a fixed goal. path() always returns a shortest
+/// path (same length as A* on the current grid from the current start, with the same options).
+///
+///     DStarLite planner(grid, start, goal);
+///     GridPath p = planner.path();
+///     planner.move_to(p.cells[1]);                  // the robot took a step
+///     planner.update_cells(new_obstacles, true);    // it saw something
+///     p = planner.path();                           // repaired, usually far cheaper than A*
+class DStarLite {
+ public:
+  /// Throws SchemaError("start"/"goal") for a cell outside the grid or a blocked start, and
+  /// SchemaError("heuristic") for options that would not give shortest paths. A blocked goal has no path.
+  DStarLite(BlockedGrid grid, Cell start, Cell goal, const GridSearchOptions& options = {});
+
+  /// The shortest path from the current start to the goal, repairing the search as needed; no path
+  /// (empty, infinite length) when there is none, also when the start cell has become blocked.
+  GridPath path();
+
+  /// The robot is now at `cell` (any free cell, not necessarily a neighbour of the last one).
+  /// Throws SchemaError("cell") outside the grid or on a blocked cell.
+  void move_to(Cell cell);
+
+  /// Cells became blocked (or free). Throws SchemaError("cells") naming a cell outside the grid
+  /// (and then changes nothing).
+  void update_cells(std::span<const Cell> cells, bool blocked);
+  void set_blocked(Cell cell, bool blocked) { update_cells(std::span<const Cell>(&cell, 1), blocked); }
+
+  Cell start() const { return start_; }
+  Cell goal() const { return goal_; }
+  const BlockedGrid& grid() const { return grid_; }
+  const GridSearchOptions& options() const { return options_; }
+  /// Vertex expansions since construction (the work the incremental searches did).
+  std::size_t expanded() const { return expanded_; }
+
+ private:
+  /// A priority [k1; k2], compared lexicographically.
+  struct Key {
+    double k1;
+    double k2;
+    friend bool operator<(const Key& a, const Key& b) { return a.k1 < b.k1 || (a.k1 == b.k1 && a.k2 < b.k2); }
+  };
+  struct Entry {
+    Key key;
+    std::int32_t node;
+  };
+  static constexpr std::uint32_t kNotQueued = 0xFFFFFFFFu;
+
+  double heuristic_from_start(std::int32_t node) const;
+  Key calculate_key(std::int32_t node) const;
+  /// rhs(u) = min over moves u → s of c(u, s) + g(s); infinite for a blocked u (it has no moves).
+  double best_rhs(std::int32_t node) const;
+  void update_vertex(std::int32_t node);
+  void catch_up_km();
+  void compute_shortest_path();
+
+  // The priority queue U: a binary heap with positions, for the paper's Update and Remove.
+  void queue_insert(std::int32_t node, Key key);
+  void queue_update(std::int32_t node, Key key);
+  void queue_remove(std::int32_t node);
+  void sift_up(std::size_t slot);
+  void sift_down(std::size_t slot);
+  void place(std::size_t slot, const Entry& e);
+
+  BlockedGrid grid_;
+  GridSearchOptions options_;
+  Cell start_, goal_;
+  std::int32_t start_node_ = 0, goal_node_ = 0;
+  std::int32_t last_node_ = 0;  ///< s_last of the paper: the start when km was last brought up to date
+  double km_ = 0.0;
+  std::vector<double> g_, rhs_;
+  std::vector<std::uint32_t> slot_;  ///< position in queue_, or kNotQueued
+  std::vector<Entry> queue_;
+  std::size_t expanded_ = 0;
+};
+
+}  // namespace vwg::plan

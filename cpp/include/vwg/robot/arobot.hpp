@@ -1,0 +1,88 @@
+// ARobot, the actor of the case study (paper eq. 11-13):
+//
+//   ARobot<grid, row, column, angle, objective, action> responding to eLaser, eCamera, eDecide,
+//   eExecute, eObjective
+//
+// with, beside the paper's attributes: `id` (several robots share a world, and events are
+// addressed to one), the continuous pose belief `x, y` (row and column are its cell), the plan
+// `path`, and the bookkeeping of its motion commands, arrival, replans and collisions. It also
+// responds to eOdometry and eCollision, the simulator's (or the real robot's) feedback.
+//
+//   λ(eLaser<dist, angle>)   marks the obstacle at (x + dist·cos(angle₀ + angle), ...) in the grid
+//                            and clears the cells the beam crossed (moving obstacles leave)
+//   λ(eCamera<marker, dist, angle>)  marks the marker's cell (eq. 12)
+//   λ(eObjective<marker>)    sets the objective
+//   λ(eOdometry<x, y, angle, busy, commands>)  updates the pose belief and what the motors did
+//   λ(eDecide)               when the last command is done: the Decider's next motion, as the
+//                            action string Rotate<a>(Move<d>(Robot<id>)); the belief moves on
+//   θ(eExecute)              the action string (or Robot<id>, drawn and not moved)
+#pragma once
+
+#include <map>
+#include <memory>
+#include <string>
+#include <utility>
+
+#include "vwg/actor.hpp"
+#include "vwg/alphabet.hpp"
+#include "vwg/robot/decider.hpp"
+#include "vwg/robot/robot_map.hpp"
+
+namespace vwg::robot {
+
+struct ARobotConfig {
+  MapGeometry map;               ///< geometry of the robots' grids (that of the world map)
+  double radius = 0.18;          ///< metres
+  double margin = 0.07;          ///< extra clearance kept from obstacles when moving, metres
+  double goal_tolerance = 0.25;  ///< arrived when the belief is this close to the goal, metres
+  double step_length = 1.0;      ///< longest straight move per decision, metres
+  double marker_goal_distance = 1.0;  ///< where to stand in front of a marker known only from the camera
+  /// The rooms the robot knows: marker id -> where to stand. Markers it does not know are found
+  /// with the camera (then it stands marker_goal_distance in front of them).
+  std::map<int, std::pair<double, double>> rooms;
+  bool carve_free_space = true;  ///< clear reported obstacles along laser beams
+};
+
+/// The attribute schema of ARobot (register the actor type with it).
+Schema arobot_attributes();
+/// The event types ARobot responds to, in the paper's order (eLaser, eCamera, eDecide, eExecute,
+/// eObjective) and then eOdometry, eCollision.
+std::vector<std::string> arobot_events();
+/// The events' fields, as the alphabet must declare them.
+std::vector<std::pair<std::string, Schema>> arobot_event_types();
+
+class ARobot final : public ActorBehavior {
+ public:
+  /// `alphabet` must have the events of arobot_event_types() and the symbols Robot, Move, Rotate.
+  ARobot(const Alphabet& alphabet, ARobotConfig config, std::shared_ptr<Decider> decider);
+
+  void evolve(ActorState& self, const EventView& e, const EvolutionContext& ctx, Replacement& out) override;
+  void visualize(const ActorState& self, const EventView& e, const EvolutionContext& ctx, StringBuilder& out) override;
+
+  const ARobotConfig& config() const { return config_; }
+  Decider& decider() { return *decider_; }
+
+  /// The action string of a decision, e.g. `Rotate<0.5>(Move<1.2>(Robot<1>))`.
+  static std::string action_text(int robot, double turn, double distance);
+
+ private:
+  void decide(ActorState& self, const EvolutionContext& ctx);
+  bool goal_of(const ActorState& self, int marker, double& x, double& y) const;
+
+  ARobotConfig config_;
+  std::shared_ptr<Decider> decider_;
+  struct Events {
+    EventTypeId laser, camera, decide, execute, objective, odometry, collision;
+  } ev_{};
+  struct Symbols {
+    SymbolId robot, move, rotate;
+  } sym_{};
+};
+
+/// Attribute indices of ARobot (the order of arobot_attributes()).
+enum ARobotAttr : std::size_t {
+  kId, kGrid, kRow, kColumn, kAngle, kObjective, kAction, kX, kY, kPath, kSent, kAcked, kBusy, kReached, kReplans,
+  kCollisions, kStatus
+};
+
+}  // namespace vwg::robot

@@ -1,0 +1,62 @@
+// The decision inside λ(ARobot, eDecide): "the evolution function is the way of introducing
+// intelligent behaviours" (paper §III.F, test 1). A Decider chooses the robot's next motion; the
+// rest of the actor, the string and the world stay the same whichever decider is plugged in.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "vwg/blob.hpp"
+#include "vwg/robot/robot_map.hpp"
+#include "vwg/sim/grid.hpp"
+
+namespace vwg::robot {
+
+/// What the robot knows when it decides.
+struct DecisionInput {
+  int robot = 0;
+  const Blob* map = nullptr;  ///< the robot's map (int16, see robot_map.hpp)
+  const MapGeometry* geometry = nullptr;
+  sim::Pose2 pose{};            ///< where the robot believes it is
+  double goal_x = 0, goal_y = 0;
+  double radius = 0.18;         ///< robot radius plus the clearance it keeps, metres
+  double step_length = 1.0;     ///< the longest straight move of one decision, metres
+  std::span<const double> path; ///< the current plan: x0, y0, x1, y1, ... (may be empty)
+  std::uint64_t seed = 0;       ///< for random choices (fixed by the engine seed and the frame)
+};
+
+struct Decision {
+  enum class Kind { Move, NoPath } kind = Kind::Move;
+  double turn = 0.0;      ///< radians, counter-clockwise, done first
+  double distance = 0.0;  ///< metres, then straight ahead
+  /// The plan from now on (x0, y0, ...), shown and kept in the actor's `path`; `keep_path` keeps
+  /// the previous one instead.
+  std::vector<double> path;
+  bool keep_path = false;
+  bool replanned = false;  ///< a new plan had to be made because the old one became blocked
+};
+
+class Decider {
+ public:
+  virtual ~Decider() = default;
+  virtual Decision decide(const DecisionInput& in) = 0;
+  virtual std::string name() const = 0;
+};
+
+/// The paper's first algorithm: random moves (a random heading, then up to step_length ahead)
+/// that stay clear of known obstacles, until the robot happens to reach its goal.
+class RandomDecider final : public Decider {
+ public:
+  Decision decide(const DecisionInput& in) override;
+  std::string name() const override { return "random"; }
+};
+
+/// The motion towards the farthest point of `path` (x0, y0, ...) within `step_length` that the
+/// robot can reach in a straight line without touching an obstacle of its map. Returns false if
+/// not even the path's first point is reachable so.
+bool follow_path(const DecisionInput& in, std::span<const double> path, Decision& out);
+
+}  // namespace vwg::robot

@@ -1,0 +1,76 @@
+// Deciders that plan: shortest grid paths (A*, or D* Lite repairing its search as obstacles
+// appear) and sampling-based motion planning (OMPL), on the robot's own map inflated by its
+// radius. A plan is kept while it stays clear; when the map blocks it, a new one is made (a replan).
+#pragma once
+
+#include <chrono>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "vwg/plan/dstar_lite.hpp"
+#include "vwg/plan/grid_graph.hpp"
+#include "vwg/robot/decider.hpp"
+
+namespace vwg::robot {
+
+/// What a planning decider keeps of a robot's map: its obstacles and, for the radius in use, the
+/// cells the robot's centre may not enter. Rebuilt when the map's content changes.
+struct PlanningMap {
+  std::uint64_t map_hash = 0;
+  double radius = -1.0;
+  plan::BlockedGrid obstacles;  ///< walls, seen obstacles, markers and unknown cells
+  plan::BlockedGrid inflated;   ///< cells within `radius` of an obstacle
+  bool update(const Blob& map, const MapGeometry& g, double radius);  ///< true if it changed
+};
+
+/// Time and count of the searches a decider ran (for the replanning benchmark).
+struct SearchStats {
+  double seconds = 0.0;
+  std::size_t searches = 0;
+};
+
+class GridDecider final : public Decider {
+ public:
+  enum class Algorithm { AStar, DStarLite };
+  explicit GridDecider(Algorithm algorithm) : algorithm_(algorithm) {}
+  Decision decide(const DecisionInput& in) override;
+  std::string name() const override { return algorithm_ == Algorithm::AStar ? "astar" : "dstar"; }
+  double search_seconds() const { return stats_.seconds; }
+  std::size_t searches() const { return stats_.searches; }
+
+ private:
+  struct RobotState {
+    PlanningMap map;
+    std::optional<plan::DStarLite> dstar;
+    plan::Cell goal{-1, -1};
+  };
+  plan::GridPath search(RobotState& s, plan::Cell start, plan::Cell goal, bool map_changed, const plan::BlockedGrid& before);
+  Algorithm algorithm_;
+  std::map<int, RobotState> robots_;
+  SearchStats stats_;
+};
+
+class OmplDecider final : public Decider {
+ public:
+  OmplDecider(std::string planner, double time_limit);
+  Decision decide(const DecisionInput& in) override;
+  std::string name() const override { return planner_; }
+  double search_seconds() const { return stats_.seconds; }
+  std::size_t searches() const { return stats_.searches; }
+
+ private:
+  std::string planner_;
+  double time_limit_;
+  std::map<int, PlanningMap> maps_;
+  SearchStats stats_;
+};
+
+/// The nearest cell to `cell` that is free in `grid` (searching outwards up to `reach` cells); the
+/// cell itself if free; {-1, -1} if none.
+plan::Cell nearest_free(const plan::BlockedGrid& grid, plan::Cell cell, int reach);
+/// Whether every segment of the path from the robot onwards (x0, y0, ...) stays clear.
+bool path_clear(const DecisionInput& in, std::span<const double> path);
+
+}  // namespace vwg::robot

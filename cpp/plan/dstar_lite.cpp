@@ -1,0 +1,246 @@
+#include "vwg/plan/dstar_lite.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <utility>
+
+#include "vwg/error.hpp"
+
+namespace vwg::plan {
+
+namespace {
+constexpr double kInf = std::numeric_limits<double>::infinity();
+}  // namespace
+
+DStarLite::DStarLite(BlockedGrid grid, Cell start, Cell goal, const GridSearchOptions& options)
+    : grid_(std::move(grid)), options_(options), start_(start), goal_(goal) {
+  validate(options_);
+  check_cell(grid_, start, "start", true);
+  check_cell(grid_, goal, "goal", false);
+  const std::size_t n = grid_.padded().size();
+  g_.assign(n, kInf);
+  rhs_.assign(n, kInf);
+  slot_.assign(n, kNotQueued);
+  start_node_ = last_node_ = grid_.index(start);
+  goal_node_ = grid_.index(goal);
+  rhs_[goal_node_] = 0.0;
+  queue_insert(goal_node_, calculate_key(goal_node_));
+}
+
+double DStarLite::heuristic_from_start(std::int32_t node) const {
+  const std::int32_t s = grid_.stride();
+  return heuristic_distance(options_.heuristic, node / s - start_node_ / s, node % s - start_node_ % s);
+}
+
+DStarLite::Key DStarLite::calculate_key(std::int32_t node) const {
+  const double m = std::min(g_[node], rhs_[node]);
+  return {m + heuristic_from_start(node) + km_, m};
+}
+
+double DStarLite::best_rhs(std::int32_t node) const {
+  if (grid_.padded()[node]) return kInf;
+  std::array<Step, 8> steps;
+  const int count = moves_from(grid_, node, options_, steps);
+  double best = kInf;
+  for (int k = 0; k < count; ++k) best = std::min(best, steps[k].cost + g_[steps[k].to]);
+  return best;
+}
+
+void DStarLite::catch_up_km() {
+  if (start_node_ == last_node_) return;
+  // The robot moved since the keys in the queue were computed. Adding h(s_last, s_start) to km
+  // keeps every queued key a lower bound of its current value (paper, §"km"), so the queue need
+  // not be reordered.
+  const std::int32_t s = grid_.stride();
+  km_ += heuristic_distance(options_.heuristic, last_node_ / s - start_node_ / s, last_node_ % s - start_node_ % s);
+  last_node_ = start_node_;
+}
+
+void DStarLite::update_vertex(std::int32_t node) {
+  const bool queued = slot_[node] != kNotQueued;
+  if (g_[node] != rhs_[node]) {
+    if (queued) queue_update(node, calculate_key(node));
+    else queue_insert(node, calculate_key(node));
+  } else if (queued) {
+    queue_remove(node);
+  }
+}
+
+void DStarLite::compute_shortest_path() {
+  std::array<Step, 8> steps;
+  while (!queue_.empty()) {
+    const Key top = queue_.front().key;
+    // The paper stops once TopKey >= key(s_start) and s_start is consistent. In floating point, a
+    // vertex whose key ties with the start's in k1 (and so comes first by k2) can compute a k1 one
+    // ulp above it and be left inconsistent on the shortest path. So keep going through every k1
+    // within rounding of the start's: a few extra expansions, never a wrong path. An unreachable
+    // start (k1 = ∞) empties the queue, as in the paper.
+    const double start_k1 = calculate_key(start_node_).k1;
+    const double slack = 1e-9 * std::max(1.0, std::abs(start_k1));
+    if (top.k1 > start_k1 + slack && rhs_[start_node_] == g_[start_node_]) break;
+    const std::int32_t u = queue_.front().node;
+    const Key fresh = calculate_key(u);
+    ++expanded_;
+    if (top < fresh) {
+      // The key was computed before the robot moved (km grew): requeue with the current one.
+      queue_update(u, fresh);
+      continue;
+    }
+    // Moves are symmetric, so the moves out of u are the predecessors of u. A blocked u has none.
+    const int count = grid_.padded()[u] ? 0 : moves_from(grid_, u, options_, steps);
+    if (g_[u] > rhs_[u]) {
+      g_[u] = rhs_[u];
+      queue_remove(u);
+      for (int k = 0; k < count; ++k) {
+        const std::int32_t s = steps[k].to;
+        if (s != goal_node_) rhs_[s] = std::min(rhs_[s], steps[k].cost + g_[u]);
+        update_vertex(s);
+      }
+    } else {
+      const double g_old = g_[u];
+      g_[u] = kInf;
+      for (int k = 0; k < count; ++k) {
+        const std::int32_t s = steps[k].to;
+        // Only the vertices whose best move went through u need a new rhs (same arithmetic as
+        // best_rhs, so the comparison is exact).
+        if (s != goal_node_ && rhs_[s] == steps[k].cost + g_old) rhs_[s] = best_rhs(s);
+        update_vertex(s);
+      }
+      if (u != goal_node_) rhs_[u] = best_rhs(u);
+      update_vertex(u);
+    }
+  }
+}
+
+GridPath DStarLite::path() {
+  GridPath result;
+  catch_up_km();
+  if (grid_.blocked(start_)) return result;
+  compute_shortest_path();
+  if (g_[start_node_] == kInf) return result;
+
+  // Follow the g-values down to the goal: each step to a neighbour minimising c(s, s') + g(s').
+  std::array<Step, 8> steps;
+  std::int32_t cur = start_node_;
+  double length = 0.0;
+  result.cells.push_back(start_);
+  const std::size_t max_steps = g_.size();
+  while (cur != goal_node_) {
+    const int count = moves_from(grid_, cur, options_, steps);
+    std::int32_t next = -1;
+    double best = kInf, cost = 0.0;
+    for (int k = 0; k < count; ++k) {
+      const double through = steps[k].cost + g_[steps[k].to];
+      if (through < best) {
+        best = through;
+        next = steps[k].to;
+        cost = steps[k].cost;
+      }
+    }
+    if (next < 0 || result.cells.size() > max_steps) {
+      throw Error("D* Lite: no consistent path from " + to_string(start_) + " although g(start) is finite");
+    }
+    length += cost;
+    cur = next;
+    result.cells.push_back(grid_.cell(cur));
+  }
+  result.length = length;
+  return result;
+}
+
+void DStarLite::move_to(Cell cell) {
+  check_cell(grid_, cell, "cell", true);
+  start_ = cell;
+  start_node_ = grid_.index(cell);
+}
+
+void DStarLite::update_cells(std::span<const Cell> cells, bool blocked) {
+  for (const Cell& c : cells) {
+    if (!grid_.inside(c)) {
+      throw SchemaError("cells", "cell " + to_string(c) + " is outside the grid of " + std::to_string(grid_.rows()) +
+                                     " rows × " + std::to_string(grid_.cols()) + " columns");
+    }
+  }
+  catch_up_km();
+  std::vector<Cell> changed;
+  for (const Cell& c : cells) {
+    if (grid_.blocked(c) == blocked) continue;
+    grid_.set_blocked(c, blocked);
+    changed.push_back(c);
+  }
+  // A cell's state changes the cost of the moves into and out of it and, without corner cutting,
+  // of the diagonal moves that pass by it: all between cells of its 3 × 3 block.
+  for (const Cell& c : changed) {
+    for (int dr = -1; dr <= 1; ++dr) {
+      for (int dc = -1; dc <= 1; ++dc) {
+        const Cell u{c.row + dr, c.col + dc};
+        if (!grid_.inside(u)) continue;
+        const std::int32_t node = grid_.index(u);
+        if (node != goal_node_) rhs_[node] = best_rhs(node);
+        update_vertex(node);
+      }
+    }
+  }
+}
+
+// --- the priority queue ---
+
+void DStarLite::place(std::size_t slot, const Entry& e) {
+  queue_[slot] = e;
+  slot_[e.node] = static_cast<std::uint32_t>(slot);
+}
+
+void DStarLite::sift_up(std::size_t slot) {
+  const Entry e = queue_[slot];
+  while (slot > 0) {
+    const std::size_t parent = (slot - 1) / 2;
+    if (!(e.key < queue_[parent].key)) break;
+    place(slot, queue_[parent]);
+    slot = parent;
+  }
+  place(slot, e);
+}
+
+void DStarLite::sift_down(std::size_t slot) {
+  const Entry e = queue_[slot];
+  const std::size_t n = queue_.size();
+  for (;;) {
+    std::size_t child = 2 * slot + 1;
+    if (child >= n) break;
+    if (child + 1 < n && queue_[child + 1].key < queue_[child].key) ++child;
+    if (!(queue_[child].key < e.key)) break;
+    place(slot, queue_[child]);
+    slot = child;
+  }
+  place(slot, e);
+}
+
+void DStarLite::queue_insert(std::int32_t node, Key key) {
+  queue_.push_back({key, node});
+  sift_up(queue_.size() - 1);
+}
+
+void DStarLite::queue_update(std::int32_t node, Key key) {
+  const std::size_t slot = slot_[node];
+  const Key old = queue_[slot].key;
+  queue_[slot].key = key;
+  if (key < old) sift_up(slot);
+  else sift_down(slot);
+}
+
+void DStarLite::queue_remove(std::int32_t node) {
+  const std::size_t slot = slot_[node];
+  slot_[node] = kNotQueued;
+  const Entry last = queue_.back();
+  queue_.pop_back();
+  if (slot == queue_.size()) return;
+  place(slot, last);
+  // The moved entry may belong above or below its new slot.
+  sift_up(slot);
+  sift_down(slot_[last.node]);
+}
+
+}  // namespace vwg::plan

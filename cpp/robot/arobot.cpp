@@ -1,0 +1,223 @@
+#include "vwg/robot/arobot.hpp"
+
+#include <cmath>
+#include <string>
+
+#include "vwg/error.hpp"
+#include "vwg/text.hpp"
+
+namespace vwg::robot {
+
+namespace {
+
+ParamSpec spec(const char* name, ValueKind kind, std::optional<Datum> def = std::nullopt) {
+  return ParamSpec{name, kind, std::move(def)};
+}
+
+std::shared_ptr<const Blob> empty_path() { return std::make_shared<const Blob>(DType::Float64, std::vector<std::int64_t>{0, 2}); }
+
+std::shared_ptr<const Blob> path_blob(const std::vector<double>& xy) {
+  const auto n = static_cast<std::int64_t>(xy.size() / 2);
+  return std::make_shared<const Blob>(DType::Float64, std::vector<std::int64_t>{n, 2}, xy.data(), xy.size() * sizeof(double));
+}
+
+double wrap(double a) { return std::remainder(a, 2 * M_PI); }
+
+}  // namespace
+
+Schema arobot_attributes() {
+  Schema s;
+  s.params = {
+      spec("id", ValueKind::Int, Datum(1)),
+      spec("grid", ValueKind::Blob),
+      spec("row", ValueKind::Int, Datum(0)),
+      spec("column", ValueKind::Int, Datum(0)),
+      spec("angle", ValueKind::Real, Datum(0.0)),
+      spec("objective", ValueKind::Int, Datum(-1)),
+      spec("action", ValueKind::Text, Datum("")),
+      spec("x", ValueKind::Real, Datum(0.0)),
+      spec("y", ValueKind::Real, Datum(0.0)),
+      spec("path", ValueKind::Blob, Datum(empty_path())),
+      spec("sent", ValueKind::Int, Datum(0)),
+      spec("acked", ValueKind::Int, Datum(0)),
+      spec("busy", ValueKind::Bool, Datum(false)),
+      spec("reached", ValueKind::Bool, Datum(false)),
+      spec("replans", ValueKind::Int, Datum(0)),
+      spec("collisions", ValueKind::Int, Datum(0)),
+      spec("status", ValueKind::Text, Datum("idle")),
+  };
+  return s;
+}
+
+std::vector<std::string> arobot_events() {
+  return {"eLaser", "eCamera", "eDecide", "eExecute", "eObjective", "eOdometry", "eCollision"};
+}
+
+std::vector<std::pair<std::string, Schema>> arobot_event_types() {
+  auto fields = [](std::initializer_list<ParamSpec> p) { return Schema{p, false}; };
+  return {
+      {"eLaser", fields({spec("dist", ValueKind::Real, Datum(0.0)), spec("angle", ValueKind::Real, Datum(0.0))})},
+      {"eCamera", fields({spec("marker", ValueKind::Int, Datum(0)), spec("dist", ValueKind::Real, Datum(0.0)),
+                          spec("angle", ValueKind::Real, Datum(0.0))})},
+      {"eDecide", fields({})},
+      {"eExecute", fields({})},
+      {"eObjective", fields({spec("marker", ValueKind::Int, Datum(-1))})},
+      {"eOdometry", fields({spec("x", ValueKind::Real, Datum(0.0)), spec("y", ValueKind::Real, Datum(0.0)),
+                            spec("angle", ValueKind::Real, Datum(0.0)), spec("busy", ValueKind::Bool, Datum(false)),
+                            spec("commands", ValueKind::Int, Datum(0))})},
+      {"eCollision", fields({spec("other", ValueKind::Int, Datum(0))})},
+  };
+}
+
+ARobot::ARobot(const Alphabet& alphabet, ARobotConfig config, std::shared_ptr<Decider> decider)
+    : config_(std::move(config)), decider_(std::move(decider)) {
+  if (!decider_) throw SchemaError("ARobot", "needs a decider (random, A*, OMPL or one written in Python)");
+  if (config_.map.width <= 0 || config_.map.height <= 0 || !(config_.map.resolution > 0)) {
+    throw SchemaError("ARobot.map", "expected the world map's geometry");
+  }
+  for (double v : {config_.radius, config_.goal_tolerance, config_.step_length}) {
+    if (!std::isfinite(v) || v <= 0) throw SchemaError("ARobot", "radius, goal tolerance and step length must be > 0");
+  }
+  ev_ = Events{alphabet.event_type_id("eLaser"),   alphabet.event_type_id("eCamera"),
+               alphabet.event_type_id("eDecide"),  alphabet.event_type_id("eExecute"),
+               alphabet.event_type_id("eObjective"), alphabet.event_type_id("eOdometry"),
+               alphabet.event_type_id("eCollision")};
+  sym_ = Symbols{alphabet.symbol_id("Robot", SymbolKind::Primitive), alphabet.symbol_id("Move", SymbolKind::Transformation),
+                 alphabet.symbol_id("Rotate", SymbolKind::Transformation)};
+}
+
+std::string ARobot::action_text(int robot, double turn, double distance) {
+  return "Rotate<" + format_real(turn) + ">(Move<" + format_real(distance) + ">(Robot<" + std::to_string(robot) + ">))";
+}
+
+void ARobot::evolve(ActorState& self, const EventView& e, const EvolutionContext& ctx, Replacement&) {
+  const MapGeometry& g = config_.map;
+  const EventTypeId type = e.type();
+  if (type == ev_.laser) {
+    const double a = self.get_real(kAngle) + e.number(1);
+    const double d = e.number(0);
+    const double x0 = self.get_real(kX), y0 = self.get_real(kY);
+    const double hx = x0 + d * std::cos(a), hy = y0 + d * std::sin(a);
+    Blob& map = self.mutable_blob(kGrid);
+    if (config_.carve_free_space) carve_free(map, g, x0, y0, hx, hy);
+    // Half a cell beyond the surface, so the cell marked is the one the beam stopped in.
+    mark_obstacle(map, g, hx + 0.5 * g.resolution * std::cos(a), hy + 0.5 * g.resolution * std::sin(a));
+  } else if (type == ev_.camera) {
+    const double a = self.get_real(kAngle) + e.number(2);
+    const double d = e.number(1) + 0.5 * g.resolution;
+    mark_marker(self.mutable_blob(kGrid), g, self.get_real(kX) + d * std::cos(a), self.get_real(kY) + d * std::sin(a),
+                static_cast<int>(e.value(0).i));
+  } else if (type == ev_.objective) {
+    const std::int64_t marker = e.value(0).i;
+    self.set_int(kObjective, marker);
+    self.set_bool(kReached, false);
+    self.set_blob(kPath, empty_path());
+    self.set_text(kStatus, marker < 0 ? "idle" : "to marker " + std::to_string(marker));
+  } else if (type == ev_.odometry) {
+    const double x = e.number(0), y = e.number(1);
+    self.set_real(kX, x);
+    self.set_real(kY, y);
+    self.set_real(kAngle, e.number(2));
+    self.set_bool(kBusy, e.value(3).b);
+    self.set_int(kAcked, e.value(4).i);
+    int row, col;
+    if (g.cell_of(x, y, row, col)) {
+      self.set_int(kRow, row);
+      self.set_int(kColumn, col);
+    }
+  } else if (type == ev_.collision) {
+    self.set_int(kCollisions, self.get_int(kCollisions) + 1);
+  } else if (type == ev_.decide) {
+    decide(self, ctx);
+  }
+  // eExecute: nothing changes; θ shows the action (DESIGN.md choice 3).
+}
+
+bool ARobot::goal_of(const ActorState& self, int marker, double& x, double& y) const {
+  if (auto it = config_.rooms.find(marker); it != config_.rooms.end()) {
+    x = it->second.first;
+    y = it->second.second;
+    return true;
+  }
+  // Seen by the camera only: stand in front of it, on the robot's side.
+  double mx, my;
+  if (!find_marker(*self.get_blob(kGrid), config_.map, marker, mx, my)) return false;
+  const double dx = self.get_real(kX) - mx, dy = self.get_real(kY) - my, n = std::hypot(dx, dy);
+  if (n < 1e-9) return false;
+  x = mx + config_.marker_goal_distance * dx / n;
+  y = my + config_.marker_goal_distance * dy / n;
+  return true;
+}
+
+void ARobot::decide(ActorState& self, const EvolutionContext& ctx) {
+  const std::int64_t objective = self.get_int(kObjective);
+  // A decided action is shown (θ, eExecute) in the next frame only: from then on it is gone.
+  if (!self.get_text(kAction).empty()) self.set_text(kAction, "");
+  if (objective < 0) return;
+  // Wait until the motors have received the last command and finished it.
+  if (self.get_int(kAcked) < self.get_int(kSent) || self.get_bool(kBusy)) return;
+  double gx, gy;
+  if (!goal_of(self, static_cast<int>(objective), gx, gy)) {
+    self.set_text(kStatus, "marker " + std::to_string(objective) + " unknown");
+    return;
+  }
+  const double x = self.get_real(kX), y = self.get_real(kY), theta = self.get_real(kAngle);
+  if (std::hypot(gx - x, gy - y) <= config_.goal_tolerance) {
+    if (!self.get_bool(kReached)) {
+      self.set_bool(kReached, true);
+      self.set_text(kStatus, "arrived at marker " + std::to_string(objective));
+      self.set_blob(kPath, empty_path());
+    }
+    return;
+  }
+  const Blob& path = *self.get_blob(kPath);
+  DecisionInput in;
+  in.robot = static_cast<int>(self.get_int(kId));
+  in.map = self.get_blob(kGrid).get();
+  in.geometry = &config_.map;
+  in.pose = sim::Pose2{x, y, theta};
+  in.goal_x = gx;
+  in.goal_y = gy;
+  in.radius = config_.radius + config_.margin;
+  in.step_length = config_.step_length;
+  in.path = path.view<double>();
+  in.seed = ctx.seed;
+  Decision d = decider_->decide(in);
+  if (d.replanned) self.set_int(kReplans, self.get_int(kReplans) + 1);
+  if (d.kind == Decision::Kind::NoPath) {
+    self.set_text(kStatus, "no path to marker " + std::to_string(objective));
+    return;
+  }
+  if (!d.keep_path) self.set_blob(kPath, path_blob(d.path));
+  const int id = static_cast<int>(self.get_int(kId));
+  self.set_text(kAction, action_text(id, d.turn, d.distance));
+  self.set_int(kSent, self.get_int(kSent) + 1);
+  self.set_bool(kBusy, true);
+  // Dead reckoning (eq. 12, eDecide): the belief moves where the action should take the robot;
+  // odometry corrects it as the motion happens.
+  const double heading = wrap(theta + d.turn);
+  const double nx = x + d.distance * std::cos(heading), ny = y + d.distance * std::sin(heading);
+  self.set_real(kAngle, heading);
+  self.set_real(kX, nx);
+  self.set_real(kY, ny);
+  int row, col;
+  if (config_.map.cell_of(nx, ny, row, col)) {
+    self.set_int(kRow, row);
+    self.set_int(kColumn, col);
+  }
+  self.set_text(kStatus, "to marker " + std::to_string(objective));
+}
+
+void ARobot::visualize(const ActorState& self, const EventView& e, const EvolutionContext&, StringBuilder& out) {
+  if (e.type() != ev_.execute) return;
+  const std::string_view action = self.get_text(kAction);
+  if (action.empty()) {
+    // Table I: the robot primitive alone (drawn by a renderer, no motion on a robot).
+    const Datum id(self.get_int(kId));
+    out.primitive(sym_.robot, std::span<const Datum>(&id, 1));
+  } else {
+    out.append(parse_string(out.alphabet_ptr(), action, "<ARobot action>"));
+  }
+}
+
+}  // namespace vwg::robot

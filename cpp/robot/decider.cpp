@@ -1,0 +1,73 @@
+#include "vwg/robot/decider.hpp"
+
+#include <cmath>
+
+#include "vwg/random.hpp"
+
+namespace vwg::robot {
+
+namespace {
+double wrap(double a) { return std::remainder(a, 2 * M_PI); }
+}  // namespace
+
+Decision RandomDecider::decide(const DecisionInput& in) {
+  Rng rng(in.seed);
+  Decision d;
+  for (int attempt = 0; attempt < 30; ++attempt) {
+    const double heading = rng.uniform(-M_PI, M_PI);
+    const double distance = rng.uniform(0.3 * in.step_length, in.step_length);
+    const double tx = in.pose.x + distance * std::cos(heading), ty = in.pose.y + distance * std::sin(heading);
+    if (segment_clear(*in.map, *in.geometry, in.pose.x, in.pose.y, tx, ty, in.radius)) {
+      d.turn = wrap(heading - in.pose.theta);
+      d.distance = distance;
+      d.path = {in.pose.x, in.pose.y, tx, ty};
+      return d;
+    }
+  }
+  // Boxed in: turn on the spot and try again next time.
+  d.turn = rng.uniform(-M_PI, M_PI);
+  d.path = {in.pose.x, in.pose.y};
+  return d;
+}
+
+bool follow_path(const DecisionInput& in, std::span<const double> path, Decision& out) {
+  const std::size_t n = path.size() / 2;
+  if (n == 0) return false;
+  // Start from the path point nearest to the robot, so points already passed are skipped.
+  std::size_t nearest = 0;
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < n; ++i) {
+    const double d = std::hypot(path[2 * i] - in.pose.x, path[2 * i + 1] - in.pose.y);
+    if (d < best) {
+      best = d;
+      nearest = i;
+    }
+  }
+  // The farthest point ahead within reach that a straight move gets to without touching anything.
+  std::size_t target = n;
+  for (std::size_t i = nearest; i < n; ++i) {
+    const double px = path[2 * i], py = path[2 * i + 1];
+    const double d = std::hypot(px - in.pose.x, py - in.pose.y);
+    if (d > in.step_length) break;
+    if (d < 1e-6) continue;
+    if (!segment_clear(*in.map, *in.geometry, in.pose.x, in.pose.y, px, py, in.radius)) break;
+    target = i;
+  }
+  if (target == n) {
+    // Nothing within a step: head straight for the next point if it is clear, however far.
+    const std::size_t next = std::min(nearest + 1, n - 1);
+    const double px = path[2 * next], py = path[2 * next + 1];
+    const double d = std::hypot(px - in.pose.x, py - in.pose.y);
+    if (d < 1e-6 || !segment_clear(*in.map, *in.geometry, in.pose.x, in.pose.y, px, py, in.radius)) return false;
+    target = next;
+  }
+  const double px = path[2 * target], py = path[2 * target + 1];
+  const double dx = px - in.pose.x, dy = py - in.pose.y;
+  const double distance = std::min(std::hypot(dx, dy), in.step_length);
+  out.kind = Decision::Kind::Move;
+  out.turn = wrap(std::atan2(dy, dx) - in.pose.theta);
+  out.distance = distance;
+  return true;
+}
+
+}  // namespace vwg::robot

@@ -1,0 +1,218 @@
+#include "vwg/robot/planners.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include "vwg/error.hpp"
+#include "vwg/plan/astar.hpp"
+#include "vwg/plan/clearance.hpp"
+#include "vwg/plan/ompl_planner.hpp"
+
+namespace vwg::robot {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+plan::Cell cell_at(const MapGeometry& g, double x, double y) {
+  int row, col;
+  if (!g.cell_of(x, y, row, col)) return {-1, -1};
+  return {row, col};
+}
+
+std::vector<double> to_world(const MapGeometry& g, const plan::GridPath& path, double start_x, double start_y,
+                             double goal_x, double goal_y) {
+  // The robot's own position first, the cells' centres, then the goal point itself.
+  std::vector<double> xy{start_x, start_y};
+  for (std::size_t i = 1; i + 1 < path.cells.size(); ++i) {
+    double x, y;
+    g.centre_of(path.cells[i].row, path.cells[i].col, x, y);
+    xy.push_back(x);
+    xy.push_back(y);
+  }
+  xy.push_back(goal_x);
+  xy.push_back(goal_y);
+  return xy;
+}
+
+}  // namespace
+
+bool PlanningMap::update(const Blob& map, const MapGeometry& g, double r) {
+  const std::uint64_t hash = map.content_hash();
+  if (hash == map_hash && r == radius && obstacles.rows() == g.height) return false;
+  const auto cells = map.view<std::int16_t>();
+  std::vector<std::uint8_t> mask(cells.size());
+  for (std::size_t i = 0; i < cells.size(); ++i) mask[i] = is_obstacle(cells[i]) || cells[i] == kUnknownCell;
+  obstacles = plan::BlockedGrid::from_mask(std::span<const std::uint8_t>(mask), g.height, g.width);
+  inflated = plan::ClearanceField(obstacles).inflated(r / g.resolution);
+  map_hash = hash;
+  radius = r;
+  return true;
+}
+
+plan::Cell nearest_free(const plan::BlockedGrid& grid, plan::Cell cell, int reach) {
+  if (grid.inside(cell) && !grid.blocked(cell)) return cell;
+  for (int d = 1; d <= reach; ++d) {
+    plan::Cell best{-1, -1};
+    double best_dist = std::numeric_limits<double>::infinity();
+    for (int dr = -d; dr <= d; ++dr) {
+      for (int dc = -d; dc <= d; ++dc) {
+        if (std::max(std::abs(dr), std::abs(dc)) != d) continue;  // the ring at distance d
+        const plan::Cell c{cell.row + dr, cell.col + dc};
+        if (!grid.inside(c) || grid.blocked(c)) continue;
+        const double dist = std::hypot(dr, dc);
+        if (dist < best_dist) {
+          best_dist = dist;
+          best = c;
+        }
+      }
+    }
+    if (best.row >= 0) return best;
+  }
+  return {-1, -1};
+}
+
+bool path_clear(const DecisionInput& in, std::span<const double> path) {
+  const std::size_t n = path.size() / 2;
+  if (n < 2) return false;
+  // From the path point nearest to the robot on.
+  std::size_t nearest = 0;
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < n; ++i) {
+    const double d = std::hypot(path[2 * i] - in.pose.x, path[2 * i + 1] - in.pose.y);
+    if (d < best) {
+      best = d;
+      nearest = i;
+    }
+  }
+  // The path was planned for the centre of the robot: check it with a slightly smaller disc, so
+  // that the cell-centre path's corners (inside the clearance by construction) do not count.
+  const double r = 0.9 * in.radius;
+  for (std::size_t i = nearest; i + 1 < n; ++i) {
+    if (!segment_clear(*in.map, *in.geometry, path[2 * i], path[2 * i + 1], path[2 * i + 2], path[2 * i + 3], r)) return false;
+  }
+  return true;
+}
+
+plan::GridPath GridDecider::search(RobotState& s, plan::Cell start, plan::Cell goal, bool map_changed,
+                                   const plan::BlockedGrid& before) {
+  const auto t0 = Clock::now();
+  plan::GridPath path;
+  if (algorithm_ == Algorithm::AStar) {
+    path = plan::astar(s.map.inflated, start, goal);
+  } else {
+    if (!s.dstar || !(s.goal == goal) || s.dstar->grid().rows() != s.map.inflated.rows()) {
+      s.dstar.emplace(s.map.inflated, start, goal);
+    } else {
+      if (map_changed) {
+        // Tell D* Lite which cells changed, both ways: its repair touches only what they affect.
+        std::vector<plan::Cell> now_blocked, now_free;
+        for (int r = 0; r < s.map.inflated.rows(); ++r) {
+          for (int c = 0; c < s.map.inflated.cols(); ++c) {
+            const bool was = before.blocked({r, c}), is = s.map.inflated.blocked({r, c});
+            if (is && !was) now_blocked.push_back({r, c});
+            if (!is && was) now_free.push_back({r, c});
+          }
+        }
+        s.dstar->update_cells(now_blocked, true);
+        s.dstar->update_cells(now_free, false);
+      }
+      s.dstar->move_to(start);
+    }
+    path = s.dstar->path();
+  }
+  s.goal = goal;
+  stats_.seconds += seconds_since(t0);
+  ++stats_.searches;
+  return path;
+}
+
+Decision GridDecider::decide(const DecisionInput& in) {
+  const MapGeometry& g = *in.geometry;
+  RobotState& s = robots_[in.robot];
+  const plan::BlockedGrid before = algorithm_ == Algorithm::DStarLite ? s.map.inflated : plan::BlockedGrid{};
+  const bool changed = s.map.update(*in.map, g, in.radius);
+  Decision d;
+  // Keep the plan while it is still clear and still leads to this goal.
+  const std::size_t n = in.path.size() / 2;
+  const bool same_goal = n >= 2 && std::hypot(in.path[2 * n - 2] - in.goal_x, in.path[2 * n - 1] - in.goal_y) < 1e-9;
+  if (same_goal && (!changed || path_clear(in, in.path)) && follow_path(in, in.path, d)) {
+    d.keep_path = true;
+    return d;
+  }
+  const int reach = static_cast<int>(std::ceil(in.radius / g.resolution)) + 2;
+  const plan::Cell start = nearest_free(s.map.inflated, cell_at(g, in.pose.x, in.pose.y), reach);
+  const plan::Cell goal = nearest_free(s.map.inflated, cell_at(g, in.goal_x, in.goal_y), reach);
+  if (start.row < 0 || goal.row < 0) {
+    d.kind = Decision::Kind::NoPath;
+    return d;
+  }
+  const plan::GridPath path = search(s, start, goal, changed, before);
+  d.replanned = n >= 2;  // there was a plan, and it no longer served
+  if (!path.found()) {
+    d.kind = Decision::Kind::NoPath;
+    return d;
+  }
+  d.path = to_world(g, path, in.pose.x, in.pose.y, in.goal_x, in.goal_y);
+  DecisionInput along = in;
+  if (!follow_path(along, d.path, d)) {
+    // The robot stands inside the clearance (pushed against something): take the first cell.
+    const double x = d.path.size() >= 4 ? d.path[2] : in.goal_x, y = d.path.size() >= 4 ? d.path[3] : in.goal_y;
+    d.turn = std::remainder(std::atan2(y - in.pose.y, x - in.pose.x) - in.pose.theta, 2 * M_PI);
+    d.distance = std::min(std::hypot(x - in.pose.x, y - in.pose.y), in.step_length);
+  }
+  return d;
+}
+
+OmplDecider::OmplDecider(std::string planner, double time_limit) : planner_(std::move(planner)), time_limit_(time_limit) {
+  bool known = false;
+  for (const auto& name : plan::OmplGridPlanner::planner_names()) known |= name == planner_;
+  if (!known) {
+    std::string names;
+    for (const auto& name : plan::OmplGridPlanner::planner_names()) names += (names.empty() ? "" : ", ") + name;
+    throw SchemaError("planner", "unknown OMPL planner '" + planner_ + "' (known: " + names + ")");
+  }
+  if (!std::isfinite(time_limit_) || time_limit_ <= 0) throw SchemaError("time_limit", "expected seconds > 0");
+}
+
+Decision OmplDecider::decide(const DecisionInput& in) {
+  const MapGeometry& g = *in.geometry;
+  PlanningMap& m = maps_[in.robot];
+  const bool changed = m.update(*in.map, g, in.radius);
+  Decision d;
+  const std::size_t n = in.path.size() / 2;
+  const bool same_goal = n >= 2 && std::hypot(in.path[2 * n - 2] - in.goal_x, in.path[2 * n - 1] - in.goal_y) < 1e-9;
+  if (same_goal && (!changed || path_clear(in, in.path)) && follow_path(in, in.path, d)) {
+    d.keep_path = true;
+    return d;
+  }
+  const auto t0 = Clock::now();
+  plan::OmplGridPlanner planner(m.obstacles, g.resolution, g.origin, in.radius);
+  plan::OmplOptions options;
+  options.planner = planner_;
+  options.time_limit = time_limit_;
+  options.seed = static_cast<std::uint32_t>(in.seed & 0xFFFFFFFFu);
+  plan::OmplPlan plan;
+  try {
+    plan = planner.plan(in.pose, sim::Pose2{in.goal_x, in.goal_y, 0.0}, options);
+  } catch (const SchemaError&) {
+    // The robot or the goal does not fit where it is (pushed against something): no path now.
+  }
+  stats_.seconds += seconds_since(t0);
+  ++stats_.searches;
+  d.replanned = n >= 2;
+  if (!plan.solved) {
+    d.kind = Decision::Kind::NoPath;
+    return d;
+  }
+  for (const auto& p : plan.waypoints) {
+    d.path.push_back(p.x);
+    d.path.push_back(p.y);
+  }
+  if (!follow_path(in, d.path, d)) d.kind = Decision::Kind::NoPath;
+  return d;
+}
+
+}  // namespace vwg::robot

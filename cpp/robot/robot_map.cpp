@@ -1,0 +1,148 @@
+#include "vwg/robot/robot_map.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "vwg/error.hpp"
+#include "vwg/plan/clearance.hpp"
+
+namespace vwg::robot {
+
+sim::OccupancyGrid MapGeometry::frame() const {
+  sim::OccupancyGrid g;
+  g.width = width;
+  g.height = height;
+  g.resolution = resolution;
+  g.origin = origin;
+  return g;
+}
+
+bool MapGeometry::cell_of(double x, double y, int& row, int& col) const {
+  double u, v;
+  frame().world_to_grid(x, y, u, v);
+  if (!(u >= 0 && v >= 0 && u < width && v < height)) return false;
+  col = static_cast<int>(u);
+  row = static_cast<int>(v);
+  return true;
+}
+
+void MapGeometry::centre_of(int row, int col, double& x, double& y) const { frame().grid_to_world(col + 0.5, row + 0.5, x, y); }
+
+std::shared_ptr<Blob> make_robot_map(const sim::OccupancyGrid& world, bool knows_map, int threshold) {
+  auto map = std::make_shared<Blob>(DType::Int16, std::vector<std::int64_t>{world.height, world.width});
+  auto cells = map->mutable_view<std::int16_t>();
+  if (knows_map) {
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+      const std::int8_t v = world.data[i];
+      cells[i] = v < 0 ? kUnknownCell : (v >= threshold ? kWallCell : kFreeCell);
+    }
+  }
+  return map;
+}
+
+namespace {
+std::int16_t& cell(Blob& map, const MapGeometry& g, int row, int col) {
+  return map.mutable_view<std::int16_t>()[static_cast<std::size_t>(row) * g.width + col];
+}
+std::int16_t cell(const Blob& map, const MapGeometry& g, int row, int col) {
+  return map.view<std::int16_t>()[static_cast<std::size_t>(row) * g.width + col];
+}
+void check(const Blob& map, const MapGeometry& g) {
+  if (map.dtype() != DType::Int16 || map.ndim() != 2 || map.shape()[0] != g.height || map.shape()[1] != g.width) {
+    throw SchemaError("grid", "a robot map is an int16 array of the world map's shape");
+  }
+}
+}  // namespace
+
+bool mark_obstacle(Blob& map, const MapGeometry& g, double x, double y) {
+  check(map, g);
+  int r, c;
+  if (!g.cell_of(x, y, r, c)) return false;
+  if (is_obstacle(cell(static_cast<const Blob&>(map), g, r, c))) return false;  // walls and markers stay
+  cell(map, g, r, c) = kSeenCell;
+  return true;
+}
+
+bool mark_marker(Blob& map, const MapGeometry& g, double x, double y, int tag) {
+  check(map, g);
+  int r, c;
+  if (!g.cell_of(x, y, r, c)) return false;
+  const auto value = static_cast<std::int16_t>(kMarkerBase + tag);
+  if (cell(static_cast<const Blob&>(map), g, r, c) == value) return false;
+  cell(map, g, r, c) = value;
+  return true;
+}
+
+int carve_free(Blob& map, const MapGeometry& g, double x0, double y0, double x1, double y1) {
+  check(map, g);
+  const sim::OccupancyGrid f = g.frame();
+  double u0, v0, u1, v1;
+  f.world_to_grid(x0, y0, u0, v0);
+  f.world_to_grid(x1, y1, u1, v1);
+  // A cell walk (Amanatides-Woo) from the start cell to the end cell, which is left alone.
+  int col = static_cast<int>(std::floor(u0)), row = static_cast<int>(std::floor(v0));
+  const int end_col = static_cast<int>(std::floor(u1)), end_row = static_cast<int>(std::floor(v1));
+  const double du = u1 - u0, dv = v1 - v0;
+  const int step_u = du > 0 ? 1 : -1, step_v = dv > 0 ? 1 : -1;
+  const double inf = std::numeric_limits<double>::infinity();
+  const double delta_u = du != 0 ? std::abs(1.0 / du) : inf, delta_v = dv != 0 ? std::abs(1.0 / dv) : inf;
+  double t_u = du != 0 ? ((du > 0 ? std::floor(u0) + 1 - u0 : u0 - std::floor(u0)) * delta_u) : inf;
+  double t_v = dv != 0 ? ((dv > 0 ? std::floor(v0) + 1 - v0 : v0 - std::floor(v0)) * delta_v) : inf;
+  int changed = 0;
+  const int limit = std::abs(end_col - col) + std::abs(end_row - row) + 2;
+  for (int k = 0; k < limit && !(col == end_col && row == end_row); ++k) {
+    if (row >= 0 && col >= 0 && row < g.height && col < g.width && cell(static_cast<const Blob&>(map), g, row, col) == kSeenCell) {
+      cell(map, g, row, col) = kFreeCell;
+      ++changed;
+    }
+    if (t_u < t_v) {
+      t_u += delta_u;
+      col += step_u;
+    } else {
+      t_v += delta_v;
+      row += step_v;
+    }
+  }
+  return changed;
+}
+
+bool segment_clear(const Blob& map, const MapGeometry& g, double x0, double y0, double x1, double y1, double radius,
+                   bool unknown_blocked) {
+  check(map, g);
+  const sim::OccupancyGrid f = g.frame();
+  double u0, v0, u1, v1;
+  f.world_to_grid(x0, y0, u0, v0);
+  f.world_to_grid(x1, y1, u1, v1);
+  const double rc = radius / g.resolution;
+  // Every cell within the segment's bounding box grown by the radius is tested against the
+  // exact distance from the segment to the cell square.
+  const int r_lo = std::max(0, static_cast<int>(std::floor(std::min(v0, v1) - rc)));
+  const int r_hi = std::min(g.height - 1, static_cast<int>(std::floor(std::max(v0, v1) + rc)));
+  const int c_lo = std::max(0, static_cast<int>(std::floor(std::min(u0, u1) - rc)));
+  const int c_hi = std::min(g.width - 1, static_cast<int>(std::floor(std::max(u0, u1) + rc)));
+  for (int r = r_lo; r <= r_hi; ++r) {
+    for (int c = c_lo; c <= c_hi; ++c) {
+      const std::int16_t v = cell(map, g, r, c);
+      if (!is_obstacle(v) && !(unknown_blocked && v == kUnknownCell)) continue;
+      if (plan::segment_distance_to_cell(u0, v0, u1, v1, plan::Cell{r, c}) < rc) return false;
+    }
+  }
+  // Leaving the map is not allowed either.
+  return u0 >= rc && v0 >= rc && u1 >= rc && v1 >= rc && u0 <= g.width - rc && u1 <= g.width - rc && v0 <= g.height - rc &&
+         v1 <= g.height - rc;
+}
+
+bool find_marker(const Blob& map, const MapGeometry& g, int tag, double& x, double& y) {
+  check(map, g);
+  const auto cells = map.view<std::int16_t>();
+  const auto value = static_cast<std::int16_t>(kMarkerBase + tag);
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    if (cells[i] == value) {
+      g.centre_of(static_cast<int>(i / g.width), static_cast<int>(i % g.width), x, y);
+      return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace vwg::robot

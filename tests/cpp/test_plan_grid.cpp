@@ -1,0 +1,493 @@
+// Grid planners: A* on hand-worked grids and on every MovingAI benchmark scenario (published optimal
+// lengths), D* Lite against A* after changes, and the replanning comparison of the case study.
+#include <gtest/gtest.h>
+
+#include <cctype>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <random>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "vwg/error.hpp"
+#include "vwg/plan/astar.hpp"
+#include "vwg/plan/dstar_lite.hpp"
+#include "vwg/plan/movingai.hpp"
+
+using namespace vwg::plan;
+
+namespace {
+
+constexpr double kSqrt2 = 1.4142135623730951;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+std::filesystem::path movingai_dir() {
+  if (const char* dir = std::getenv("VWG_TEST_DATA")) return std::filesystem::path(dir) / "movingai";
+  return std::filesystem::path(__FILE__).parent_path().parent_path() / "data" / "movingai";
+}
+
+/// A grid from rows of text: '#' blocked, anything else free; row 0 is the first string.
+BlockedGrid grid_of(const std::vector<std::string>& rows) {
+  BlockedGrid g(static_cast<int>(rows.size()), static_cast<int>(rows.front().size()));
+  for (int r = 0; r < g.rows(); ++r) {
+    for (int c = 0; c < g.cols(); ++c) g.set_blocked({r, c}, rows[r][c] == '#');
+  }
+  return g;
+}
+
+GridSearchOptions opts(bool diagonal, bool corner_cutting, Heuristic h = Heuristic::Euclidean) {
+  GridSearchOptions o;
+  o.diagonal = diagonal;
+  o.corner_cutting = corner_cutting;
+  o.heuristic = h;
+  return o;
+}
+
+/// Checks that `p` is a legal path of the graph from `start` to `goal` whose moves add up to its length.
+void expect_legal(const BlockedGrid& g, const GridPath& p, Cell start, Cell goal, const GridSearchOptions& o) {
+  ASSERT_TRUE(p.found());
+  EXPECT_EQ(p.cells.front(), start);
+  EXPECT_EQ(p.cells.back(), goal);
+  double sum = 0.0;
+  for (std::size_t i = 0; i < p.cells.size(); ++i) {
+    const Cell c = p.cells[i];
+    ASSERT_FALSE(g.blocked(c)) << to_string(c);
+    if (i == 0) continue;
+    const Cell prev = p.cells[i - 1];
+    const int dr = c.row - prev.row, dc = c.col - prev.col;
+    ASSERT_TRUE(std::abs(dr) <= 1 && std::abs(dc) <= 1 && (dr != 0 || dc != 0)) << to_string(prev) << " -> " << to_string(c);
+    if (dr != 0 && dc != 0) {
+      ASSERT_TRUE(o.diagonal) << "diagonal move on a 4-connected grid";
+      if (!o.corner_cutting) {
+        ASSERT_FALSE(g.blocked({prev.row + dr, prev.col}) || g.blocked({prev.row, prev.col + dc}))
+            << "corner cut at " << to_string(prev) << " -> " << to_string(c);
+      }
+      sum += kSqrt2;
+    } else {
+      sum += 1.0;
+    }
+  }
+  EXPECT_NEAR(sum, p.length, 1e-9);
+}
+
+template <class F>
+std::string schema_field(F&& f) {
+  try {
+    f();
+  } catch (const vwg::SchemaError& e) {
+    return e.field();
+  }
+  return "<no SchemaError>";
+}
+
+}  // namespace
+
+// --- A*, worked by hand ---
+
+// 5×5 with a wall across row 2 open only at column 4: every path squeezes through (2, 4), entered
+// from (1, 4) and left to (3, 4) straight, since the diagonals there would cut the wall's end.
+//   (0,0)→(1,4): 3 + √2;  (1,4)→(2,4)→(3,4): 2;  (3,4)→(4,0): 3 + √2.  Total 8 + 2√2.
+TEST(AStar, WallWithOneGap) {
+  const BlockedGrid g = grid_of({".....", ".....", "####.", ".....", "....."});
+  const auto o = opts(true, false);
+  const GridPath p = astar(g, {0, 0}, {4, 0}, o);
+  EXPECT_NEAR(p.length, 8.0 + 2.0 * kSqrt2, 1e-12);
+  expect_legal(g, p, {0, 0}, {4, 0}, o);
+  // Cutting corners: (0,0)→(2,4) is 2 + 2√2 through (1,3)→(2,4), and (2,4)→(4,0) likewise: 4 + 4√2.
+  const auto cut = opts(true, true);
+  const GridPath q = astar(g, {0, 0}, {4, 0}, cut);
+  EXPECT_NEAR(q.length, 4.0 + 4.0 * kSqrt2, 1e-12);
+  expect_legal(g, q, {0, 0}, {4, 0}, cut);
+  // 4-connected: |Δ| to (2,4) is 6, and 6 again to (4,0).
+  const auto four = opts(false, false, Heuristic::Manhattan);
+  const GridPath r = astar(g, {0, 0}, {4, 0}, four);
+  EXPECT_NEAR(r.length, 12.0, 1e-12);
+  expect_legal(g, r, {0, 0}, {4, 0}, four);
+  // The octile heuristic finds the same lengths.
+  EXPECT_NEAR(astar(g, {0, 0}, {4, 0}, opts(true, false, Heuristic::Octile)).length, 8.0 + 2.0 * kSqrt2, 1e-12);
+  EXPECT_NEAR(astar(g, {0, 0}, {4, 0}, opts(true, false, Heuristic::Zero)).length, 8.0 + 2.0 * kSqrt2, 1e-12);
+}
+
+TEST(AStar, CornerIsNotCut) {
+  // (0,0)→(1,1) would pass the blocked (0,1): go round by (1,0), length 2; √2 when cutting is allowed.
+  const BlockedGrid g = grid_of({".#", ".."});
+  const GridPath p = astar(g, {0, 0}, {1, 1});
+  EXPECT_EQ(p.cells, (std::vector<Cell>{{0, 0}, {1, 0}, {1, 1}}));
+  EXPECT_DOUBLE_EQ(p.length, 2.0);
+  const GridPath q = astar(g, {0, 0}, {1, 1}, opts(true, true));
+  EXPECT_EQ(q.cells, (std::vector<Cell>{{0, 0}, {1, 1}}));
+  EXPECT_DOUBLE_EQ(q.length, kSqrt2);
+}
+
+TEST(AStar, NoPath) {
+  const BlockedGrid wall = grid_of({".#.", ".#.", ".#."});
+  const GridPath p = astar(wall, {0, 0}, {2, 2});
+  EXPECT_FALSE(p.found());
+  EXPECT_TRUE(p.cells.empty());
+  EXPECT_EQ(p.length, kInf);
+  // Two free cells touching only at a corner are disconnected unless corners may be cut.
+  const BlockedGrid diagonal = grid_of({".#", "#."});
+  EXPECT_FALSE(astar(diagonal, {0, 0}, {1, 1}).found());
+  EXPECT_DOUBLE_EQ(astar(diagonal, {0, 0}, {1, 1}, opts(true, true)).length, kSqrt2);
+  // A blocked goal has no path (not an error).
+  EXPECT_FALSE(astar(wall, {0, 0}, {1, 1}).found());
+}
+
+TEST(AStar, StartIsGoal) {
+  const BlockedGrid g = grid_of({"...", "...", "..."});
+  const GridPath p = astar(g, {1, 2}, {1, 2});
+  EXPECT_EQ(p.cells, (std::vector<Cell>{{1, 2}}));
+  EXPECT_EQ(p.length, 0.0);
+}
+
+TEST(AStar, OpenGridLengths) {
+  const BlockedGrid g(10, 10);
+  for (Heuristic h : {Heuristic::Euclidean, Heuristic::Octile}) {
+    EXPECT_NEAR(astar(g, {0, 0}, {9, 9}, opts(true, false, h)).length, 9.0 * kSqrt2, 1e-12);
+    EXPECT_NEAR(astar(g, {0, 0}, {3, 9}, opts(true, false, h)).length, 3.0 * kSqrt2 + 6.0, 1e-12);
+    EXPECT_NEAR(astar(g, {9, 0}, {0, 9}, opts(false, false, h)).length, 18.0, 1e-12);
+  }
+}
+
+TEST(AStar, WorkspaceIsReusedAcrossGridsAndSearches) {
+  AStar search;
+  const BlockedGrid small = grid_of({".#", ".."});
+  const BlockedGrid wall = grid_of({".....", ".....", "####.", ".....", "....."});
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_DOUBLE_EQ(search.search(small, {0, 0}, {1, 1}).length, 2.0);
+    EXPECT_NEAR(search.search(wall, {0, 0}, {4, 0}).length, 8.0 + 2.0 * kSqrt2, 1e-12);
+    EXPECT_FALSE(search.search(wall, {0, 0}, {2, 0}).found());
+    EXPECT_GT(search.expanded(), 0u);
+  }
+}
+
+TEST(AStar, BadInputIsASchemaErrorNamingTheArgument) {
+  const BlockedGrid g = grid_of({".#.", "...", "..."});
+  EXPECT_EQ(schema_field([&] { astar(g, {-1, 0}, {2, 2}); }), "start");
+  EXPECT_EQ(schema_field([&] { astar(g, {0, 3}, {2, 2}); }), "start");
+  EXPECT_EQ(schema_field([&] { astar(g, {0, 1}, {2, 2}); }), "start");  // blocked
+  EXPECT_EQ(schema_field([&] { astar(g, {0, 0}, {3, 0}); }), "goal");
+  EXPECT_EQ(schema_field([&] { astar(g, {0, 0}, {2, 2}, opts(true, false, Heuristic::Manhattan)); }), "heuristic");
+  EXPECT_EQ(schema_field([] { heuristic_from_name("chebyshev"); }), "heuristic");
+  EXPECT_EQ(heuristic_from_name("octile"), Heuristic::Octile);
+  try {
+    astar(g, {0, 1}, {2, 2});
+  } catch (const vwg::SchemaError& e) {
+    EXPECT_EQ(std::string(e.what()), "start: cell (row 0, col 1) is blocked");
+  }
+}
+
+TEST(BlockedGrid, MaskOccupancyAndBorder) {
+  const std::vector<std::uint8_t> mask{0, 1, 0, 0, 0, 1};
+  const BlockedGrid g = BlockedGrid::from_mask(std::span<const std::uint8_t>(mask), 2, 3);
+  EXPECT_TRUE(g.blocked({0, 1}));
+  EXPECT_TRUE(g.blocked({1, 2}));
+  EXPECT_FALSE(g.blocked({1, 0}));
+  EXPECT_TRUE(g.blocked({-1, 0}));  // outside counts as blocked
+  EXPECT_EQ(g.blocked_count(), 2u);
+  EXPECT_EQ(schema_field([] {
+              const std::vector<std::uint8_t> m(5, 0);
+              BlockedGrid::from_mask(std::span<const std::uint8_t>(m), 2, 3);
+            }),
+            "blocked");
+
+  vwg::sim::OccupancyGrid occ;
+  occ.width = 3;
+  occ.height = 1;
+  occ.data = {0, 100, -1};
+  EXPECT_EQ(BlockedGrid::from_occupancy(occ).blocked_count(), 2u);
+  EXPECT_EQ(BlockedGrid::from_occupancy(occ, 50, false).blocked_count(), 1u);
+}
+
+// --- MovingAI: every scenario's published optimal length ---
+
+TEST(MovingAi, ReadsCrlfFiles) {
+  const auto dir = std::filesystem::temp_directory_path() / "vwg_test_plan_movingai";
+  std::filesystem::create_directories(dir);
+  {
+    std::ofstream map(dir / "tiny.map", std::ios::binary);
+    map << "type octile\r\nheight 2\r\nwidth 3\r\nmap\r\n.@G\r\nS.T\r\n";
+    std::ofstream scen(dir / "tiny.map.scen", std::ios::binary);
+    scen << "version 1\r\n0\ttiny.map\t3\t2\t0\t0\t2\t0\t2.41421356\r\n";
+  }
+  const MovingAiMap m = read_movingai_map(dir / "tiny.map");
+  EXPECT_EQ(m.width, 3);
+  EXPECT_EQ(m.height, 2);
+  EXPECT_TRUE(m.grid.blocked({0, 1}));
+  EXPECT_FALSE(m.grid.blocked({0, 2}));
+  EXPECT_TRUE(m.grid.blocked({1, 2}));
+  EXPECT_FALSE(m.grid.blocked({1, 0}));
+  const auto s = read_movingai_scenarios(dir / "tiny.map.scen");
+  ASSERT_EQ(s.size(), 1u);
+  EXPECT_EQ(s[0].start, (Cell{0, 0}));
+  EXPECT_EQ(s[0].goal, (Cell{0, 2}));
+  // Every way from (0,0) to (0,2) passes (1,1) by diagonals that cut a blocked corner: no path,
+  // unless corners may be cut (√2 + √2). (The scenario's length is made up: only reading is tested.)
+  EXPECT_FALSE(astar(m.grid, s[0].start, s[0].goal, opts(true, false, Heuristic::Octile)).found());
+  EXPECT_NEAR(astar(m.grid, s[0].start, s[0].goal, opts(true, true, Heuristic::Octile)).length, 2.0 * kSqrt2, 1e-12);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(MovingAi, MalformedMapIsAParseError) {
+  const auto dir = std::filesystem::temp_directory_path() / "vwg_test_plan_movingai_bad";
+  std::filesystem::create_directories(dir);
+  {
+    std::ofstream map(dir / "bad.map", std::ios::binary);
+    map << "type octile\nheight 2\nwidth 3\nmap\n...\n..\n";
+  }
+  try {
+    read_movingai_map(dir / "bad.map");
+    ADD_FAILURE() << "no ParseError";
+  } catch (const vwg::ParseError& e) {
+    EXPECT_EQ(e.line(), 6u);
+  }
+  std::filesystem::remove_all(dir);
+}
+
+// Sanitizer builds run several times slower (a minute for all 8180 searches). They are there to
+// find memory errors and undefined behaviour, which every 4th scenario exercises as well as all
+// of them do; release builds check every scenario.
+#if defined(__SANITIZE_ADDRESS__)
+constexpr std::size_t kScenarioStride = 4;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+constexpr std::size_t kScenarioStride = 4;
+#else
+constexpr std::size_t kScenarioStride = 1;
+#endif
+#else
+constexpr std::size_t kScenarioStride = 1;
+#endif
+
+struct BenchmarkCase {
+  const char* map;
+  Heuristic heuristic;
+};
+
+class MovingAiScenarios : public ::testing::TestWithParam<BenchmarkCase> {};
+
+TEST_P(MovingAiScenarios, AStarFindsEveryPublishedOptimalLength) {
+  const auto [name, heuristic] = GetParam();
+  const MovingAiMap map = read_movingai_map(movingai_dir() / (std::string(name) + ".map"));
+  const auto scenarios = read_movingai_scenarios(movingai_dir() / (std::string(name) + ".map.scen"));
+  ASSERT_FALSE(scenarios.empty());
+  const GridSearchOptions o = opts(true, false, heuristic);
+  AStar search;
+  std::size_t expanded = 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  std::size_t searches = 0;
+  for (std::size_t i = 0; i < scenarios.size(); i += kScenarioStride) {
+    const MovingAiScenario& s = scenarios[i];
+    ASSERT_EQ(s.map_width, map.width);
+    ASSERT_EQ(s.map_height, map.height);
+    const GridPath p = search.search(map.grid, s.start, s.goal, o);
+    expanded += search.expanded();
+    ++searches;
+    ASSERT_TRUE(p.found()) << name << " scenario " << i;
+    ASSERT_NEAR(p.length, s.optimal_length, 1e-4 * std::max(1.0, s.optimal_length)) << name << " scenario " << i;
+    if (i % 25 == 0) expect_legal(map.grid, p, s.start, s.goal, o);
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::printf("[ timing   ] A* %s, %s heuristic: %zu of %zu scenarios, %.3f ms/search, %.0f expansions/search\n",
+              name, std::string(heuristic_name(heuristic)).c_str(), searches, scenarios.size(),
+              1e3 * seconds / searches, static_cast<double>(expanded) / searches);
+}
+
+INSTANTIATE_TEST_SUITE_P(AllMaps, MovingAiScenarios,
+                         ::testing::Values(BenchmarkCase{"arena", Heuristic::Octile},
+                                           BenchmarkCase{"arena", Heuristic::Euclidean},
+                                           BenchmarkCase{"den312d", Heuristic::Octile},
+                                           BenchmarkCase{"den312d", Heuristic::Euclidean},
+                                           BenchmarkCase{"8room_000", Heuristic::Octile},
+                                           BenchmarkCase{"8room_000", Heuristic::Euclidean},
+                                           BenchmarkCase{"random512-10-0", Heuristic::Octile},
+                                           BenchmarkCase{"random512-10-0", Heuristic::Euclidean}),
+                         [](const ::testing::TestParamInfo<BenchmarkCase>& info) {
+                           std::string n = std::string(info.param.map) + "_" +
+                                           std::string(heuristic_name(info.param.heuristic));
+                           for (char& ch : n) {
+                             if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+                           }
+                           return n;
+                         });
+
+// --- D* Lite ---
+
+// 3 × 5 open grid, start (1,0), goal (1,4): 4 straight moves.
+// Block (1,2): the detour goes over it by (0,1), (0,2), (0,3), entered and left diagonally only
+// where no corner of (1,2) is cut: √2 + 1 + 1 + √2 = 2 + 2√2.
+TEST(DStarLite, HandWorkedChanges) {
+  DStarLite d(BlockedGrid(3, 5), {1, 0}, {1, 4});
+  EXPECT_DOUBLE_EQ(d.path().length, 4.0);
+  d.set_blocked({1, 2}, true);
+  EXPECT_NEAR(d.path().length, 2.0 + 2.0 * kSqrt2, 1e-12);
+  d.set_blocked({1, 2}, false);
+  EXPECT_DOUBLE_EQ(d.path().length, 4.0);
+  const std::vector<Cell> column{{0, 2}, {1, 2}, {2, 2}};
+  d.update_cells(column, true);
+  const GridPath none = d.path();
+  EXPECT_FALSE(none.found());
+  EXPECT_EQ(none.length, kInf);
+  d.set_blocked({2, 2}, false);
+  EXPECT_NEAR(d.path().length, 2.0 + 2.0 * kSqrt2, 1e-12);
+  // The robot steps to (1,1): (1,1)→(2,2) would cut (1,2), so (2,1), (2,2), (2,3), then √2 to (1,4).
+  d.move_to({1, 1});
+  const GridPath p = d.path();
+  EXPECT_NEAR(p.length, 3.0 + kSqrt2, 1e-12);
+  expect_legal(d.grid(), p, {1, 1}, {1, 4}, d.options());
+  // The robot's own cell turning blocked leaves it without a path (not an error).
+  d.set_blocked({1, 1}, true);
+  EXPECT_FALSE(d.path().found());
+}
+
+TEST(DStarLite, BadInput) {
+  const BlockedGrid g = grid_of({".#.", "...", "..."});
+  EXPECT_EQ(schema_field([&] { DStarLite(g, {0, 1}, {2, 2}); }), "start");
+  EXPECT_EQ(schema_field([&] { DStarLite(g, {0, 0}, {5, 2}); }), "goal");
+  DStarLite d(g, {0, 0}, {2, 2});
+  EXPECT_EQ(schema_field([&] { d.move_to({0, 1}); }), "cell");
+  EXPECT_EQ(schema_field([&] { d.move_to({3, 0}); }), "cell");
+  const std::vector<Cell> outside{{1, 1}, {9, 9}};
+  EXPECT_EQ(schema_field([&] { d.update_cells(outside, true); }), "cells");
+  EXPECT_FALSE(d.grid().blocked({1, 1}));  // nothing changed
+  // (0,0)→(1,1) would cut the blocked (0,1): one straight move first, then 1 + √2.
+  EXPECT_NEAR(d.path().length, 2.0 + kSqrt2, 1e-12);
+}
+
+TEST(DStarLite, EqualsAStarAfterRandomChangesAndMoves) {
+  std::mt19937 rng(20240521);
+  int checks = 0;
+  for (int trial = 0; trial < 120; ++trial) {
+    const int rows = 8 + static_cast<int>(rng() % 40), cols = 8 + static_cast<int>(rng() % 40);
+    BlockedGrid g(rows, cols);
+    std::bernoulli_distribution wall(0.1 + 0.05 * (trial % 4));
+    for (int r = 0; r < rows; ++r) {
+      for (int c = 0; c < cols; ++c) g.set_blocked({r, c}, wall(rng));
+    }
+    const Cell start{static_cast<int>(rng() % rows), static_cast<int>(rng() % cols)};
+    const Cell goal{static_cast<int>(rng() % rows), static_cast<int>(rng() % cols)};
+    g.set_blocked(start, false);
+    GridSearchOptions o;
+    o.diagonal = trial % 5 != 0;
+    o.corner_cutting = trial % 3 == 0;
+    o.heuristic = !o.diagonal ? Heuristic::Manhattan : (trial % 2 ? Heuristic::Octile : Heuristic::Euclidean);
+    DStarLite d(g, start, goal, o);
+    AStar reference;
+    for (int step = 0; step < 25; ++step) {
+      const GridPath incremental = d.path();
+      const GridPath full = reference.search(d.grid(), d.start(), goal, o);
+      ASSERT_EQ(incremental.found(), full.found()) << "trial " << trial << " step " << step;
+      if (full.found()) {
+        ASSERT_NEAR(incremental.length, full.length, 1e-9 * std::max(1.0, full.length))
+            << "trial " << trial << " step " << step;
+        expect_legal(d.grid(), incremental, d.start(), goal, o);
+      }
+      ++checks;
+      // The robot walks a step or two, then cells around change (some new obstacles, some cleared).
+      if (incremental.found() && incremental.cells.size() > 2 && rng() % 2) {
+        d.move_to(incremental.cells[1 + rng() % 2]);
+      }
+      std::vector<Cell> cells;
+      const int n = 1 + static_cast<int>(rng() % 6);
+      for (int k = 0; k < n; ++k) {
+        const Cell c{static_cast<int>(rng() % rows), static_cast<int>(rng() % cols)};
+        if (!(c == d.start())) cells.push_back(c);
+      }
+      d.update_cells(cells, rng() % 3 != 0);
+    }
+  }
+  EXPECT_EQ(checks, 120 * 25);
+}
+
+// The case study's comparison: a robot walks its path across a 512 × 512 map and, eight times,
+// obstacles appear on the path ahead of it: a 5 × 5 block 8 cells ahead, or a wall 31 cells wide
+// and 3 thick 30 cells ahead. D* Lite repairs its search; the alternative is a fresh A* from the
+// robot's cell. Both must agree on the length every time; the times are printed.
+struct ObstacleEvent {
+  const char* name;
+  std::size_t ahead;  ///< cells along the path from the robot to the obstacle's centre
+  int half_rows, half_cols;
+};
+
+class Replanning : public ::testing::TestWithParam<ObstacleEvent> {};
+
+TEST_P(Replanning, DStarLiteAgainstAStarOnA512Map) {
+  const ObstacleEvent setup = GetParam();
+  const MovingAiMap map = read_movingai_map(movingai_dir() / "random512-10-0.map");
+  const auto scenarios = read_movingai_scenarios(movingai_dir() / "random512-10-0.map.scen");
+  const MovingAiScenario& s = scenarios.back();  // the last bucket holds the longest paths
+  GridSearchOptions o;  // 8-connected, no corner cutting, Euclidean: the paper's A*
+  using Clock = std::chrono::steady_clock;
+  auto seconds = [](Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); };
+
+  auto t0 = Clock::now();
+  DStarLite dstar(map.grid, s.start, s.goal, o);
+  GridPath path = dstar.path();
+  const double dstar_initial = seconds(t0);
+  AStar astar_search;
+  t0 = Clock::now();
+  const GridPath first = astar_search.search(dstar.grid(), s.start, s.goal, o);
+  const double astar_initial = seconds(t0);
+  ASSERT_TRUE(path.found());
+  ASSERT_NEAR(path.length, s.optimal_length, 1e-4 * s.optimal_length);
+  ASSERT_NEAR(path.length, first.length, 1e-9 * first.length);
+
+  const int events = 8;
+  const std::size_t leg = path.cells.size() / (events + 2);
+  double dstar_replans = 0.0, astar_replans = 0.0;
+  std::size_t dstar_expanded = 0, astar_expanded = 0;
+  for (int event = 0; event < events; ++event) {
+    // Walk one leg of the current path, telling D* Lite where the robot is.
+    for (std::size_t k = 1; k <= leg && k < path.cells.size(); ++k) dstar.move_to(path.cells[k]);
+    const Cell robot = dstar.start();
+    const GridPath ahead = dstar.path();
+    ASSERT_GT(ahead.cells.size(), setup.ahead + 1);
+    // The obstacle, oriented across the path's direction there.
+    const Cell centre = ahead.cells[setup.ahead];
+    const Cell next = ahead.cells[setup.ahead + 1];
+    const bool across_rows = std::abs(next.col - centre.col) >= std::abs(next.row - centre.row);
+    const int half_r = across_rows ? setup.half_cols : setup.half_rows;
+    const int half_c = across_rows ? setup.half_rows : setup.half_cols;
+    std::vector<Cell> obstacle;
+    for (int dr = -half_r; dr <= half_r; ++dr) {
+      for (int dc = -half_c; dc <= half_c; ++dc) {
+        const Cell c{centre.row + dr, centre.col + dc};
+        if (dstar.grid().inside(c) && !(c == robot) && !(c == s.goal)) obstacle.push_back(c);
+      }
+    }
+    const std::size_t before = dstar.expanded();
+    t0 = Clock::now();
+    dstar.update_cells(obstacle, true);
+    path = dstar.path();
+    dstar_replans += seconds(t0);
+    dstar_expanded += dstar.expanded() - before;
+
+    t0 = Clock::now();
+    const GridPath fresh = astar_search.search(dstar.grid(), robot, s.goal, o);
+    astar_replans += seconds(t0);
+    astar_expanded += astar_search.expanded();
+
+    ASSERT_TRUE(fresh.found());
+    ASSERT_NEAR(path.length, fresh.length, 1e-9 * fresh.length) << "event " << event;
+    expect_legal(dstar.grid(), path, robot, s.goal, o);
+  }
+  std::printf("[ timing   ] 512x512 replanning, %d events (%s): D* Lite %.2f ms (initial %.2f ms; %zu expansions "
+              "in replans), A* %.2f ms (initial %.2f ms; %zu expansions); A*/D* Lite replanning time %.1f\n",
+              events, setup.name, 1e3 * dstar_replans, 1e3 * dstar_initial, dstar_expanded, 1e3 * astar_replans,
+              1e3 * astar_initial, astar_expanded, astar_replans / dstar_replans);
+  // The point of D* Lite: far less work per replan than searching again.
+  EXPECT_LT(dstar_expanded, astar_expanded);
+}
+
+INSTANTIATE_TEST_SUITE_P(Obstacles, Replanning,
+                         ::testing::Values(ObstacleEvent{"5x5 block 8 cells ahead", 8, 2, 2},
+                                           ObstacleEvent{"31x3 wall 30 cells ahead", 30, 1, 15}),
+                         [](const ::testing::TestParamInfo<ObstacleEvent>& info) {
+                           return info.param.ahead == 8 ? std::string("BlockNear") : std::string("WallFurther");
+                         });
