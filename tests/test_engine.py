@@ -191,3 +191,23 @@ def test_run_releases_the_gil():
         t.join()
     assert elapsed > 0.05, "the run was too short to tell"
     assert during > 10000
+
+
+def test_python_subclasses_are_named_by_their_class():
+    class Quiet(vwg.Generator):
+        def generate(self, frame):
+            return []
+
+    class Named(vwg.Generator):
+        name = "gNamed"
+
+        def generate(self, frame):
+            return []
+
+    class Plain(vwg.Decider):
+        def decide(self, robot):
+            return None
+
+    engine = vwg.Engine(make_world(), "Lamp", [Quiet(), Named()])
+    assert [g.name for g in engine.generators] == ["Quiet", "gNamed"]
+    assert Plain().name == "Plain"  # no recursion through the base class's property

@@ -157,7 +157,7 @@ def test_small_world_loads_with_defaults(world_dir: Path) -> None:
     assert world.name == "test" and world.description == ""
     assert (world.grid.width, world.grid.height) == (120, 80)
     east = world.rooms["east"]
-    assert (east.marker, east.at, east.size, east.height) == (3, (5.8, 2.0), 0.3, 1.2)
+    assert (east.marker, east.at, east.size, east.height) == (3, (5.8, 2.0), 0.3, 0.6)
     assert east.goal == pytest.approx((4.8, 2.0))
     assert world.rooms["stub"].goal == (3.9, 1.0)
     r1, r2 = world.robots

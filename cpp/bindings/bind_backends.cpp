@@ -16,13 +16,10 @@ class PyBackend : public Backend {
   void open(const NodeView& t) override { call_node("open", t); }
   void close(const NodeView& t) override { call_node("close", t); }
   std::string name() const override {
+    // The class's `name` if a Python subclass sets one; read on the type, since on the instance a
+    // base-class property would call this function again.
     py::gil_scoped_acquire gil;
-    py::object self = py::cast(this);
-    if (py::hasattr(self, "name")) {
-      py::object n = self.attr("name");
-      if (PyUnicode_Check(n.ptr())) return n.cast<std::string>();
-    }
-    return py::str(py::type::handle_of(self).attr("__name__"));
+    return python_type_name(py::cast(this));
   }
 
  private:

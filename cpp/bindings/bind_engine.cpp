@@ -151,6 +151,12 @@ vwg.FrameError naming the frame, the stage, the actor and the event.)doc")
         for (std::size_t i = 0; i < events.size(); ++i) out.append(event_to_python(events[i]));
         return out;
       }, "The events S of the last completed frame.")
+      .def_property_readonly("generators", [](const PyEngine& e) {
+        py::list out;
+        for (const auto& g : e.engine->generators()) out.append(py::cast(g));
+        return out;
+      }, "The generators, in priority order.")
+      .def_property_readonly("backend", [](const PyEngine& e) { return e.engine->backend(); })
       .def("collect_events", [](PyEngine& e) {
         EventList events = [&] {
           py::gil_scoped_release release;

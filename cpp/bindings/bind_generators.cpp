@@ -35,13 +35,10 @@ class PyGenerator : public Generator {
     if (fn) fn(seed);
   }
   std::string name() const override {
+    // The class's `name` if a Python subclass sets one; read on the type, since on the instance a
+    // base-class property would call this function again.
     py::gil_scoped_acquire gil;
-    py::object self = py::cast(this);
-    if (py::hasattr(self, "name")) {
-      py::object n = self.attr("name");
-      if (PyUnicode_Check(n.ptr())) return n.cast<std::string>();
-    }
-    return py::str(py::type::handle_of(self).attr("__name__"));
+    return python_type_name(py::cast(this));
   }
 };
 
@@ -58,7 +55,8 @@ reproducible. Generators run in the order given to the engine: their priority.)d
       .def("generate", [](Generator&, py::object) -> py::object {
         throw Error("generate() is not defined by this generator");
       }, py::arg("frame"))
-      .def("reset", [](Generator&, std::uint64_t) {}, py::arg("seed"));
+      .def("reset", [](Generator&, std::uint64_t) {}, py::arg("seed"))
+      .def_property_readonly("name", &Generator::name, "A short name for messages (a subclass may set `name`).");
 
   py::class_<EveryFrameGenerator, Generator, std::shared_ptr<EveryFrameGenerator>>(m, "EveryFrame",
       "One event of a fixed type (and fields) every frame: the paper's gDecide and gExecute.")

@@ -59,10 +59,10 @@ class PyDecider : public robot::Decider {
     return d;
   }
   std::string name() const override {
+    // The class's `name` if a Python subclass sets one; read on the type, since on the instance a
+    // base-class property would call this function again.
     py::gil_scoped_acquire gil;
-    py::object self = py::cast(this);
-    if (py::hasattr(self, "name") && PyUnicode_Check(self.attr("name").ptr())) return self.attr("name").cast<std::string>();
-    return py::str(py::type::handle_of(self).attr("__name__"));
+    return python_type_name(py::cast(this));
   }
 };
 

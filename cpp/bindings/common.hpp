@@ -82,6 +82,9 @@ struct PyFrame {
 };
 py::object frame_to_python(const FrameInfo& info, std::shared_ptr<PyFrame>& holder);
 
+/// The `name` a Python subclass sets as a class attribute (a str), else the class's __name__.
+std::string python_type_name(py::handle self);
+
 /// Cached Python objects of the pure-Python part of the package (vwg.actor.Actor, vwg.actor.Sym,
 /// vwg.errors.*), imported on first use.
 py::object python_class(const char* module, const char* name);

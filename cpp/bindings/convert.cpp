@@ -8,6 +8,15 @@ namespace vwg::bindings {
 
 py::object python_class(const char* module, const char* name) { return py::module_::import(module).attr(name); }
 
+std::string python_type_name(py::handle self) {
+  py::handle type = py::type::handle_of(self);
+  if (py::hasattr(type, "name")) {
+    py::object n = type.attr("name");
+    if (PyUnicode_Check(n.ptr())) return n.cast<std::string>();
+  }
+  return py::str(type.attr("__name__"));
+}
+
 namespace {
 
 std::string describe_python(py::handle obj) {

@@ -186,11 +186,51 @@ bool ClearanceField::segment_clear(double u0, double v0, double u1, double v1, d
   return true;
 }
 
-BlockedGrid ClearanceField::inflated(double radius) const {
-  BlockedGrid out(grid_.rows(), grid_.cols());
-  for (int r = 0; r < grid_.rows(); ++r) {
-    for (int c = 0; c < grid_.cols(); ++c) {
-      if (clearance(c + 0.5, r + 0.5, radius + 1.0) <= radius) out.set_blocked({r, c}, true);
+BlockedGrid ClearanceField::inflated(double radius) const { return inflate(grid_, radius, outside_blocked_); }
+
+BlockedGrid inflate(const BlockedGrid& grid, double radius, bool outside_blocked) {
+  // A cell's centre is within `radius` of some blocked square iff it is within `radius` of a
+  // blocked square on the boundary of the obstacles (one with a free neighbour): from an interior
+  // square, its neighbour towards the centre is no farther. So a disc of offsets is stamped around
+  // each boundary cell: O(boundary × disc), where testing every cell costs O(cells × disc).
+  const int rows = grid.rows(), cols = grid.cols();
+  BlockedGrid out(rows, cols);
+  if (!(radius >= 0)) return out;
+  const int reach = static_cast<int>(std::ceil(radius + 0.5));
+  std::vector<Cell> disc;  // offsets whose centre is within radius of the square at (0, 0)
+  for (int dr = -reach; dr <= reach; ++dr) {
+    for (int dc = -reach; dc <= reach; ++dc) {
+      const double ex = std::max(std::abs(dc) - 0.5, 0.0), ey = std::max(std::abs(dr) - 0.5, 0.0);
+      if (ex * ex + ey * ey <= radius * radius) disc.push_back({dr, dc});
+    }
+  }
+  for (int r = 0; r < rows; ++r) {
+    for (int c = 0; c < cols; ++c) {
+      if (!grid.blocked({r, c})) continue;
+      bool boundary = false;
+      for (int dr = -1; dr <= 1 && !boundary; ++dr) {
+        for (int dc = -1; dc <= 1 && !boundary; ++dc) {
+          const Cell n{r + dr, c + dc};
+          boundary = grid.inside(n) && !grid.blocked(n);
+        }
+      }
+      if (!boundary) {
+        out.set_blocked({r, c}, true);
+        continue;
+      }
+      for (const Cell& d : disc) {
+        const Cell n{r + d.row, c + d.col};
+        if (grid.inside(n)) out.set_blocked(n, true);
+      }
+    }
+  }
+  if (outside_blocked) {
+    // The map's edge is an obstacle too: cells whose centre is within radius of it.
+    for (int r = 0; r < rows; ++r) {
+      for (int c = 0; c < cols; ++c) {
+        const double edge = std::min({c + 0.5, cols - c - 0.5, r + 0.5, rows - r - 0.5});
+        if (edge <= radius) out.set_blocked({r, c}, true);
+      }
     }
   }
   return out;

@@ -45,6 +45,7 @@ Schema arobot_attributes() {
       spec("replans", ValueKind::Int, Datum(0)),
       spec("collisions", ValueKind::Int, Datum(0)),
       spec("status", ValueKind::Text, Datum("idle")),
+      spec("wait", ValueKind::Int, Datum(0)),
   };
   return s;
 }
@@ -112,6 +113,7 @@ void ARobot::evolve(ActorState& self, const EventView& e, const EvolutionContext
     self.set_int(kObjective, marker);
     self.set_bool(kReached, false);
     self.set_blob(kPath, empty_path());
+    self.set_int(kWait, 0);
     self.set_text(kStatus, marker < 0 ? "idle" : "to marker " + std::to_string(marker));
   } else if (type == ev_.odometry) {
     const double x = e.number(0), y = e.number(1);
@@ -156,6 +158,10 @@ void ARobot::decide(ActorState& self, const EvolutionContext& ctx) {
   if (objective < 0) return;
   // Wait until the motors have received the last command and finished it.
   if (self.get_int(kAcked) < self.get_int(kSent) || self.get_bool(kBusy)) return;
+  if (const std::int64_t wait = self.get_int(kWait); wait > 0) {
+    self.set_int(kWait, wait - 1);
+    return;
+  }
   double gx, gy;
   if (!goal_of(self, static_cast<int>(objective), gx, gy)) {
     self.set_text(kStatus, "marker " + std::to_string(objective) + " unknown");
@@ -185,7 +191,10 @@ void ARobot::decide(ActorState& self, const EvolutionContext& ctx) {
   Decision d = decider_->decide(in);
   if (d.replanned) self.set_int(kReplans, self.get_int(kReplans) + 1);
   if (d.kind == Decision::Kind::NoPath) {
+    // Wait a little before searching again, from scratch: the way may clear (a robot moves on).
     self.set_text(kStatus, "no path to marker " + std::to_string(objective));
+    self.set_blob(kPath, empty_path());
+    self.set_int(kWait, config_.retry_frames);
     return;
   }
   if (!d.keep_path) self.set_blob(kPath, path_blob(d.path));

@@ -46,7 +46,7 @@ bool PlanningMap::update(const Blob& map, const MapGeometry& g, double r) {
   std::vector<std::uint8_t> mask(cells.size());
   for (std::size_t i = 0; i < cells.size(); ++i) mask[i] = is_obstacle(cells[i]) || cells[i] == kUnknownCell;
   obstacles = plan::BlockedGrid::from_mask(std::span<const std::uint8_t>(mask), g.height, g.width);
-  inflated = plan::ClearanceField(obstacles).inflated(r / g.resolution);
+  inflated = plan::inflate(obstacles, r / g.resolution);
   map_hash = hash;
   radius = r;
   return true;

@@ -25,6 +25,9 @@ from __future__ import annotations
 from ._core import (
     ActorBatch,
     ActorBehavior,
+    AprilTagDetection,
+    AprilTagFamily,
+    AprilTagPose,
     Backend,
     BackendGroup,
     Blob,
@@ -46,6 +49,9 @@ from ._core import (
     String,
     TraceBackend,
     __version__,
+    apriltag_families,
+    apriltag_family,
+    apriltag_image,
     astar,
     build_string,
     detect_apriltags,
@@ -61,6 +67,7 @@ from .engine import Engine
 from .errors import Error, FrameError, ParseError, ReplayError, SchemaError, WorldFileError
 from .generators import GeneratorSpec, Schedule, every_frame
 from .maps import OccupancyGrid, load_map, load_map_server, load_movingai, movingai_cell
+from .record import Recorder, read_record, replay
 from .robotworld import (
     CameraSpec,
     KinectSpec,
@@ -82,6 +89,9 @@ __all__ = [
     "ActorBatch",
     "ActorBehavior",
     "Alphabet",
+    "AprilTagDetection",
+    "AprilTagFamily",
+    "AprilTagPose",
     "Backend",
     "BackendGroup",
     "Blob",
@@ -112,6 +122,7 @@ __all__ = [
     "ParseError",
     "PythonActor",
     "RandomDecider",
+    "Recorder",
     "ReplayError",
     "RobotSpec",
     "RobotWorld",
@@ -125,6 +136,9 @@ __all__ = [
     "World",
     "WorldFileError",
     "__version__",
+    "apriltag_families",
+    "apriltag_family",
+    "apriltag_image",
     "astar",
     "build_string",
     "detect_apriltags",
@@ -138,6 +152,8 @@ __all__ = [
     "load_robot_world",
     "movingai_cell",
     "plan_ompl",
+    "read_record",
+    "replay",
     "visualize",
     "walker_behavior",
 ]

@@ -268,6 +268,11 @@ class Generator:
         ...
     def reset(self, seed: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
+    @property
+    def name(self) -> str:
+        """
+        A short name for messages (a subclass may set `name`).
+        """
 class EveryFrame(Generator):
     """
     One event of a fixed type (and fields) every frame: the paper's gDecide and gExecute.
@@ -413,12 +418,20 @@ class Engine:
         Run one frame with these events instead of the generators' (replay).
         """
     @property
+    def backend(self) -> Backend:
+        ...
+    @property
     def dt(self) -> float:
         ...
     @property
     def frame(self) -> int:
         """
         Frames completed so far (t).
+        """
+    @property
+    def generators(self) -> list:
+        """
+        The generators, in priority order.
         """
     @property
     def last_events(self) -> list:

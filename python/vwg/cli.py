@@ -25,11 +25,88 @@ def _print_summary(rows: list[tuple[str, str]]) -> None:
         print(f"  {k:<{width}}  {v}")
 
 
+def _is_robot_world(path: Path) -> bool:
+    """A robot world file (the case study) names a map; a generic world file declares an alphabet."""
+    from .yamldoc import YamlDoc
+
+    data = YamlDoc(path).data
+    return isinstance(data, dict) and "map" in data
+
+
+def _goals(values: list[str] | None, robots: list[int]) -> dict[int, str]:
+    goals: dict[int, str] = {}
+    for value in values or []:
+        robot, _, room = value.rpartition(":")
+        try:
+            goals[int(robot) if robot else robots[0]] = room
+        except ValueError:
+            raise Error(f"--goal: expected ROOM or ROBOT:ROOM, got '{value}'") from None
+    return goals
+
+
+def _run_robot(args: argparse.Namespace) -> int:
+    import json
+
+    from .casestudy import CaseStudy
+    from .record import Recorder
+    from .robotworld import load_robot_world
+
+    world = load_robot_world(args.world)
+    video = args.video
+    case = CaseStudy(world, args.planner, goals=_goals(args.goal, [r.id for r in world.robots]), seed=args.seed,
+                     frames=args.frames, video=video, images=args.images, max_symbols=args.max_symbols)
+    if args.stdin_orders:
+        case.orders.read_lines(sys.stdin, lambda message: print(f"vwg: {message}", file=sys.stderr))
+    recorder = None
+    if args.record:
+        recorder = Recorder(args.record, case.engine, world_file=world.path,
+                            world_data={"robot_world": str(Path(world.path).resolve()), "planner": case.planner})
+    try:
+        summary = case.run(progress=args.progress)
+    finally:
+        if recorder:
+            recorder.close()
+    trajectory = args.trajectory or (Path(video).with_suffix(".png") if video else None)
+    if trajectory:
+        case.save_trajectory(trajectory)
+        summary.outputs["trajectory"] = str(trajectory)
+    if args.record:
+        summary.outputs["record"] = str(args.record)
+    if args.summary_json:
+        Path(args.summary_json).parent.mkdir(parents=True, exist_ok=True)
+        summary.outputs["summary"] = str(args.summary_json)
+        Path(args.summary_json).write_text(json.dumps(summary.to_json(), indent=2) + "\n")
+    if not args.quiet:
+        print(f"vwg run {world.path} — {world.name}, planner {summary.planner}, seed {summary.seed}")
+        rows = [
+            ("reached", "yes" if summary.reached else "no"),
+            ("frames", f"{summary.frames} ({summary.simulated_time_s:.1f} s simulated, "
+                       f"{summary.wall_time_s:.1f} s wall)"),
+            ("path length", f"{summary.path_length_m:.2f} m"),
+            ("collisions", str(summary.collisions)),
+            ("replans", str(summary.replans)),
+        ]
+        for r in summary.robots:
+            state = "reached" if r.reached else f"{r.distance_to_goal_m:.2f} m away"
+            where = f"{r.room}: {state}" if r.room else "no order"
+            rows.append((f"robot {r.id}", f"{where}, {r.path_length_m:.2f} m, {r.collisions} collisions, "
+                                           f"{r.replans} replans"))
+        for name, path in summary.outputs.items():
+            rows.append((name, path))
+        _print_summary(rows)
+    return 0
+
+
 def _cmd_run(args: argparse.Namespace) -> int:
     from .engine import Engine
     from .record import Recorder
     from .worldfile import load_world
 
+    if _is_robot_world(args.world):
+        return _run_robot(args)
+    for option in ("planner", "goal", "video", "images", "summary_json", "trajectory"):
+        if getattr(args, option) not in (None, False, "astar"):
+            raise Error(f"--{option.replace('_', '-')} is for robot worlds (world files that name a map)")
     spec = load_world(args.world, seed=args.seed, frames=args.frames, dt=args.dt, backend=args.backend)
     engine = Engine(spec.world, spec.initial, spec.generators, spec.backend, dt=spec.dt, seed=spec.seed,
                     max_symbols=args.max_symbols)
@@ -66,7 +143,15 @@ def _cmd_replay(args: argparse.Namespace) -> int:
     from .registry import backends
     from .worldfile import load_world
 
-    world = load_world(args.world).world if args.world else None
+    header = read_record(args.record).header
+    robot = (header.get("world") or {}).get("robot_world")
+    if robot:
+        from .casestudy import case_study_world, make_decider
+        from .robotworld import load_robot_world
+
+        world = case_study_world(load_robot_world(args.world or robot), make_decider(header["world"]["planner"]))
+    else:
+        world = load_world(args.world).world if args.world else None
     backend = backends.create(args.backend, world=world) if args.backend else None
     start = time.perf_counter()
     engine = replay(args.record, world=world, backend=backend)
@@ -110,6 +195,18 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--backend", help="backend by name, instead of the file's (trace, null, ...)")
     run.add_argument("--max-symbols", type=int, default=10_000_000,
                      help="fail if the string grows past this many symbols (default 10 000 000; 0: no limit)")
+    robot = run.add_argument_group("robot worlds (the case study: world files that name a map)")
+    robot.add_argument("--planner", default="astar",
+                       help="the decision inside eDecide: random, astar, dstar, rrtconnect, rrtstar, prm "
+                            "(default astar)")
+    robot.add_argument("--goal", action="append", metavar="[ROBOT:]ROOM",
+                       help="send a robot (default the first) to a room at the start; repeatable")
+    robot.add_argument("--stdin-orders", action="store_true",
+                       help="read orders while running from standard input: ROOM or ROBOT ROOM per line")
+    robot.add_argument("--video", type=Path, help="write the run as a video (.mp4 H.264 or .gif)")
+    robot.add_argument("--images", type=Path, help="write every frame as a PNG into this folder")
+    robot.add_argument("--trajectory", type=Path, help="PNG of the trajectories (default: beside the video)")
+    robot.add_argument("--summary-json", type=Path, help="write the summary as JSON")
     run.add_argument("--record", type=Path, help="write every frame to this JSON Lines file")
     run.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
                      help="show a progress bar (default: on a terminal)")

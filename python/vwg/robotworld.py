@@ -12,7 +12,7 @@ their sensors, noise, and a timed script of user orders.
         at: [12.0, 4.3]                # x, y (m) of the marker's centre, on a wall face
         facing: 1.5708                 # direction the marker faces (outward normal of the wall), radians
         size: 0.3                      # [0.3] edge of the tag's outer black square, metres
-        height: 1.2                    # [1.2] height of the marker centre above the floor
+        height: 0.6                    # [0.6] height of the marker centre above the floor (the camera is 0.5 m up)
         goal: [12.0, 3.3]              # [1 m in front of the marker] where a robot stands to have reached the room
     robots:
       - id: 1                          # int >= 1, unique
@@ -82,7 +82,7 @@ class Room:
     at: tuple[float, float]
     facing: float
     size: float = 0.3
-    height: float = 1.2
+    height: float = 0.6
     goal: tuple[float, float] = (0.0, 0.0)
 
     @property
@@ -351,7 +351,7 @@ def _rooms(doc: YamlDoc, grid: OccupancyGrid, wall_height: float, radius: float)
         x, y = _point(doc, (*path, "at"), 2, "[x, y]")
         facing = float(doc.number((*path, "facing")))
         size = float(doc.number((*path, "size"), 0.3, minimum=0.0, exclusive_minimum=True))
-        height = float(doc.number((*path, "height"), 1.2, minimum=0.0))
+        height = float(doc.number((*path, "height"), 0.6, minimum=0.0))
         if height - size / 2 < 0 or height + size / 2 > wall_height:
             raise doc.error((*path, "height"), f"a {_p(size)} m marker centred {_p(height)} m up does not fit on "
                                                f"a wall {_p(wall_height)} m high")

@@ -3,6 +3,8 @@
 // blocked cell (checked densely along every segment), and repeat for the same seed.
 #include <gtest/gtest.h>
 
+#include "vwg/random.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -389,4 +391,27 @@ TEST(Ompl, PlanTimes) { time_planners("den312d", 0.1, 0.1, 0.2); }
 TEST(Ompl, PlanTimesOnA512Map) {
   if (std::getenv("VWG_PLAN_TIMING") == nullptr) GTEST_SKIP() << "set VWG_PLAN_TIMING=1 to run";
   time_planners("random512-10-0", 0.05, 0.01, 5.0);
+}
+
+TEST(Clearance, InflatedEqualsThePerCellClearanceTest) {
+  // The stamped inflation against its definition: a cell is blocked when its centre's clearance
+  // (exact, map edge included) is at most the radius.
+  vwg::Rng rng(11);
+  for (int trial = 0; trial < 12; ++trial) {
+    const int rows = 20 + static_cast<int>(rng.below(30)), cols = 20 + static_cast<int>(rng.below(30));
+    std::vector<std::uint8_t> mask(static_cast<std::size_t>(rows) * cols);
+    for (auto& m : mask) m = rng.uniform() < 0.08 ? 1 : 0;
+    for (bool outside : {true, false}) {
+      vwg::plan::ClearanceField field(vwg::plan::BlockedGrid::from_mask(std::span<const std::uint8_t>(mask), rows, cols), outside);
+      for (double radius : {0.0, 0.5, 1.3, 2.7, 4.0, 5.2}) {
+        const auto inflated = field.inflated(radius);
+        for (int r = 0; r < rows; ++r) {
+          for (int c = 0; c < cols; ++c) {
+            const bool expected = field.clearance(c + 0.5, r + 0.5, radius + 1.0) <= radius;
+            ASSERT_EQ(inflated.blocked({r, c}), expected) << "r=" << r << " c=" << c << " radius=" << radius << " outside=" << outside;
+          }
+        }
+      }
+    }
+  }
 }

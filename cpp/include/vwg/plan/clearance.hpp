@@ -52,6 +52,10 @@ class ClearanceField {
   std::vector<double> cell_clearance_;  ///< rows × cols, row-major
 };
 
+/// The cells whose centre is within `radius` (cells) of a blocked square — or of the map's edge
+/// when `outside_blocked` — as ClearanceField::inflated, without building the distance field.
+BlockedGrid inflate(const BlockedGrid& grid, double radius, bool outside_blocked = true);
+
 /// The squared distance from point (u, v) to the square [c, c+1] × [r, r+1].
 double squared_distance_to_cell(double u, double v, Cell cell);
 /// The distance from the segment (u0, v0)–(u1, v1) to the square of `cell` (0 if they meet).

@@ -41,6 +41,7 @@ struct ARobotConfig {
   /// with the camera (then it stands marker_goal_distance in front of them).
   std::map<int, std::pair<double, double>> rooms;
   bool carve_free_space = true;  ///< clear reported obstacles along laser beams
+  int retry_frames = 10;         ///< after finding no way (another robot in it?), decisions to skip before trying again
 };
 
 /// The attribute schema of ARobot (register the actor type with it).
@@ -82,7 +83,7 @@ class ARobot final : public ActorBehavior {
 /// Attribute indices of ARobot (the order of arobot_attributes()).
 enum ARobotAttr : std::size_t {
   kId, kGrid, kRow, kColumn, kAngle, kObjective, kAction, kX, kY, kPath, kSent, kAcked, kBusy, kReached, kReplans,
-  kCollisions, kStatus
+  kCollisions, kStatus, kWait
 };
 
 }  // namespace vwg::robot

@@ -1,0 +1,301 @@
+"""The robot case study of the paper (§III), assembled from a robot world file:
+
+- the alphabet: the primitive Robot, the transformations Move and Rotate (Table I); the events of
+  Table II (eLaser, eCamera, eObjective, eDecide, eExecute — the visual one) and the simulator's
+  feedback (eOdometry, eCollision); the actor ARobot (eq. 11) with the decider chosen by name;
+- the initial string (eq. 13): one ARobot per robot, its grid the known map, no objective, no action;
+- the generators, in priority order: odometry and collisions (the robot's own state first), then
+  gLaser / gKinect, gCamera, gObjective (the users' orders), gDecide, gExecute;
+- the backend: the simulator, and a view when asked for video or images.
+
+    run = vwg.CaseStudy(vwg.load_robot_world("maps/office.yaml"), planner="astar", goals={1: "kitchen"})
+    summary = run.run()
+"""
+
+from __future__ import annotations
+
+import math
+import queue
+import sys
+import threading
+import time
+from collections.abc import Callable, Iterable, Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, TextIO
+
+import numpy as np
+
+from . import _core
+from .engine import Engine
+from .errors import SchemaError
+from .generators import every_frame
+from .robotworld import RobotWorld
+from .sim import MOTION_SYMBOLS, Simulation
+from .world import Alphabet, World
+
+__all__ = ["PLANNERS", "CaseStudy", "Orders", "RobotSummary", "RunSummary", "case_study_world", "make_decider"]
+
+#: Deciders by name (paper test 1: the decision is swapped, nothing else).
+PLANNERS: dict[str, Callable[[], _core.Decider]] = {
+    "random": lambda: _core.RandomDecider(),
+    "astar": lambda: _core.GridDecider("astar"),
+    "dstar": lambda: _core.GridDecider("dstar"),
+    "rrtconnect": lambda: _core.OmplDecider("RRTConnect", 0.5),
+    "rrtstar": lambda: _core.OmplDecider("RRTstar", 0.5),
+    "prm": lambda: _core.OmplDecider("PRM", 0.5),
+}
+
+
+def make_decider(planner: str | _core.Decider) -> _core.Decider:
+    """A decider by name (random, astar, dstar, rrtconnect, rrtstar, prm), or the one given."""
+    if isinstance(planner, _core.Decider):
+        return planner
+    try:
+        return PLANNERS[planner.lower()]()
+    except KeyError:
+        raise SchemaError(f"planner: unknown planner '{planner}' (known: {', '.join(PLANNERS)})") from None
+
+
+def case_study_world(world: RobotWorld, decider: _core.Decider, *, goal_tolerance: float = 0.25,
+                     step_length: float = 1.0) -> World:
+    """The alphabet of the case study with ARobot deciding by `decider`, for this robot world."""
+    events = {name: {f: spec[1] for f, spec in fields.items()} for name, fields in _core.arobot_event_types().items()}
+    alphabet = Alphabet(events=events, visual=["eExecute"], **MOTION_SYMBOLS)
+    rooms = {room.marker: room.goal for room in world.rooms.values()}
+    radius = max((r.radius for r in world.robots), default=0.18)
+    _core.add_arobot(alphabet, decider, world.grid, rooms, radius=radius, goal_tolerance=goal_tolerance,
+                     step_length=step_length)
+    return World(alphabet)
+
+
+class Orders(_core.Generator):
+    """gObjective: the users' orders — a timed script, calls to order(), and lines read from a
+    stream (``kitchen`` for robot 1, or ``2 kitchen``) — as eObjective<to=robot, marker> events."""
+
+    name = "gObjective"
+
+    def __init__(self, world: RobotWorld) -> None:
+        super().__init__()
+        self.world = world
+        self._pending: queue.Queue[tuple[int, int]] = queue.Queue()
+        self._script: dict[int, list[tuple[int, int]]] = {}
+        self._rooms = {room.marker: name for name, room in world.rooms.items()}
+        self.last: dict[int, str] = {}  # robot -> the last room it was sent to (orders given so far)
+        self.given = 0
+
+    def marker_of(self, room: str) -> int:
+        if room not in self.world.rooms:
+            raise SchemaError(f"goal: unknown room '{room}' (rooms: {', '.join(self.world.rooms)})")
+        return self.world.rooms[room].marker
+
+    def check_robot(self, robot: int) -> None:
+        if robot not in {r.id for r in self.world.robots}:
+            raise SchemaError(f"goal: no robot {robot} (robots: {', '.join(str(r.id) for r in self.world.robots)})")
+
+    def order(self, robot: int, room: str) -> None:
+        """Send `robot` to `room` at the next frame."""
+        self.check_robot(robot)
+        self._pending.put((robot, self.marker_of(room)))
+
+    def schedule(self, frame: int, robot: int, room: str) -> None:
+        """Send `robot` to `room` at `frame`."""
+        self.check_robot(robot)
+        self._script.setdefault(frame, []).append((robot, self.marker_of(room)))
+
+    def pending(self, frame: int) -> bool:
+        """Whether orders are still to come after `frame`."""
+        return not self._pending.empty() or any(f > frame for f in self._script)
+
+    def read_lines(self, stream: TextIO, on_error: Callable[[str], None]) -> threading.Thread:
+        """Take orders from `stream` as they come, in a background thread."""
+
+        def loop() -> None:
+            for line in stream:
+                words = line.replace(":", " ").split()
+                if not words:
+                    continue
+                try:
+                    robot, room = (int(words[0]), words[1]) if len(words) > 1 else (self.world.robots[0].id, words[0])
+                    self.order(robot, room)
+                except (SchemaError, ValueError) as e:
+                    on_error(str(e))
+
+        thread = threading.Thread(target=loop, name="vwg-orders", daemon=True)
+        thread.start()
+        return thread
+
+    def generate(self, frame: _core.FrameInfo) -> list[_core.Event]:
+        events = [_core.Event("eObjective", target=r, marker=m) for r, m in self._script.get(frame.frame, [])]
+        while True:
+            try:
+                robot, marker = self._pending.get_nowait()
+            except queue.Empty:
+                break
+            events.append(_core.Event("eObjective", target=robot, marker=marker))
+        for e in events:
+            self.last[e.target] = self._rooms[e.marker]
+        self.given += len(events)
+        return events
+
+
+@dataclass
+class RobotSummary:
+    id: int
+    room: str | None       # the last room ordered
+    reached: bool          # at that room's goal (true pose within the tolerance) at the end
+    distance_to_goal_m: float
+    path_length_m: float   # metres driven (true)
+    collisions: int
+    replans: int
+    commands: int
+
+
+@dataclass
+class RunSummary:
+    world: str
+    planner: str
+    reached: bool          # every robot that had an order reached its last room
+    frames: int
+    simulated_time_s: float
+    wall_time_s: float
+    path_length_m: float
+    collisions: int
+    replans: int
+    seed: int
+    robots: list[RobotSummary] = field(default_factory=list)
+    outputs: dict[str, str] = field(default_factory=dict)
+
+    def to_json(self) -> dict[str, Any]:
+        import dataclasses
+
+        return dataclasses.asdict(self)
+
+
+class CaseStudy:
+    """A robot world ready to run: ``engine``, ``sim``, ``orders``; ``run()`` gives a RunSummary."""
+
+    def __init__(self, world: RobotWorld, planner: str | _core.Decider = "astar", *,
+                 goals: Mapping[int, str] | None = None, seed: int | None = None, frames: int | None = None,
+                 sensors: Iterable[str] = ("laser", "kinect"), video: str | Path | None = None,
+                 images: str | Path | None = None, view_width: int = 800, max_symbols: int = 0,
+                 world_orders: bool = True) -> None:
+        self.world = world
+        self.seed = world.seed if seed is None else seed
+        self.frames = world.frames if frames is None else frames
+        self.decider = make_decider(planner)
+        self.planner = planner if isinstance(planner, str) else self.decider.name
+        self.vworld = case_study_world(world, self.decider)
+        alphabet = self.vworld.alphabet
+        self.sim = Simulation(world, seed=self.seed)
+        self.orders = Orders(world)
+        for order in world.orders if world_orders else ():
+            self.orders.schedule(math.ceil(order.time / world.dt - 1e-9), order.robot, order.room)
+        for robot, room in (goals or {}).items():
+            self.orders.schedule(0, robot, room)
+        generators: list[Any] = [*self.sim.feedback(alphabet), *self.sim.sensors(alphabet, tuple(sensors)),
+                                 *self.cameras(alphabet), self.orders, every_frame("eDecide"), every_frame("eExecute")]
+        self.view: _core.SimView | None = None
+        backend: _core.Backend = self.sim.backend
+        if video or images:
+            self.view = self.sim.view(width=view_width, video=str(video) if video else None,
+                                      images=str(images) if images else None)
+            backend = _core.BackendGroup([self.sim.backend, self.view])
+        self.engine = Engine(self.vworld, self.initial_string(), generators, backend, dt=world.dt, seed=self.seed,
+                             max_symbols=max_symbols)
+        self.engine.add_observer(self._after_frame)
+        self.video = str(video) if video else None
+        self.wall_time = 0.0
+        self.trajectories: dict[int, list[tuple[float, float]]] = {}
+
+    def cameras(self, alphabet: _core.Alphabet) -> list[_core.Generator]:
+        """gCamera for the robots that have a camera (when the camera generator is available)."""
+        make = getattr(self.sim, "camera", None)
+        if make is None:
+            return []
+        return [make(alphabet, r.id) for r in self.world.robots if "camera" in r.sensors]
+
+    def initial_string(self) -> _core.String:
+        """Eq. 13: ARobot<grid, row, column, angle, ε, ε> per robot, its grid the known map."""
+        from .actor import Sym
+
+        parts = []
+        for robot in self.world.robots:
+            x, y, yaw = robot.start
+            row, col = self.world.grid.world_to_cell(x, y)
+            grid = _core.robot_map(self.world.grid, True)
+            parts.append(Sym("ARobot", id=robot.id, grid=grid, row=row, column=col, angle=float(yaw), x=float(x),
+                             y=float(y)))
+        return self.vworld.string(*parts)
+
+    def robot_actors(self, w: _core.String | None = None) -> dict[int, _core.Node]:
+        w = self.engine.string if w is None else w
+        return {a["id"]: a for a in w.actors() if a.name == "ARobot"}
+
+    def _after_frame(self, record: _core.FrameRecord) -> None:
+        for spec in self.world.robots:
+            self.trajectories.setdefault(spec.id, []).append(self.sim.robot(spec.id).pose[:2])
+        if self.view is not None:
+            statuses = []
+            for rid, actor in self.robot_actors(record.after).items():
+                path = np.asarray(actor["path"])
+                self.view.set_path(rid, path if len(path) else None)
+                statuses.append(f"{rid}: {actor['status']}")
+            self.view.set_status("   ".join(statuses))
+        if self._done(record.frame):
+            self.engine.request_stop()
+
+    def _done(self, frame: int) -> bool:
+        if self.orders.pending(frame) or self.orders.given == 0:
+            return False
+        actors = self.robot_actors()
+        return all(actors[r]["reached"] for r in self.orders.last)
+
+    def run(self, frames: int | None = None, progress: bool | None = False) -> RunSummary:
+        start = time.perf_counter()
+        try:
+            self.engine.run(self.frames if frames is None else frames, progress=progress)
+        finally:
+            self.wall_time += time.perf_counter() - start
+            if self.view is not None:
+                self.view.close()
+        return self.summary()
+
+    def summary(self) -> RunSummary:
+        actors = self.robot_actors()
+        robots = []
+        for spec in self.world.robots:
+            state = self.sim.robot(spec.id)
+            room = self.orders.last.get(spec.id)
+            dist = math.inf
+            if room is not None:
+                gx, gy = self.world.rooms[room].goal
+                dist = math.hypot(state.pose[0] - gx, state.pose[1] - gy)
+            actor = actors.get(spec.id)
+            robots.append(RobotSummary(
+                id=spec.id, room=room, reached=room is not None and dist <= 0.3 + 1e-9,
+                distance_to_goal_m=dist, path_length_m=state.travelled, collisions=int(state.collisions),
+                replans=int(actor["replans"]) if actor is not None else 0, commands=int(state.commands)))
+        ordered = [r for r in robots if r.room is not None]
+        outputs = {"video": self.video} if self.video else {}
+        return RunSummary(
+            world=self.world.name, planner=self.planner, reached=bool(ordered) and all(r.reached for r in ordered),
+            frames=self.engine.frame, simulated_time_s=self.engine.time, wall_time_s=self.wall_time,
+            path_length_m=sum(r.path_length_m for r in robots), collisions=sum(r.collisions for r in robots),
+            replans=sum(r.replans for r in robots), seed=self.seed, robots=robots, outputs=outputs)
+
+    def save_trajectory(self, path: str | Path) -> None:
+        """A PNG of the map with every robot's trajectory, path and final pose."""
+        renderer = _core.TopDownRenderer(self.world.grid, width=900, header=40)
+        renderer.begin(frame=self.engine.frame, time=self.engine.time, status=f"{self.world.name}: {self.planner}")
+        for room in self.world.rooms.values():
+            renderer.draw_marker(room.at[0], room.at[1], room.facing, room.name, room.marker)
+        for rid, points in self.trajectories.items():
+            renderer.draw_trajectory(np.asarray(points), rid)
+        for spec in self.world.robots:
+            renderer.draw_robot(self.sim.robot(spec.id).pose, spec.radius, spec.id)
+        renderer.save(str(path))
+
+
+def _stderr(message: str) -> None:
+    print(f"vwg: {message}", file=sys.stderr)
