@@ -177,6 +177,8 @@ constexpr const char* kViewArgs =
 
 }  // namespace
 
+std::vector<sim::WallMarker> wall_markers_from_python(py::handle markers) { return markers_from_python(markers); }
+
 void init_camera(py::module_& m) {
   py::class_<Camera, std::shared_ptr<Camera>>(m, "CameraRenderer", R"doc(
 The simulated robot camera: first-person images of the world made from the 2D map, with the
@@ -191,7 +193,7 @@ the tag with its white ring, 10/8 × size. noise: standard deviation of added gr
 Gaussian sigma in pixels (before the noise); seed: the noise sequence.
 
 markers: a list of dicts or objects (vwg.robotworld.Room) with id (or marker), at=(x, y) (or x and
-y), facing, and optionally size (0.3), height (1.2), label; or RobotWorld.rooms (a dict).)doc")
+y), facing, and optionally size (0.3), height (0.6), label; or RobotWorld.rooms (a dict).)doc")
       .def(py::init([](py::object grid, py::object markers, int width, int height, double hfov, double mount_height,
                        double wall_height, double robot_height, double noise, double blur, std::uint64_t seed, int threshold) {
              sim::CameraSpec spec;

@@ -29,4 +29,6 @@ PYBIND11_MODULE(_core, m) {
   init_view(m);
   init_plan(m);
   init_robot(m);
+  init_camera(m);
+  init_camera_generator(m);
 }

@@ -8,7 +8,7 @@ import numpy
 import numpy.typing
 import os
 import typing
-__all__: list[str] = ['ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'Backend', 'BackendGroup', 'Blob', 'CollisionGenerator', 'DStarLite', 'Decider', 'DecisionInput', 'Engine', 'Event', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'Generator', 'GridDecider', 'GridRaycaster', 'ImageSequence', 'KinectGenerator', 'LaserGenerator', 'Node', 'NullBackend', 'OdometryGenerator', 'OmplDecider', 'OmplPlan', 'OmplPlanner', 'PhysicsWorld', 'PythonActor', 'RandomDecider', 'RangeScanner', 'RenderStyle', 'RobotState', 'SimBackend', 'SimView', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoWriter', 'add_arobot', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'arobot_action', 'arobot_event_types', 'astar', 'build_string', 'detect_apriltags', 'display', 'estimate_tag_pose', 'evolve', 'plan_ompl', 'read_image', 'robot_map', 'visualize', 'walker_behavior', 'write_image']
+__all__: list[str] = ['ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'Backend', 'BackendGroup', 'Blob', 'CameraGenerator', 'CameraRenderer', 'CollisionGenerator', 'DStarLite', 'Decider', 'DecisionInput', 'Engine', 'Event', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'Generator', 'GridDecider', 'GridRaycaster', 'ImageFiles', 'ImageSequence', 'ImageSource', 'KinectGenerator', 'LaserGenerator', 'Node', 'NullBackend', 'OdometryGenerator', 'OmplDecider', 'OmplPlan', 'OmplPlanner', 'OverviewCamera', 'PhysicsWorld', 'PythonActor', 'RandomDecider', 'RangeScanner', 'RenderStyle', 'RobotState', 'SimBackend', 'SimView', 'SimulatedCamera', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoSource', 'VideoWriter', 'add_arobot', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'arobot_action', 'arobot_event_types', 'astar', 'build_string', 'detect_apriltags', 'display', 'estimate_tag_pose', 'evolve', 'overview_camera', 'plan_ompl', 'read_image', 'render_overview', 'robot_map', 'visualize', 'walker_behavior', 'write_image']
 class Blob:
     """
     A large attribute value held by reference from world strings (an occupancy grid, an image, a path).
@@ -1465,6 +1465,189 @@ class OmplDecider(Decider):
     @property
     def searches(self) -> int:
         ...
+class CameraRenderer:
+    """
+    The simulated robot camera: first-person images of the world made from the 2D map, with the
+    AprilTag (tag36h11) markers of the rooms on their walls.
+    
+    Walls are the blocked cells (>= threshold) extruded from the floor to wall_height, with a ceiling
+    there; other robots are cylinders robot_height tall; the camera sits mount_height above the floor,
+    level, looking along the pose's heading. The projection is an exact pinhole with fx = fy =
+    (width/2) / tan(hfov/2) and (cx, cy) = ((width-1)/2, (height-1)/2) (OpenCV: pixel centres at whole
+    numbers). A marker's size is the edge of its outer black square; the square drawn on the wall is
+    the tag with its white ring, 10/8 × size. noise: standard deviation of added grey levels; blur:
+    Gaussian sigma in pixels (before the noise); seed: the noise sequence.
+    
+    markers: a list of dicts or objects (vwg.robotworld.Room) with id (or marker), at=(x, y) (or x and
+    y), facing, and optionally size (0.3), height (0.6), label; or RobotWorld.rooms (a dict).
+    """
+    def __init__(self, grid: typing.Any, markers: typing.Any = [], width: typing.SupportsInt | typing.SupportsIndex = 640, height: typing.SupportsInt | typing.SupportsIndex = 480, hfov: typing.SupportsFloat | typing.SupportsIndex = 1.0471975511965976, mount_height: typing.SupportsFloat | typing.SupportsIndex = 0.5, wall_height: typing.SupportsFloat | typing.SupportsIndex = 2.5, robot_height: typing.SupportsFloat | typing.SupportsIndex = 0.4, noise: typing.SupportsFloat | typing.SupportsIndex = 0.0, blur: typing.SupportsFloat | typing.SupportsIndex = 0.0, seed: typing.SupportsInt | typing.SupportsIndex = 0, threshold: typing.SupportsInt | typing.SupportsIndex = 50) -> None:
+        ...
+    def __repr__(self) -> str:
+        ...
+    def apriltag_intrinsics(self) -> tuple[float, float, float, float]:
+        """
+        (fx, fy, cx, cy) for vwg.estimate_tag_pose on these images: the detector puts pixel centres at +0.5, so cx, cy are this camera's + 0.5.
+        """
+    def render(self, pose: typing.Any, robots: typing.Any = [], grey: bool = False) -> numpy.typing.NDArray[numpy.uint8]:
+        """
+        The image seen from pose (x, y, yaw): H×W×3 uint8 RGB, or H×W uint8 grey (the luma) with grey=True. robots: the other robots (vwg.RobotState, RobotSpec, or dicts with pose and radius, optional id for the colour); a robot whose cylinder holds the camera is skipped. Releases the GIL.
+        """
+    def reseed(self, seed: typing.SupportsInt | typing.SupportsIndex) -> None:
+        """
+        Restart the noise sequence.
+        """
+    @property
+    def blur(self) -> float:
+        ...
+    @property
+    def cx(self) -> float:
+        """
+        Principal point, OpenCV convention: (width - 1) / 2.
+        """
+    @property
+    def cy(self) -> float:
+        """
+        Principal point, OpenCV convention: (height - 1) / 2.
+        """
+    @property
+    def fx(self) -> float:
+        """
+        Focal length, pixels.
+        """
+    @property
+    def fy(self) -> float:
+        """
+        Focal length, pixels (= fx).
+        """
+    @property
+    def height(self) -> int:
+        ...
+    @property
+    def hfov(self) -> float:
+        """
+        Horizontal field of view, radians.
+        """
+    @property
+    def markers(self) -> list:
+        """
+        The markers as read: dicts with id, at, facing, size, height, label.
+        """
+    @property
+    def mount_height(self) -> float:
+        ...
+    @property
+    def noise(self) -> float:
+        ...
+    @property
+    def robot_height(self) -> float:
+        ...
+    @property
+    def wall_height(self) -> float:
+        ...
+    @property
+    def width(self) -> int:
+        ...
+class OverviewCamera:
+    """
+    The projection of a 3D overview: world points (metres, z up) to pixels.
+    """
+    def project(self, x: typing.SupportsFloat | typing.SupportsIndex, y: typing.SupportsFloat | typing.SupportsIndex, z: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> typing.Any:
+        """
+        Pixel (u, v) of a world point (OpenCV convention: pixel centres at whole numbers); None behind the eye.
+        """
+    @property
+    def cu(self) -> float:
+        ...
+    @property
+    def cv(self) -> float:
+        ...
+    @property
+    def down(self) -> typing.Annotated[list[float], "FixedSize(3)"]:
+        """
+        The image's y axis in the world.
+        """
+    @property
+    def eye(self) -> typing.Annotated[list[float], "FixedSize(3)"]:
+        """
+        The eye (orthographic: a point far behind the scene).
+        """
+    @property
+    def focal(self) -> float:
+        """
+        Perspective: pixels per unit x/z; orthographic: pixels per metre.
+        """
+    @property
+    def forward(self) -> typing.Annotated[list[float], "FixedSize(3)"]:
+        """
+        The line of sight.
+        """
+    @property
+    def height(self) -> int:
+        ...
+    @property
+    def orthographic(self) -> bool:
+        ...
+    @property
+    def right(self) -> typing.Annotated[list[float], "FixedSize(3)"]:
+        """
+        The image's x axis in the world.
+        """
+    @property
+    def width(self) -> int:
+        ...
+class ImageSource:
+    """
+    Where gCamera's images come from: SimulatedCamera, ImageFiles or VideoSource.
+    """
+class ImageFiles(ImageSource):
+    """
+    One image file per frame, in order (none after the last).
+    """
+    def __init__(self, paths: collections.abc.Sequence[str]) -> None:
+        ...
+class VideoSource(ImageSource):
+    """
+    A video file, or a live camera (a device number), through OpenCV: one image per frame.
+    """
+    @typing.overload
+    def __init__(self, path: str) -> None:
+        ...
+    @typing.overload
+    def __init__(self, device: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+class SimulatedCamera(ImageSource):
+    """
+    The robot's view in the simulated world (see CameraRenderer), other robots included.
+    """
+    def __init__(self, world: PhysicsWorld, robot: typing.SupportsInt | typing.SupportsIndex, grid: typing.Any, markers: typing.Any, width: typing.SupportsInt | typing.SupportsIndex = 640, height: typing.SupportsInt | typing.SupportsIndex = 480, hfov: typing.SupportsFloat | typing.SupportsIndex = 1.0471975511965976, mount_height: typing.SupportsFloat | typing.SupportsIndex = 0.5, wall_height: typing.SupportsFloat | typing.SupportsIndex = 2.5, noise: typing.SupportsFloat | typing.SupportsIndex = 0.0, blur: typing.SupportsFloat | typing.SupportsIndex = 0.0, seed: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
+        ...
+    def apriltag_intrinsics(self) -> tuple[float, float, float, float]:
+        """
+        (fx, fy, cx, cy) in the AprilTag library's pixel convention, for CameraGenerator.
+        """
+class CameraGenerator(Generator):
+    """
+    gCamera: each frame an image from `source`; for each AprilTag found, eCamera<to=robot, marker, dist,
+    angle> with the tag id, its horizontal distance (metres) and bearing (radians, left positive),
+    from the tag pose (intrinsics in the AprilTag convention: pixel centres at +0.5; tag_size: edge of
+    the black square, or tag_sizes per id). ``image`` is the last image, ``detections`` its tags.
+    """
+    def __init__(self, source: ImageSource, robot: typing.SupportsInt | typing.SupportsIndex, alphabet: Alphabet, fx: typing.SupportsFloat | typing.SupportsIndex, fy: typing.SupportsFloat | typing.SupportsIndex, cx: typing.SupportsFloat | typing.SupportsIndex, cy: typing.SupportsFloat | typing.SupportsIndex, tag_size: typing.SupportsFloat | typing.SupportsIndex = 0.3, tag_sizes: collections.abc.Mapping[typing.SupportsInt | typing.SupportsIndex, typing.SupportsFloat | typing.SupportsIndex] = {}, quad_decimate: typing.SupportsFloat | typing.SupportsIndex = 2.0, refine_edges: bool = True, period: typing.SupportsInt | typing.SupportsIndex = 1, event: str = 'eCamera') -> None:
+        ...
+    @property
+    def detections(self) -> list[AprilTagDetection]:
+        """
+        The tags found in the last image.
+        """
+    @property
+    def image(self) -> typing.Any:
+        """
+        The last image (grey, a copy), or None.
+        """
+    @property
+    def robot(self) -> int:
+        ...
 def add_arobot(alphabet: Alphabet, decider: Decider, grid: typing.Any, rooms: dict, radius: typing.SupportsFloat | typing.SupportsIndex = 0.18, margin: typing.SupportsFloat | typing.SupportsIndex = 0.07, goal_tolerance: typing.SupportsFloat | typing.SupportsIndex = 0.25, step_length: typing.SupportsFloat | typing.SupportsIndex = 1.0, carve: bool = True, name: str = 'ARobot') -> None:
     """
     Register the actor type ARobot (paper eq. 11) with its decider. `grid` gives the map geometry,
@@ -1526,6 +1709,10 @@ def evolve(w: String, events: typing.Any, frame: typing.SupportsInt | typing.Sup
     """
     η(w, S) (paper eq. 8): every actor takes the events of S it responds to, in order.
     """
+def overview_camera(grid: typing.Any, wall_height: typing.SupportsFloat | typing.SupportsIndex = 2.5, width: typing.SupportsInt | typing.SupportsIndex = 1000, height: typing.SupportsInt | typing.SupportsIndex = 700, azimuth: typing.SupportsFloat | typing.SupportsIndex = -1.9, elevation: typing.SupportsFloat | typing.SupportsIndex = 1.1, fov: typing.SupportsFloat | typing.SupportsIndex = 0.6, threshold: typing.SupportsInt | typing.SupportsIndex = 50, target: typing.Any = None, scale: typing.Any = None, distance: typing.Any = None) -> OverviewCamera:
+    """
+    The projection render_overview uses with these arguments (to draw over its image). azimuth: direction from the map's centre towards the eye, radians counter-clockwise from +x (-π/2: from the south). elevation: how steeply the eye looks down, radians (π/2: straight down). fov: horizontal field of view, radians; 0 = orthographic. Without target the view frames the map's free cells and their walls; with target (x, y[, z]) it aims there with scale pixels per metre (orthographic) or the eye distance metres away (perspective).
+    """
 def plan_ompl(blocked: numpy.typing.NDArray[numpy.bool_], resolution: float, origin: tuple[float, float] | tuple[float, float, float], start_pose: tuple[float, float] | tuple[float, float, float], goal_pose: tuple[float, float] | tuple[float, float, float], robot_radius: float, planner: str = 'RRTConnect', time_limit: float = 1.0, seed: int = 0, *, simplify: bool = True, spacing: float | None = None, iterations: int = 0) -> OmplPlan:
     """
     Plan a path for a disc robot with an OMPL planner, in SE(2).
@@ -1547,6 +1734,10 @@ def plan_ompl(blocked: numpy.typing.NDArray[numpy.bool_], resolution: float, ori
 def read_image(path: str) -> numpy.ndarray[typing.Any, numpy.dtype[typing.Any]]:
     """
     Read an image file (PNG, PGM, BMP, JPEG) as stored: uint8 or uint16, H×W, H×W×3 (RGB) or H×W×4 (RGBA).
+    """
+def render_overview(grid: typing.Any, markers: typing.Any = [], robots: typing.Any = [], wall_height: typing.SupportsFloat | typing.SupportsIndex = 2.5, width: typing.SupportsInt | typing.SupportsIndex = 1000, height: typing.SupportsInt | typing.SupportsIndex = 700, azimuth: typing.SupportsFloat | typing.SupportsIndex = -1.9, elevation: typing.SupportsFloat | typing.SupportsIndex = 1.1, fov: typing.SupportsFloat | typing.SupportsIndex = 0.6, robot_height: typing.SupportsFloat | typing.SupportsIndex = 0.4, labels: bool = True, supersample: typing.SupportsInt | typing.SupportsIndex = 3, threshold: typing.SupportsInt | typing.SupportsIndex = 50, target: typing.Any = None, scale: typing.Any = None, distance: typing.Any = None) -> numpy.ndarray[typing.Any, numpy.dtype[typing.Any]]:
+    """
+    A 3D overview of a map (the paper's Fig. 5) as an H×W×3 uint8 RGB array: walls (cells >= threshold) extruded to wall_height and lit, the floor with their shadows and 1 m tiles, the markers (as for CameraRenderer) as their tags in an orange frame with their labels, robots (as for CameraRenderer.render) as cylinders in the 2D view's colours. azimuth: direction from the map's centre towards the eye, radians counter-clockwise from +x (-π/2: from the south). elevation: how steeply the eye looks down, radians (π/2: straight down). fov: horizontal field of view, radians; 0 = orthographic. Without target the view frames the map's free cells and their walls; with target (x, y[, z]) it aims there with scale pixels per metre (orthographic) or the eye distance metres away (perspective). supersample: rays per pixel side (1..4). Releases the GIL.
     """
 def robot_map(grid: typing.Any, knows_map: bool = True) -> Blob:
     """

@@ -177,7 +177,7 @@ class CaseStudy:
 
     def __init__(self, world: RobotWorld, planner: str | _core.Decider = "astar", *,
                  goals: Mapping[int, str] | None = None, seed: int | None = None, frames: int | None = None,
-                 sensors: Iterable[str] = ("laser", "kinect"), video: str | Path | None = None,
+                 sensors: Iterable[str] = ("laser", "kinect", "camera"), video: str | Path | None = None,
                  images: str | Path | None = None, view_width: int = 800, max_symbols: int = 0,
                  world_orders: bool = True) -> None:
         self.world = world
@@ -194,7 +194,7 @@ class CaseStudy:
         for robot, room in (goals or {}).items():
             self.orders.schedule(0, robot, room)
         generators: list[Any] = [*self.sim.feedback(alphabet), *self.sim.sensors(alphabet, tuple(sensors)),
-                                 *self.cameras(alphabet), self.orders, every_frame("eDecide"), every_frame("eExecute")]
+                                 self.orders, every_frame("eDecide"), every_frame("eExecute")]
         self.view: _core.SimView | None = None
         backend: _core.Backend = self.sim.backend
         if video or images:
@@ -207,13 +207,6 @@ class CaseStudy:
         self.video = str(video) if video else None
         self.wall_time = 0.0
         self.trajectories: dict[int, list[tuple[float, float]]] = {}
-
-    def cameras(self, alphabet: _core.Alphabet) -> list[_core.Generator]:
-        """gCamera for the robots that have a camera (when the camera generator is available)."""
-        make = getattr(self.sim, "camera", None)
-        if make is None:
-            return []
-        return [make(alphabet, r.id) for r in self.world.robots if "camera" in r.sensors]
 
     def initial_string(self) -> _core.String:
         """Eq. 13: ARobot<grid, row, column, angle, ε, ε> per robot, its grid the known map."""

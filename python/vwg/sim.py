@@ -9,7 +9,8 @@ view (a backend that draws the simulation and records video).
                         backend=vwg.BackendGroup([sim.backend, sim.view(video="run.mp4")]))
 
 The events the sensors and feedback make (declare them in the alphabet; ``SIM_EVENTS`` has them):
-``eLaser<dist, angle>`` per beam that met an obstacle, ``eOdometry<x, y, angle, busy, commands>`` per robot
+``eLaser<dist, angle>`` per beam that met an obstacle, ``eCamera<marker, dist, angle>`` per tag seen,
+``eOdometry<x, y, angle, busy, commands>`` per robot
 per frame, ``eCollision<other>`` per contact; all addressed to the robot (``to=id``).
 """
 
@@ -26,6 +27,7 @@ __all__ = ["MOTION_SYMBOLS", "SIM_EVENTS", "Simulation"]
 #: Event types of the simulator's generators, as Alphabet(events=...) takes them.
 SIM_EVENTS: dict[str, dict[str, Any]] = {
     "eLaser": {"dist": 0.0, "angle": 0.0},
+    "eCamera": {"marker": 0, "dist": 0.0, "angle": 0.0},
     "eOdometry": {"x": 0.0, "y": 0.0, "angle": 0.0, "busy": False, "commands": 0},
     "eCollision": {"other": 0},
 }
@@ -53,6 +55,7 @@ class Simulation:
         self.backend = _core.SimBackend(self.physics)
         self.lasers: list[_core.LaserGenerator] = []
         self.kinects: list[_core.KinectGenerator] = []
+        self.cameras: list[_core.CameraGenerator] = []
 
     def laser(self, alphabet: _core.Alphabet, robot: int, **overrides: Any) -> _core.LaserGenerator:
         """gLaser for one robot, with the world's laser settings (and these overrides)."""
@@ -73,16 +76,34 @@ class Simulation:
         self.kinects.append(gen)
         return gen
 
-    def sensors(self, alphabet: _core.Alphabet, kinds: tuple[str, ...] = ("laser", "kinect")) -> list[_core.Generator]:
-        """The range sensors each robot lists (of `kinds`), robot by robot, in the world's order."""
-        gens: list[_core.Generator] = []
+    def camera(self, alphabet: _core.Alphabet, robot: int, period: int = 3, **overrides: Any) -> _core.CameraGenerator:
+        """gCamera for one robot: its simulated camera, AprilTag detection every `period` frames."""
+        spec = dataclasses.replace(self.world.camera, **overrides)
+        source = _core.SimulatedCamera(self.physics, robot, self.world.grid, self.world.rooms, width=spec.width,
+                                       height=spec.height, hfov=spec.hfov, mount_height=spec.mount_height,
+                                       wall_height=self.world.wall_height, noise=spec.noise, blur=spec.blur,
+                                       seed=self.seed * 1009 + robot)
+        fx, fy, cx, cy = source.apriltag_intrinsics()
+        sizes = {room.marker: room.size for room in self.world.rooms.values()}
+        gen = _core.CameraGenerator(source, robot, alphabet, fx, fy, cx, cy, tag_sizes=sizes, period=period)
+        self.cameras.append(gen)
+        return gen
+
+    def sensors(self, alphabet: _core.Alphabet, kinds: tuple[str, ...] = ("laser", "kinect", "camera"),
+                ranges_first: bool = True) -> list[_core.Generator]:
+        """The sensors each robot lists (of `kinds`): all range sensors robot by robot (gLaser,
+        gKinect), then the cameras (gCamera), as the paper's priority order has them."""
+        ranging: list[_core.Generator] = []
+        cameras: list[_core.Generator] = []
         for robot in self.world.robots:
             for sensor in robot.sensors:
                 if sensor == "laser" and "laser" in kinds:
-                    gens.append(self.laser(alphabet, robot.id))
+                    ranging.append(self.laser(alphabet, robot.id))
                 elif sensor == "kinect" and "kinect" in kinds:
-                    gens.append(self.kinect(alphabet, robot.id))
-        return gens
+                    ranging.append(self.kinect(alphabet, robot.id))
+                elif sensor == "camera" and "camera" in kinds:
+                    cameras.append(self.camera(alphabet, robot.id))
+        return ranging + cameras
 
     def feedback(self, alphabet: _core.Alphabet) -> list[_core.Generator]:
         """Odometry and collisions of every robot, as events."""

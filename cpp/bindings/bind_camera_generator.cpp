@@ -1,0 +1,80 @@
+// gCamera in Python: the generator and its image sources (simulated camera, image files, video
+// file, live camera).
+#include <string>
+
+#include "sim_convert.hpp"
+#include "vwg/perception/camera_generator.hpp"
+#include "vwg/perception/image_source.hpp"
+#include "vwg/sim/camera_source.hpp"
+
+namespace vwg::bindings {
+
+void init_camera_generator(py::module_& m) {
+  py::class_<perception::ImageSource, std::shared_ptr<perception::ImageSource>>(m, "ImageSource",
+      "Where gCamera's images come from: SimulatedCamera, ImageFiles or VideoSource.");
+  py::class_<perception::ImageFiles, perception::ImageSource, std::shared_ptr<perception::ImageFiles>>(m, "ImageFiles",
+      "One image file per frame, in order (none after the last).")
+      .def(py::init<std::vector<std::string>>(), py::arg("paths"));
+  py::class_<perception::VideoSource, perception::ImageSource, std::shared_ptr<perception::VideoSource>>(m, "VideoSource",
+      "A video file, or a live camera (a device number), through OpenCV: one image per frame.")
+      .def(py::init<const std::string&>(), py::arg("path"))
+      .def(py::init<int>(), py::arg("device"));
+  py::class_<sim::SimulatedCamera, perception::ImageSource, std::shared_ptr<sim::SimulatedCamera>>(m, "SimulatedCamera",
+      "The robot's view in the simulated world (see CameraRenderer), other robots included.")
+      .def(py::init([](std::shared_ptr<sim::PhysicsWorld> world, int robot, py::object grid, py::object markers, int width,
+                       int height, double hfov, double mount_height, double wall_height, double noise, double blur,
+                       std::uint64_t seed) {
+             sim::CameraSpec spec;
+             spec.width = width;
+             spec.height = height;
+             spec.hfov = hfov;
+             spec.mount_height = mount_height;
+             spec.wall_height = wall_height;
+             spec.noise = noise;
+             spec.blur = blur;
+             auto renderer = std::make_shared<sim::CameraRenderer>(grid_from_python(grid), wall_markers_from_python(markers),
+                                                                  spec, 50, seed);
+             return std::make_shared<sim::SimulatedCamera>(std::move(world), robot, std::move(renderer));
+           }),
+           py::arg("world"), py::arg("robot"), py::arg("grid"), py::arg("markers"), py::arg("width") = 640,
+           py::arg("height") = 480, py::arg("hfov") = sim::CameraSpec{}.hfov, py::arg("mount_height") = 0.5,
+           py::arg("wall_height") = 2.5, py::arg("noise") = 0.0, py::arg("blur") = 0.0, py::arg("seed") = 0)
+      .def("apriltag_intrinsics", [](const sim::SimulatedCamera& c) {
+        const auto i = c.renderer().apriltag_intrinsics();
+        return py::make_tuple(i.fx, i.fy, i.cx, i.cy);
+      }, "(fx, fy, cx, cy) in the AprilTag library's pixel convention, for CameraGenerator.");
+
+  py::class_<perception::CameraGenerator, Generator, std::shared_ptr<perception::CameraGenerator>>(m, "CameraGenerator", R"doc(
+gCamera: each frame an image from `source`; for each AprilTag found, eCamera<to=robot, marker, dist,
+angle> with the tag id, its horizontal distance (metres) and bearing (radians, left positive),
+from the tag pose (intrinsics in the AprilTag convention: pixel centres at +0.5; tag_size: edge of
+the black square, or tag_sizes per id). ``image`` is the last image, ``detections`` its tags.)doc")
+      .def(py::init([](std::shared_ptr<perception::ImageSource> source, int robot, const Alphabet& alphabet, double fx,
+                       double fy, double cx, double cy, double tag_size, std::map<int, double> tag_sizes, double quad_decimate,
+                       bool refine_edges, int period, const std::string& event) {
+             perception::CameraGeneratorSettings s;
+             s.robot = robot;
+             s.intrinsics = perception::CameraIntrinsics{fx, fy, cx, cy};
+             s.tag_size = tag_size;
+             s.tag_sizes = std::move(tag_sizes);
+             s.detector.quad_decimate = quad_decimate;
+             s.detector.refine_edges = refine_edges;
+             s.period = period;
+             return std::make_shared<perception::CameraGenerator>(std::move(source), s, alphabet, event);
+           }),
+           py::arg("source"), py::arg("robot"), py::arg("alphabet"), py::arg("fx"), py::arg("fy"), py::arg("cx"),
+           py::arg("cy"), py::arg("tag_size") = 0.3, py::arg("tag_sizes") = std::map<int, double>{},
+           py::arg("quad_decimate") = 2.0, py::arg("refine_edges") = true, py::arg("period") = 1,
+           py::arg("event") = "eCamera")
+      .def_property_readonly("image", [](const perception::CameraGenerator& g) -> py::object {
+        const cv::Mat& im = g.image();
+        if (im.empty()) return py::none();
+        py::array_t<std::uint8_t> out({im.rows, im.cols});
+        for (int r = 0; r < im.rows; ++r) std::memcpy(out.mutable_data(r, 0), im.ptr(r), static_cast<std::size_t>(im.cols));
+        return out;
+      }, "The last image (grey, a copy), or None.")
+      .def_property_readonly("detections", &perception::CameraGenerator::detections, "The tags found in the last image.")
+      .def_property_readonly("robot", &perception::CameraGenerator::robot);
+}
+
+}  // namespace vwg::bindings

@@ -1,0 +1,53 @@
+// Where gCamera's images come from: the simulated camera, image files, a video file or a live
+// camera — the same generator and the same events whichever it is (paper test 2, device
+// independence, for the camera).
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "vwg/generator.hpp"
+
+namespace vwg::perception {
+
+class ImageSource {
+ public:
+  virtual ~ImageSource() = default;
+  /// The 8-bit grey image for this frame into `grey`; false when the source has no more (the end
+  /// of a list or a video). Throws vwg::Error naming the file or device when it cannot be read.
+  virtual bool grab(const FrameInfo& frame, cv::Mat& grey) = 0;
+  virtual std::string name() const = 0;
+};
+
+/// One image file per frame, in order; none after the last.
+class ImageFiles final : public ImageSource {
+ public:
+  explicit ImageFiles(std::vector<std::string> paths);
+  bool grab(const FrameInfo& frame, cv::Mat& grey) override;
+  std::string name() const override { return "image files"; }
+
+ private:
+  std::vector<std::string> paths_;
+  std::size_t next_ = 0;
+};
+
+/// A video file (or a camera device when `device` >= 0) through OpenCV's VideoCapture: one image
+/// per frame.
+class VideoSource final : public ImageSource {
+ public:
+  explicit VideoSource(const std::string& path);
+  explicit VideoSource(int device);
+  ~VideoSource() override;
+  bool grab(const FrameInfo& frame, cv::Mat& grey) override;
+  std::string name() const override { return name_; }
+
+ private:
+  struct Capture;
+  std::unique_ptr<Capture> capture_;
+  std::string name_;
+};
+
+}  // namespace vwg::perception
