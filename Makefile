@@ -55,11 +55,21 @@ install: deps venv
 	$(PIP) install -q ".[test]"
 	@$(PY) -c "import vwg; print('vwg', vwg.__version__, 'installed in $(VENV)')"
 
+## The main job: the robot case study on the office world (A* to the kitchen), its frame log
+## replayed, and the map in 3D.
 demo: install
 	@mkdir -p out
-	$(VENV)/bin/vwg run examples/01_fireflies/world.yaml --record out/fireflies.jsonl
-	$(VENV)/bin/vwg replay out/fireflies.jsonl
-	@echo "Outputs: out/fireflies.jsonl (the frame log: one line per frame, replayable)"
+	$(VENV)/bin/vwg run maps/office.yaml --planner astar --goal kitchen --no-world-orders \
+		--video out/office_kitchen.mp4 --summary-json out/office_kitchen.json --record out/office_kitchen.jsonl
+	$(VENV)/bin/vwg replay out/office_kitchen.jsonl
+	$(VENV)/bin/vwg overview maps/office.yaml -o out/office_3d.png
+	@echo
+	@echo "Outputs in out/:"
+	@echo "  office_kitchen.mp4    the run from above (H.264; any browser plays it)"
+	@echo "  office_kitchen.png    the trajectories"
+	@echo "  office_kitchen.json   the summary (reached, frames, path length, collisions, replans)"
+	@echo "  office_kitchen.jsonl  the frame log (one line per frame; vwg replay checks it)"
+	@echo "  office_3d.png         the office in 3D"
 
 test: install lint pytest cpp-test cpp-package
 	@echo "make test: all passed"
@@ -83,7 +93,7 @@ cpp-test: deps
 ## Install the C++ package, then build and run the downstream project examples/cpp against it.
 cpp-package: deps
 	cmake -S . -B $(BUILD)/cpp-release -DCMAKE_BUILD_TYPE=Release -DCMAKE_INSTALL_PREFIX=$(CURDIR)/$(BUILD)/prefix > /dev/null
-	cmake --build $(BUILD)/cpp-release -j $(JOBS)
+	cmake --build $(BUILD)/cpp-release -j $(JOBS) --target vwg_core
 	cmake --install $(BUILD)/cpp-release > /dev/null
 	cmake -S examples/cpp -B $(BUILD)/example-cpp -DCMAKE_PREFIX_PATH=$(CURDIR)/$(BUILD)/prefix > /dev/null
 	cmake --build $(BUILD)/example-cpp -j $(JOBS)

@@ -163,3 +163,18 @@ def test_cli_main_job_writes_video_summary_and_trajectory(tmp_path):
     assert {"reached", "frames", "path_length_m", "collisions", "replans"} <= set(data)
     assert data["robots"][0]["reached"] and data["robots"][0]["room"] == "kitchen"
     assert out.stat().st_size > 10000 and out.with_suffix(".png").exists()
+
+
+def test_orders_from_standard_input(tmp_path):
+    import subprocess
+    import sys
+
+    summary = tmp_path / "s.json"
+    result = subprocess.run(
+        [sys.executable, "-m", "vwg.cli", "run", str(ROOT / "maps" / "office.yaml"), "--stdin-orders",
+         "--no-world-orders", "--frames", "900", "--summary-json", str(summary), "-q"],
+        input="attic\n1 kitchen\n", capture_output=True, text=True, timeout=300)
+    assert result.returncode == 0, result.stderr
+    assert "unknown room 'attic'" in result.stderr  # a bad order is reported, the run goes on
+    robot = json.loads(summary.read_text())["robots"][0]
+    assert robot["room"] == "kitchen" and robot["reached"]

@@ -54,7 +54,8 @@ def _run_robot(args: argparse.Namespace) -> int:
     world = load_robot_world(args.world)
     video = args.video
     case = CaseStudy(world, args.planner, goals=_goals(args.goal, [r.id for r in world.robots]), seed=args.seed,
-                     frames=args.frames, video=video, images=args.images, max_symbols=args.max_symbols)
+                     frames=args.frames, video=video, images=args.images, max_symbols=args.max_symbols,
+                     world_orders=not args.no_world_orders)
     if args.stdin_orders:
         case.orders.read_lines(sys.stdin, lambda message: print(f"vwg: {message}", file=sys.stderr))
     recorder = None
@@ -104,7 +105,9 @@ def _cmd_run(args: argparse.Namespace) -> int:
 
     if _is_robot_world(args.world):
         return _run_robot(args)
-    for option in ("planner", "goal", "video", "images", "summary_json", "trajectory"):
+    robot_options = ("planner", "goal", "video", "images", "summary_json", "trajectory", "no_world_orders",
+                     "stdin_orders")
+    for option in robot_options:
         if getattr(args, option) not in (None, False, "astar"):
             raise Error(f"--{option.replace('_', '-')} is for robot worlds (world files that name a map)")
     spec = load_world(args.world, seed=args.seed, frames=args.frames, dt=args.dt, backend=args.backend)
@@ -213,6 +216,8 @@ def build_parser() -> argparse.ArgumentParser:
                             "(default astar)")
     robot.add_argument("--goal", action="append", metavar="[ROBOT:]ROOM",
                        help="send a robot (default the first) to a room at the start; repeatable")
+    robot.add_argument("--no-world-orders", action="store_true",
+                       help="ignore the orders scripted in the world file (only --goal and standard input)")
     robot.add_argument("--stdin-orders", action="store_true",
                        help="read orders while running from standard input: ROOM or ROBOT ROOM per line")
     robot.add_argument("--video", type=Path, help="write the run as a video (.mp4 H.264 or .gif)")

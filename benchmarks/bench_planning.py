@@ -1,0 +1,134 @@
+"""Replanning: D* Lite (which repairs its search) against A* from scratch, when obstacles appear on
+the robot's path — and grid A* itself, on the MovingAI benchmark maps.
+
+    walk     a robot walks its shortest path on a 512×512 MovingAI map; every 25 cells a 5×5 block
+             appears 8 cells ahead on the path; both planners replan from where the robot stands
+             (their path lengths are checked equal at every replan)
+    astar    time of one A* search per scenario of the benchmark files (octile and Euclidean)
+
+    python benchmarks/bench_planning.py [--quick]     prints tables, writes benchmarks/results/bench_planning.json
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import platform
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+import vwg
+
+ROOT = Path(__file__).resolve().parents[1]
+DATA = ROOT / "tests" / "data" / "movingai"
+RESULTS = Path(__file__).resolve().parent / "results" / "bench_planning.json"
+
+
+def movingai_blocked(name: str) -> np.ndarray:
+    grid = vwg.load_movingai(DATA / name)
+    return grid.data != 0  # rows flipped to map order; the planners do not mind
+
+
+def scenarios(name: str) -> list[tuple[tuple[int, int], tuple[int, int], float]]:
+    rows = []
+    lines = (DATA / f"{name}.scen").read_text().splitlines()[1:]
+    height = vwg.load_movingai(DATA / name).height
+    for line in lines:
+        f = line.split("\t")
+        if len(f) < 9:
+            continue
+        sx, sy, gx, gy = (int(v) for v in f[4:8])
+        rows.append((vwg.movingai_cell(sx, sy, height), vwg.movingai_cell(gx, gy, height), float(f[8])))
+    return rows
+
+
+def walk(name: str, events: int) -> dict:
+    """D* Lite and A* replanning as a robot walks and meets new obstacles."""
+    blocked = movingai_blocked(name)
+    scen = scenarios(name)
+    start, goal, _ = max(scen, key=lambda s: s[2])  # the longest scenario
+    dstar = vwg.DStarLite(blocked, start, goal)
+    t0 = time.perf_counter()
+    path, _ = dstar.path()
+    first_dstar = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    vwg.astar(blocked, start, goal)
+    first_astar = time.perf_counter() - t0
+    t_dstar = t_astar = 0.0
+    replans = 0
+    here = start
+    for _ in range(events):
+        if path is None or len(path) < 40:
+            break
+        here = path[25]
+        ahead = path[33]
+        cells = [(ahead[0] + dr, ahead[1] + dc) for dr in range(-2, 3) for dc in range(-2, 3)
+                 if 0 <= ahead[0] + dr < blocked.shape[0] and 0 <= ahead[1] + dc < blocked.shape[1]
+                 and (ahead[0] + dr, ahead[1] + dc) != here and (ahead[0] + dr, ahead[1] + dc) != goal]
+        for r, c in cells:
+            blocked[r, c] = True
+        t0 = time.perf_counter()
+        dstar.update_cells(cells, True)
+        dstar.move_to(here)
+        path, length_d = dstar.path()
+        t_dstar += time.perf_counter() - t0
+        t0 = time.perf_counter()
+        _, length_a = vwg.astar(blocked, here, goal)
+        t_astar += time.perf_counter() - t0
+        assert math.isclose(length_d, length_a, rel_tol=1e-9), (length_d, length_a)
+        replans += 1
+    return {"map": name, "replans": replans, "dstar_s": t_dstar, "astar_s": t_astar,
+            "ratio": t_astar / t_dstar if t_dstar else math.nan,
+            "first_plan_dstar_s": first_dstar, "first_plan_astar_s": first_astar}
+
+
+def astar_speed(name: str, limit: int | None) -> dict:
+    blocked = movingai_blocked(name)
+    scen = scenarios(name)[:limit]
+    out = {}
+    for heuristic in ("octile", "euclidean"):
+        t0 = time.perf_counter()
+        for start, goal, optimal in scen:
+            _, length = vwg.astar(blocked, start, goal, heuristic=heuristic)
+            assert math.isclose(length, optimal, rel_tol=1e-4), (start, goal, length, optimal)
+        out[heuristic] = (time.perf_counter() - t0) / len(scen)
+    return {"map": name, "scenarios": len(scen), "ms_per_search": {k: v * 1e3 for k, v in out.items()}}
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true")
+    args = parser.parse_args()
+    print("Replanning as obstacles appear on the path (5×5 blocks, 8 cells ahead), same path lengths:")
+    print(f"  {'map':<18} {'replans':>7} {'D* Lite':>10} {'A*':>10} {'A* / D* Lite':>13}")
+    walks = []
+    for name in ("random512-10-0.map", "8room_000.map"):
+        w = walk(name, 4 if args.quick else 12)
+        walks.append(w)
+        print(f"  {name:<18} {w['replans']:>7} {w['dstar_s'] * 1e3:8.2f} ms {w['astar_s'] * 1e3:8.2f} ms "
+              f"{w['ratio']:12.1f}x")
+    print("\nGrid A* per search on the benchmark scenarios (lengths checked against the published optima):")
+    speeds = [astar_speed(n, 100 if args.quick else None) for n in ("random512-10-0.map", "8room_000.map")]
+    for s in speeds:
+        print(f"  {s['map']:<18} {s['scenarios']:>5} scenarios  octile {s['ms_per_search']['octile']:.2f} ms, "
+              f"euclidean {s['ms_per_search']['euclidean']:.2f} ms")
+    results = {
+        "dstar_vs_astar_replan_ratio": min(w["ratio"] for w in walks),
+        "walks": walks,
+        "astar": speeds,
+        "quick": args.quick,
+        "machine": {"python": sys.version.split()[0], "platform": platform.platform()},
+        "vwg": vwg.__version__,
+    }
+    RESULTS.parent.mkdir(parents=True, exist_ok=True)
+    RESULTS.write_text(json.dumps(results, indent=2) + "\n")
+    print(f"\n  wrote {RESULTS}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
