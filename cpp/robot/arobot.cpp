@@ -129,6 +129,12 @@ void ARobot::evolve(ActorState& self, const EventView& e, const EvolutionContext
     }
   } else if (type == ev_.collision) {
     self.set_int(kCollisions, self.get_int(kCollisions) + 1);
+    // A wall it did not see (too near for the Kinect, beside the camera): like a bumper, mark the
+    // cell just ahead, so the next plan goes round it. Robots move on: they are not marked.
+    if (e.value(0).i == 0) {
+      const double a = self.get_real(kAngle), d = config_.radius + 0.5 * g.resolution;
+      mark_obstacle(self.mutable_blob(kGrid), g, self.get_real(kX) + d * std::cos(a), self.get_real(kY) + d * std::sin(a));
+    }
   } else if (type == ev_.decide) {
     decide(self, ctx);
   }

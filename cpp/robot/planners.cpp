@@ -96,8 +96,7 @@ bool path_clear(const DecisionInput& in, std::span<const double> path) {
   return true;
 }
 
-plan::GridPath GridDecider::search(RobotState& s, plan::Cell start, plan::Cell goal, bool map_changed,
-                                   const plan::BlockedGrid& before) {
+plan::GridPath GridDecider::search(RobotState& s, plan::Cell start, plan::Cell goal) {
   const auto t0 = Clock::now();
   plan::GridPath path;
   if (algorithm_ == Algorithm::AStar) {
@@ -106,19 +105,19 @@ plan::GridPath GridDecider::search(RobotState& s, plan::Cell start, plan::Cell g
     if (!s.dstar || !(s.goal == goal) || s.dstar->grid().rows() != s.map.inflated.rows()) {
       s.dstar.emplace(s.map.inflated, start, goal);
     } else {
-      if (map_changed) {
-        // Tell D* Lite which cells changed, both ways: its repair touches only what they affect.
-        std::vector<plan::Cell> now_blocked, now_free;
-        for (int r = 0; r < s.map.inflated.rows(); ++r) {
-          for (int c = 0; c < s.map.inflated.cols(); ++c) {
-            const bool was = before.blocked({r, c}), is = s.map.inflated.blocked({r, c});
-            if (is && !was) now_blocked.push_back({r, c});
-            if (!is && was) now_free.push_back({r, c});
-          }
+      // Tell D* Lite which cells differ from the grid it knows, both ways (also what changed while
+      // the robot kept its plan): its repair touches only what they affect.
+      const plan::BlockedGrid& known = s.dstar->grid();
+      std::vector<plan::Cell> now_blocked, now_free;
+      for (int r = 0; r < s.map.inflated.rows(); ++r) {
+        for (int c = 0; c < s.map.inflated.cols(); ++c) {
+          const bool was = known.blocked({r, c}), is = s.map.inflated.blocked({r, c});
+          if (is && !was) now_blocked.push_back({r, c});
+          if (!is && was) now_free.push_back({r, c});
         }
-        s.dstar->update_cells(now_blocked, true);
-        s.dstar->update_cells(now_free, false);
       }
+      s.dstar->update_cells(now_blocked, true);
+      s.dstar->update_cells(now_free, false);
       s.dstar->move_to(start);
     }
     path = s.dstar->path();
@@ -132,7 +131,6 @@ plan::GridPath GridDecider::search(RobotState& s, plan::Cell start, plan::Cell g
 Decision GridDecider::decide(const DecisionInput& in) {
   const MapGeometry& g = *in.geometry;
   RobotState& s = robots_[in.robot];
-  const plan::BlockedGrid before = algorithm_ == Algorithm::DStarLite ? s.map.inflated : plan::BlockedGrid{};
   const bool changed = s.map.update(*in.map, g, in.radius);
   Decision d;
   // Keep the plan while it is still clear and still leads to this goal.
@@ -149,7 +147,7 @@ Decision GridDecider::decide(const DecisionInput& in) {
     d.kind = Decision::Kind::NoPath;
     return d;
   }
-  const plan::GridPath path = search(s, start, goal, changed, before);
+  const plan::GridPath path = search(s, start, goal);
   d.replanned = n >= 2;  // there was a plan, and it no longer served
   if (!path.found()) {
     d.kind = Decision::Kind::NoPath;

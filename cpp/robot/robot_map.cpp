@@ -132,6 +132,24 @@ bool segment_clear(const Blob& map, const MapGeometry& g, double x0, double y0, 
          v1 <= g.height - rc;
 }
 
+double clearance(const Blob& map, const MapGeometry& g, double x, double y, double cap) {
+  check(map, g);
+  const sim::OccupancyGrid f = g.frame();
+  double u, v;
+  f.world_to_grid(x, y, u, v);
+  const double rc = cap / g.resolution;
+  double best = rc;
+  const int r_lo = std::max(0, static_cast<int>(std::floor(v - rc))), r_hi = std::min(g.height - 1, static_cast<int>(std::floor(v + rc)));
+  const int c_lo = std::max(0, static_cast<int>(std::floor(u - rc))), c_hi = std::min(g.width - 1, static_cast<int>(std::floor(u + rc)));
+  for (int r = r_lo; r <= r_hi; ++r) {
+    for (int c = c_lo; c <= c_hi; ++c) {
+      if (!is_obstacle(cell(map, g, r, c))) continue;
+      best = std::min(best, std::sqrt(plan::squared_distance_to_cell(u, v, plan::Cell{r, c})));
+    }
+  }
+  return best * g.resolution;
+}
+
 bool find_marker(const Blob& map, const MapGeometry& g, int tag, double& x, double& y) {
   check(map, g);
   const auto cells = map.view<std::int16_t>();

@@ -57,6 +57,7 @@ struct PhysicsWorld::Robot {
   double speed = 0.0, turn_rate = 0.0;
   bool lands = false;
   int contacts = 0;
+  int last_other = 0;  // what it touched last: a robot id, or 0 for a wall
   int stuck_steps = 0;
 };
 
@@ -79,6 +80,7 @@ class PhysicsWorld::Contacts : public b2ContactListener {
         RobotState& s = world_.states_[self - 1];
         ++s.collisions;
         const int other_id = other == kWallTag ? 0 : world_.robots_[other - 1].settings.id;
+        r.last_other = other_id;
         world_.collisions_.push_back(Collision{r.settings.id, other_id, s.pose, world_.time_});
       }
     }
@@ -334,6 +336,9 @@ void PhysicsWorld::advance(double seconds) {
           r.plan.clear();
           r.stepping = false;
           r.speed = 0.0;
+          // Reported like a collision: the robot learns that this drive is blocked, even when
+          // the contact began long ago (a wall it keeps pushing against).
+          collisions_.push_back(Collision{r.settings.id, r.last_other, s.pose, time_});
         }
       } else {
         r.stuck_steps = 0;

@@ -179,8 +179,9 @@ class CaseStudy:
                  goals: Mapping[int, str] | None = None, seed: int | None = None, frames: int | None = None,
                  sensors: Iterable[str] = ("laser", "kinect", "camera"), video: str | Path | None = None,
                  images: str | Path | None = None, view_width: int = 800, max_symbols: int = 0,
-                 world_orders: bool = True) -> None:
+                 world_orders: bool = True, knows_map: bool = True) -> None:
         self.world = world
+        self.knows_map = knows_map
         self.seed = world.seed if seed is None else seed
         self.frames = world.frames if frames is None else frames
         self.decider = make_decider(planner)
@@ -209,14 +210,15 @@ class CaseStudy:
         self.trajectories: dict[int, list[tuple[float, float]]] = {}
 
     def initial_string(self) -> _core.String:
-        """Eq. 13: ARobot<grid, row, column, angle, ε, ε> per robot, its grid the known map."""
+        """Eq. 13: ARobot<grid, row, column, angle, ε, ε> per robot, its grid the known map (or,
+        with knows_map=False, all free: the robot learns the walls from its sensors)."""
         from .actor import Sym
 
         parts = []
         for robot in self.world.robots:
             x, y, yaw = robot.start
             row, col = self.world.grid.world_to_cell(x, y)
-            grid = _core.robot_map(self.world.grid, True)
+            grid = _core.robot_map(self.world.grid, self.knows_map)
             parts.append(Sym("ARobot", id=robot.id, grid=grid, row=row, column=col, angle=float(yaw), x=float(x),
                              y=float(y)))
         return self.vworld.string(*parts)
@@ -233,7 +235,9 @@ class CaseStudy:
             for rid, actor in self.robot_actors(record.after).items():
                 path = np.asarray(actor["path"])
                 self.view.set_path(rid, path if len(path) else None)
-                statuses.append(f"{rid}: {actor['status']}")
+                room = self.orders.last.get(rid)
+                status = actor["status"].replace(f"marker {actor['objective']}", room) if room else actor["status"]
+                statuses.append(f"{rid}: {status}")
             self.view.set_status("   ".join(statuses))
         if self._done(record.frame):
             self.engine.request_stop()

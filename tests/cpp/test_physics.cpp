@@ -126,6 +126,24 @@ TEST(Physics, StopsAtAWallAndReportsTheCollision) {
   EXPECT_TRUE(world.take_collisions().empty());
 }
 
+TEST(Physics, AGivenUpDriveIsReportedAgainWhileTheContactLasts) {
+  OccupancyGrid g = make_grid(200, 100, 0.05);
+  block_column(g, 80);
+  const RobotSettings robots[] = {robot_at(1, 2.0, 2.5)};
+  PhysicsWorld world(g, robots, PhysicsSettings{});
+  world.command(1, {{MotionStep::Drive, 5.0}});
+  world.advance(15.0);
+  EXPECT_GE(world.take_collisions().size(), 1u);
+  // Pressed against the wall, it is told to drive on: the contact never ended, yet the robot
+  // hears that this drive is blocked too.
+  world.command(1, {{MotionStep::Drive, 1.0}});
+  world.advance(2.0);
+  const auto again = world.take_collisions();
+  ASSERT_EQ(again.size(), 1u);
+  EXPECT_EQ(again[0].other, 0);
+  EXPECT_FALSE(world.robot(1).busy);
+}
+
 TEST(Physics, RobotsCollideWithEachOther) {
   OccupancyGrid g = make_grid(200, 100, 0.05);
   const RobotSettings robots[] = {robot_at(1, 2.0, 2.5), robot_at(2, 5.0, 2.5, M_PI)};

@@ -46,7 +46,7 @@ class GridDecider final : public Decider {
     std::optional<plan::DStarLite> dstar;
     plan::Cell goal{-1, -1};
   };
-  plan::GridPath search(RobotState& s, plan::Cell start, plan::Cell goal, bool map_changed, const plan::BlockedGrid& before);
+  plan::GridPath search(RobotState& s, plan::Cell start, plan::Cell goal);
   Algorithm algorithm_;
   std::map<int, RobotState> robots_;
   SearchStats stats_;

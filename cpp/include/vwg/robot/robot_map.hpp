@@ -54,6 +54,8 @@ int carve_free(Blob& map, const MapGeometry& g, double x0, double y0, double x1,
 /// (unknown cells count as obstacles when `unknown_blocked`).
 bool segment_clear(const Blob& map, const MapGeometry& g, double x0, double y0, double x1, double y1, double radius,
                    bool unknown_blocked = false);
+/// Distance from (x, y) to the nearest obstacle square of the map, or `cap` if none is nearer.
+double clearance(const Blob& map, const MapGeometry& g, double x, double y, double cap);
 /// Where marker `tag` was seen (the centre of its cell); false if it never was.
 bool find_marker(const Blob& map, const MapGeometry& g, int tag, double& x, double& y);
 

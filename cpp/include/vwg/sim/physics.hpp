@@ -67,7 +67,8 @@ struct RobotState {
   double travelled = 0.0;  ///< metres driven (true)
 };
 
-/// A robot touched a wall or another robot (reported once per contact).
+/// A robot touched a wall or another robot (reported when the contact begins), or gave up a drive
+/// because it pushed against one without moving.
 struct Collision {
   int robot = 0;
   int other = 0;  ///< id of the other robot, 0 for a wall
