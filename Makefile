@@ -28,41 +28,61 @@ STAMP := $(BUILD)/stamps
 .PHONY: help deps venv install demo test pytest lint stubs cpp-test cpp-package bench clean
 
 help:
-	@sed -n '1,7p' Makefile | sed 's/^# \{0,1\}//'
+	@sed -n '1,5p' Makefile | sed 's/^# \{0,1\}//'
 
 $(STAMP):
 	@mkdir -p $(STAMP)
 
-## Debian packages, installed only when missing.
+## Debian packages, installed only when missing; apt's output goes to build/apt.log.
 deps:
 	@missing=""; for p in $(APT_PACKAGES); do \
 	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "ok installed" || missing="$$missing $$p"; \
 	done; \
 	if [ -n "$$missing" ]; then \
-	  echo "apt-get install:$$missing"; \
-	  $(SUDO) apt-get update -qq; \
-	  DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq --no-install-recommends $$missing; \
-	else echo "Debian packages: all present"; fi
+	  mkdir -p $(BUILD); \
+	  echo "Installing Debian packages (2-4 min; log in $(BUILD)/apt.log):$$missing"; \
+	  { $(SUDO) apt-get update -qq && DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq \
+	      --no-install-recommends $$missing; } > $(BUILD)/apt.log 2>&1 \
+	    || { tail -n 30 $(BUILD)/apt.log; echo "apt-get failed: see $(BUILD)/apt.log"; exit 1; }; \
+	fi
+
+# The build requirements live in the venv and the build is not isolated, so the CMake cache in
+# build/ keeps stable paths and a rebuild compiles only what changed.
+BUILD_REQUIREMENTS := "scikit-build-core>=0.10" "pybind11>=2.12"
 
 $(VENV)/bin/python:
+	@echo "Creating the virtual environment $(VENV)/"
 	$(PYTHON) -m venv $(VENV)
-	$(PIP) install -q --upgrade pip
+	@$(PIP) install -q --upgrade pip $(BUILD_REQUIREMENTS)
 
 venv: $(VENV)/bin/python
 
+# Everything the installed package is made of: a change to any of these reinstalls it.
+PACKAGE_SOURCES := pyproject.toml CMakeLists.txt $(shell find cmake cpp python maps -type f \
+	-not -name '*.pyc' -not -path '*/__pycache__/*' 2>/dev/null)
+
 ## The Python package with its test tools (the C++ core is built by scikit-build-core).
-install: deps venv
-	$(PIP) install -q ".[test]"
-	@$(PY) -c "import vwg; print('vwg', vwg.__version__, 'installed in $(VENV)')"
+install: deps venv $(STAMP)/install
+
+$(STAMP)/install: $(PACKAGE_SOURCES) | $(STAMP)
+	@if [ -e $(STAMP)/install ]; then echo "Rebuilding vwg (only what changed)"; \
+	  else echo "Building vwg: the C++ core and its Python module (first time 4-6 min on 2 cores)"; fi
+	@$(PIP) install -q $(BUILD_REQUIREMENTS)
+	@# The compiler's progress lines are shown; the whole output is in build/pip.log.
+	@$(PIP) install -v --no-build-isolation ".[test]" 2>&1 | tee $(BUILD)/pip.log \
+	  | sed -u -n -E 's/^ *(\[ *[0-9]+(%|\/[0-9]+)\]) (Building|Linking) CXX [a-z ]*(\S+).*$$/  \1 \4/p' \
+	  || { tail -n 40 $(BUILD)/pip.log; echo "the build failed: see $(BUILD)/pip.log"; exit 1; }
+	@$(PY) -c "import vwg; print('vwg', vwg.__version__, 'installed in $(VENV)/')"
+	@touch $@
 
 ## The main job: the robot case study on the office world (A* to the kitchen), its frame log
 ## replayed, and the map in 3D.
 demo: install
 	@mkdir -p out
-	$(VENV)/bin/vwg run maps/office.yaml --planner astar --goal kitchen --no-world-orders \
+	$(VENV)/bin/vwg run office --goal kitchen \
 		--video out/office_kitchen.mp4 --summary-json out/office_kitchen.json --record out/office_kitchen.jsonl
 	$(VENV)/bin/vwg replay out/office_kitchen.jsonl
-	$(VENV)/bin/vwg overview maps/office.yaml -o out/office_3d.png
+	$(VENV)/bin/vwg overview office -o out/office_3d.png
 	@echo
 	@echo "Outputs in out/:"
 	@echo "  office_kitchen.mp4    the run from above (H.264; any browser plays it)"
@@ -70,6 +90,10 @@ demo: install
 	@echo "  office_kitchen.json   the summary (reached, frames, path length, collisions, replans)"
 	@echo "  office_kitchen.jsonl  the frame log (one line per frame; vwg replay checks it)"
 	@echo "  office_3d.png         the office in 3D"
+	@echo
+	@echo "vwg is installed in $(VENV)/. To use it, activate the environment:"
+	@echo "  . $(VENV)/bin/activate        then: vwg worlds; vwg run warehouse --video w.mp4; python -c 'import vwg'"
+	@echo "or call it by its full path: $(VENV)/bin/vwg"
 
 test: install lint pytest cpp-test cpp-package
 	@echo "make test: all passed"
@@ -86,12 +110,14 @@ stubs:
 
 ## C++ unit tests with AddressSanitizer and UndefinedBehaviorSanitizer, warnings as errors.
 cpp-test: deps
+	@echo "C++ tests with sanitizers: building (first time 6-9 min on 2 cores), then running (~1 min)"
 	cmake -S . -B $(BUILD)/cpp-asan -DCMAKE_BUILD_TYPE=Debug -DVWG_TESTS=ON -DVWG_SANITIZE=ON -DVWG_WERROR=ON > /dev/null
 	cmake --build $(BUILD)/cpp-asan -j $(JOBS)
 	cd $(BUILD)/cpp-asan && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure -j $(JOBS)
 
 ## Install the C++ package, then build and run the downstream project examples/cpp against it.
 cpp-package: deps
+	@echo "The installed C++ package and a downstream project (first time 2-3 min)"
 	cmake -S . -B $(BUILD)/cpp-release -DCMAKE_BUILD_TYPE=Release -DCMAKE_INSTALL_PREFIX=$(CURDIR)/$(BUILD)/prefix > /dev/null
 	cmake --build $(BUILD)/cpp-release -j $(JOBS) --target vwg_core
 	cmake --install $(BUILD)/cpp-release > /dev/null

@@ -192,3 +192,50 @@ def test_robot_learns_an_unknown_map_with_either_planner():
         assert s.replans >= 1, p  # walls it did not know blocked its first plan
     assert runs["dstar"].replans <= runs["astar"].replans + 5
     assert runs["dstar"].frames <= 1.2 * runs["astar"].frames
+
+
+def _video_frames(path):
+    import subprocess
+
+    probe = subprocess.run(["ffprobe", "-v", "error", "-count_frames", "-select_streams", "v:0", "-show_entries",
+                            "stream=nb_read_frames", "-of", "csv=p=0", str(path)],
+                           capture_output=True, text=True, check=True)
+    return int(probe.stdout.strip())
+
+
+def test_a_second_run_continues_the_video_and_the_end_holds_the_final_state(tmp_path):
+    video, images = tmp_path / "run.mp4", tmp_path / "frames"
+    with CaseStudy(world("office"), "astar", goals={1: "kitchen"}, video=video, images=images) as run:
+        run.run(frames=40)
+        run.orders.order(1, "lab")
+        summary = run.run(frames=30)
+    assert summary.frames == 70
+    hold = round(1.0 / run.world.dt)  # one second of the final state
+    assert _video_frames(video) == 70 + hold
+    pngs = sorted(images.glob("*.png"))
+    assert len(pngs) == 71  # every frame, and the final state once more
+    with pytest.raises(vwg.SchemaError, match="closed"):
+        run.run(frames=1)
+
+
+def test_the_3d_overview_is_taken_from_where_the_robots_are_seen():
+    from vwg.overview import VIEWS, render_world_overview, robots_seen
+
+    office = world("office")
+    # Both office robots stand in the corridor: from the default oblique view its 2.5 m walls hide
+    # their tops; another view sees over the walls.
+    assert robots_seen(office, *VIEWS[0]) < len(office.robots)
+    assert max(robots_seen(office, *v) for v in VIEWS) == len(office.robots)
+
+    # Checked on the pictures: more pixels of each robot's colour (1 orange, 2 green) are seen in
+    # the chosen view than in the default one (labels off, so only the bodies count).
+    def robot_pixels(image):
+        r, g, b = (image[..., i].astype(int) for i in range(3))
+        orange = (r > 170) & (g > 60) & (g < 170) & (b < 80) & (r - g > 60)
+        green = (g > 110) & (r < 110) & (b < 110) & (g - r > 40) & (g - b > 40)
+        return int(orange.sum()), int(green.sum())
+
+    default = vwg.render_overview(office.grid, markers=office.rooms, robots=office.robots,
+                                  wall_height=office.wall_height, labels=False)
+    chosen = render_world_overview(office, labels=False)
+    assert all(c > d for c, d in zip(robot_pixels(chosen), robot_pixels(default), strict=True))

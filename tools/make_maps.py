@@ -501,7 +501,7 @@ def willow() -> WorldDef:
         ax, ay, facing = round(ax, 3), round(ay, 3), round(facing, 4)
         rooms.append(RoomDef(name, 40 + k, (ax, ay), facing, goal_in_front(grid, ax, ay, facing)))
     robots = [RobotDef(1, (18.5, 22.0, NORTH)), RobotDef(2, (36.0, 9.25, EAST))]
-    orders = [(0.0, 1, "lobby"), (0.0, 2, "east_room"), (300.0, 1, "west_corridor"), (300.0, 2, "hall")]
+    orders = [(0.0, 1, "lobby"), (0.0, 2, "east_room"), (300.0, 1, "hall"), (300.0, 2, "junction")]
     return WorldDef("willow", "The Willow Garage building, from the ROS navfn test cost map (BSD-3); 0.05 m per cell.",
                     grid, 2.5, rooms, robots, orders, frames=6000,
                     summary="a real building: the Willow Garage map of the ROS navfn tests, walls kept and the "

@@ -311,6 +311,17 @@ void init_render(py::module_& m) {
             r.draw_trajectory(points_of(points, "points"), id);
           },
           py::arg("points"), py::arg("id") = -1, "A trajectory: N×2 world points, oldest first, fading into the past.")
+      .def("draw_start", &sim::TopDownRenderer::draw_start, py::arg("x"), py::arg("y"), py::arg("id"),
+           "Where robot id started: a hollow square in its colour.")
+      .def(
+          "draw_legend",
+          [](sim::TopDownRenderer& r, const std::vector<std::pair<int, std::string>>& entries) {
+            std::vector<sim::TopDownRenderer::LegendEntry> out;
+            for (const auto& [id, text] : entries) out.push_back({id, text});
+            r.draw_legend(std::move(out));
+          },
+          py::arg("entries"),
+          "A legend in the top-right corner: (robot id, text) per line, with the key of the start and final marks.")
       .def(
           "draw_belief",
           [](sim::TopDownRenderer& r, py::object grid) { r.draw_belief(span_of(cells_for(r, grid, "grid"))); },

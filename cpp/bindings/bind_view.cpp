@@ -39,6 +39,9 @@ after the SimBackend in a BackendGroup. Frames go to a video (MP4 H.264 or GIF) 
       .def("record_images", &sim::SimView::record_images, py::arg("directory"), "Write every frame as frame_00001.png, ...")
       .def("close", py::overload_cast<>(&sim::SimView::close), py::call_guard<py::gil_scoped_release>(),
            "Finish the video.")
+      .def("finish", &sim::SimView::finish, py::arg("hold_frames") = 10, py::call_guard<py::gil_scoped_release>(),
+           "Draw the last frame again with the current status and paths, write it hold_frames times to the video "
+           "(once to the images), and close.")
       .def("image", [](sim::SimView& v) { return rgb_to_numpy(v.image()); }, "The last frame (H×W×3 uint8, a copy).")
       .def_property_readonly("frames_written", &sim::SimView::frames_written)
       .def_property_readonly("trajectories", [](const sim::SimView& v) {

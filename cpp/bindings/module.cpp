@@ -6,6 +6,7 @@ PYBIND11_MODULE(_core, m) {
   m.attr("__version__") = VWG_VERSION_INFO;
   using namespace vwg::bindings;
   init_errors(m);
+  init_log(m);
   init_values(m);
   // Classes whose methods refer to each other are declared first, so every signature names
   // Python types (the methods are added by the init functions below).

@@ -1,4 +1,5 @@
-// AprilTag detection, tag pose and tag bitmaps through libapriltag 3.3 (Debian libapriltag-dev).
+// AprilTag detection and tag bitmaps through libapriltag 3.3 (Debian libapriltag-dev); tag pose
+// through OpenCV (calib3d).
 // Every C object has one owner here (unique_ptr with its destroy function); nothing leaves this file.
 #include "vwg/perception/apriltag.hpp"
 
@@ -9,9 +10,11 @@
 #include <cstring>
 #include <limits>
 #include <mutex>
+#include <vector>
+
+#include <opencv2/calib3d.hpp>
 
 #include <apriltag/apriltag.h>
-#include <apriltag/apriltag_pose.h>
 #include <apriltag/tag16h5.h>
 #include <apriltag/tag25h9.h>
 #include <apriltag/tag36h10.h>
@@ -77,31 +80,15 @@ struct DetectorDeleter {
 struct DetectionsDeleter {
   void operator()(zarray_t* detections) const { apriltag_detections_destroy(detections); }
 };
-// Debian's libapriltag 3.3 exports neither matd_destroy nor image_u8_destroy (the latter only from
-// libapriltag-utils, which the CMake target apriltag::apriltag does not link). In 3.3 both objects
-// come from calloc: a matd_t is one block (its data is a flexible array member, see matd.h), an
-// image_u8_t is the struct plus its buffer, so free() is what their destroy functions do.
-struct MatdFree {
-  void operator()(matd_t* m) const { std::free(m); }
-};
+// Debian's libapriltag 3.3 does not export image_u8_destroy (only libapriltag-utils does, which the
+// CMake target apriltag::apriltag does not link). In 3.3 an image_u8_t is the struct plus its
+// buffer, both from calloc, so free() is what its destroy function does.
 struct ImageU8Free {
   void operator()(image_u8_t* im) const {
     if (im) std::free(im->buf);
     std::free(im);
   }
 };
-using MatdPtr = std::unique_ptr<matd_t, MatdFree>;
-
-/// A rows×cols matd_t laid out as the library's matd_create does (one zeroed block).
-MatdPtr make_matd(unsigned rows, unsigned cols) {
-  void* block = std::calloc(1, sizeof(matd_t) + sizeof(double) * rows * cols);
-  if (!block) throw std::bad_alloc();
-  MatdPtr m(static_cast<matd_t*>(block));
-  m->nrows = rows;
-  m->ncols = cols;
-  return m;
-}
-
 bool finite(double v) { return std::isfinite(v); }
 
 void check_settings(const AprilTagSettings& s) {
@@ -287,8 +274,7 @@ TagPose estimate_pose(const TagDetection& detection, double tag_size, const Came
   for (double h : detection.homography) {
     if (!finite(h)) throw SchemaError("detection.homography", "non-finite entry");
   }
-  // A NaN inside the library makes it return an unset solution, so refuse what would make one:
-  // a quad without area, or a singular homography.
+  // A quad without area or a singular homography has no pose: refuse it with a clear error.
   double area2 = 0.0;  // twice the signed area (shoelace)
   for (int k = 0; k < 4; ++k) {
     const auto& a = detection.corners[k];
@@ -301,29 +287,48 @@ TagPose estimate_pose(const TagDetection& detection, double tag_size, const Came
                      H[2] * (H[3] * H[7] - H[4] * H[6]);
   if (!(std::fabs(det) > 1e-12)) throw SchemaError("detection.homography", "singular homography");
 
-  MatdPtr h = make_matd(3, 3);
-  for (int k = 0; k < 9; ++k) MATD_EL(h.get(), k / 3, k % 3) = detection.homography[k];
-  apriltag_detection_t det_c{};
-  det_c.family = nullptr;
-  det_c.id = detection.id;
-  det_c.hamming = detection.hamming;
-  det_c.decision_margin = static_cast<float>(detection.decision_margin);
-  det_c.H = h.get();
-  det_c.c[0] = detection.center[0];
-  det_c.c[1] = detection.center[1];
-  for (int k = 0; k < 4; ++k) {
-    det_c.p[k][0] = detection.corners[k][0];
-    det_c.p[k][1] = detection.corners[k][1];
+  // OpenCV's IPPE for squares gives both solutions of the planar ambiguity; the one with the smaller
+  // object-space error (Lu, Hager and Mjolsness 2000, the error libapriltag's estimate_tag_pose
+  // minimises) is kept. libapriltag's own estimator prints to stderr when the two are close.
+  const double half = tag_size / 2;
+  const std::vector<cv::Point3d> object{{-half, half, 0}, {half, half, 0}, {half, -half, 0}, {-half, -half, 0}};
+  std::vector<cv::Point2d> image;
+  for (const auto& p : detection.corners) image.emplace_back(p[0], p[1]);
+  const cv::Matx33d K(camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1);
+  std::vector<cv::Mat> rvecs, tvecs;
+  try {
+    cv::solvePnPGeneric(object, image, K, cv::noArray(), rvecs, tvecs, false, cv::SOLVEPNP_IPPE_SQUARE);
+  } catch (const cv::Exception& e) {
+    throw Error(std::string("AprilTag pose estimation failed: ") + e.what());
   }
-  apriltag_detection_info_t info{&det_c, tag_size, camera.fx, camera.fy, camera.cx, camera.cy};
-  apriltag_pose_t pose_c{nullptr, nullptr};
-  const double err = estimate_tag_pose(&info, &pose_c);
-  MatdPtr R(pose_c.R), t(pose_c.t);
-  if (!R || !t) throw Error("AprilTag pose estimation failed");
+  double err = std::numeric_limits<double>::infinity();
+  cv::Matx33d R;
+  cv::Vec3d t;
+  for (std::size_t s = 0; s < rvecs.size(); ++s) {
+    // IPPE solves the homography of the four corners in closed form; a few Levenberg-Marquardt
+    // steps on the reprojection error make it the least-squares pose (as libapriltag's iteration).
+    cv::solvePnPRefineLM(object, image, K, cv::noArray(), rvecs[s], tvecs[s]);
+    cv::Matx33d Rs;
+    cv::Rodrigues(rvecs[s], Rs);
+    const cv::Vec3d ts(tvecs[s].at<double>(0), tvecs[s].at<double>(1), tvecs[s].at<double>(2));
+    double e = 0.0;
+    for (std::size_t i = 0; i < 4; ++i) {
+      const cv::Vec3d v((image[i].x - camera.cx) / camera.fx, (image[i].y - camera.cy) / camera.fy, 1.0);
+      const cv::Vec3d q = Rs * cv::Vec3d(object[i].x, object[i].y, object[i].z) + ts;
+      const cv::Vec3d off = q - v * (v.dot(q) / v.dot(v));  // (I - V) q: q's distance from the ray
+      e += off.dot(off);
+    }
+    if (e < err) {
+      err = e;
+      R = Rs;
+      t = ts;
+    }
+  }
+  if (!std::isfinite(err)) throw Error("AprilTag pose estimation failed (no solution for this quad)");
 
   TagPose pose;
-  for (int k = 0; k < 9; ++k) pose.rotation[k] = MATD_EL(R.get(), k / 3, k % 3);
-  for (int k = 0; k < 3; ++k) pose.translation[k] = MATD_EL(t.get(), k, 0);
+  for (int k = 0; k < 9; ++k) pose.rotation[k] = R(k / 3, k % 3);
+  for (int k = 0; k < 3; ++k) pose.translation[k] = t[k];
   pose.error = err;
   const auto& tr = pose.translation;
   pose.distance = std::sqrt(tr[0] * tr[0] + tr[1] * tr[1] + tr[2] * tr[2]);

@@ -1,5 +1,7 @@
 #include "vwg/plan/ompl_planner.hpp"
 
+#include "vwg/log.hpp"
+
 #include <ompl/base/MotionValidator.h>
 #include <ompl/base/PlannerTerminationCondition.h>
 #include <ompl/base/ProblemDefinition.h>
@@ -91,6 +93,26 @@ const std::map<std::string, PlannerFactory>& planners() {
 std::mutex& ompl_mutex() {
   static std::mutex m;
   return m;
+}
+
+/// OMPL prints to the terminal unless given a handler: its messages go to vwg's log sink instead,
+/// one level lower (an OMPL "error" such as a start state in collision is a failed plan that the
+/// caller reports, not an error of the run).
+class OmplToVwgLog final : public ompl::msg::OutputHandler {
+ public:
+  void log(const std::string& text, ompl::msg::LogLevel level, const char*, int) override {
+    LogLevel to = LogLevel::Debug;
+    if (level >= ompl::msg::LOG_ERROR) to = LogLevel::Warning;
+    else if (level == ompl::msg::LOG_WARN) to = LogLevel::Info;
+    vwg::log(to, "ompl", text);
+  }
+};
+
+/// Installs the handler once, before OMPL's first message.
+void route_ompl_messages() {
+  static OmplToVwgLog handler;
+  static std::once_flag once;
+  std::call_once(once, [] { ompl::msg::useOutputHandler(&handler); });
 }
 
 /// Sets OMPL's log level for a scope and puts the previous one back.
@@ -262,6 +284,7 @@ OmplPlan OmplGridPlanner::plan(const sim::Pose2& start, const sim::Pose2& goal, 
     return out;
   }
 
+  route_ompl_messages();
   const std::lock_guard<std::mutex> lock(ompl_mutex());
   // OMPL prints an "Info:" line or two per plan; unless asked, keep only warnings and errors
   // (never making a quieter setting louder).

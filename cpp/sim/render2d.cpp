@@ -142,6 +142,8 @@ void TopDownRenderer::begin(const FrameText& text) {
   base_.copyTo(canvas_);
   text_ = text;
   text_pending_ = true;
+  labels_.clear();
+  legend_.clear();
 }
 
 cv::Point2d TopDownRenderer::world_to_pixel(double x, double y) const {
@@ -163,16 +165,27 @@ Rgb TopDownRenderer::robot_colour(int id) const {
   return style_.palette[static_cast<std::size_t>(((id % n) + n) % n)];
 }
 
-void TopDownRenderer::put_label(const std::string& text, cv::Point2d anchor, cv::Point2d away) {
+void TopDownRenderer::put_label(const std::string& text, cv::Point2d anchor, cv::Point2d away, cv::Point2d side) {
   if (text.empty() || !finite(anchor)) return;
+  labels_.push_back(Label{text, anchor, away, side});
+}
+
+void TopDownRenderer::draw_label(const Label& label) {
+  const std::string& text = label.text;
+  const cv::Point2d anchor = label.anchor, away = label.away;
   const int font = cv::FONT_HERSHEY_SIMPLEX;
   const double scale = style_.font_scale * 0.9;
   int baseline = 0;
   const cv::Size ts = cv::getTextSize(text, font, scale, 1, &baseline);
-  // Centre the text beyond the anchor along `away`, far enough that its box clears the anchor.
+  // Centre the text beyond the anchor along `away`, far enough that its box clears the anchor,
+  // then slide it along `side` (if any) by its own extent, so it starts at the anchor.
   const cv::Point2d d = unit(away);
   const double reach = 0.5 * (std::abs(d.x) * ts.width + std::abs(d.y) * ts.height) + 3.0;
-  const cv::Point2d centre = anchor + d * reach;
+  cv::Point2d centre = anchor + d * reach;
+  if (label.side.x != 0 || label.side.y != 0) {
+    const cv::Point2d sd = unit(label.side);
+    centre += sd * (0.5 * (std::abs(sd.x) * ts.width + std::abs(sd.y) * ts.height));
+  }
   double left = centre.x - ts.width / 2.0, base = centre.y + ts.height / 2.0;
   left = std::clamp(left, 1.0, std::max(1.0, canvas_.cols - ts.width - 1.0));
   base = std::clamp(base, ts.height + 1.0, std::max(ts.height + 1.0, canvas_.rows - baseline - 1.0));
@@ -253,7 +266,8 @@ void TopDownRenderer::draw_marker(double x, double y, double facing, std::string
   cv::line(canvas_, fixed(c), fixed(c + f * tick), scalar(style_.marker), std::max(1, thick / 2), lt, kShift);
   std::string text(label);
   if (tag_id >= 0) text += (text.empty() ? "#" : " #") + std::to_string(tag_id);
-  put_label(text, c + f * (tick + 1), f);
+  // In front of the wall and beside the marker: the goal, where a robot stops, is straight ahead of it.
+  put_label(text, c + along * half + f * tick, f, along);
 }
 
 void TopDownRenderer::draw_path(std::span<const cv::Point2d> points, int id) {
@@ -391,7 +405,62 @@ void TopDownRenderer::draw_corner_text() {
   }
 }
 
+void TopDownRenderer::draw_start(double x, double y, int id) {
+  const cv::Point2d c = world_to_pixel(x, y);
+  if (!finite(c)) return;
+  const double h = std::max(4.0, 0.15 * pixels_per_metre());
+  const cv::Rect2d box(c.x - h, c.y - h, 2 * h, 2 * h);
+  const int lt = style_.antialias ? cv::LINE_AA : cv::LINE_8;
+  cv::rectangle(canvas_, fixed(box.tl()), fixed(box.br()), scalar(style_.robot_outline), 4, lt, kShift);
+  cv::rectangle(canvas_, fixed(box.tl()), fixed(box.br()), scalar(robot_colour(id)), 2, lt, kShift);
+}
+
+void TopDownRenderer::draw_legend(std::vector<LegendEntry> entries) { legend_ = std::move(entries); }
+
+void TopDownRenderer::draw_legend_box() {
+  if (legend_.empty()) return;
+  const int font = cv::FONT_HERSHEY_SIMPLEX;
+  const double scale = style_.font_scale;
+  const std::string key = "start        final pose";
+  int baseline = 0, width = cv::getTextSize(key, font, scale, 1, &baseline).width + 16, height = 0;
+  for (const LegendEntry& e : legend_) {
+    const cv::Size s = cv::getTextSize(e.text, font, scale, 1, &baseline);
+    width = std::max(width, s.width + 22);
+    height = std::max(height, s.height);
+  }
+  const int pad = 5, step = height + baseline + 5, rows = static_cast<int>(legend_.size()) + 1;
+  cv::Rect box(canvas_.cols - width - 2 * pad - 2, 2, width + 2 * pad, rows * step + 2 * pad - 3);
+  box &= cv::Rect(0, 0, canvas_.cols, canvas_.rows);
+  if (box.area() <= 0) return;
+  cv::Mat roi = canvas_(box);
+  const cv::Mat fill(roi.size(), roi.type(), scalar(style_.text_box));
+  const double a = std::clamp(std::max(style_.text_box_alpha, 0.75), 0.0, 1.0);
+  cv::addWeighted(roi, 1.0 - a, fill, a, 0.0, roi);
+  const int lt = style_.antialias ? cv::LINE_AA : cv::LINE_8;
+  for (std::size_t i = 0; i <= legend_.size(); ++i) {
+    const int base = box.y + pad + height + static_cast<int>(i) * step;
+    const cv::Point swatch(box.x + pad, base - height / 2);
+    if (i < legend_.size()) {
+      const Rgb c = robot_colour(legend_[i].id);
+      cv::line(canvas_, swatch, swatch + cv::Point(14, 0), scalar(c), 3, lt);
+      cv::putText(canvas_, legend_[i].text, {box.x + pad + 20, base}, font, scale, scalar(style_.text), 1, lt);
+    } else {  // the key of the marks: a hollow square, then a disc
+      const int h = std::max(3, height / 2);
+      cv::rectangle(canvas_, swatch + cv::Point(3 - h, -h), swatch + cv::Point(3 + h, h), scalar(style_.text), 1, lt);
+      const int x2 = box.x + pad + 20 + cv::getTextSize("start  ", font, scale, 1, &baseline).width + 6;
+      cv::circle(canvas_, {x2 + h, base - height / 2}, h, scalar(style_.text), cv::FILLED, lt);
+      cv::putText(canvas_, "start", {box.x + pad + 20, base}, font, scale, scalar(style_.text), 1, lt);
+      cv::putText(canvas_, "final pose", {x2 + 2 * h + 6, base}, font, scale, scalar(style_.text), 1, lt);
+    }
+  }
+}
+
 const cv::Mat& TopDownRenderer::image() {
+  // Overlays go on last, in this order: labels, the legend, the corner text.
+  for (const Label& l : labels_) draw_label(l);
+  labels_.clear();
+  draw_legend_box();
+  legend_.clear();
   if (text_pending_) {
     draw_corner_text();
     text_pending_ = false;

@@ -1,5 +1,6 @@
 #include "vwg/sim/sim_view.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "vwg/error.hpp"
@@ -59,8 +60,24 @@ void SimView::primitive(const NodeView& p) {
 
 void SimView::end_frame(const FrameInfo& frame) {
   // Trajectories grow every frame, whether or not the robot was displayed.
-  for (const RobotState& s : world_->robots()) trajectories_[s.id].emplace_back(s.pose.x, s.pose.y);
-  renderer_.begin(FrameText{static_cast<std::int64_t>(frame.frame), frame.time, status_});
+  for (const RobotState& st : world_->robots()) trajectories_[st.id].emplace_back(st.pose.x, st.pose.y);
+  last_frame_ = frame;
+  draw(frame.frame, frame.time);
+  write(1);
+}
+
+void SimView::finish(int hold_frames) {
+  if (last_frame_ && (video_ || images_)) {
+    draw(last_frame_->frame, last_frame_->time);
+    write(std::max(1, hold_frames));
+  }
+  close();
+  video_.reset();  // later frames are not recorded: the video is finished
+  images_.reset();
+}
+
+void SimView::draw(std::uint64_t frame, double time) {
+  renderer_.begin(FrameText{static_cast<std::int64_t>(frame), time, status_});
   for (const auto& [id, cells] : beliefs_) {
     (void)id;
     renderer_.draw_belief(cells);
@@ -79,13 +96,16 @@ void SimView::end_frame(const FrameInfo& frame) {
   }
   // Robots displayed this frame (Table I: α(Robot) draws the robot); others are not drawn.
   for (const auto& [id, plan] : commanded_) {
-    const RobotState& s = world_->robot(id);
-    renderer_.draw_robot(s.pose, s.radius, id);
+    const RobotState& st = world_->robot(id);
+    renderer_.draw_robot(st.pose, st.radius, id);
   }
+}
+
+void SimView::write(int copies_to_video) {
   const cv::Mat& image = renderer_.image();
   if (video_) {
     if (!video_->is_open()) video_->open(video_path_, image.cols, image.rows, video_fps_, video_settings_);
-    video_->write(image);
+    for (int k = 0; k < copies_to_video; ++k) video_->write(image);
   }
   if (images_) images_->write(image);
   if (video_ || images_) ++written_;

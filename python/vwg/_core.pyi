@@ -8,7 +8,7 @@ import numpy
 import numpy.typing
 import os
 import typing
-__all__: list[str] = ['ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'Backend', 'BackendGroup', 'Blob', 'CameraGenerator', 'CameraRenderer', 'CollisionGenerator', 'DStarLite', 'Decider', 'DecisionInput', 'Engine', 'Event', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'Generator', 'GridDecider', 'GridRaycaster', 'ImageFiles', 'ImageSequence', 'ImageSource', 'KinectGenerator', 'LaserGenerator', 'Node', 'NullBackend', 'OdometryGenerator', 'OmplDecider', 'OmplPlan', 'OmplPlanner', 'OverviewCamera', 'PhysicsWorld', 'PythonActor', 'RandomDecider', 'RangeScanner', 'RenderStyle', 'RobotState', 'SimBackend', 'SimView', 'SimulatedCamera', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoSource', 'VideoWriter', 'add_arobot', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'arobot_action', 'arobot_event_types', 'astar', 'build_string', 'detect_apriltags', 'display', 'estimate_tag_pose', 'evolve', 'overview_camera', 'plan_ompl', 'read_image', 'render_overview', 'robot_map', 'visualize', 'walker_behavior', 'write_image']
+__all__: list[str] = ['ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'Backend', 'BackendGroup', 'Blob', 'CameraGenerator', 'CameraRenderer', 'CollisionGenerator', 'DStarLite', 'Decider', 'DecisionInput', 'Engine', 'Event', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'Generator', 'GridDecider', 'GridRaycaster', 'ImageFiles', 'ImageSequence', 'ImageSource', 'KinectGenerator', 'LaserGenerator', 'Node', 'NullBackend', 'OdometryGenerator', 'OmplDecider', 'OmplPlan', 'OmplPlanner', 'OverviewCamera', 'PhysicsWorld', 'PythonActor', 'RandomDecider', 'RangeScanner', 'RenderStyle', 'RobotState', 'SimBackend', 'SimView', 'SimulatedCamera', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoSource', 'VideoWriter', 'add_arobot', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'arobot_action', 'arobot_event_types', 'astar', 'build_string', 'detect_apriltags', 'display', 'estimate_tag_pose', 'evolve', 'overview_camera', 'plan_ompl', 'read_image', 'render_overview', 'robot_map', 'set_log_sink', 'visualize', 'walker_behavior', 'write_image']
 class Blob:
     """
     A large attribute value held by reference from world strings (an occupancy grid, an image, a path).
@@ -881,6 +881,10 @@ class TopDownRenderer:
         """
         The robot's map: an int8 grid of the map's shape blended over it (unknown cells leave the map visible).
         """
+    def draw_legend(self, entries: collections.abc.Sequence[tuple[typing.SupportsInt | typing.SupportsIndex, str]]) -> None:
+        """
+        A legend in the top-right corner: (robot id, text) per line, with the key of the start and final marks.
+        """
     def draw_marker(self, x: typing.SupportsFloat | typing.SupportsIndex, y: typing.SupportsFloat | typing.SupportsIndex, facing: typing.SupportsFloat | typing.SupportsIndex, label: str = '', tag_id: typing.SupportsInt | typing.SupportsIndex = -1) -> None:
         """
         A wall marker at (x, y) facing the direction `facing` (radians): a thick segment along the wall, labelled 'label #tag_id' on the side it faces.
@@ -896,6 +900,10 @@ class TopDownRenderer:
     def draw_scan(self, pose: tuple[typing.SupportsFloat | typing.SupportsIndex, typing.SupportsFloat | typing.SupportsIndex, typing.SupportsFloat | typing.SupportsIndex], angles: typing.Any, ranges: typing.Any, max_range: typing.SupportsFloat | typing.SupportsIndex = ...) -> None:
         """
         Laser rays from the sensor pose (x, y, theta): angles (radians, relative to theta) and ranges (metres), 1-D arrays of one length. Ranges that are inf/NaN or reach max_range are misses, drawn faint.
+        """
+    def draw_start(self, x: typing.SupportsFloat | typing.SupportsIndex, y: typing.SupportsFloat | typing.SupportsIndex, id: typing.SupportsInt | typing.SupportsIndex) -> None:
+        """
+        Where robot id started: a hollow square in its colour.
         """
     def draw_trajectory(self, points: typing.Any, id: typing.SupportsInt | typing.SupportsIndex = -1) -> None:
         """
@@ -1218,6 +1226,10 @@ class SimView(Backend):
     def close(self) -> None:
         """
         Finish the video.
+        """
+    def finish(self, hold_frames: typing.SupportsInt | typing.SupportsIndex = 10) -> None:
+        """
+        Draw the last frame again with the current status and paths, write it hold_frames times to the video (once to the images), and close.
         """
     def image(self) -> numpy.ndarray[typing.Any, numpy.dtype[typing.Any]]:
         """
@@ -1742,6 +1754,10 @@ def render_overview(grid: typing.Any, markers: typing.Any = [], robots: typing.A
 def robot_map(grid: typing.Any, knows_map: bool = True) -> Blob:
     """
     A robot's grid (an int16 vwg.Blob): the known map (walls 100, free 0, unknown -1), or all free (eq. 13).
+    """
+def set_log_sink(sink: typing.Any) -> None:
+    """
+    Send vwg's and its libraries' messages to sink(level, source, message) (levels as in `logging`); None drops them. Used by vwg.logs; called from any thread.
     """
 def visualize(w: String, events: typing.Any, frame: typing.SupportsInt | typing.SupportsIndex = 0, time: typing.SupportsFloat | typing.SupportsIndex = 0.0, seed: typing.SupportsInt | typing.SupportsIndex = 0) -> String:
     """

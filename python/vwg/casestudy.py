@@ -19,6 +19,7 @@ import queue
 import sys
 import threading
 import time
+import weakref
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -149,13 +150,14 @@ class RobotSummary:
     collisions: int
     replans: int
     commands: int
+    status: str            # the robot's last status, rooms by name ("arrived at kitchen", "no path to lab")
 
 
 @dataclass
 class RunSummary:
     world: str
     planner: str
-    reached: bool          # every robot that had an order reached its last room
+    reached: bool          # every robot that had an order reached its last room (true when none had one)
     frames: int
     simulated_time_s: float
     wall_time_s: float
@@ -173,13 +175,21 @@ class RunSummary:
 
 
 class CaseStudy:
-    """A robot world ready to run: ``engine``, ``sim``, ``orders``; ``run()`` gives a RunSummary."""
+    """A robot world ready to run: ``engine``, ``sim``, ``orders``; ``run()`` gives a RunSummary.
+
+    ``planner`` names the decider (or is one); ``goals`` are orders at the start, which replace the
+    world file's timed orders unless ``world_orders=True`` (``False``: no timed orders); ``sensors`` the
+    kinds of generators to make among those each robot lists (it selects, it does not add: a
+    robot without a Kinect in the world file gets none); ``video``/``images`` record a view;
+    ``backends`` adds backends after the simulator (or factories given the Simulation);
+    ``knows_map=False`` starts the robots with empty grids (eq. 13)."""
 
     def __init__(self, world: RobotWorld, planner: str | _core.Decider = "astar", *,
                  goals: Mapping[int, str] | None = None, seed: int | None = None, frames: int | None = None,
                  sensors: Iterable[str] = ("laser", "kinect", "camera"), video: str | Path | None = None,
                  images: str | Path | None = None, view_width: int = 800, max_symbols: int = 0,
-                 world_orders: bool = True, knows_map: bool = True) -> None:
+                 world_orders: bool | None = None, knows_map: bool = True,
+                 backends: Iterable[_core.Backend | Callable[[Simulation], _core.Backend]] = ()) -> None:
         self.world = world
         self.knows_map = knows_map
         self.seed = world.seed if seed is None else seed
@@ -190,6 +200,9 @@ class CaseStudy:
         alphabet = self.vworld.alphabet
         self.sim = Simulation(world, seed=self.seed)
         self.orders = Orders(world)
+        # The world file's timed orders play unless orders are given here (or world_orders says).
+        if world_orders is None:
+            world_orders = not goals
         for order in world.orders if world_orders else ():
             self.orders.schedule(math.ceil(order.time / world.dt - 1e-9), order.robot, order.room)
         for robot, room in (goals or {}).items():
@@ -197,15 +210,22 @@ class CaseStudy:
         generators: list[Any] = [*self.sim.feedback(alphabet), *self.sim.sensors(alphabet, tuple(sensors)),
                                  self.orders, every_frame("eDecide"), every_frame("eExecute")]
         self.view: _core.SimView | None = None
-        backend: _core.Backend = self.sim.backend
+        # Extra backends (after the simulator): ready ones, or factories given the simulation.
+        shown: list[_core.Backend] = [b if isinstance(b, _core.Backend) else b(self.sim) for b in backends]
         if video or images:
             self.view = self.sim.view(width=view_width, video=str(video) if video else None,
                                       images=str(images) if images else None)
-            backend = _core.BackendGroup([self.sim.backend, self.view])
+            shown.insert(0, self.view)
+        # The simulator first (it moves the robots), then what shows them.
+        backend: _core.Backend = _core.BackendGroup([self.sim.backend, *shown]) if shown else self.sim.backend
         self.engine = Engine(self.vworld, self.initial_string(), generators, backend, dt=world.dt, seed=self.seed,
                              max_symbols=max_symbols)
         self.engine.add_observer(self._after_frame)
         self.video = str(video) if video else None
+        # The video is finished by close(), or at the latest when this object goes or Python exits.
+        hold = max(1, round(1.0 / world.dt))
+        self._finish = weakref.finalize(self, self.view.finish, hold) if self.view is not None else None
+        self._closed = False
         self.wall_time = 0.0
         self.trajectories: dict[int, list[tuple[float, float]]] = {}
 
@@ -235,12 +255,16 @@ class CaseStudy:
             for rid, actor in self.robot_actors(record.after).items():
                 path = np.asarray(actor["path"])
                 self.view.set_path(rid, path if len(path) else None)
-                room = self.orders.last.get(rid)
-                status = actor["status"].replace(f"marker {actor['objective']}", room) if room else actor["status"]
-                statuses.append(f"{rid}: {status}")
+                statuses.append(f"{rid}: {self.status_of(rid, actor)}")
             self.view.set_status("   ".join(statuses))
         if self._done(record.frame):
             self.engine.request_stop()
+
+    def status_of(self, robot: int, actor: _core.Node) -> str:
+        """The robot's status with its room by name ("to kitchen" rather than "to marker 1")."""
+        room = self.orders.last.get(robot)
+        status = str(actor["status"])
+        return status.replace(f"marker {actor['objective']}", room) if room else status
 
     def _done(self, frame: int) -> bool:
         if self.orders.pending(frame) or self.orders.given == 0:
@@ -249,14 +273,29 @@ class CaseStudy:
         return all(actors[r]["reached"] for r in self.orders.last)
 
     def run(self, frames: int | None = None, progress: bool | None = False) -> RunSummary:
+        """Run up to `frames` frames (default the world's), stopping early when every order is
+        reached. A later run() continues the same run: the same video, record and trajectories."""
+        if self._closed:
+            raise SchemaError("CaseStudy.run: this run is closed (its video is finished); make a new CaseStudy")
         start = time.perf_counter()
         try:
             self.engine.run(self.frames if frames is None else frames, progress=progress)
         finally:
             self.wall_time += time.perf_counter() - start
-            if self.view is not None:
-                self.view.close()
         return self.summary()
+
+    def close(self) -> None:
+        """Finish the video: its last second shows the final state (arrivals included). Done at
+        exit too, and by ``with CaseStudy(...) as run:``; running again after close() is an error."""
+        if self._finish is not None:
+            self._finish()
+        self._closed = True
+
+    def __enter__(self) -> CaseStudy:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
 
     def summary(self) -> RunSummary:
         actors = self.robot_actors()
@@ -272,25 +311,37 @@ class CaseStudy:
             robots.append(RobotSummary(
                 id=spec.id, room=room, reached=room is not None and dist <= 0.3 + 1e-9,
                 distance_to_goal_m=dist, path_length_m=state.travelled, collisions=int(state.collisions),
-                replans=int(actor["replans"]) if actor is not None else 0, commands=int(state.commands)))
+                replans=int(actor["replans"]) if actor is not None else 0, commands=int(state.commands),
+                status=self.status_of(spec.id, actor) if actor is not None else "gone"))
         ordered = [r for r in robots if r.room is not None]
         outputs = {"video": self.video} if self.video else {}
         return RunSummary(
-            world=self.world.name, planner=self.planner, reached=bool(ordered) and all(r.reached for r in ordered),
+            world=self.world.name, planner=self.planner, reached=all(r.reached for r in ordered),
             frames=self.engine.frame, simulated_time_s=self.engine.time, wall_time_s=self.wall_time,
             path_length_m=sum(r.path_length_m for r in robots), collisions=sum(r.collisions for r in robots),
             replans=sum(r.replans for r in robots), seed=self.seed, robots=robots, outputs=outputs)
 
     def save_trajectory(self, path: str | Path) -> None:
-        """A PNG of the map with every robot's trajectory, path and final pose."""
-        renderer = _core.TopDownRenderer(self.world.grid, width=900, header=40)
+        """A PNG of the map with every robot's trajectory (full strength, no fading), its start
+        (a hollow square) and final pose (a disc), the rooms, and a legend of where each went."""
+        style = _core.RenderStyle()
+        style.trajectory_fade = 1  # a summary picture: the whole trajectory at full strength
+        style.trajectory_faint = 1.0
+        style.trajectory_px = 3
+        renderer = _core.TopDownRenderer(self.world.grid, width=900, header=40, style=style)
         renderer.begin(frame=self.engine.frame, time=self.engine.time, status=f"{self.world.name}: {self.planner}")
         for room in self.world.rooms.values():
             renderer.draw_marker(room.at[0], room.at[1], room.facing, room.name, room.marker)
         for rid, points in self.trajectories.items():
             renderer.draw_trajectory(np.asarray(points), rid)
-        for spec in self.world.robots:
+        legend = []
+        for robot, spec in zip(self.summary().robots, self.world.robots, strict=True):
+            renderer.draw_start(spec.start[0], spec.start[1], spec.id)
             renderer.draw_robot(self.sim.robot(spec.id).pose, spec.radius, spec.id)
+            state = "reached" if robot.reached else "not reached"
+            where = "no order" if robot.room is None else f"{robot.room}, {state}"
+            legend.append((spec.id, f"robot {spec.id}: {where}, {robot.path_length_m:.1f} m"))
+        renderer.draw_legend(legend)
         renderer.save(str(path))
 
 

@@ -1,13 +1,21 @@
-"""The ``vwg`` command: run a world file, replay a record, check a world file."""
+"""The ``vwg`` command: ``run`` a world file (or a shipped world by name), ``replay`` a record, ``check``
+a world file, draw a robot world in 3D (``overview``), list the shipped ``worlds``.
+
+Exit status: 0 on success; 1 when a frame failed (an error in an actor, generator or backend); 2 for
+bad input (a file, an option); 3 when ``vwg run`` finished but a robot with an order did not reach
+its room (``--allow-unreached`` makes that 0); 130 when interrupted."""
 
 from __future__ import annotations
 
 import argparse
+import json
+import math
 import sys
 import time
 import traceback
 from collections.abc import Sequence
 from pathlib import Path
+from typing import Any
 
 from . import _core
 from .errors import Error, FrameError
@@ -25,12 +33,31 @@ def _print_summary(rows: list[tuple[str, str]]) -> None:
         print(f"  {k:<{width}}  {v}")
 
 
-def _is_robot_world(path: Path) -> bool:
-    """A robot world file (the case study) names a map; a generic world file declares an alphabet."""
+def _world_file(arg: Path, command: str, expected: str | None = None) -> tuple[Path, str]:
+    """The world file an argument names (a file, or a shipped world's name) and its kind, "robot" or
+    "generic"; with `expected`, another kind is refused with a sentence saying what `command` takes."""
+    from .worlds import kind_of_world, resolve_world
     from .yamldoc import YamlDoc
 
-    data = YamlDoc(path).data
-    return isinstance(data, dict) and "map" in data
+    path = resolve_world(arg)
+    kind = kind_of_world(path, YamlDoc(path).data)
+    if expected and kind != expected:
+        what = {"robot": "a robot world (a file that names a map:, such as `vwg worlds` lists)",
+                "generic": "a generic world (a file that declares an alphabet:)"}
+        raise Error(f"{path}: vwg {command} takes {what[expected]}; this is {what[kind].split(' (')[0]}")
+    return path, kind
+
+
+def strict_json(value: Any) -> Any:
+    """`value` with every float that is not finite replaced by None, so json.dumps(allow_nan=False)
+    writes JSON that any parser reads (Python's default would write Infinity and NaN)."""
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, dict):
+        return {k: strict_json(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [strict_json(v) for v in value]
+    return value
 
 
 def _goals(values: list[str] | None, robots: list[int]) -> dict[int, str]:
@@ -44,18 +71,30 @@ def _goals(values: list[str] | None, robots: list[int]) -> dict[int, str]:
     return goals
 
 
-def _run_robot(args: argparse.Namespace) -> int:
-    import json
+#: Exit status of `vwg run` when the run finished but a robot with an order did not reach its room.
+EXIT_UNREACHED = 3
+
+
+def _run_robot(args: argparse.Namespace, path: Path) -> int:
+    import dataclasses
 
     from .casestudy import CaseStudy
     from .record import Recorder
     from .robotworld import load_robot_world
 
-    world = load_robot_world(args.world)
-    video = args.video
-    case = CaseStudy(world, args.planner, goals=_goals(args.goal, [r.id for r in world.robots]), seed=args.seed,
-                     frames=args.frames, video=video, images=args.images, max_symbols=args.max_symbols,
-                     world_orders=not args.no_world_orders)
+    if args.backend:
+        raise Error("--backend is for generic worlds; a robot world runs on its simulator "
+                    "(show it with --video, --images or --trajectory)")
+    world = load_robot_world(path)
+    if args.dt is not None:
+        if not (math.isfinite(args.dt) and args.dt > 0):
+            raise Error(f"--dt: expected a number of seconds > 0, got {args.dt}")
+        world = dataclasses.replace(world, dt=args.dt)
+    goals = _goals(args.goal, [r.id for r in world.robots])
+    # Orders on the command line replace the world file's timed orders.
+    case = CaseStudy(world, args.planner or "astar", goals=goals, seed=args.seed, frames=args.frames, video=args.video,
+                     images=args.images, max_symbols=args.max_symbols,
+                     world_orders=False if args.no_world_orders else None)
     if args.stdin_orders:
         case.orders.read_lines(sys.stdin, lambda message: print(f"vwg: {message}", file=sys.stderr))
     recorder = None
@@ -63,11 +102,12 @@ def _run_robot(args: argparse.Namespace) -> int:
         recorder = Recorder(args.record, case.engine, world_file=world.path,
                             world_data={"robot_world": str(Path(world.path).resolve()), "planner": case.planner})
     try:
-        summary = case.run(progress=args.progress)
+        with case:
+            summary = case.run(progress=args.progress)
     finally:
         if recorder:
             recorder.close()
-    trajectory = args.trajectory or (Path(video).with_suffix(".png") if video else None)
+    trajectory = args.trajectory or (Path(args.video).with_suffix(".png") if args.video else None)
     if trajectory:
         case.save_trajectory(trajectory)
         summary.outputs["trajectory"] = str(trajectory)
@@ -76,11 +116,13 @@ def _run_robot(args: argparse.Namespace) -> int:
     if args.summary_json:
         Path(args.summary_json).parent.mkdir(parents=True, exist_ok=True)
         summary.outputs["summary"] = str(args.summary_json)
-        Path(args.summary_json).write_text(json.dumps(summary.to_json(), indent=2) + "\n")
+        text = json.dumps(strict_json(summary.to_json()), indent=2, allow_nan=False)
+        Path(args.summary_json).write_text(text + "\n", encoding="utf-8")
     if not args.quiet:
-        print(f"vwg run {world.path} — {world.name}, planner {summary.planner}, seed {summary.seed}")
+        print(f"vwg run {args.world} — {world.name}, planner {summary.planner}, seed {summary.seed}")
+        ordered = [r for r in summary.robots if r.room is not None]
         rows = [
-            ("reached", "yes" if summary.reached else "no"),
+            ("reached", ("yes" if summary.reached else "no") if ordered else "- (no robot had an order)"),
             ("frames", f"{summary.frames} ({summary.simulated_time_s:.1f} s simulated, "
                        f"{summary.wall_time_s:.1f} s wall)"),
             ("path length", f"{summary.path_length_m:.2f} m"),
@@ -88,13 +130,22 @@ def _run_robot(args: argparse.Namespace) -> int:
             ("replans", str(summary.replans)),
         ]
         for r in summary.robots:
-            state = "reached" if r.reached else f"{r.distance_to_goal_m:.2f} m away"
-            where = f"{r.room}: {state}" if r.room else "no order"
+            if r.room is None:
+                where = "no order"
+            elif r.reached:
+                where = f"{r.room}: reached"
+            else:
+                where = f"{r.room}: {r.distance_to_goal_m:.2f} m away ({r.status})"
             rows.append((f"robot {r.id}", f"{where}, {r.path_length_m:.2f} m, {r.collisions} collisions, "
                                            f"{r.replans} replans"))
-        for name, path in summary.outputs.items():
-            rows.append((name, path))
+        for name, out in summary.outputs.items():
+            rows.append((name, out))
         _print_summary(rows)
+    if not summary.reached and not args.allow_unreached:
+        missed = ", ".join(f"robot {r.id} ({r.room})" for r in summary.robots if r.room and not r.reached)
+        print(f"vwg: not every order was reached: {missed}; exit status {EXIT_UNREACHED} "
+              "(--allow-unreached exits 0)", file=sys.stderr)
+        return EXIT_UNREACHED
     return 0
 
 
@@ -103,14 +154,16 @@ def _cmd_run(args: argparse.Namespace) -> int:
     from .record import Recorder
     from .worldfile import load_world
 
-    if _is_robot_world(args.world):
-        return _run_robot(args)
+    path, kind = _world_file(args.world, "run")
+    if kind == "robot":
+        return _run_robot(args, path)
     robot_options = ("planner", "goal", "video", "images", "summary_json", "trajectory", "no_world_orders",
-                     "stdin_orders")
+                     "stdin_orders", "allow_unreached")
     for option in robot_options:
-        if getattr(args, option) not in (None, False, "astar"):
-            raise Error(f"--{option.replace('_', '-')} is for robot worlds (world files that name a map)")
-    spec = load_world(args.world, seed=args.seed, frames=args.frames, dt=args.dt, backend=args.backend)
+        if getattr(args, option) not in (None, False):
+            raise Error(f"--{option.replace('_', '-')} is for robot worlds (world files that name a map); "
+                        f"{path} is a generic world")
+    spec = load_world(path, seed=args.seed, frames=args.frames, dt=args.dt, backend=args.backend)
     engine = Engine(spec.world, spec.initial, spec.generators, spec.backend, dt=spec.dt, seed=spec.seed,
                     max_symbols=args.max_symbols)
     recorder = Recorder(args.record, engine, world_file=spec.path, world_data=spec.data) if args.record else None
@@ -120,6 +173,11 @@ def _cmd_run(args: argparse.Namespace) -> int:
     finally:
         if recorder:
             recorder.close()
+        # A backend that writes files (a video) finishes them in its finish(), if it has one
+        # (close() is δ, the end of a transformation's scope).
+        finish = getattr(spec.backend, "finish", None)
+        if callable(finish):
+            finish()
     wall = time.perf_counter() - start
     w = engine.string
     if not args.quiet:
@@ -152,26 +210,30 @@ def _cmd_replay(args: argparse.Namespace) -> int:
         from .casestudy import case_study_world, make_decider
         from .robotworld import load_robot_world
 
-        world = case_study_world(load_robot_world(args.world or robot), make_decider(header["world"]["planner"]))
+        path = _world_file(args.world, "replay", expected="robot")[0] if args.world else robot
+        world = case_study_world(load_robot_world(path), make_decider(header["world"]["planner"]))
     else:
-        world = load_world(args.world).world if args.world else None
+        world = load_world(_world_file(args.world, "replay", expected="generic")[0]).world if args.world else None
     backend = backends.create(args.backend, world=world) if args.backend else None
     start = time.perf_counter()
     engine = replay(args.record, world=world, backend=backend)
     wall = time.perf_counter() - start
     record = read_record(args.record)
     print(f"vwg replay {args.record}: {len(record.frames)} frames replayed, every string as recorded "
-          f"({wall:.3f} s)")
+          f"({wall:.1f} s)")
     print(f"  final string: {_clip(str(engine.string)) or 'ε'}")
     return 0
 
 
 def _cmd_check(args: argparse.Namespace) -> int:
+    path, kind = _world_file(args.world, "check")
+    if kind == "robot":
+        return _check_robot(path, args.world)
     from .worldfile import load_world
 
-    spec = load_world(args.world)
+    spec = load_world(path)
     a = spec.world.alphabet
-    print(f"{spec.path}: ok")
+    print(f"{args.world}: ok, a generic world ({spec.name})")
     _print_summary([
         ("primitives", ", ".join(a.primitives) or "-"),
         ("transformations", ", ".join(a.transformations) or "-"),
@@ -180,19 +242,69 @@ def _cmd_check(args: argparse.Namespace) -> int:
         ("visual events", ", ".join(a.visual_event_types) or "-"),
         ("generators", ", ".join(g.name for g in spec.generators) or "-"),
         ("initial string", _clip(str(spec.initial)) or "ε"),
+        ("frames", f"{spec.frames} (dt {spec.dt} s, seed {spec.seed})"),
     ])
     return 0
 
 
-def _cmd_overview(args: argparse.Namespace) -> int:
+def _check_robot(path: Path, arg: Path) -> int:
     from .robotworld import load_robot_world
 
-    world = load_robot_world(args.world)
-    image = _core.render_overview(world.grid, markers=world.rooms, robots=world.robots, wall_height=world.wall_height,
-                                  width=args.width, height=args.height)
+    w = load_robot_world(path)
+    g = w.grid
+    print(f"{arg}: ok, a robot world ({w.name})")
+    if w.description:
+        print(f"  {w.description}")
+    rows = [
+        ("map", f"{w.map_path.name}: {g.width}×{g.height} cells of {g.resolution:g} m "
+                f"({g.width_m:g} × {g.height_m:g} m), walls {w.wall_height:g} m high"),
+        ("rooms", f"{len(w.rooms)}"),
+    ]
+    for name, room in w.rooms.items():
+        rows.append((f"  {name}", f"marker {room.marker} at ({room.at[0]:g}, {room.at[1]:g}), "
+                                  f"goal ({room.goal[0]:.2f}, {room.goal[1]:.2f})"))
+    rows.append(("robots", f"{len(w.robots)}"))
+    for r in w.robots:
+        rows.append((f"  robot {r.id}", f"start ({r.start[0]:g}, {r.start[1]:g}, {r.start[2]:.3g} rad), radius "
+                                        f"{r.radius:g} m, {r.max_speed:g} m/s, sensors: {', '.join(r.sensors)}"))
+    rows += [
+        ("laser", f"{w.laser.beams} beams over {math.degrees(w.laser.fov):.0f}°, {w.laser.max_range:g} m, "
+                  f"noise {w.laser.noise:g} m"),
+        ("kinect", f"{w.kinect.width}×{w.kinect.height}, {math.degrees(w.kinect.hfov):.0f}°, "
+                   f"{w.kinect.min_range:g}-{w.kinect.max_range:g} m"),
+        ("camera", f"{w.camera.width}×{w.camera.height}, {math.degrees(w.camera.hfov):.0f}°"),
+        ("noise", f"odometry {w.noise.odometry:g}, motors {w.noise.motors:g}"),
+        ("orders", "; ".join(f"{o.time:g} s: robot {o.robot} to {o.room}" for o in w.orders) or "none"),
+        ("frames", f"{w.frames} (dt {w.dt:g} s, seed {w.seed})"),
+    ]
+    _print_summary(rows)
+    return 0
+
+
+def _cmd_overview(args: argparse.Namespace) -> int:
+    from .overview import render_world_overview
+    from .robotworld import load_robot_world
+
+    path, _ = _world_file(args.world, "overview", expected="robot")
+    world = load_robot_world(path)
+    image = render_world_overview(world, width=args.width, height=args.height)
     out = args.output or Path(f"{world.name}_3d.png")
     _core.write_image(str(out), image)
     print(f"{out}: {world.name} in 3D ({image.shape[1]}×{image.shape[0]})")
+    return 0
+
+
+def _cmd_worlds(args: argparse.Namespace) -> int:
+    from .robotworld import load_robot_world
+    from .worlds import shipped_worlds
+
+    print(f"{len(shipped_worlds())} shipped worlds; run one with `vwg run NAME`, describe it with `vwg check NAME`:")
+    rows = []
+    for name, path in shipped_worlds().items():
+        w = load_robot_world(path)
+        rows.append((name, f"{len(w.robots)} robot{'s' if len(w.robots) > 1 else ''}, {len(w.rooms)} rooms, "
+                           f"{w.grid.width_m:g} × {w.grid.height_m:g} m. {w.description}"))
+    _print_summary(rows)
     return 0
 
 
@@ -200,10 +312,12 @@ def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="vwg", description="vwg, the Virtual Worlds Generator: run worlds written as strings of a grammar.")
     parser.add_argument("--version", action="version", version=f"vwg {_core.__version__}")
+    parser.add_argument("--verbose", "-v", action="count", default=0,
+                        help="print vwg's and its libraries' messages (-v: warnings and info, -vv: debug)")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
     run = sub.add_parser("run", help="run a world file", description="Run a world file and print a summary.")
-    run.add_argument("world", type=Path, help="the world file (YAML)")
+    run.add_argument("world", type=Path, help="a world file (YAML), or the name of a shipped world (vwg worlds)")
     run.add_argument("--frames", type=int, help="number of frames (default: the file's, else 100)")
     run.add_argument("--seed", type=int, help="random seed (default: the file's, else 0)")
     run.add_argument("--dt", type=float, help="seconds per frame (default: the file's, else 0.1)")
@@ -211,11 +325,12 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--max-symbols", type=int, default=10_000_000,
                      help="fail if the string grows past this many symbols (default 10 000 000; 0: no limit)")
     robot = run.add_argument_group("robot worlds (the case study: world files that name a map)")
-    robot.add_argument("--planner", default="astar",
+    robot.add_argument("--planner",
                        help="the decision inside eDecide: random, astar, dstar, rrtconnect, rrtstar, prm "
                             "(default astar)")
     robot.add_argument("--goal", action="append", metavar="[ROBOT:]ROOM",
-                       help="send a robot (default the first) to a room at the start; repeatable")
+                       help="send a robot (default the first) to a room at the start; repeatable; replaces "
+                            "the world file's orders")
     robot.add_argument("--no-world-orders", action="store_true",
                        help="ignore the orders scripted in the world file (only --goal and standard input)")
     robot.add_argument("--stdin-orders", action="store_true",
@@ -223,7 +338,9 @@ def build_parser() -> argparse.ArgumentParser:
     robot.add_argument("--video", type=Path, help="write the run as a video (.mp4 H.264 or .gif)")
     robot.add_argument("--images", type=Path, help="write every frame as a PNG into this folder")
     robot.add_argument("--trajectory", type=Path, help="PNG of the trajectories (default: beside the video)")
-    robot.add_argument("--summary-json", type=Path, help="write the summary as JSON")
+    robot.add_argument("--summary-json", type=Path, help="write the summary as JSON (non-finite numbers as null)")
+    robot.add_argument("--allow-unreached", action="store_true",
+                       help=f"exit 0 even when a robot did not reach its room (otherwise exit {EXIT_UNREACHED})")
     run.add_argument("--record", type=Path, help="write every frame to this JSON Lines file")
     run.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
                      help="show a progress bar (default: on a terminal)")
@@ -239,21 +356,32 @@ def build_parser() -> argparse.ArgumentParser:
 
     ovw = sub.add_parser("overview", help="draw a robot world's map in 3D (the paper's Fig. 5)",
                          description="Draw a robot world in 3D: walls extruded, markers, robots at their starts.")
-    ovw.add_argument("world", type=Path, help="a robot world file (one that names a map)")
+    ovw.add_argument("world", type=Path, help="a robot world file (one that names a map), or a shipped world's name")
     ovw.add_argument("-o", "--output", type=Path, help="the PNG to write (default: NAME_3d.png)")
     ovw.add_argument("--width", type=int, default=1000)
     ovw.add_argument("--height", type=int, default=700)
     ovw.set_defaults(func=_cmd_overview)
 
-    chk = sub.add_parser("check", help="load a world file and report what it declares")
-    chk.add_argument("world", type=Path)
+    chk = sub.add_parser("check", help="load a world file, check it and report what it declares",
+                         description="Check a robot world (map, rooms, robots, sensors, orders) or a generic world "
+                                     "(alphabet, generators, initial string) and describe it.")
+    chk.add_argument("world", type=Path, help="a world file, or the name of a shipped world")
     chk.set_defaults(func=_cmd_check)
+
+    wld = sub.add_parser("worlds", help="list the worlds that ship with vwg",
+                         description="List the shipped robot worlds; run one with `vwg run NAME`.")
+    wld.set_defaults(func=_cmd_worlds)
     return parser
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
+    if args.verbose:
+        import logging
+
+        logging.basicConfig(level=logging.DEBUG if args.verbose > 1 else logging.INFO,
+                            format="%(name)s: %(levelname)s: %(message)s")
     try:
         return int(args.func(args))
     except FrameError as e:

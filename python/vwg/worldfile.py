@@ -13,6 +13,7 @@
       - schedule: {10: ["tick"]}               # events at frames
       - python: "gens.py:Noise"                # a vwg.Generator subclass, with optional args: {...}
     backend: trace                             # trace, null, a registered name, or {python: ..., args: ...}
+                                               # (`vwg run` calls the backend's finish(), if any, at the end)
     frames: 10
     seed: 0
     dt: 0.1
@@ -85,7 +86,7 @@ def load_object(ref: str, base_dir: Path, where: str = "") -> Any:
         raise Error(f"{where}: {module_ref} has no '{name}'") from None
 
 
-def _wrap(doc: YamlDoc, path: tuple[Any, ...], fn: Any, *args: Any, **kwargs: Any) -> Any:
+def _wrap(doc: YamlDoc, path: tuple[Any, ...], fn: Any, /, *args: Any, **kwargs: Any) -> Any:
     """Run fn; a vwg error inside is re-raised naming the file, line and key."""
     try:
         return fn(*args, **kwargs)

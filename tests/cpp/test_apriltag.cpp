@@ -492,6 +492,12 @@ struct PoseCase {
   double yaw;      // the tag turned about its vertical axis, degrees
 };
 
+// Readable test names in ctest and gtest output (gtest prints raw bytes otherwise).
+void PrintTo(const PoseCase& c, std::ostream* os) {
+  *os << "range " << c.range << " m, bearing " << c.bearing << " deg, height " << c.height << " m, yaw " << c.yaw
+      << " deg";
+}
+
 class SyntheticPose : public ::testing::TestWithParam<PoseCase> {};
 
 TEST_P(SyntheticPose, DistanceWithin5PercentBearingWithin2Degrees) {

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <ostream>
 #include <random>
 #include <span>
 #include <string>
@@ -270,6 +271,12 @@ struct BenchmarkCase {
   Heuristic heuristic;
 };
 
+// Readable test names in ctest and gtest output (gtest prints raw bytes otherwise).
+void PrintTo(const BenchmarkCase& c, std::ostream* os) {
+  const char* names[] = {"euclidean", "octile", "manhattan", "zero"};
+  *os << c.map << ", " << names[static_cast<int>(c.heuristic)];
+}
+
 class MovingAiScenarios : public ::testing::TestWithParam<BenchmarkCase> {};
 
 TEST_P(MovingAiScenarios, AStarFindsEveryPublishedOptimalLength) {
@@ -414,6 +421,8 @@ struct ObstacleEvent {
   std::size_t ahead;  ///< cells along the path from the robot to the obstacle's centre
   int half_rows, half_cols;
 };
+
+void PrintTo(const ObstacleEvent& e, std::ostream* os) { *os << e.name; }
 
 class Replanning : public ::testing::TestWithParam<ObstacleEvent> {};
 

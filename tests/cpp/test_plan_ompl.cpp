@@ -387,12 +387,6 @@ void time_planners(const std::string& name, double resolution, double radius, do
 
 TEST(Ompl, PlanTimes) { time_planners("den312d", 0.1, 0.1, 0.2); }
 
-// A 512 × 512 map of random clutter: slow (tens of seconds), so only with VWG_PLAN_TIMING=1.
-TEST(Ompl, PlanTimesOnA512Map) {
-  if (std::getenv("VWG_PLAN_TIMING") == nullptr) GTEST_SKIP() << "set VWG_PLAN_TIMING=1 to run";
-  time_planners("random512-10-0", 0.05, 0.01, 5.0);
-}
-
 TEST(Clearance, InflatedEqualsThePerCellClearanceTest) {
   // The stamped inflation against its definition: a cell is blocked when its centre's clearance
   // (exact, map edge included) is at most the radius.

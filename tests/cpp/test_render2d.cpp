@@ -337,6 +337,49 @@ TEST(TopDownRenderer, PathAndMarker) {
   EXPECT_EQ(pixel(r.image(), 30, 38), (Rgb{255, 255, 255}));      // beyond its half length of 6 px
 }
 
+TEST(TopDownRenderer, LabelsStayOnTopOfRobotsAndRays) {
+  RenderStyle s = plain_style();
+  s.label = {0, 0, 0};
+  s.antialias = false;
+  TopDownRenderer r(free_grid(), s);
+  // A marker label, then a large robot drawn over where it goes: the label's black text must
+  // still show inside the robot's disc, because labels are drawn when the image is read.
+  r.draw_marker(1.0, 0.25, kPi / 2, "kitchen", 3);
+  r.draw_robot({1.3, 0.55, 0.0}, 0.35, 1, std::string_view(""));
+  const cv::Mat& im = r.image();
+  int black = 0;
+  for (int y = 0; y < im.rows; ++y) {
+    for (int x = 0; x < im.cols; ++x) black += pixel(im, x, y) == Rgb{0, 0, 0};
+  }
+  EXPECT_GT(black, 20);  // the text's strokes
+}
+
+TEST(TopDownRenderer, StartSquareAndLegend) {
+  RenderStyle s = plain_style();
+  s.antialias = false;
+  s.pixels_per_cell = 20;  // 400 × 200 pixels of map: room for the legend
+  TopDownRenderer r(free_grid(), s);
+  // A start square in robot 2's colour ({200, 100, 0}) centred at (1.0, 0.5): pixel (208, 108),
+  // half a side of max(4, 0.15 m) = 30 px.
+  ASSERT_EQ(r.world_to_pixel(1.0, 0.5), cv::Point2d(208, 108));
+  r.draw_start(1.0, 0.5, 2);
+  const cv::Mat& im = r.image();
+  EXPECT_EQ(pixel(im, 178, 108), (Rgb{200, 100, 0}));  // on its left side
+  EXPECT_EQ(pixel(im, 208, 108), (Rgb{255, 255, 255}));  // hollow
+  EXPECT_EQ(pixel(im, 170, 108), (Rgb{255, 255, 255}));  // outside
+  // The legend: a box in the top-right corner with a swatch in robot 2's colour.
+  r.begin();
+  r.draw_legend({{2, "robot 2: kitchen"}});
+  const cv::Mat& with = r.image();
+  int swatch = 0;
+  for (int y = 0; y < with.rows / 2; ++y) {
+    for (int x = with.cols / 2; x < with.cols; ++x) swatch += pixel(with, x, y) == Rgb{200, 100, 0};
+  }
+  EXPECT_GT(swatch, 10);
+  r.begin();
+  EXPECT_EQ(pixel(r.image(), with.cols - 3, 4), (Rgb{0, 0, 255}));  // gone at the next frame
+}
+
 TEST(TopDownRenderer, TrajectoryIsDrawnAndFades) {
   RenderStyle s = plain_style();
   s.trajectory = {0, 0, 0};
@@ -376,7 +419,7 @@ TEST(TopDownRenderer, SkipsNonFiniteInput) {
 // ---------------------------------------------------------------- video
 
 TEST(VideoWriter, Mp4IsH264Yuv420pWithEveryFrame) {
-  if (!have("ffmpeg") || !have("ffprobe")) GTEST_SKIP() << "ffmpeg/ffprobe not installed";
+  ASSERT_TRUE(have("ffmpeg") && have("ffprobe")) << "ffmpeg is a dependency: make deps installs it";
   TempDir dir;
   const std::string path = dir / "run.mp4";
   VideoWriter v(path, 64, 48, 10);
@@ -405,7 +448,7 @@ TEST(VideoWriter, Mp4IsH264Yuv420pWithEveryFrame) {
 }
 
 TEST(VideoWriter, SizeFromTheFirstFrame) {
-  if (!have("ffprobe")) GTEST_SKIP() << "ffprobe not installed";
+  ASSERT_TRUE(have("ffprobe")) << "ffmpeg is a dependency: make deps installs it";
   TempDir dir;
   const std::string path = dir / "lazy.mp4";
   VideoWriter v(path, 0, 0, 25);
@@ -420,7 +463,7 @@ TEST(VideoWriter, SizeFromTheFirstFrame) {
 }
 
 TEST(VideoWriter, FramesThatAreViewsIntoLargerImagesAreWritten) {
-  if (!have("ffprobe")) GTEST_SKIP() << "ffprobe not installed";
+  ASSERT_TRUE(have("ffprobe")) << "ffmpeg is a dependency: make deps installs it";
   TempDir dir;
   const std::string path = dir / "roi.mp4";
   const cv::Mat big = solid_frame(100, 80, 2);
@@ -434,7 +477,7 @@ TEST(VideoWriter, FramesThatAreViewsIntoLargerImagesAreWritten) {
 }
 
 TEST(VideoWriter, GifStartsWithItsSignatureAndHasEveryFrame) {
-  if (!have("ffmpeg") || !have("ffprobe")) GTEST_SKIP() << "ffmpeg/ffprobe not installed";
+  ASSERT_TRUE(have("ffmpeg") && have("ffprobe")) << "ffmpeg is a dependency: make deps installs it";
   TempDir dir;
   const std::string path = dir / "run.gif";
   {
@@ -450,7 +493,7 @@ TEST(VideoWriter, GifStartsWithItsSignatureAndHasEveryFrame) {
 }
 
 TEST(VideoWriter, GifWithOneGlobalPalette) {
-  if (!have("ffprobe")) GTEST_SKIP() << "ffprobe not installed";
+  ASSERT_TRUE(have("ffprobe")) << "ffmpeg is a dependency: make deps installs it";
   TempDir dir;
   const std::string path = dir / "global.gif";
   VideoSettings s;
@@ -463,7 +506,7 @@ TEST(VideoWriter, GifWithOneGlobalPalette) {
 }
 
 TEST(VideoWriter, OddSizesAreFineForGif) {
-  if (!have("ffmpeg")) GTEST_SKIP() << "ffmpeg not installed";
+  ASSERT_TRUE(have("ffmpeg")) << "ffmpeg is a dependency: make deps installs it";
   TempDir dir;
   VideoWriter v(dir / "odd.gif", 41, 31, 5);
   v.write(solid_frame(41, 31, 0));
@@ -471,7 +514,7 @@ TEST(VideoWriter, OddSizesAreFineForGif) {
 }
 
 TEST(VideoWriter, DestroyedWithoutCloseStillFinishesTheFile) {
-  if (!have("ffprobe")) GTEST_SKIP() << "ffprobe not installed";
+  ASSERT_TRUE(have("ffprobe")) << "ffmpeg is a dependency: make deps installs it";
   TempDir dir;
   const std::string path = dir / "abandoned.mp4";
   {
@@ -484,7 +527,7 @@ TEST(VideoWriter, DestroyedWithoutCloseStillFinishesTheFile) {
 }
 
 TEST(VideoWriter, MoveAssignmentFinishesTheOldVideo) {
-  if (!have("ffprobe")) GTEST_SKIP() << "ffprobe not installed";
+  ASSERT_TRUE(have("ffprobe")) << "ffmpeg is a dependency: make deps installs it";
   TempDir dir;
   VideoWriter v(dir / "a.mp4", 64, 48, 10);
   v.write(solid_frame(64, 48, 0));
@@ -496,7 +539,7 @@ TEST(VideoWriter, MoveAssignmentFinishesTheOldVideo) {
 }
 
 TEST(VideoWriter, OpenCvBackendWritesH264) {
-  if (!have("ffprobe")) GTEST_SKIP() << "ffprobe not installed";
+  ASSERT_TRUE(have("ffprobe")) << "ffmpeg is a dependency: make deps installs it";
   TempDir dir;
   const std::string path = dir / "cv.mp4";
   VideoSettings s;
@@ -612,7 +655,7 @@ TEST(ImageSequence, NumberedPngFiles) {
 }
 
 TEST(RenderToVideo, RendererFramesGoStraightIntoAVideo) {
-  if (!have("ffprobe")) GTEST_SKIP() << "ffprobe not installed";
+  ASSERT_TRUE(have("ffprobe")) << "ffmpeg is a dependency: make deps installs it";
   TempDir dir;
   TopDownRenderer r(free_grid(), plain_style());
   VideoWriter v(dir / "sim.mp4", r.size().width, r.size().height, 20);

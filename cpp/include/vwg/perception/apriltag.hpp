@@ -70,7 +70,7 @@ struct CameraIntrinsics {
 struct TagPose {
   std::array<double, 9> rotation{};     ///< row-major 3×3
   std::array<double, 3> translation{};  ///< the tag centre in the camera frame, metres
-  double error = 0.0;     ///< the library's object-space error of the chosen solution
+  double error = 0.0;     ///< object-space error of the chosen solution (sum of squared distances, m²)
   double distance = 0.0;  ///< |translation|, metres
   /// Angle of the tag centre from the optical axis in the camera's horizontal (x-z) plane, in
   /// radians, positive when the tag is to the LEFT of the axis: atan2(-t.x, t.z). For a level
@@ -134,8 +134,9 @@ class AprilTagDetector {
   std::unique_ptr<Impl> impl_;
 };
 
-/// The pose of a detected tag (the library's estimate_tag_pose: homography, then orthogonal
-/// iteration over the two ambiguous solutions, the one with the smaller error kept).
+/// The pose of a detected tag: the two solutions of the planar ambiguity (OpenCV's IPPE for
+/// squares), the one with the smaller object-space error kept (the criterion of libapriltag's
+/// estimate_tag_pose, which is not used: it prints to stderr).
 /// `tag_size` is the side of the black border square in metres (width_at_border cells).
 /// Throws vwg::SchemaError for a non-positive tag size or focal length, non-finite values or a
 /// degenerate quad, vwg::Error when the estimate fails.

@@ -135,12 +135,24 @@ class TopDownRenderer {
   /// A trajectory (oldest point first): a thin polyline that fades from the newest point back.
   void draw_trajectory(std::span<const cv::Point2d> points, int id = -1);
 
+  /// Where robot `id` started: a hollow square in its colour (the legend names it "start").
+  void draw_start(double x, double y, int id);
+
+  /// A legend in the top-right corner: one line per entry, each with a swatch in robot `id`'s
+  /// colour, and a last line explaining the start square and the final disc. Drawn on top.
+  struct LegendEntry {
+    int id = 0;
+    std::string text;
+  };
+  void draw_legend(std::vector<LegendEntry> entries);
+
   /// The robot's belief: an int8 grid of the map's geometry (-1 unknown, 0 free .. 100 occupied)
   /// blended over the map; unknown cells leave the map visible. Throws vwg::Error on a size mismatch.
   void draw_belief(std::span<const std::int8_t> cells);
 
-  /// The finished frame (RGB, CV_8UC3). Draws the corner text the first time it is asked for
-  /// after begin(), so the text is on top of everything. Valid until the next begin().
+  /// The finished frame (RGB, CV_8UC3). Labels (of robots and markers), the legend and the corner
+  /// text are drawn when the frame is read, so they stay on top of rays, paths and robots. Valid
+  /// until the next begin().
   const cv::Mat& image();
 
   /// Continuous pixel coordinates of a world point: pixel (i, j) covers [i, i+1) × [j, j+1), so
@@ -163,9 +175,16 @@ class TopDownRenderer {
   Rgb robot_colour(int id) const;
 
  private:
+  struct Label {
+    std::string text;
+    cv::Point2d anchor, away, side;
+  };
   void draw_map_layer();
   void draw_corner_text();
-  void put_label(const std::string& text, cv::Point2d anchor, cv::Point2d away);
+  void draw_legend_box();
+  // Deferred to image(): the text beyond `anchor` along `away`, and slid along `side` if non-zero.
+  void put_label(const std::string& text, cv::Point2d anchor, cv::Point2d away, cv::Point2d side = {0, 0});
+  void draw_label(const Label& label);
 
   OccupancyGrid grid_;
   RenderStyle style_;
@@ -177,6 +196,8 @@ class TopDownRenderer {
   cv::Mat canvas_;           // the frame being drawn
   FrameText text_;
   bool text_pending_ = false;
+  std::vector<Label> labels_;               // drawn by image(), on top
+  std::vector<LegendEntry> legend_;         // drawn by image(), on top
 };
 
 }  // namespace vwg::sim

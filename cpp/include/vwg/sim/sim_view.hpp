@@ -39,6 +39,10 @@ class SimView final : public Backend {
   void record_images(const std::string& directory);
   /// Finish the video (also done by the destructor).
   void close();
+  /// Draw the last frame again with what was set since (status, paths), write it `hold_frames`
+  /// times to the video (once to the images), then close: a video's end shows the final state,
+  /// such as a robot's arrival, which is only known after its frame was drawn.
+  void finish(int hold_frames);
 
   void begin_frame(const FrameInfo& frame) override;
   void primitive(const NodeView& p) override;
@@ -46,6 +50,7 @@ class SimView final : public Backend {
   void close(const NodeView& t) override { motion_.close(t); }
   void end_frame(const FrameInfo& frame) override;
   std::string name() const override { return "view"; }
+  ~SimView() override { close(); }
 
   /// The last frame drawn (RGB).
   const cv::Mat& image() { return renderer_.image(); }
@@ -55,6 +60,9 @@ class SimView final : public Backend {
   const std::map<int, std::vector<cv::Point2d>>& trajectories() const { return trajectories_; }
 
  private:
+  void draw(std::uint64_t frame, double time);  // the frame into renderer_
+  void write(int copies_to_video);              // renderer_'s image to the outputs
+
   struct Marker {
     double x, y, facing;
     std::string label;
@@ -77,6 +85,7 @@ class SimView final : public Backend {
   VideoSettings video_settings_;
   std::optional<ImageSequence> images_;
   std::int64_t written_ = 0;
+  std::optional<FrameInfo> last_frame_;  // the last frame drawn, for finish()
 };
 
 }  // namespace vwg::sim
