@@ -3,22 +3,25 @@
 from __future__ import annotations
 
 import json
+import math
+import struct
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 
 import vwg
 from conftest import ROOT
 from vwg.cli import main
-from vwg.record import Recorder, read_record, replay
+from vwg.record import Recorder, decode_blob, encode_blob, read_record, replay
 from vwg.worldfile import load_world
 
 FIREFLIES = ROOT / "examples" / "01_fireflies" / "world.yaml"
 
 
 def run_recorded(tmp_path, seed=7, frames=40):
-    spec = load_world(FIREFLIES, seed=seed)
+    spec = load_world(FIREFLIES, seed=seed, backend="trace")  # the trace of φ, not the file's GIF
     engine = vwg.Engine(spec.world, spec.initial, spec.generators, spec.backend, seed=spec.seed)
     path = tmp_path / f"run{seed}.jsonl"
     with Recorder(path, engine, world_file=spec.path, world_data=spec.data):
@@ -66,7 +69,7 @@ def test_same_seed_same_record_bit_for_bit(tmp_path):
 
 def test_bad_record_files(tmp_path):
     bad = tmp_path / "bad.jsonl"
-    bad.write_text('{"vwg_record": 1, "initial": "", "seed": 0, "dt": 0.1}\n{"t": 0, "events": [], "string": ""\n')
+    bad.write_text('{"vwg_record": 2, "initial": "", "seed": 0, "dt": 0.1}\n{"t": 0, "events": [], "string": ""\n')
     with pytest.raises(vwg.WorldFileError, match="not valid JSON") as info:
         read_record(bad)
     assert info.value.line == 2
@@ -77,7 +80,8 @@ def test_bad_record_files(tmp_path):
 
 def test_cli_run_record_replay_and_check(tmp_path, capsys):
     record = tmp_path / "run.jsonl"
-    assert main(["run", str(FIREFLIES), "--frames", "30", "--seed", "3", "--record", str(record)]) == 0
+    assert main(["run", str(FIREFLIES), "--frames", "30", "--seed", "3", "--backend", "trace",
+                 "--record", str(record)]) == 0
     out = capsys.readouterr().out
     assert "frames" in out and "record" in out
     assert main(["replay", str(record)]) == 0
@@ -97,3 +101,281 @@ def test_cli_errors_are_one_clear_line(tmp_path, capsys):
 def test_the_installed_command_runs():
     out = subprocess.run([sys.executable, "-m", "vwg.cli", "--version"], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == f"vwg {vwg.__version__}"
+
+
+# --- format 2: events as columns, blobs as changes ---------------------------------------------
+
+SPECIAL_FLOATS = [0.1 + 0.2, -0.0, 0.0, 1e-300, 5e-324, 2.225073858507201e-308, 1.7976931348623157e308,
+                  -1e16, 1e16, 123456789.125, math.pi, -2.5, 1.0, 0.1, 1e-5, 9.999999999999999e15]
+SPECIAL_INTS = [-2**63, 2**63 - 1, 0, -1, 1, 2**53 + 1, -(2**31), 7]
+
+
+def _bits(v):
+    if isinstance(v, float):
+        return struct.unpack("<q", struct.pack("<d", v))[0]
+    return int(v) + (7 if isinstance(v, bool) else 0)
+
+
+class Folder(vwg.Actor):
+    """Folds every event it gets, in order and bit for bit, into h: a changed, lost or reordered
+    event changes the string."""
+
+    events = ("sample", "flag", "note", "tick", "ping")
+    attributes = {"id": 1, "h": 0}
+
+    def _fold(self, *values):
+        h = self.h
+        for v in values:
+            h = (h * 1000003 + _bits(v)) % (2**61 - 1)
+        return self.with_(h=h)
+
+    def on_sample(self, e):
+        return self._fold(1, e.k, e.x, e.b)
+
+    def on_flag(self, e):
+        return self._fold(2, e.on)
+
+    def on_note(self, e):
+        return self._fold(3, len(e.text))
+
+    def on_tick(self, e):
+        return self._fold(4)
+
+    def on_ping(self, e):
+        return self._fold(5)
+
+
+def folder_world():
+    return vwg.World(events={"sample": {"k": 0, "x": 0.0, "b": False}, "flag": {"on": False},
+                             "note": {"text": ""}, "tick": None, "ping": None},
+                     actors=(Folder,))
+
+
+def script(frame):
+    """Every kind of value, runs long and short, mixed, in an order that matters."""
+    n = len(SPECIAL_FLOATS)
+    out = [vwg.Event("sample", 1, k=SPECIAL_INTS[(i + frame) % len(SPECIAL_INTS)],
+                     x=SPECIAL_FLOATS[(i + frame) % n], b=(i + frame) % 3 == 0) for i in range(12)]
+    out += [vwg.Event("sample", k=i, x=i / 3, b=True) for i in range(7)]  # one short of a run
+    out.append(vwg.Event("note", 2, text='a, b=c "d"'))
+    out += [vwg.Event("tick")] * 10
+    out += [vwg.Event("ping", 1 + i % 2) for i in range(9 + frame % 2)]
+    out += [vwg.Event("flag", on=(i * frame) % 2 == 1) for i in range(8)]
+    out += [vwg.Event("sample", 2, k=frame, x=frame + i * 0.5, b=False) for i in range(8)]
+    out.append(vwg.Event("tick"))
+    return out
+
+
+class Script(vwg.Generator):
+    name = "script"
+
+    def generate(self, frame):
+        return script(frame.frame)
+
+
+def run_folder(path, frames=6):
+    world = folder_world()
+    engine = vwg.Engine(world, "Folder<id=1, h=0> . Folder<id=2, h=0>", [Script()])
+    texts = []
+    engine.add_observer(lambda r: texts.append(r.event_texts))
+    with Recorder(path, engine, world_data={"note": "folder"}):
+        engine.run(frames)
+    return world, engine, texts
+
+
+def test_runs_of_every_value_kind_read_back_as_the_engine_wrote_them(tmp_path):
+    path = tmp_path / "folder.jsonl"
+    world, engine, texts = run_folder(path)
+    record = read_record(path)
+    assert [f["events"] for f in record.frames] == texts
+    # Runs of 8 or more (long samples, ticks, pings, flags) are columns; shorter ones and the
+    # note (a text field) stay text.
+    line = json.loads(path.read_text().splitlines()[1])
+    kinds = [(item["run"], item["n"]) if isinstance(item, dict) else item.split("<")[0] for item in line["events"]]
+    assert kinds == [("sample", 12)] + ["sample"] * 7 + ["note", ("tick", 10), ("ping", 9), ("flag", 8),
+                                                          ("sample", 8), "tick"]
+    assert line["events"][0]["fields"].keys() == {"k", "x", "b"} and "to" in line["events"][0]
+    assert "to" not in line["events"][-3] and "fields" not in line["events"][-4]  # flag; ping
+    # Every float is the same double, every int the same int.
+    for frame, frame_texts in zip(record.frames, texts, strict=True):
+        got = [world.event(t) for t in frame["events"][:12]]
+        want = script(frame["t"])[:12]
+        assert [(e.target, e.k, _bits(e.x), e.b) for e in got] == [(e.target, e.k, _bits(e.x), e.b) for e in want]
+        assert frame["events"] == frame_texts
+    assert str(replay(path, world=world).string) == str(engine.string)
+
+
+def test_columns_keep_any_bits(tmp_path):
+    from vwg.record import _Columns
+
+    rng = np.random.default_rng(1)
+    floats = rng.integers(-(2**63), 2**63 - 1, 300, dtype=np.int64, endpoint=True).view(np.float64)
+    ints = np.array(SPECIAL_INTS * 5, dtype=np.int64)
+    bools = rng.random(41) < 0.5
+    writer, reader = _Columns(), _Columns()
+    sig = ("e", True, (("x", "f"),))
+    for frame in range(3):  # later frames decode with the earlier ones as dictionaries
+        writer.start_frame()
+        reader.start_frame()
+        for name, a in (("x", floats[frame:]), ("k", ints), ("b", bools), ("none", ints[:0])):
+            back = reader.decode((sig, 0, name), writer.encode((sig, 0, name), a), a.dtype, a.size)
+            assert back.dtype == a.dtype and back.tobytes() == a.tobytes()
+
+
+def test_base85_is_pythons(tmp_path):
+    import base64
+
+    from vwg.record import _b85decode, _b85encode
+
+    rng = np.random.default_rng(2)
+    for n in [*range(12), 1000, 4097]:
+        data = rng.integers(0, 256, n, dtype=np.uint8).tobytes()
+        assert _b85encode(data) == base64.b85encode(data).decode()
+        assert _b85decode(_b85encode(data)) == data
+
+
+def rewrite_events(path, world, edit):
+    """Re-encode a record's events after `edit(t, texts)` changed the texts of frame t."""
+    from vwg.record import _Columns, _decode_events, _encode_events
+
+    lines = [json.loads(x) for x in path.read_text().splitlines()]
+    reader, writer = _Columns(), _Columns()
+    for obj in lines[1:]:
+        if "events" in obj:
+            texts = _decode_events(reader, obj["events"])
+            edit(obj["t"], texts)
+            obj["events"] = _encode_events(writer, [world.event(t) for t in texts], texts)
+    path.write_text("".join(json.dumps(obj) + "\n" for obj in lines))
+
+
+def test_replay_detects_a_changed_event_value(tmp_path):
+    path = tmp_path / "folder.jsonl"
+    world, _, _ = run_folder(path)
+    rewrite_events(path, world, lambda t, texts: None)
+    assert replay(path, world=world)  # re-encoded as it was: still replays
+
+    def one_ulp(t, texts):
+        if t == 3:  # the 5th long-run sample: a column value, one bit changed
+            e = world.event(texts[4])
+            texts[4] = str(world.event(f"sample<to={e.target}, k={e.k}, x={float(np.nextafter(e.x, 1e308))!r}, "
+                                       f"b={str(e.b).lower()}>"))
+
+    rewrite_events(path, world, one_ulp)
+    assert isinstance(json.loads(path.read_text().splitlines()[4])["events"][0], dict)
+    with pytest.raises(vwg.ReplayError) as info:
+        replay(path, world=world)
+    assert info.value.frame == 4
+
+
+def blob_pair(dtype, shape, changes):
+    rng = np.random.default_rng(3)
+    base = (rng.random(shape) * 100).astype(dtype)
+    new = base.copy()
+    for index, value in changes:
+        new[index] = value
+    return vwg.Blob(base), vwg.Blob(new)
+
+
+@pytest.mark.parametrize(("dtype", "shape", "changes"), [
+    (np.int16, (36, 50), [((0, 0), -1), ((35, 49), 101), ((10, 7), 101), ((10, 8), 0)]),
+    (np.int8, (7,), [((6,), -128)]),
+    (np.float64, (20, 2), [((3, 1), -0.0), ((0, 0), 5e-324)]),
+    (np.uint8, (4, 4, 3), []),
+])
+def test_blob_change_round_trip(dtype, shape, changes):
+    base, new = blob_pair(dtype, shape, changes)
+    entry = encode_blob(new, base, base.name)
+    assert entry.keys() == {"base", "zlib_base85"}
+    back = decode_blob(entry, {base.name: base})
+    assert back.name == new.name and np.asarray(back).tobytes() == np.asarray(new).tobytes()
+    assert back.dtype == new.dtype and back.shape == new.shape
+
+
+def write_record(path, header_blobs, frames=()):
+    header = {"vwg_record": 2, "initial": "", "seed": 0, "dt": 0.1, "blobs": header_blobs}
+    lines = [header, *({"t": t, "events": [], "string": "", "blobs": b} for t, b in enumerate(frames))]
+    path.write_text("".join(json.dumps(x) + "\n" for x in lines))
+
+
+def test_a_recorded_robot_grid_is_stored_as_changes(tmp_path):
+    base, new = blob_pair(np.int16, (360, 500), [((100, 200), 101), ((101, 200), 101)])
+    path = tmp_path / "blobs.jsonl"
+    write_record(path, {base.name: encode_blob(base)}, [{new.name: encode_blob(new, base, base.name)}])
+    record = read_record(path)
+    assert record.blobs[new.name] == new
+    assert len(path.read_text().splitlines()[1]) < 200  # two changed cells of a 360 KB grid
+
+
+def test_a_damaged_blob_change_is_detected(tmp_path):
+    base, new = blob_pair(np.int16, (36, 50), [((3, 4), 7)])
+    _, other = blob_pair(np.int16, (36, 50), [((3, 4), 8)])
+    path = tmp_path / "bad.jsonl"
+    # A change that decodes, but to other content than its name says.
+    write_record(path, {base.name: encode_blob(base)}, [{new.name: encode_blob(other, base, base.name)}])
+    with pytest.raises(vwg.WorldFileError, match=f"blobs.{new.name}: decodes to blob {other.name}") as info:
+        read_record(path)
+    assert info.value.line == 2 and str(path) in str(info.value)
+    # Payload damage, and a base that was never written.
+    entry = encode_blob(new, base, base.name)
+    entry["zlib_base85"] = entry["zlib_base85"][:-3] + "~~~"
+    write_record(path, {base.name: encode_blob(base)}, [{new.name: entry}])
+    with pytest.raises(vwg.WorldFileError, match="cannot decode") as info:
+        read_record(path)
+    assert info.value.line == 2
+    write_record(path, {new.name: encode_blob(new, base, base.name)})
+    with pytest.raises(vwg.WorldFileError, match="was not written before it") as info:
+        read_record(path)
+    assert info.value.line == 1
+
+
+def test_a_format_1_record_is_refused(tmp_path):
+    old = tmp_path / "old.jsonl"
+    old.write_text('{"vwg_record": 1, "initial": "", "seed": 0, "dt": 0.1}\n{"t": 0, "events": [], "string": ""}\n')
+    with pytest.raises(vwg.WorldFileError, match="this record is format 1; this vwg reads format 2 only") as info:
+        read_record(old)
+    assert info.value.line == 1 and info.value.field == "vwg_record"
+    with pytest.raises(vwg.WorldFileError, match="format 1"):
+        replay(old)
+
+
+def test_a_damaged_run_names_the_file_and_line(tmp_path):
+    path, _ = run_recorded(tmp_path)
+    lines = path.read_text().splitlines()
+    for n, text in enumerate(lines[1:-1], start=2):
+        frame = json.loads(text)
+        runs = [i for i, item in enumerate(frame["events"]) if isinstance(item, dict)]
+        if runs:
+            frame["events"][runs[0]]["n"] += 1
+            lines[n - 1] = json.dumps(frame)
+            break
+    else:
+        pytest.fail("no run in the fireflies record")
+    path.write_text("\n".join(lines) + "\n")
+    with pytest.raises(vwg.WorldFileError, match=f"events\\[{runs[0]}\\]: cannot decode") as info:
+        read_record(path)
+    assert info.value.line == n
+
+
+def test_the_demo_run_record_is_small_and_replays(tmp_path):
+    # Each frame of the office demo has ~690 laser ranges with 1 cm of noise: ~46 bits of each
+    # are noise, ~4.2 KB a frame after deflate, ~5.3 KB in base85; with the string (~0.5 KB),
+    # odometry, angles and grid changes a frame takes ~6.6 KB. Format 1 took ~54 KB.
+    from vwg.casestudy import CaseStudy
+    from vwg.robotworld import load_robot_world
+
+    world = load_robot_world(ROOT / "maps" / "office.yaml")
+    case = CaseStudy(world, "astar", goals={1: "kitchen"}, world_orders=False)
+    path = tmp_path / "office.jsonl"
+    with Recorder(path, case.engine, world_file=world.path,
+                  world_data={"robot_world": str(world.path), "planner": case.planner}):
+        summary = case.run(frames=320)
+    assert summary.reached and 250 <= summary.frames <= 320
+    size = path.stat().st_size
+    assert size <= 7_000 * summary.frames, f"{size / summary.frames:.0f} bytes a frame"
+    record = read_record(path)
+    assert len(record.frames) == summary.frames
+    assert sum(isinstance(item, dict) for item in json.loads(path.read_text().splitlines()[5])["events"]) >= 1
+    from vwg.casestudy import case_study_world, make_decider
+
+    replayed = replay(path, world=case_study_world(load_robot_world(world.path), make_decider("astar")))
+    assert str(replayed.string) == record.end["string"]

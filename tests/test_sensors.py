@@ -41,7 +41,10 @@ def test_laser_ranges_and_events_by_hand():
     assert [e.target for e in events] == [7] * 4
     assert [e.dist for e in events] == pytest.approx(expected, abs=1e-6)
     assert [e.angle for e in events] == pytest.approx(laser.angles.tolist())
-    assert not laser.ranges.flags.writeable
+    kept = laser.ranges  # a copy: writing it does not reach the generator, the next frame not it
+    kept[0] = -1.0
+    engine.step()
+    assert laser.ranges.tolist() == pytest.approx(expected, abs=1e-6)
 
 
 def test_laser_sees_other_robots_and_only_hits_make_events():

@@ -66,8 +66,13 @@ class PyDecider : public robot::Decider {
   }
 };
 
+/// A read-only numpy view of a blob's data that holds the blob (not the short-lived DecisionInput):
+/// kept past decide(), it stays valid, and it keeps what it showed, because the actor's next write
+/// sees the blob shared and writes to a copy.
 template <class T>
-py::array readonly(py::object owner, const T* data, std::vector<py::ssize_t> shape) {
+py::array blob_view(std::shared_ptr<const Blob> blob, const T* data, std::vector<py::ssize_t> shape) {
+  auto* held = new std::shared_ptr<const Blob>(std::move(blob));
+  py::capsule owner(held, [](void* p) { delete static_cast<std::shared_ptr<const Blob>*>(p); });
   py::array a = py::array_t<T>(shape, {}, data, owner);
   a.attr("flags").attr("writeable") = false;
   return a;
@@ -79,7 +84,8 @@ robot::MapGeometry geometry_of(py::handle grid) { return robot::MapGeometry::of(
 
 void init_robot(py::module_& m) {
   py::class_<PyDecisionInput, std::shared_ptr<PyDecisionInput>>(m, "DecisionInput", R"doc(
-What the robot knows when it decides (valid only during decide()): its id, believed pose
+What the robot knows when it decides (read it during decide(); the arrays it gives, ``grid`` and
+``path``, may be kept: they hold their data and do not change afterwards): its id, believed pose
 (x, y, yaw), goal point, radius (with the clearance it keeps), step length, its map (int16 numpy
 view: -1 unknown, 0 free, 100 wall, 101 seen obstacle, 1000 + tag id a marker), the map's
 resolution and origin, the current path (N×2) and a seed for random choices.)doc")
@@ -91,14 +97,18 @@ resolution and origin, the current path (N×2) and a seed for random choices.)do
       .def_property_readonly("seed", [](const PyDecisionInput& i) { return i.get().seed; })
       .def_property_readonly("resolution", [](const PyDecisionInput& i) { return i.get().geometry->resolution; })
       .def_property_readonly("origin", [](const PyDecisionInput& i) { return pose_to_python(i.get().geometry->origin); })
-      .def_property_readonly("grid", [](py::object self) {
-        const auto& in = self.cast<const PyDecisionInput&>().get();
-        return readonly(self, in.map->view<std::int16_t>().data(), {in.geometry->height, in.geometry->width});
-      })
-      .def_property_readonly("path", [](py::object self) {
-        const auto& in = self.cast<const PyDecisionInput&>().get();
-        return readonly(self, in.path.data(), {static_cast<py::ssize_t>(in.path.size() / 2), 2});
-      })
+      .def_property_readonly("grid", [](const PyDecisionInput& i) {
+        const auto& in = i.get();
+        return blob_view(in.map, in.map->view<std::int16_t>().data(), {in.geometry->height, in.geometry->width});
+      }, "The robot's map (int16, read-only); safe to keep: it does not change afterwards.")
+      .def_property_readonly("path", [](const PyDecisionInput& i) -> py::array {
+        const auto& in = i.get();
+        const py::ssize_t n = static_cast<py::ssize_t>(in.path.size() / 2);
+        if (in.path_owner) return blob_view(in.path_owner, in.path.data(), {n, 2});
+        py::array_t<double> copy({n, py::ssize_t{2}});  // a path not held by a blob: copied
+        std::copy(in.path.begin(), in.path.end(), copy.mutable_data());
+        return copy;
+      }, "The current plan (N×2, read-only); safe to keep: it does not change afterwards.")
       .def("segment_clear", [](const PyDecisionInput& i, double x0, double y0, double x1, double y1) {
              const auto& in = i.get();
              return robot::segment_clear(*in.map, *in.geometry, x0, y0, x1, y1, in.radius);
@@ -137,9 +147,10 @@ which repairs its search as obstacles appear. Replans when the path becomes bloc
       .def_property_readonly("search_seconds", &robot::GridDecider::search_seconds, "Time spent searching so far.")
       .def_property_readonly("searches", &robot::GridDecider::searches, "Searches (plans and repairs) so far.");
   py::class_<robot::OmplDecider, robot::Decider, std::shared_ptr<robot::OmplDecider>>(m, "OmplDecider", R"doc(
-Sampling-based motion planning with OMPL on the robot's map (SE2, a disc robot): RRTConnect, RRTstar
-or PRM. Replans when the path becomes blocked.)doc")
-      .def(py::init<std::string, double>(), py::arg("planner") = "RRTConnect", py::arg("time_limit") = 0.5)
+Sampling-based motion planning with OMPL on the robot's map (SE2, a disc robot): RRTConnect, RRTstar,
+LazyPRM, ... Each plan is bounded by `iterations` (no clock), so runs are reproducible on any
+machine. Replans when the path becomes blocked.)doc")
+      .def(py::init<std::string, unsigned>(), py::arg("planner") = "RRTConnect", py::arg("iterations") = 20000)
       .def_property_readonly("search_seconds", &robot::OmplDecider::search_seconds)
       .def_property_readonly("searches", &robot::OmplDecider::searches);
 

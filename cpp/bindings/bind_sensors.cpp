@@ -1,5 +1,6 @@
 // The grid raycaster and the range sensors (gLaser, gKinect) in Python. Scans and depth images
-// are numpy views of the generators' buffers: no copy; they change at the next frame.
+// are copies of the generators' buffers, which change at the next frame.
+#include <algorithm>
 #include <string>
 
 #include "sim_convert.hpp"
@@ -11,18 +12,13 @@ namespace vwg::bindings {
 
 namespace {
 
-/// A read-only numpy view of `data` whose base is `owner` (which keeps the buffer alive).
+/// A numpy copy of a sensor's buffer: the generator rewrites its buffers every frame, so a view
+/// kept by Python would change under it (and outlive a resized buffer).
 template <class T>
-py::array readonly_view(py::object owner, const T* data, std::vector<py::ssize_t> shape) {
-  std::vector<py::ssize_t> strides(shape.size());
-  py::ssize_t stride = sizeof(T);
-  for (std::size_t k = shape.size(); k-- > 0;) {
-    strides[k] = stride;
-    stride *= shape[k];
-  }
-  py::array a = py::array_t<T>(shape, strides, data, owner);
-  a.attr("flags").attr("writeable") = false;
-  return a;
+py::array copy_of(const T* data, std::vector<py::ssize_t> shape) {
+  py::array_t<T> out(shape);
+  std::copy(data, data + out.size(), out.mutable_data());
+  return out;
 }
 
 py::dict hit_to_python(const sim::RayHit& h) {
@@ -105,11 +101,11 @@ that hit something. ``ranges`` and ``angles`` are numpy views of the last scan (
            py::arg("min_range") = 0.05, py::arg("max_range") = 8.0, py::arg("noise") = 0.0, py::arg("event") = "eLaser")
       .def_property_readonly("ranges", [](py::object self) {
         const auto& g = self.cast<const sim::LaserGenerator&>();
-        return readonly_view(self, g.ranges().data(), {static_cast<py::ssize_t>(g.ranges().size())});
-      }, "The last scan's ranges (float32; max_range where nothing was hit), a view.")
+        return copy_of(g.ranges().data(), {static_cast<py::ssize_t>(g.ranges().size())});
+      }, "The last scan's ranges (float32; max_range where nothing was hit), a copy.")
       .def_property_readonly("angles", [](py::object self) {
         const auto& g = self.cast<const sim::LaserGenerator&>();
-        return readonly_view(self, g.angles().data(), {static_cast<py::ssize_t>(g.angles().size())});
+        return copy_of(g.angles().data(), {static_cast<py::ssize_t>(g.angles().size())});
       }, "The beam angles from the heading (radians).")
       .def_property_readonly("robot", &sim::LaserGenerator::robot)
       .def_property_readonly("max_range", [](const sim::LaserGenerator& g) { return g.spec().max_range; });
@@ -118,7 +114,7 @@ that hit something. ``ranges`` and ``angles`` are numpy views of the last scan (
 gKinect: each frame a depth image from the robot's true pose (walls extruded to wall_height, a
 ceiling there, other robots as cylinders), turned into a scan as depthimage_to_laserscan does;
 eLaser<to=robot, dist, angle> for each column with a valid range. ``depth`` (H×W float32, metres
-along the optical axis, NaN = invalid), ``ranges`` and ``angles`` are views (no copy).)doc")
+along the optical axis, NaN = invalid), ``ranges`` and ``angles`` are copies of the last frame's.)doc")
       .def(py::init([](std::shared_ptr<const sim::RangeScanner> scanner, int robot, const Alphabet& alphabet, int width,
                        int height, double hfov, double min_range, double max_range, double mount_height, double wall_height,
                        bool noise, int scan_rows, const std::string& event) {
@@ -141,15 +137,15 @@ along the optical axis, NaN = invalid), ``ranges`` and ``angles`` are views (no 
       .def_property_readonly("depth", [](py::object self) {
         const auto& g = self.cast<const sim::KinectGenerator&>();
         const auto& s = g.camera().spec();
-        return readonly_view(self, g.depth().data(), {s.height, s.width});
+        return copy_of(g.depth().data(), {s.height, s.width});
       })
       .def_property_readonly("ranges", [](py::object self) {
         const auto& g = self.cast<const sim::KinectGenerator&>();
-        return readonly_view(self, g.ranges().data(), {static_cast<py::ssize_t>(g.ranges().size())});
+        return copy_of(g.ranges().data(), {static_cast<py::ssize_t>(g.ranges().size())});
       })
       .def_property_readonly("angles", [](py::object self) {
         const auto& g = self.cast<const sim::KinectGenerator&>();
-        return readonly_view(self, g.angles().data(), {static_cast<py::ssize_t>(g.angles().size())});
+        return copy_of(g.angles().data(), {static_cast<py::ssize_t>(g.angles().size())});
       })
       .def_property_readonly("robot", &sim::KinectGenerator::robot);
 }

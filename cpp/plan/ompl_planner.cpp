@@ -259,8 +259,11 @@ OmplPlan OmplGridPlanner::plan(const sim::Pose2& start, const sim::Pose2& goal, 
     for (const auto& name : planner_names()) known += (known.empty() ? "" : ", ") + name;
     throw SchemaError("planner", "unknown planner '" + options.planner + "'; expected one of " + known);
   }
-  if (!(std::isfinite(options.time_limit) && options.time_limit > 0.0)) {
-    throw SchemaError("time_limit", "expected a positive number of seconds, got " + std::to_string(options.time_limit));
+  if (!(std::isfinite(options.time_limit) && options.time_limit >= 0.0)) {
+    throw SchemaError("time_limit", "expected 0 or a positive number of seconds, got " + std::to_string(options.time_limit));
+  }
+  if (options.time_limit == 0.0 && options.iterations == 0) {
+    throw SchemaError("time_limit", "0 (no time limit) needs an iteration budget (iterations > 0)");
   }
   if (options.spacing && !(std::isfinite(*options.spacing) && *options.spacing >= 0.0)) {
     throw SchemaError("spacing", "expected 0 or a positive number of metres, got " + std::to_string(*options.spacing));
@@ -336,8 +339,14 @@ OmplPlan OmplGridPlanner::plan(const sim::Pose2& start, const sim::Pose2& goal, 
 
   // The iteration counter must outlive the solve: the condition calls back into it.
   ob::IterationTerminationCondition iteration_limit(options.iterations);
-  ob::PlannerTerminationCondition stop = ob::timedPlannerTerminationCondition(options.time_limit);
-  if (options.iterations > 0) stop = ob::plannerOrTerminationCondition(stop, iteration_limit);
+  ob::PlannerTerminationCondition stop = ob::plannerNonTerminatingCondition();
+  if (options.time_limit > 0.0 && options.iterations > 0) {
+    stop = ob::plannerOrTerminationCondition(ob::timedPlannerTerminationCondition(options.time_limit), iteration_limit);
+  } else if (options.time_limit > 0.0) {
+    stop = ob::timedPlannerTerminationCondition(options.time_limit);
+  } else {
+    stop = iteration_limit;  // no clock at all: the same plan on any machine, under any load
+  }
 
   const auto t0 = std::chrono::steady_clock::now();
   const ob::PlannerStatus status = planner->solve(stop);

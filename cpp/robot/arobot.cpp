@@ -182,17 +182,17 @@ void ARobot::decide(ActorState& self, const EvolutionContext& ctx) {
     }
     return;
   }
-  const Blob& path = *self.get_blob(kPath);
   DecisionInput in;
   in.robot = static_cast<int>(self.get_int(kId));
-  in.map = self.get_blob(kGrid).get();
+  in.map = self.get_blob(kGrid);
   in.geometry = &config_.map;
   in.pose = sim::Pose2{x, y, theta};
   in.goal_x = gx;
   in.goal_y = gy;
   in.radius = config_.radius + config_.margin;
   in.step_length = config_.step_length;
-  in.path = path.view<double>();
+  in.path_owner = self.get_blob(kPath);
+  in.path = in.path_owner->view<double>();
   in.seed = ctx.seed;
   Decision d = decider_->decide(in);
   if (d.replanned) self.set_int(kReplans, self.get_int(kReplans) + 1);

@@ -164,7 +164,7 @@ Decision GridDecider::decide(const DecisionInput& in) {
   return d;
 }
 
-OmplDecider::OmplDecider(std::string planner, double time_limit) : planner_(std::move(planner)), time_limit_(time_limit) {
+OmplDecider::OmplDecider(std::string planner, unsigned iterations) : planner_(std::move(planner)), iterations_(iterations) {
   bool known = false;
   for (const auto& name : plan::OmplGridPlanner::planner_names()) known |= name == planner_;
   if (!known) {
@@ -172,7 +172,11 @@ OmplDecider::OmplDecider(std::string planner, double time_limit) : planner_(std:
     for (const auto& name : plan::OmplGridPlanner::planner_names()) names += (names.empty() ? "" : ", ") + name;
     throw SchemaError("planner", "unknown OMPL planner '" + planner_ + "' (known: " + names + ")");
   }
-  if (!std::isfinite(time_limit_) || time_limit_ <= 0) throw SchemaError("time_limit", "expected seconds > 0");
+  if (planner_ == "PRM" || planner_ == "PRMstar") {
+    throw SchemaError("planner", planner_ + " grows its roadmap on a second thread, so its plans are not reproducible; "
+                                 "use LazyPRM (single-threaded)");
+  }
+  if (iterations_ == 0) throw SchemaError("iterations", "expected an iteration budget > 0");
 }
 
 Decision OmplDecider::decide(const DecisionInput& in) {
@@ -190,7 +194,8 @@ Decision OmplDecider::decide(const DecisionInput& in) {
   plan::OmplGridPlanner planner(m.obstacles, g.resolution, g.origin, in.radius);
   plan::OmplOptions options;
   options.planner = planner_;
-  options.time_limit = time_limit_;
+  options.time_limit = 0.0;  // iterations alone: no wall clock inside a frame's decision
+  options.iterations = iterations_;
   options.seed = static_cast<std::uint32_t>(in.seed & 0xFFFFFFFFu);
   plan::OmplPlan plan;
   try {

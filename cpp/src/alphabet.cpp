@@ -76,7 +76,15 @@ void Alphabet::claim_name(const std::string& name, bool is_event, std::uint32_t 
   }
 }
 
+void Alphabet::check_not_in_use(const std::string& name) const {
+  if (frames_in_progress_.load() > 0) {
+    throw Error("Alphabet: cannot add '" + name + "' while an engine runs a frame with this alphabet "
+                "(add names before running, not from a λ, θ, generator, backend or observer)");
+  }
+}
+
 SymbolId Alphabet::add_symbol(std::string name, SymbolKind kind, Schema schema) {
+  check_not_in_use(name);
   check_schema(name, schema, false);
   const auto id = static_cast<SymbolId>(symbols_.size());
   claim_name(name, false, id);
@@ -98,6 +106,7 @@ SymbolId Alphabet::add_transformation(std::string name, Schema params) {
 }
 
 EventTypeId Alphabet::add_event_type(std::string name, bool visual, Schema fields) {
+  check_not_in_use(name);
   if (fields.variadic) throw SchemaError(name, "event fields must be declared by name");
   check_schema(name, fields, true);
   const auto id = static_cast<EventTypeId>(events_.size());
@@ -133,6 +142,7 @@ SymbolId Alphabet::add_actor(std::string name, const std::vector<std::string>& r
 }
 
 void Alphabet::set_behavior(SymbolId actor, std::shared_ptr<ActorBehavior> behavior) {
+  check_not_in_use(actor < symbols_.size() ? symbols_[actor].name : std::to_string(actor));
   if (actor >= symbols_.size() || symbols_[actor].kind != SymbolKind::Actor) {
     throw SchemaError("set_behavior", "not an actor type");
   }

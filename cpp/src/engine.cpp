@@ -10,6 +10,30 @@
 
 namespace vwg {
 
+class Engine::Use {
+ public:
+  Use(Engine& e, const char* what) : e_(e) {
+    if (e_.user_.load() == std::this_thread::get_id()) {
+      throw Error(std::string("Engine.") + what + ": called during a frame of the same engine (from a λ, θ, "
+                  "generator, backend or observer); an engine is not re-entrant: request_stop() ends a run");
+    }
+    if (!e_.use_.try_lock()) {
+      throw Error(std::string("Engine.") + what + ": the engine is running a frame in another thread; use one "
+                  "engine from one thread at a time");
+    }
+    e_.user_ = std::this_thread::get_id();
+  }
+  ~Use() {
+    e_.user_ = std::thread::id{};
+    e_.use_.unlock();
+  }
+  Use(const Use&) = delete;
+  Use& operator=(const Use&) = delete;
+
+ private:
+  Engine& e_;
+};
+
 Engine::Engine(WorldString initial, std::vector<std::shared_ptr<Generator>> generators,
                std::shared_ptr<Backend> backend, EngineOptions options)
     : w_(std::move(initial)), generators_(std::move(generators)), backend_(std::move(backend)),
@@ -24,11 +48,17 @@ Engine::Engine(WorldString initial, std::vector<std::shared_ptr<Generator>> gene
 }
 
 void Engine::set_string(WorldString w) {
+  const Use use(*this, "set_string");
   if (w.alphabet_ptr() != w_.alphabet_ptr()) throw Error("set_string: the string uses another alphabet");
   w_ = std::move(w);
 }
 
 EventList Engine::collect_events() {
+  const Use use(*this, "collect_events");
+  return collect_events_unlocked();
+}
+
+EventList Engine::collect_events_unlocked() {
   EventList events(w_.alphabet_ptr());
   const FrameInfo info{frame_, time(), options_.dt, &w_};
   for (std::size_t k = 0; k < generators_.size(); ++k) {
@@ -44,17 +74,20 @@ EventList Engine::collect_events() {
 }
 
 bool Engine::step() {
+  const Use use(*this, "step");
   if (w_.empty()) return false;
-  return run_frame(collect_events());
+  return run_frame(collect_events_unlocked());
 }
 
 bool Engine::step_with(const EventList& events) {
+  const Use use(*this, "step_with");
   if (w_.empty()) return false;
   if (events.alphabet_ptr() != w_.alphabet_ptr()) throw Error("step_with: the events use another alphabet");
   return run_frame(events);
 }
 
 bool Engine::run_frame(const EventList& events) {
+  const Alphabet::FrameUse frozen(w_.alphabet());  // no names added while the frame reads them
   const FrameContext ctx{frame_, time(), options_.seed};
   // η and π both read w; a string with no actors is its own evolution and its own display.
   const bool has_actors = w_.actor_count() > 0;
@@ -89,9 +122,10 @@ bool Engine::run_frame(const EventList& events) {
 }
 
 StopReason Engine::run(std::uint64_t max_frames) {
+  const Use use(*this, "run");
   for (std::uint64_t k = 0; k < max_frames; ++k) {
     if (w_.empty()) return StopReason::Empty;
-    step();
+    run_frame(collect_events_unlocked());
     if (stop_requested_) {
       stop_requested_ = false;
       return StopReason::Requested;

@@ -82,7 +82,8 @@ class Picture(vwg.Backend):
         super().__init__()
         self.size = size
         self.pixels = pixels
-        self.video = vwg.VideoWriter(path, fps)
+        self.path, self.fps = path, fps
+        self.video: vwg.VideoWriter | None = None  # opened at the first frame: loading writes nothing
         self.offsets: list[tuple[float, float]] = []
         self.lights: list[tuple[float, float, bool]] = []
         yy, xx = np.mgrid[-6:7, -6:7]
@@ -116,8 +117,11 @@ class Picture(vwg.Backend):
                 image[r0:r0 + 13, c0:c0 + 13] += self.glow
             else:
                 image[row - 1:row + 2, col - 1:col + 2] = (90, 90, 70)
+        if self.video is None:
+            self.video = vwg.VideoWriter(self.path, self.fps)
         self.video.write(np.clip(image, 0, 255).astype(np.uint8))
 
     def finish(self) -> None:
         """Finish the file (`vwg run` calls a backend's finish() when the run ends)."""
-        self.video.close()
+        if self.video is not None:
+            self.video.close()

@@ -1182,7 +1182,7 @@ class LaserGenerator(Generator):
     @property
     def ranges(self) -> numpy.ndarray[typing.Any, numpy.dtype[typing.Any]]:
         """
-        The last scan's ranges (float32; max_range where nothing was hit), a view.
+        The last scan's ranges (float32; max_range where nothing was hit), a copy.
         """
     @property
     def robot(self) -> int:
@@ -1192,7 +1192,7 @@ class KinectGenerator(Generator):
     gKinect: each frame a depth image from the robot's true pose (walls extruded to wall_height, a
     ceiling there, other robots as cylinders), turned into a scan as depthimage_to_laserscan does;
     eLaser<to=robot, dist, angle> for each column with a valid range. ``depth`` (H×W float32, metres
-    along the optical axis, NaN = invalid), ``ranges`` and ``angles`` are views (no copy).
+    along the optical axis, NaN = invalid), ``ranges`` and ``angles`` are copies of the last frame's.
     """
     def __init__(self, scanner: RangeScanner, robot: typing.SupportsInt | typing.SupportsIndex, alphabet: Alphabet, width: typing.SupportsInt | typing.SupportsIndex = 640, height: typing.SupportsInt | typing.SupportsIndex = 480, hfov: typing.SupportsFloat | typing.SupportsIndex = 1.0122909661567112, min_range: typing.SupportsFloat | typing.SupportsIndex = 0.5, max_range: typing.SupportsFloat | typing.SupportsIndex = 4.5, mount_height: typing.SupportsFloat | typing.SupportsIndex = 0.3, wall_height: typing.SupportsFloat | typing.SupportsIndex = 2.5, noise: bool = False, scan_rows: typing.SupportsInt | typing.SupportsIndex = 1, event: str = 'eLaser') -> None:
         ...
@@ -1385,7 +1385,8 @@ class OmplPlanner:
         ...
 class DecisionInput:
     """
-    What the robot knows when it decides (valid only during decide()): its id, believed pose
+    What the robot knows when it decides (read it during decide(); the arrays it gives, ``grid`` and
+    ``path``, may be kept: they hold their data and do not change afterwards): its id, believed pose
     (x, y, yaw), goal point, radius (with the clearance it keeps), step length, its map (int16 numpy
     view: -1 unknown, 0 free, 100 wall, 101 seen obstacle, 1000 + tag id a marker), the map's
     resolution and origin, the current path (N×2) and a seed for random choices.
@@ -1403,13 +1404,17 @@ class DecisionInput:
         ...
     @property
     def grid(self) -> numpy.ndarray[typing.Any, numpy.dtype[typing.Any]]:
-        ...
+        """
+        The robot's map (int16, read-only); safe to keep: it does not change afterwards.
+        """
     @property
     def origin(self) -> tuple:
         ...
     @property
     def path(self) -> numpy.ndarray[typing.Any, numpy.dtype[typing.Any]]:
-        ...
+        """
+        The current plan (N×2, read-only); safe to keep: it does not change afterwards.
+        """
     @property
     def pose(self) -> tuple:
         ...
@@ -1466,10 +1471,11 @@ class GridDecider(Decider):
         """
 class OmplDecider(Decider):
     """
-    Sampling-based motion planning with OMPL on the robot's map (SE2, a disc robot): RRTConnect, RRTstar
-    or PRM. Replans when the path becomes blocked.
+    Sampling-based motion planning with OMPL on the robot's map (SE2, a disc robot): RRTConnect, RRTstar,
+    LazyPRM, ... Each plan is bounded by `iterations` (no clock), so runs are reproducible on any
+    machine. Replans when the path becomes blocked.
     """
-    def __init__(self, planner: str = 'RRTConnect', time_limit: typing.SupportsFloat | typing.SupportsIndex = 0.5) -> None:
+    def __init__(self, planner: str = 'RRTConnect', iterations: typing.SupportsInt | typing.SupportsIndex = 20000) -> None:
         ...
     @property
     def search_seconds(self) -> float:

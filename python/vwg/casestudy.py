@@ -42,9 +42,12 @@ PLANNERS: dict[str, Callable[[], _core.Decider]] = {
     "random": lambda: _core.RandomDecider(),
     "astar": lambda: _core.GridDecider("astar"),
     "dstar": lambda: _core.GridDecider("dstar"),
-    "rrtconnect": lambda: _core.OmplDecider("RRTConnect", 0.5),
-    "rrtstar": lambda: _core.OmplDecider("RRTstar", 0.5),
-    "prm": lambda: _core.OmplDecider("PRM", 0.5),
+    # OMPL planners bounded by iterations, not time, so a run is the same on any machine: RRT-Connect
+    # stops at its first solution; RRT* improves its path for all its iterations; "prm" is OMPL's
+    # LazyPRM (PRM proper builds its roadmap on a second thread and is not reproducible).
+    "rrtconnect": lambda: _core.OmplDecider("RRTConnect", 20000),
+    "rrtstar": lambda: _core.OmplDecider("RRTstar", 5000),
+    "prm": lambda: _core.OmplDecider("LazyPRM", 5000),
 }
 
 

@@ -1,24 +1,66 @@
 """Recording a run as JSON Lines and replaying it exactly.
 
-A record is one JSON object per line:
+A record (format 2) is one JSON object per line, read in order:
 
-    {"vwg_record": 1, "version": ..., "world_file": ..., "world": {...}, "seed": 0, "dt": 0.1,
+    {"vwg_record": 2, "version": ..., "world_file": ..., "world": {...}, "seed": 0, "dt": 0.1,
      "frame": 0, "initial": "<text>", "blobs": {...}}                       the header
-    {"t": 0, "time": 0.0, "events": ["tick", ...], "string": "<text of w at the start of frame t>"}
+    {"t": 0, "time": 0.0, "events": [...], "string": "<text of w at the start of frame t>", "blobs": {...}}
     ...
     {"end": true, "t": 10, "string": "<text of the last string>"}
 
-Blobs (large attributes) appear by name in the texts and with their content (zlib, base64) the
-first time a line refers to them. Replaying re-runs η/π/φ with the recorded events and checks every
-string against the record, so a replay is a bit-for-bit determinism check as well.
+``events`` is S, the frame's events in order. An item is either one event's text, as the engine
+writes it (``"eOdometry<to=1, x=3.25, y=10.5, angle=1.5, busy=false, commands=3>"``), or a *run*
+of n >= MIN_RUN consecutive events of one type, with the same target presence and the same fields,
+all of them int, float or bool:
+
+    {"run": "eLaser", "n": 344, "to": "<column>", "fields": {"dist": ["f", "<column>"], "angle": ["f", "<column>"]}}
+
+``to`` (the targets, an int column) is there when the events have targets; ``fields`` lists the
+fields in the event type's order with their kind, "i" (int64), "f" (float64) or "b" (bool). The
+run stands for the n texts ``eLaser<to=to[k], dist=dist[k], angle=angle[k]>``, k = 0..n-1, with
+ints in decimal, floats as Python's repr (the shortest text that reads back as the same double,
+the engine's own format) and bools as true/false; the writer checks that these are the engine's
+texts, so replay parses exactly what format 1 stored.
+
+A column holds the n values as little-endian 8-byte words (bools: 1 byte) and is coded in steps:
+
+1. int and float columns: each word minus the previous one (the first as is), wrapping modulo
+   2**64 (a float's word is its IEEE bits), then zigzagged (d << 1) ^ (d >> 63), so that small
+   steps either way have zero high bytes;
+2. shuffled: byte 0 of every word, then byte 1 of every word, and so on (as blosc does);
+3. deflated (zlib format) with a preset dictionary: the step-2 bytes of the same column of the
+   same run in the latest earlier frame that had that run, if any. The same run is the j-th run of
+   the frame with this type, target presence and field names and kinds; the dictionary is what
+   makes laser angles cost nearly nothing, as they repeat from frame to frame;
+4. base85 (RFC 1924 alphabet, as Python's base64.b85encode), which JSON needs no escapes for.
+
+So a frame's columns decode only after the frames before it, and the reader keeps that state.
+
+``blobs`` (large attributes) maps a blob's name (its content hash, as the texts write it after
+``@``) to its content, given once: in the header, or on the first line whose string or events
+refer to it, before any line that uses it as a base. A blob is either whole,
+
+    {"dtype": "int16", "shape": [360, 500], "zlib_base85": "<C-order bytes, zlib, base85>"}
+
+or the change from an earlier blob, its base, whose dtype and shape it has:
+
+    {"base": "<name>", "zlib_base85": "<changes, zlib, base85>"}
+
+The changes, inflated, are k int64 gaps (the flat C-order index of the first element that differs
+from the base, then the differences between successive indices) followed by the k new elements
+XOR the base's (as unsigned ints of the element's size), each array shuffled as in step 2; k
+follows from the length. Reading checks that every blob decodes to content whose hash is its name.
+
+Replaying re-runs η/π/φ with the recorded events and checks every string against the record, so
+a replay is a bit-for-bit determinism check as well.
 """
 
 from __future__ import annotations
 
-import base64
 import json
 import zlib
-from collections.abc import Iterator
+from collections import deque
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import IO, Any
@@ -31,19 +73,335 @@ from .world import World
 
 __all__ = ["Record", "Recorder", "decode_blob", "encode_blob", "read_record", "replay"]
 
-FORMAT = 1
+FORMAT = 2
+MIN_RUN = 8  # shorter runs cost less as text than their columns' framing
+BASE_CANDIDATES = 4  # a new blob is stored against the closest of the last few of its dtype and shape
+
+_KIND_OF = {bool: "b", int: "i", float: "f"}  # by exact type: a bool is not an int here
+_DTYPE_OF = {"b": np.dtype(np.bool_), "i": np.dtype("<i8"), "f": np.dtype("<f8")}
+_UNSIGNED = {1: np.dtype("u1"), 2: np.dtype("<u2"), 4: np.dtype("<u4"), 8: np.dtype("<u8")}
+
+# A run's signature: (type, has target, ((field, kind), ...)).
+_Signature = tuple[str, bool, tuple[tuple[str, str], ...]]
 
 
-def encode_blob(blob: _core.Blob) -> dict[str, Any]:
-    data = np.asarray(blob).tobytes()
-    packed = base64.b64encode(zlib.compress(data)).decode()
-    return {"dtype": blob.dtype, "shape": list(blob.shape), "zlib_base64": packed}
+class _BadRecordError(Exception):
+    """A malformed item; the reader adds the file, line and field."""
+
+    def __init__(self, field: str, message: str) -> None:
+        super().__init__(message)
+        self.field = field
+        self.message = message
 
 
-def decode_blob(d: dict[str, Any]) -> _core.Blob:
-    raw = zlib.decompress(base64.b64decode(d["zlib_base64"]))
-    return _core.Blob(np.frombuffer(raw, dtype=d["dtype"]).reshape(d["shape"]))
+# --- bytes ------------------------------------------------------------------------------------
 
+def _shuffle(a: np.ndarray) -> bytes:
+    # Byte-transposed, as blosc does: the sign/exponent bytes of floats and the high bytes of ints
+    # end up together, which deflate compresses far better than interleaved.
+    a = np.ascontiguousarray(a)
+    return a.view(np.uint8).reshape(a.size, a.itemsize).T.tobytes()
+
+
+def _unshuffle(raw: bytes, dtype: np.dtype, n: int) -> np.ndarray:
+    if len(raw) != n * dtype.itemsize:
+        raise ValueError(f"{len(raw)} bytes for {n} elements of {dtype.name}")
+    return np.frombuffer(raw, np.uint8).reshape(dtype.itemsize, n).T.copy().view(dtype).reshape(n)
+
+
+def _delta(a: np.ndarray) -> np.ndarray:
+    """8-byte columns: each element's bits minus the previous element's (wrapping), zigzagged so
+    that small steps either way have zero high bytes. Neighbouring beams differ far less than the
+    ranges do, and for ints, counters and constant columns become zeros."""
+    if a.itemsize != 8:
+        return a
+    u = np.ascontiguousarray(a).view("<u8")
+    d = u.copy()
+    d[1:] -= u[:-1]
+    return (d << np.uint64(1)) ^ (d.view("<i8") >> np.int64(63)).view("<u8")
+
+
+def _undelta(z: np.ndarray, dtype: np.dtype) -> np.ndarray:
+    if dtype.itemsize != 8:
+        return z.view(dtype)
+    d = (z >> np.uint64(1)) ^ (np.uint64(0) - (z & np.uint64(1)))
+    return np.cumsum(d, dtype="<u8").view(dtype)
+
+
+# Base85 as Python's base64.b85encode (RFC 1924 alphabet: no '"' or '\\', so JSON keeps it as is):
+# 5 characters per 4 bytes where base64 needs 5.33, and the columns are mostly noise that does
+# not compress. Vectorised, as the standard library's is ~100 times slower than base64.
+_B85 = np.frombuffer(b"0123456789ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz!#$%&()*+-;<=>?@^_`{|}~", np.uint8)
+_B85_VALUE = np.full(256, 255, np.uint8)
+_B85_VALUE[_B85] = np.arange(85, dtype=np.uint8)
+_POW85 = np.array([85**4, 85**3, 85**2, 85, 1], np.uint64)
+
+
+def _b85encode(data: bytes) -> str:
+    pad = -len(data) % 4
+    words = np.frombuffer(data + b"\0" * pad, ">u4").astype(np.uint64)
+    digits = (words[:, None] // _POW85) % np.uint64(85)
+    out = _B85[digits.astype(np.intp)].tobytes()
+    return (out[: len(out) - pad] if pad else out).decode("ascii")
+
+
+def _b85decode(text: str) -> bytes:
+    raw = text.encode("ascii")
+    pad = -len(raw) % 5
+    codes = np.frombuffer(raw + b"~" * pad, np.uint8)
+    values = _B85_VALUE[codes]
+    if (values == 255).any():
+        bad = int(np.flatnonzero(values == 255)[0])
+        raise ValueError(f"bad base85 character at position {bad}")
+    words = values.reshape(-1, 5).astype(np.uint64) @ _POW85
+    if (words > 0xFFFFFFFF).any():
+        raise ValueError("base85 overflow")
+    out = words.astype(">u4").tobytes()
+    return out[: len(out) - pad] if pad else out
+
+
+def _deflate(data: bytes, zdict: bytes = b"", planes: int = 1) -> str:
+    """zlib, then base85. Shuffled data is also tried with a deflate block (its own Huffman
+    code) per byte plane, noise beside near-constant bytes; the smaller stream is kept, and any
+    zlib reader inflates either."""
+    def stream(parts: list[bytes]) -> bytes:
+        c = zlib.compressobj(9, zdict=zdict) if zdict else zlib.compressobj(9)
+        out = [c.compress(part) + c.flush(zlib.Z_BLOCK) for part in parts[:-1]]
+        return b"".join(out) + c.compress(parts[-1]) + c.flush()
+
+    best = stream([data])
+    if planes > 1 and len(data) % planes == 0 and len(data) >= 64 * planes:
+        n = len(data) // planes
+        split = stream([data[k * n:(k + 1) * n] for k in range(planes)])
+        best = split if len(split) < len(best) else best
+    return _b85encode(best)
+
+
+def _inflate(text: str, zdict: bytes = b"") -> bytes:
+    d = zlib.decompressobj(zdict=zdict) if zdict else zlib.decompressobj()
+    out = d.decompress(_b85decode(text)) + d.flush()
+    if not d.eof or d.unused_data:
+        raise ValueError("truncated or trailing compressed data")
+    return out
+
+
+# --- blobs ------------------------------------------------------------------------------------
+
+def encode_blob(blob: _core.Blob, base: _core.Blob | None = None, base_name: str = "") -> dict[str, Any]:
+    """A blob's record entry: whole, or the change from `base` (named `base_name`) when given and
+    of the same dtype and shape."""
+    a = np.asarray(blob)
+    if base is not None and base.dtype == blob.dtype and tuple(base.shape) == tuple(blob.shape):
+        u = _UNSIGNED[a.itemsize]
+        x = np.ascontiguousarray(a).view(u).ravel() ^ np.ascontiguousarray(np.asarray(base)).view(u).ravel()
+        where = np.flatnonzero(x)
+        gaps = np.diff(where, prepend=0).astype("<i8")
+        return {"base": base_name, "zlib_base85": _deflate(_shuffle(gaps) + _shuffle(x[where]))}
+    return {"dtype": blob.dtype, "shape": list(blob.shape), "zlib_base85": _deflate(a.tobytes())}
+
+
+def decode_blob(d: dict[str, Any], blobs: dict[str, _core.Blob] | None = None) -> _core.Blob:
+    """The blob of a record entry; `blobs` (by name) holds the bases of changes."""
+    if "base" not in d:
+        raw = _inflate(d["zlib_base85"])
+        return _core.Blob(np.frombuffer(raw, dtype=np.dtype(d["dtype"])).reshape([int(s) for s in d["shape"]]))
+    base = (blobs or {}).get(d["base"])
+    if base is None:
+        raise ValueError(f"base blob {d['base']} was not written before it")
+    a = np.ascontiguousarray(np.asarray(base))
+    u = _UNSIGNED[a.itemsize]
+    raw = _inflate(d["zlib_base85"])
+    k, rest = divmod(len(raw), 8 + a.itemsize)
+    if rest:
+        raise ValueError(f"{len(raw)} bytes are not whole changes of {a.itemsize}-byte elements")
+    where = np.cumsum(_unshuffle(raw[: 8 * k], np.dtype("<i8"), k))
+    values = a.view(u).ravel().copy()
+    if k and (where[0] < 0 or where[-1] >= values.size or (k > 1 and np.diff(where).min() <= 0)):
+        raise ValueError("changed positions out of order or outside the blob")
+    values[where] ^= _unshuffle(raw[8 * k:], u, k)
+    return _core.Blob(values.view(a.dtype).reshape(a.shape))
+
+
+class _BlobWriter:
+    """Chooses the base of each new blob: of the last BASE_CANDIDATES written blobs with its dtype
+    and shape, the one with the fewest different elements (the latest on a tie). Two robots' grids
+    alternate, so the latest alone is often the other robot's."""
+
+    def __init__(self) -> None:
+        self._recent: dict[tuple[str, tuple[int, ...]], deque[tuple[str, _core.Blob]]] = {}
+
+    def encode(self, name: str, blob: _core.Blob) -> dict[str, Any]:
+        key = (blob.dtype, tuple(blob.shape))
+        recent = self._recent.setdefault(key, deque(maxlen=BASE_CANDIDATES))
+        a = np.asarray(blob)
+        best: tuple[int, str, _core.Blob] | None = None
+        if a.size > 0:
+            bits = np.ascontiguousarray(a).view(_UNSIGNED[a.itemsize])  # as bits: -0.0 is a change from 0.0
+            for base_name, base in reversed(recent):
+                diff = int(np.count_nonzero(bits != np.ascontiguousarray(np.asarray(base)).view(bits.dtype)))
+                if best is None or diff < best[0]:
+                    best = (diff, base_name, base)
+        recent.append((name, blob))
+        # Changes cost 8 bytes of position and the element each (before deflate): only worth it
+        # while few elements changed.
+        if best is not None and best[0] * (8 + a.itemsize) < a.nbytes // 2:
+            return encode_blob(blob, best[2], best[1])
+        return encode_blob(blob)
+
+
+# --- events -----------------------------------------------------------------------------------
+
+def _value_text(kind: str, values: list[Any]) -> list[str]:
+    # As the engine writes values: repr(float) is its real format (shortest round trip).
+    if kind == "f":
+        return list(map(repr, values))
+    if kind == "b":
+        return ["true" if v else "false" for v in values]
+    return list(map(str, values))
+
+
+def _run_texts(sig: _Signature, targets: list[int] | None, columns: list[list[Any]], n: int) -> list[str]:
+    type_, _, fields = sig
+    parts: list[list[str]] = []
+    names: list[str] = []
+    if targets is not None:
+        parts.append(list(map(str, targets)))
+        names.append("to=")
+    for (name, kind), col in zip(fields, columns, strict=True):
+        parts.append(_value_text(kind, col))
+        names.append(name + "=")
+    if not parts:
+        return [type_] * n
+    template = type_.replace("%", "%%") + "<" + ", ".join(s.replace("%", "%%") + "%s" for s in names) + ">"
+    return [template % row for row in zip(*parts, strict=True)]
+
+
+def _signature(e: _core.Event) -> _Signature | None:
+    kinds = []
+    for name, value in e.fields.items():
+        kind = _KIND_OF.get(type(value))
+        if kind is None:
+            return None
+        kinds.append((name, kind))
+    return (e.type, e.target is not None, tuple(kinds))
+
+
+def _head(text: str) -> str:
+    # The type and the first field's name ("eLaser<to"): equal for the events of a run, and
+    # cheaper to get than the events' fields. What a run holds is checked on its texts.
+    k = text.find("=")
+    return text if k < 0 else text[:k]
+
+
+class _Columns:
+    """The latest step-2 bytes of every column, by run signature, occurrence of the signature in
+    its frame, and field ("to=" for the targets): the next frame's dictionaries. The writer and
+    the reader go through the same states."""
+
+    def __init__(self) -> None:
+        self._prev: dict[tuple[_Signature, int, str], bytes] = {}
+        self._next: dict[tuple[_Signature, int, str], bytes] = {}
+        self._seen: dict[_Signature, int] = {}
+
+    def start_frame(self) -> None:
+        self._prev.update(self._next)
+        self._next = {}
+        self._seen = {}
+
+    def occurrence(self, sig: _Signature) -> int:
+        j = self._seen.get(sig, 0)
+        self._seen[sig] = j + 1
+        return j
+
+    def encode(self, key: tuple[_Signature, int, str], a: np.ndarray) -> str:
+        raw = _shuffle(_delta(a))
+        self._next[key] = raw
+        return _deflate(raw, self._prev.get(key, b""), a.itemsize)
+
+    def decode(self, key: tuple[_Signature, int, str], text: str, dtype: np.dtype, n: int) -> np.ndarray:
+        raw = _inflate(text, self._prev.get(key, b""))
+        self._next[key] = raw
+        return _undelta(_unshuffle(raw, np.dtype("<u8") if dtype.itemsize == 8 else dtype, n), dtype)
+
+
+def _columns_of(sig: _Signature, events: Sequence[_core.Event]) -> tuple[np.ndarray | None, list[np.ndarray]]:
+    targets = np.array([e.target for e in events], dtype=_DTYPE_OF["i"]) if sig[1] else None
+    fields = [e.fields for e in events]  # a new dict each time: read once
+    return targets, [np.array([f[name] for f in fields], dtype=_DTYPE_OF[kind]) for name, kind in sig[2]]
+
+
+def _encode_events(columns: _Columns, events: Sequence[_core.Event], texts: list[str]) -> list[Any]:
+    columns.start_frame()
+    out: list[Any] = []
+    heads = list(map(_head, texts))
+    i = 0
+    while i < len(texts):
+        j = i + 1
+        while j < len(texts) and heads[j] == heads[i]:
+            j += 1
+        sig = _signature(events[i]) if j - i >= MIN_RUN else None
+        if sig is None:
+            out.extend(texts[i:j])
+            i = j
+            continue
+        try:
+            targets, cols = _columns_of(sig, events[i:j])
+        except (KeyError, TypeError, ValueError, OverflowError):  # the events differ after all
+            out.extend(texts[i:j])
+            i = j
+            continue
+        # The texts the columns read back as must be the engine's own, so that replay parses the
+        # same texts as from a format 1 record. Any event of another shape or kind (an int among
+        # floats, another field) shows here, and the run stays text.
+        back = _run_texts(sig, None if targets is None else targets.tolist(), [c.tolist() for c in cols], j - i)
+        if back != texts[i:j]:
+            out.extend(texts[i:j])
+            i = j
+            continue
+        k = columns.occurrence(sig)
+        item: dict[str, Any] = {"run": sig[0], "n": j - i}
+        if targets is not None:
+            item["to"] = columns.encode((sig, k, "to="), targets)
+        if sig[2]:
+            item["fields"] = {name: [kind, columns.encode((sig, k, name), col)]
+                              for (name, kind), col in zip(sig[2], cols, strict=True)}
+        out.append(item)
+        i = j
+    return out
+
+
+def _decode_events(columns: _Columns, items: list[Any]) -> list[str]:
+    columns.start_frame()
+    texts: list[str] = []
+    for index, item in enumerate(items):
+        if isinstance(item, str):
+            texts.append(item)
+            continue
+        where = f"events[{index}]"
+        if not isinstance(item, dict) or not isinstance(item.get("run"), str) or not item["run"]:
+            raise _BadRecordError(where, "expected an event's text or a run {\"run\": TYPE, \"n\": N, ...}")
+        n = item.get("n")
+        if type(n) is not int or n < 1:
+            raise _BadRecordError(f"{where}.n", "missing or not a positive int")
+        fields = item.get("fields", {})
+        if not isinstance(fields, dict) or not all(
+                isinstance(v, list) and len(v) == 2 and v[0] in _DTYPE_OF and isinstance(v[1], str)
+                for v in fields.values()):
+            raise _BadRecordError(f"{where}.fields", "expected {name: [\"i\" | \"f\" | \"b\", column], ...}")
+        if "to" in item and not isinstance(item["to"], str):
+            raise _BadRecordError(f"{where}.to", "expected a column")
+        sig: _Signature = (item["run"], "to" in item, tuple((name, v[0]) for name, v in fields.items()))
+        k = columns.occurrence(sig)
+        try:
+            targets = columns.decode((sig, k, "to="), item["to"], _DTYPE_OF["i"], n).tolist() if sig[1] else None
+            cols = [columns.decode((sig, k, name), v[1], _DTYPE_OF[v[0]], n).tolist() for name, v in fields.items()]
+        except (ValueError, zlib.error) as e:
+            raise _BadRecordError(where, f"cannot decode the run's columns: {e}") from None
+        texts.extend(_run_texts(sig, targets, cols, n))
+    return texts
+
+
+# --- writing ----------------------------------------------------------------------------------
 
 class Recorder:
     """Records an engine's frames to `path` from now on (flushed every frame, so a crash loses
@@ -55,6 +413,8 @@ class Recorder:
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self._file: IO[str] | None = self.path.open("w", encoding="utf-8")
         self._engine = engine
+        self._blobs = _BlobWriter()
+        self._columns = _Columns()
         initial = engine.string
         self._known = set(initial.blobs())
         self._write({
@@ -66,7 +426,7 @@ class Recorder:
             "dt": engine.dt,
             "frame": engine.frame,
             "initial": str(initial),
-            "blobs": {name: encode_blob(b) for name, b in initial.blobs().items()},
+            "blobs": {name: self._blobs.encode(name, b) for name, b in initial.blobs().items()},
         })
         self.frames = 0
         engine.add_observer(self._on_frame)
@@ -74,15 +434,18 @@ class Recorder:
     def _write(self, obj: dict[str, Any]) -> None:
         if self._file is None:
             return
-        self._file.write(json.dumps(obj, ensure_ascii=False, allow_nan=False) + "\n")
+        self._file.write(json.dumps(obj, ensure_ascii=False, allow_nan=False, separators=(",", ":")) + "\n")
         self._file.flush()
 
     def _on_frame(self, record: _core.FrameRecord) -> None:
-        line: dict[str, Any] = {"t": record.frame, "time": record.time, "events": record.event_texts,
+        if self._file is None:
+            return
+        events = _encode_events(self._columns, record.events, record.event_texts)
+        line: dict[str, Any] = {"t": record.frame, "time": record.time, "events": events,
                                 "string": record.before_text}
         fresh = {n: b for n, b in record.blobs.items() if n not in self._known}
         if fresh:
-            line["blobs"] = {n: encode_blob(b) for n, b in fresh.items()}
+            line["blobs"] = {n: self._blobs.encode(n, b) for n, b in fresh.items()}
             self._known.update(fresh)
         self._write(line)
         self.frames += 1
@@ -101,8 +464,13 @@ class Recorder:
         self.close()
 
 
+# --- reading ----------------------------------------------------------------------------------
+
 @dataclass
 class Record:
+    """A record as read: the header, each frame's line with ``events`` as the events' texts (runs
+    expanded, in order), the end line (None if the run did not finish) and every blob by name."""
+
     header: dict[str, Any]
     frames: list[dict[str, Any]]
     end: dict[str, Any] | None
@@ -127,6 +495,31 @@ def _lines(path: Path) -> Iterator[tuple[int, dict[str, Any]]]:
             yield n, obj
 
 
+def _check_format(path: Path, obj: dict[str, Any], line: int) -> None:
+    found = obj.get("vwg_record")
+    if found == FORMAT:
+        return
+    if type(found) is int:
+        raise WorldFileError(str(path), "vwg_record", f"this record is format {found}; this vwg reads format "
+                             f"{FORMAT} only (record the run again)", line=line)
+    raise WorldFileError(str(path), "vwg_record", f"not a vwg record (format {FORMAT} expected)", line=line)
+
+
+def _read_blobs(path: Path, obj: dict[str, Any], line: int, blobs: dict[str, _core.Blob]) -> None:
+    entries = obj.get("blobs", {})
+    if not isinstance(entries, dict):
+        raise WorldFileError(str(path), "blobs", "expected an object {name: blob}", line=line)
+    for name, d in entries.items():
+        try:
+            blob = decode_blob(d, blobs)
+        except Exception as e:
+            raise WorldFileError(str(path), f"blobs.{name}", f"cannot decode: {e}", line=line) from None
+        if blob.name != name:
+            raise WorldFileError(str(path), f"blobs.{name}", f"decodes to blob {blob.name}, not {name} "
+                                 "(the record is damaged)", line=line)
+        blobs[name] = blob
+
+
 def read_record(path: str | Path) -> Record:
     """Read and check a record file."""
     path = Path(path)
@@ -134,10 +527,10 @@ def read_record(path: str | Path) -> Record:
     frames: list[dict[str, Any]] = []
     end = None
     blobs: dict[str, _core.Blob] = {}
+    columns = _Columns()
     for n, obj in _lines(path):
         if header is None:
-            if obj.get("vwg_record") != FORMAT:
-                raise WorldFileError(str(path), "vwg_record", f"not a vwg record of format {FORMAT}", line=n)
+            _check_format(path, obj, n)
             for key in ("initial", "seed", "dt"):
                 if key not in obj:
                     raise WorldFileError(str(path), key, "missing from the header", line=n)
@@ -148,12 +541,12 @@ def read_record(path: str | Path) -> Record:
             for key, kind in (("t", int), ("events", list), ("string", str)):
                 if not isinstance(obj.get(key), kind):
                     raise WorldFileError(str(path), key, f"missing or not a {kind.__name__}", line=n)
-            frames.append(obj)
-        for name, d in obj.get("blobs", {}).items():
             try:
-                blobs[name] = decode_blob(d)
-            except Exception as e:
-                raise WorldFileError(str(path), f"blobs.{name}", f"cannot decode: {e}", line=n) from None
+                obj["events"] = _decode_events(columns, obj["events"])
+            except _BadRecordError as e:
+                raise WorldFileError(str(path), e.field, e.message, line=n) from None
+            frames.append(obj)
+        _read_blobs(path, obj, n, blobs)
     if header is None:
         raise WorldFileError(str(path), "", "empty record")
     return Record(header, frames, end, blobs)

@@ -3,6 +3,7 @@
 // here once; strings and events refer to them by integer id.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -90,7 +91,21 @@ class Alphabet {
   /// True for names of the form [A-Za-z_][A-Za-z0-9_]* that are not reserved words.
   static bool valid_name(std::string_view name);
 
+  /// Frames in progress that read this alphabet (engines hold a FrameUse while they run one):
+  /// adding a name then would move the tables under their feet, so it is refused.
+  class FrameUse {
+   public:
+    explicit FrameUse(const Alphabet& a) : a_(a) { ++a_.frames_in_progress_; }
+    ~FrameUse() { --a_.frames_in_progress_; }
+    FrameUse(const FrameUse&) = delete;
+    FrameUse& operator=(const FrameUse&) = delete;
+
+   private:
+    const Alphabet& a_;
+  };
+
  private:
+  void check_not_in_use(const std::string& name) const;
   void claim_name(const std::string& name, bool is_event, std::uint32_t id);
   SymbolId add_symbol(std::string name, SymbolKind kind, Schema schema);
 
@@ -105,6 +120,7 @@ class Alphabet {
   std::vector<SymbolInfo> symbols_;
   std::vector<EventTypeInfo> events_;
   std::unordered_map<std::string, Entry, StringHash, std::equal_to<>> names_;
+  mutable std::atomic<int> frames_in_progress_{0};
 };
 
 }  // namespace vwg

@@ -10,6 +10,8 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <mutex>
+#include <thread>
 #include <vector>
 
 #include "vwg/backend.hpp"
@@ -41,6 +43,10 @@ struct FrameRecord {
 /// Why run() returned.
 enum class StopReason { Empty, FrameLimit, Requested };
 
+/// An engine is used by one thread at a time and is not re-entrant: step(), step_with(), run(),
+/// set_string() and collect_events() called from inside one of its frames (a λ, θ, generator,
+/// backend or observer) or while another thread is in one of them throw vwg::Error saying so,
+/// instead of corrupting the string they read.
 class Engine {
  public:
   using Observer = std::function<void(const FrameRecord&)>;
@@ -76,7 +82,9 @@ class Engine {
   EventList collect_events();
 
  private:
+  class Use;  // holds the engine for one call; see the class comment
   bool run_frame(const EventList& events);
+  EventList collect_events_unlocked();
   WorldString w_;
   std::vector<std::shared_ptr<Generator>> generators_;
   std::shared_ptr<Backend> backend_;
@@ -85,6 +93,8 @@ class Engine {
   EventList last_events_;
   std::vector<Observer> observers_;
   std::atomic<bool> stop_requested_{false};
+  std::mutex use_;
+  std::atomic<std::thread::id> user_{};  // the thread inside a call, if any
 };
 
 }  // namespace vwg

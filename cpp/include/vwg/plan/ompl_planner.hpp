@@ -18,7 +18,9 @@ namespace vwg::plan {
 struct OmplOptions {
   /// An OMPL geometric planner by name (see OmplGridPlanner::planner_names()).
   std::string planner = "RRTConnect";
-  /// Seconds the planner may run. Anytime planners (RRT*, PRM, ...) use all of it to improve the path.
+  /// Seconds the planner may run (0: no time limit, `iterations` alone bounds it). Anytime planners
+  /// (RRT*, PRM, ...) use all of it to improve the path. A time limit makes plans depend on the
+  /// machine's speed and load: a reproducible run uses iterations alone.
   double time_limit = 1.0;
   /// Seeds OMPL's random numbers (ompl::RNG::setSeed) before every plan, so a plan is reproducible:
   /// same map, poses, options and seed, same path, for planners that are single-threaded and stop by
@@ -26,8 +28,8 @@ struct OmplOptions {
   /// set, RRT* and the like too). PRM is not reproducible: it grows its roadmap in time slices and
   /// checks for solutions on a second thread.
   std::uint32_t seed = 0;
-  /// Stop after this many planner iterations (0: only the time limit). With a seed, this makes the
-  /// anytime planners reproducible as long as the time limit is not reached first.
+  /// Stop after this many planner iterations (0: only the time limit). With a seed and no time
+  /// limit, single-threaded planners (all but PRM and PRMstar) give the same plan everywhere.
   unsigned iterations = 0;
   /// Shorten the path found (OMPL's PathSimplifier: shortcuts and vertex removal, no time limit).
   bool simplify = true;

@@ -18,13 +18,16 @@ namespace vwg::robot {
 /// What the robot knows when it decides.
 struct DecisionInput {
   int robot = 0;
-  const Blob* map = nullptr;  ///< the robot's map (int16, see robot_map.hpp)
+  /// The robot's map (int16, see robot_map.hpp). Shared, so a view of it may outlive the call: the
+  /// actor's next write then goes to a copy (copy-on-write), and the view keeps what it showed.
+  std::shared_ptr<const Blob> map;
   const MapGeometry* geometry = nullptr;
   sim::Pose2 pose{};            ///< where the robot believes it is
   double goal_x = 0, goal_y = 0;
   double radius = 0.18;         ///< robot radius plus the clearance it keeps, metres
   double step_length = 1.0;     ///< the longest straight move of one decision, metres
   std::span<const double> path; ///< the current plan: x0, y0, x1, y1, ... (may be empty)
+  std::shared_ptr<const Blob> path_owner;  ///< the blob `path` views, if any (kept alive by views)
   std::uint64_t seed = 0;       ///< for random choices (fixed by the engine seed and the frame)
 };
 

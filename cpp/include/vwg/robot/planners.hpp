@@ -54,7 +54,10 @@ class GridDecider final : public Decider {
 
 class OmplDecider final : public Decider {
  public:
-  OmplDecider(std::string planner, double time_limit);
+  /// `iterations` bounds each plan (no clock: a run is the same on any machine, under any load).
+  /// PRM and PRMstar are refused: they grow their roadmap on a second thread, so their plans differ
+  /// from run to run; LazyPRM is the single-threaded roadmap planner.
+  OmplDecider(std::string planner, unsigned iterations);
   Decision decide(const DecisionInput& in) override;
   std::string name() const override { return planner_; }
   double search_seconds() const { return stats_.seconds; }
@@ -62,7 +65,7 @@ class OmplDecider final : public Decider {
 
  private:
   std::string planner_;
-  double time_limit_;
+  unsigned iterations_;
   std::map<int, PlanningMap> maps_;
   SearchStats stats_;
 };
