@@ -55,7 +55,7 @@ def test_adding_to_the_alphabet_during_a_frame_is_refused():
 
 
 def test_a_second_thread_is_refused_while_the_first_runs_a_frame():
-    world, engine = make_engine()
+    _, engine = make_engine()
     inside, release = threading.Event(), threading.Event()
 
     def slow():
