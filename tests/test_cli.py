@@ -152,3 +152,22 @@ def test_library_messages_go_to_logging_quiet_by_default(tmp_path):
     loud = vwg("-v", "run", "office", "--planner", "rrtconnect", "--frames", "300", "--allow-unreached", "-q")
     assert loud.returncode == 0
     assert "vwg.ompl: " in loud.stderr and "Error" not in loud.stderr
+
+
+def test_the_platform_is_one_setting(tmp_path, capsys):
+    summary = tmp_path / "s.json"
+    assert main(["run", "office", "--platform", "sim", "--goal", "kitchen", "--summary-json", str(summary), "-q"]) == 0
+    assert strict_loads(summary.read_text())["reached"] is True
+    assert main(["run", "office", "--platform", "warp", "--goal", "kitchen"]) == 2
+    assert "unknown platform 'warp' (known: sim)" in capsys.readouterr().err
+    # In the world file: `platform:` names it (a name or a mapping with kind); an unknown one is an
+    # error with the file and line.
+    text = shipped_worlds()["office"].read_text().replace("map: office/map.yaml", "map: " + str(
+        shipped_worlds()["office"].parent / "office" / "map.yaml"))
+    mine = tmp_path / "office.yaml"
+    mine.write_text(text + "platform: {kind: sim}\n")
+    assert main(["check", str(mine)]) == 0
+    mine.write_text(text + "platform: warp\n")
+    assert main(["check", str(mine)]) == 2
+    err = capsys.readouterr().err
+    assert f"{mine}:{len(text.splitlines()) + 1}: platform: unknown platform 'warp' (known: sim)" in err

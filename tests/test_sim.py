@@ -46,7 +46,7 @@ def run(order, grid, frames=60, seed=0, motor_noise=0.0, odometry_noise=0.0):
                                  motor_noise=motor_noise, odometry_noise=odometry_noise, seed=seed)
     gens = [vwg.Schedule({0: ["go"]}), _core.CollisionGenerator(physics, world.alphabet),
             _core.OdometryGenerator(physics, world.alphabet)]
-    engine = vwg.Engine(world, f'Driver<order="{order}">', gens, _core.SimBackend(physics), seed=seed)
+    engine = vwg.Engine(world, f'Driver<order="{order}">', gens, _core.MotionBackend(physics), seed=seed)
     poses = []
     engine.add_observer(lambda r: poses.append(physics.robot(1).pose))
     engine.run(frames)
@@ -77,7 +77,8 @@ def test_odometry_events_reach_the_robot_each_frame():
     world = case_study_world()
     robots = [{"id": 1, "start": (2.0, 2.5, 0.0)}, {"id": 2, "start": (5.0, 2.5, 0.0)}]
     physics = _core.PhysicsWorld(empty_map(), robots)
-    engine = vwg.Engine(world, "Driver", [_core.OdometryGenerator(physics, world.alphabet)], _core.SimBackend(physics))
+    engine = vwg.Engine(world, "Driver", [_core.OdometryGenerator(physics, world.alphabet)],
+                        _core.MotionBackend(physics))
     engine.step()
     events = engine.last_events
     assert [(e.type, e.target, e.x, e.y, e.busy, e.commands) for e in events] == [
@@ -97,6 +98,7 @@ def test_bad_physics_settings_name_the_field():
         _core.PhysicsWorld(empty_map(wall_x=2.0), [{"id": 1, "start": (2.05, 2.5, 0.0)}])
     with pytest.raises(vwg.SchemaError, match=r"grid\.data"):
         _core.PhysicsWorld(SimpleNamespace(data=np.zeros((3, 3)), resolution=0.1, origin=(0, 0, 0)), [])
-    with pytest.raises(vwg.SchemaError, match=r"eOdometry: the simulator needs the fields"):
+    with pytest.raises(vwg.SchemaError, match=r"eOdometry: expected the fields \(x: real, y: real, "
+                                               r"angle: real, busy: bool, commands: int\)"):
         w = vwg.World(events={"eOdometry": {"x": 0.0}})
         _core.OdometryGenerator(_core.PhysicsWorld(empty_map(), []), w.alphabet)

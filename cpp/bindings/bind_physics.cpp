@@ -1,10 +1,8 @@
-// The physics world, the simulator backend and the robots' feedback generators in Python.
+// The Box2D physics world (the simulator's RobotPlatform) in Python.
 #include <string>
 
 #include "sim_convert.hpp"
-#include "vwg/sim/feedback.hpp"
 #include "vwg/sim/physics.hpp"
-#include "vwg/sim/sim_backend.hpp"
 
 namespace vwg::bindings {
 
@@ -69,36 +67,10 @@ sim::RobotSettings robot_from_python(py::handle robot, std::size_t index) {
   return r;
 }
 
-py::dict collision_to_python(const sim::Collision& c) {
-  py::dict d;
-  d["robot"] = c.robot;
-  d["other"] = c.other;
-  d["pose"] = pose_to_python(c.pose);
-  d["time"] = c.time;
-  return d;
-}
-
 }  // namespace
 
 void init_physics(py::module_& m) {
-  py::class_<sim::RobotState>(m, "RobotState", "A simulated robot: true pose, odometry estimate, motion.")
-      .def_readonly("id", &sim::RobotState::id)
-      .def_readonly("radius", &sim::RobotState::radius)
-      .def_property_readonly("pose", [](const sim::RobotState& s) { return pose_to_python(s.pose); }, "True pose (x, y, yaw).")
-      .def_property_readonly("odometry", [](const sim::RobotState& s) { return pose_to_python(s.odometry); },
-                             "The robot's own pose estimate (x, y, yaw), with odometry noise.")
-      .def_readonly("speed", &sim::RobotState::speed)
-      .def_readonly("turn_rate", &sim::RobotState::turn_rate)
-      .def_readonly("busy", &sim::RobotState::busy, "Executing a motion plan.")
-      .def_readonly("commands", &sim::RobotState::commands, "Motion plans received so far.")
-      .def_readonly("collisions", &sim::RobotState::collisions)
-      .def_readonly("travelled", &sim::RobotState::travelled, "Metres driven.")
-      .def("__repr__", [](const sim::RobotState& s) {
-        return "vwg.RobotState(id=" + std::to_string(s.id) + ", pose=(" + format_real(s.pose.x) + ", " +
-               format_real(s.pose.y) + ", " + format_real(s.pose.theta) + "), busy=" + (s.busy ? "True" : "False") + ")";
-      });
-
-  py::class_<sim::PhysicsWorld, std::shared_ptr<sim::PhysicsWorld>>(m, "PhysicsWorld", R"doc(
+  py::class_<sim::PhysicsWorld, platform::RobotPlatform, std::shared_ptr<sim::PhysicsWorld>>(m, "PhysicsWorld", R"doc(
 The Box2D world of the simulator: walls from an occupancy grid (merged into few rectangles) and
 differential-drive robots that execute motion plans under speed and acceleration limits, stepped at
 a fixed time step. Robots are dicts or objects with id, start (x, y, yaw), and optionally radius,
@@ -118,49 +90,7 @@ max_speed, max_turn_rate, max_accel, max_turn_accel.)doc")
            py::arg("grid"), py::arg("robots"), py::arg("step") = 0.01, py::arg("motor_noise") = 0.0,
            py::arg("odometry_noise") = 0.0, py::arg("seed") = 0, py::arg("obstacle_threshold") = 50,
            py::arg("walls_at_border") = true)
-      .def("command", [](sim::PhysicsWorld& w, int robot, py::list plan) {
-             std::vector<sim::MotionStep> steps;
-             for (auto item : plan) {
-               py::tuple t = item.cast<py::tuple>();
-               const std::string kind = t[0].cast<std::string>();
-               if (kind != "turn" && kind != "drive") throw SchemaError("plan", "steps are ('turn', radians) or ('drive', metres)");
-               steps.push_back(sim::MotionStep{kind == "turn" ? sim::MotionStep::Turn : sim::MotionStep::Drive, t[1].cast<double>()});
-             }
-             w.command(robot, std::move(steps));
-           }, py::arg("robot"), py::arg("plan"),
-           "Replace the robot's plan: a list of ('turn', radians) and ('drive', metres) steps.")
-      .def("advance", &sim::PhysicsWorld::advance, py::arg("seconds"), py::call_guard<py::gil_scoped_release>(),
-           "Step the world for `seconds` at its fixed time step.")
-      .def("robot", &sim::PhysicsWorld::robot, py::arg("id"), py::return_value_policy::copy)
-      .def_property_readonly("robots", [](const sim::PhysicsWorld& w) {
-        return std::vector<sim::RobotState>(w.robots().begin(), w.robots().end());
-      })
-      .def("take_collisions", [](sim::PhysicsWorld& w) {
-        py::list out;
-        for (const auto& c : w.take_collisions()) out.append(collision_to_python(c));
-        return out;
-      }, "Collisions since the last call: dicts with robot, other (0 = a wall), pose, time.")
-      .def_property_readonly("time", &sim::PhysicsWorld::time)
       .def_property_readonly("wall_shapes", &sim::PhysicsWorld::wall_shapes, "Rectangles the walls were merged into.");
-
-  py::class_<sim::SimBackend, Backend, std::shared_ptr<sim::SimBackend>>(m, "SimBackend", R"doc(
-The simulator as the geometric system G (paper Table I): α(Robot<id>) makes robot `id` execute the
-Move<d> and Rotate<a> transformations it is displayed under, outermost first; end_frame steps the
-physics for the frame's dt.)doc")
-      .def(py::init([](std::shared_ptr<sim::PhysicsWorld> world, std::string robot, std::string move, std::string rotate) {
-             return std::make_shared<sim::SimBackend>(std::move(world), sim::MotionSymbols{robot, move, rotate});
-           }),
-           py::arg("world"), py::arg("robot") = "Robot", py::arg("move") = "Move", py::arg("rotate") = "Rotate")
-      .def_property_readonly("world", &sim::SimBackend::world);
-
-  py::class_<sim::OdometryGenerator, Generator, std::shared_ptr<sim::OdometryGenerator>>(m, "OdometryGenerator",
-      "Each frame, for each robot: event<to=id, x, y, angle, busy, commands> with its odometry estimate.")
-      .def(py::init<std::shared_ptr<sim::PhysicsWorld>, const Alphabet&, const std::string&>(), py::arg("world"),
-           py::arg("alphabet"), py::arg("event") = "eOdometry");
-  py::class_<sim::CollisionGenerator, Generator, std::shared_ptr<sim::CollisionGenerator>>(m, "CollisionGenerator",
-      "For each collision since the last frame: event<to=robot, other> (other = 0 for a wall).")
-      .def(py::init<std::shared_ptr<sim::PhysicsWorld>, const Alphabet&, const std::string&>(), py::arg("world"),
-           py::arg("alphabet"), py::arg("event") = "eCollision");
 
   py::class_<BackendGroup, Backend, std::shared_ptr<BackendGroup>>(m, "BackendGroup",
       "Several backends as one: every call goes to each, in order (e.g. the simulator, then a renderer).")

@@ -23,6 +23,7 @@ PYBIND11_MODULE(_core, m) {
   init_engine(m);
   init_bench_actors(m);
   init_sim(m);
+  init_platform(m);
   init_physics(m);
   init_render(m);
   init_perception(m);

@@ -5,7 +5,6 @@
 #include <string>
 
 #include "vwg/error.hpp"
-#include "vwg/sim/feedback.hpp"
 
 namespace vwg::sim {
 

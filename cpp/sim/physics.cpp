@@ -14,7 +14,7 @@ namespace vwg::sim {
 
 namespace {
 
-constexpr std::uintptr_t kWallTag = 0;  // fixture user data of walls; robots store their index + 1
+constexpr std::uintptr_t kWallTag = 0;  // fixture user data of walls; robots store their id (>= 1)
 
 double approach(double current, double target, double max_change) {
   if (target > current) return std::min(target, current + max_change);
@@ -74,12 +74,13 @@ class PhysicsWorld::Contacts : public b2ContactListener {
     const std::uintptr_t b = contact->GetFixtureB()->GetUserData().pointer;
     for (auto [self, other] : {std::pair{a, b}, std::pair{b, a}}) {
       if (self == kWallTag) continue;
-      Robot& r = world_.robots_[self - 1];
+      const std::size_t i = world_.index_of(static_cast<int>(self));
+      Robot& r = world_.robots_[i];
       r.contacts += delta;
       if (delta > 0) {
-        RobotState& s = world_.states_[self - 1];
+        RobotState& s = world_.states_[i];
         ++s.collisions;
-        const int other_id = other == kWallTag ? 0 : world_.robots_[other - 1].settings.id;
+        const int other_id = other == kWallTag ? 0 : static_cast<int>(other);
         r.last_other = other_id;
         world_.collisions_.push_back(Collision{r.settings.id, other_id, s.pose, world_.time_});
       }
@@ -153,87 +154,95 @@ PhysicsWorld::PhysicsWorld(const OccupancyGrid& grid, std::span<const RobotSetti
     add_box(w, 0, w + t, h);
   }
 
-  // Robots.
-  robots_.reserve(robots.size());
-  states_.reserve(robots.size());
-  for (std::size_t i = 0; i < robots.size(); ++i) {
-    const RobotSettings& rs = robots[i];
-    const std::string who = "robot " + std::to_string(rs.id);
-    check_finite_positive(rs.radius, who + ".radius");
-    check_finite_positive(rs.limits.max_speed, who + ".max_speed");
-    check_finite_positive(rs.limits.max_turn_rate, who + ".max_turn_rate");
-    check_finite_positive(rs.limits.max_accel, who + ".max_accel");
-    check_finite_positive(rs.limits.max_turn_accel, who + ".max_turn_accel");
-    if (!std::isfinite(rs.start.x) || !std::isfinite(rs.start.y) || !std::isfinite(rs.start.theta)) {
-      throw SchemaError(who + ".start", "expected finite x, y, yaw");
-    }
-    for (const Robot& other : robots_) {
-      if (other.settings.id == rs.id) throw SchemaError(who, "the id is used twice");
-      const double d = std::hypot(other.settings.start.x - rs.start.x, other.settings.start.y - rs.start.y);
-      if (d < other.settings.radius + rs.radius) {
-        throw SchemaError(who + ".start", "overlaps robot " + std::to_string(other.settings.id));
-      }
-    }
-    double u, v;
-    grid_.world_to_grid(rs.start.x, rs.start.y, u, v);
-    if (u < 0 || v < 0 || u >= grid_.width || v >= grid_.height) throw SchemaError(who + ".start", "is outside the map");
-    const double rc = rs.radius / res;  // radius in cells
-    for (int row = static_cast<int>(std::floor(v - rc)); row <= static_cast<int>(std::floor(v + rc)); ++row) {
-      for (int col = static_cast<int>(std::floor(u - rc)); col <= static_cast<int>(std::floor(u + rc)); ++col) {
-        if (!grid_.blocked(row, col, settings_.obstacle_threshold)) continue;
-        const double du = std::max({col - u, 0.0, u - (col + 1)});
-        const double dv = std::max({row - v, 0.0, v - (row + 1)});
-        if (std::hypot(du, dv) < rc) {
-          throw SchemaError(who + ".start", "the robot at (" + std::to_string(rs.start.x) + ", " +
-                                                std::to_string(rs.start.y) + ") is inside a wall");
-        }
-      }
-    }
-    b2BodyDef bd;
-    bd.type = b2_dynamicBody;
-    bd.position.Set(static_cast<float>(rs.start.x), static_cast<float>(rs.start.y));
-    bd.angle = static_cast<float>(rs.start.theta);
-    bd.allowSleep = false;
-    Robot r;
-    r.settings = rs;
-    r.body = box2d_->world.CreateBody(&bd);
-    b2CircleShape circle;
-    circle.m_radius = static_cast<float>(rs.radius);
-    b2FixtureDef fd;
-    fd.shape = &circle;
-    fd.density = 1.0f;
-    fd.friction = 0.0f;
-    fd.userData.pointer = static_cast<std::uintptr_t>(i + 1);
-    r.body->CreateFixture(&fd);
-    r.rng.reseed(derive_seed(settings_.seed, 0x726F626FULL, static_cast<std::uint64_t>(rs.id)));
-    robots_.push_back(std::move(r));
-    RobotState s;
-    s.id = rs.id;
-    s.radius = rs.radius;
-    s.pose = s.odometry = rs.start;
-    states_.push_back(s);
-  }
   contacts_ = std::make_unique<Contacts>(*this);
   box2d_->world.SetContactListener(contacts_.get());
+  robots_.reserve(robots.size());
+  states_.reserve(robots.size());
+  for (const RobotSettings& rs : robots) add_robot(rs);
+}
+
+void PhysicsWorld::add_robot(const RobotSettings& rs) {
+  const std::string who = "robot " + std::to_string(rs.id);
+  if (rs.id < 1) throw SchemaError(who + ".id", "expected an id >= 1");
+  check_finite_positive(rs.radius, who + ".radius");
+  check_finite_positive(rs.limits.max_speed, who + ".max_speed");
+  check_finite_positive(rs.limits.max_turn_rate, who + ".max_turn_rate");
+  check_finite_positive(rs.limits.max_accel, who + ".max_accel");
+  check_finite_positive(rs.limits.max_turn_accel, who + ".max_turn_accel");
+  if (!std::isfinite(rs.start.x) || !std::isfinite(rs.start.y) || !std::isfinite(rs.start.theta)) {
+    throw SchemaError(who + ".start", "expected finite x, y, yaw");
+  }
+  for (std::size_t k = 0; k < robots_.size(); ++k) {
+    const Robot& other = robots_[k];
+    if (other.settings.id == rs.id) throw SchemaError(who, "the id is used twice");
+    const double d = std::hypot(states_[k].pose.x - rs.start.x, states_[k].pose.y - rs.start.y);
+    if (d < other.settings.radius + rs.radius) {
+      throw SchemaError(who + ".start", "overlaps robot " + std::to_string(other.settings.id));
+    }
+  }
+  const double res = grid_.resolution;
+  double u, v;
+  grid_.world_to_grid(rs.start.x, rs.start.y, u, v);
+  if (u < 0 || v < 0 || u >= grid_.width || v >= grid_.height) throw SchemaError(who + ".start", "is outside the map");
+  const double rc = rs.radius / res;  // radius in cells
+  for (int row = static_cast<int>(std::floor(v - rc)); row <= static_cast<int>(std::floor(v + rc)); ++row) {
+    for (int col = static_cast<int>(std::floor(u - rc)); col <= static_cast<int>(std::floor(u + rc)); ++col) {
+      if (!grid_.blocked(row, col, settings_.obstacle_threshold)) continue;
+      const double du = std::max({col - u, 0.0, u - (col + 1)});
+      const double dv = std::max({row - v, 0.0, v - (row + 1)});
+      if (std::hypot(du, dv) < rc) {
+        throw SchemaError(who + ".start", "the robot at (" + std::to_string(rs.start.x) + ", " +
+                                              std::to_string(rs.start.y) + ") is inside a wall");
+      }
+    }
+  }
+  b2BodyDef bd;
+  bd.type = b2_dynamicBody;
+  bd.position.Set(static_cast<float>(rs.start.x), static_cast<float>(rs.start.y));
+  bd.angle = static_cast<float>(rs.start.theta);
+  bd.allowSleep = false;
+  Robot r;
+  r.settings = rs;
+  r.body = box2d_->world.CreateBody(&bd);
+  b2CircleShape circle;
+  circle.m_radius = static_cast<float>(rs.radius);
+  b2FixtureDef fd;
+  fd.shape = &circle;
+  fd.density = 1.0f;
+  fd.friction = 0.0f;
+  fd.userData.pointer = static_cast<std::uintptr_t>(rs.id);
+  r.body->CreateFixture(&fd);
+  r.rng.reseed(derive_seed(settings_.seed, 0x726F626FULL, static_cast<std::uint64_t>(rs.id)));
+  robots_.push_back(std::move(r));
+  RobotState st;
+  st.id = rs.id;
+  st.radius = rs.radius;
+  st.pose = st.odometry = rs.start;
+  states_.push_back(st);
+}
+
+void PhysicsWorld::remove_robot(int id) {
+  const std::size_t i = index_of(id);
+  // Box2D ends the body's contacts (the listener still finds the robot), then it is forgotten.
+  box2d_->world.DestroyBody(robots_[i].body);
+  robots_.erase(robots_.begin() + static_cast<std::ptrdiff_t>(i));
+  states_.erase(states_.begin() + static_cast<std::ptrdiff_t>(i));
+}
+
+std::size_t PhysicsWorld::index_of(int id) const {
+  for (std::size_t i = 0; i < robots_.size(); ++i) {
+    if (robots_[i].settings.id == id) return i;
+  }
+  throw SchemaError("robot", "no robot with id " + std::to_string(id) + " on the simulator");
 }
 
 PhysicsWorld::~PhysicsWorld() {
   if (box2d_) box2d_->world.SetContactListener(nullptr);
 }
 
-PhysicsWorld::Robot& PhysicsWorld::find(int id) {
-  for (Robot& r : robots_) {
-    if (r.settings.id == id) return r;
-  }
-  throw SchemaError("robot", "no robot with id " + std::to_string(id));
-}
+PhysicsWorld::Robot& PhysicsWorld::find(int id) { return robots_[index_of(id)]; }
 
-const RobotState& PhysicsWorld::robot(int id) const {
-  for (const RobotState& s : states_) {
-    if (s.id == id) return s;
-  }
-  throw SchemaError("robot", "no robot with id " + std::to_string(id));
-}
+const RobotState& PhysicsWorld::robot(int id) const { return states_[index_of(id)]; }
 
 void PhysicsWorld::command(int robot, std::vector<MotionStep> plan) {
   Robot& r = find(robot);

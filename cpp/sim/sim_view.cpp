@@ -7,7 +7,7 @@
 
 namespace vwg::sim {
 
-SimView::SimView(std::shared_ptr<const PhysicsWorld> world, RenderStyle style, MotionSymbols symbols)
+SimView::SimView(std::shared_ptr<const PhysicsWorld> world, RenderStyle style, platform::MotionSymbols symbols)
     : world_(std::move(world)), renderer_(world_ ? world_->grid() : OccupancyGrid{}, style), motion_(std::move(symbols)) {
   if (!world_) throw Error("SimView: no physics world");
 }
@@ -54,7 +54,7 @@ void SimView::begin_frame(const FrameInfo&) {
 
 void SimView::primitive(const NodeView& p) {
   int id = 0;
-  std::vector<MotionStep> plan;
+  std::vector<platform::MotionStep> plan;
   if (motion_.robot(p, id, plan)) commanded_[id] = std::move(plan);
 }
 

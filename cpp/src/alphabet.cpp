@@ -178,4 +178,20 @@ EventTypeId Alphabet::event_type_id(std::string_view name) const {
   return *id;
 }
 
+void require_fields(const Alphabet& alphabet, EventTypeId id,
+                    std::initializer_list<std::pair<const char*, ValueKind>> fields) {
+  const EventTypeInfo& info = alphabet.event_type(id);
+  std::string expected;
+  for (const auto& [name, kind] : fields) {
+    expected += (expected.empty() ? "" : ", ") + std::string(name) + ": " + std::string(kind_name(kind));
+  }
+  bool ok = info.fields.params.size() == fields.size();
+  std::size_t i = 0;
+  for (const auto& [name, kind] : fields) {
+    ok = ok && info.fields.params[i].name == name && info.fields.params[i].kind == kind;
+    ++i;
+  }
+  if (!ok) throw SchemaError(info.name, "expected the fields (" + expected + ")");
+}
+
 }  // namespace vwg

@@ -8,7 +8,7 @@ import numpy
 import numpy.typing
 import os
 import typing
-__all__: list[str] = ['ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'Backend', 'BackendGroup', 'Blob', 'CameraGenerator', 'CameraRenderer', 'CollisionGenerator', 'DStarLite', 'Decider', 'DecisionInput', 'Engine', 'Event', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'Generator', 'GridDecider', 'GridRaycaster', 'ImageFiles', 'ImageSequence', 'ImageSource', 'KinectGenerator', 'LaserGenerator', 'Node', 'NullBackend', 'OdometryGenerator', 'OmplDecider', 'OmplPlan', 'OmplPlanner', 'OverviewCamera', 'PhysicsWorld', 'PythonActor', 'RandomDecider', 'RangeScanner', 'RenderStyle', 'RobotState', 'SimBackend', 'SimView', 'SimulatedCamera', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoSource', 'VideoWriter', 'add_arobot', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'arobot_action', 'arobot_event_types', 'astar', 'build_string', 'detect_apriltags', 'display', 'estimate_tag_pose', 'evolve', 'overview_camera', 'plan_ompl', 'read_image', 'render_overview', 'robot_map', 'set_log_sink', 'visualize', 'walker_behavior', 'write_image']
+__all__: list[str] = ['ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'Backend', 'BackendGroup', 'Blob', 'CameraGenerator', 'CameraRenderer', 'Collision', 'CollisionGenerator', 'DStarLite', 'Decider', 'DecisionInput', 'Engine', 'Event', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'Generator', 'GridDecider', 'GridRaycaster', 'ImageFiles', 'ImageSequence', 'ImageSource', 'KinectGenerator', 'LaserGenerator', 'MotionBackend', 'Node', 'NullBackend', 'OdometryGenerator', 'OmplDecider', 'OmplPlan', 'OmplPlanner', 'OverviewCamera', 'PhysicsWorld', 'PythonActor', 'RandomDecider', 'RangeScanner', 'RenderStyle', 'RobotPlatform', 'RobotSettings', 'RobotState', 'SimView', 'SimulatedCamera', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoSource', 'VideoWriter', 'add_arobot', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'arobot_action', 'arobot_event_types', 'astar', 'build_string', 'detect_apriltags', 'display', 'estimate_tag_pose', 'evolve', 'overview_camera', 'plan_ompl', 'read_image', 'render_overview', 'robot_map', 'set_log_sink', 'visualize', 'walker_behavior', 'write_image']
 class Blob:
     """
     A large attribute value held by reference from world strings (an occupancy grid, an image, a path).
@@ -451,16 +451,45 @@ class Engine:
         """
         Simulated seconds: frame * dt.
         """
+class RobotSettings:
+    """
+    A robot as the world file describes it: id, start, radius, limits.
+    """
+    def __init__(self, id: typing.SupportsInt | typing.SupportsIndex, start: typing.Any, radius: typing.SupportsFloat | typing.SupportsIndex = 0.18, max_speed: typing.SupportsFloat | typing.SupportsIndex = 0.5, max_turn_rate: typing.SupportsFloat | typing.SupportsIndex = 1.5, max_accel: typing.SupportsFloat | typing.SupportsIndex = 1.0, max_turn_accel: typing.SupportsFloat | typing.SupportsIndex = 4.0) -> None:
+        ...
+    @property
+    def id(self) -> int:
+        ...
+    @property
+    def max_accel(self) -> float:
+        ...
+    @property
+    def max_speed(self) -> float:
+        ...
+    @property
+    def max_turn_accel(self) -> float:
+        ...
+    @property
+    def max_turn_rate(self) -> float:
+        ...
+    @property
+    def radius(self) -> float:
+        ...
+    @property
+    def start(self) -> tuple:
+        ...
 class RobotState:
     """
-    A simulated robot: true pose, odometry estimate, motion.
+    A robot as a platform knows it after its last step.
     """
+    def __init__(self, id: typing.SupportsInt | typing.SupportsIndex, pose: typing.Any, odometry: typing.Any = None, *, radius: typing.SupportsFloat | typing.SupportsIndex = 0.18, busy: bool = False, commands: typing.SupportsInt | typing.SupportsIndex = 0, collisions: typing.SupportsInt | typing.SupportsIndex = 0, travelled: typing.SupportsFloat | typing.SupportsIndex = 0.0, speed: typing.SupportsFloat | typing.SupportsIndex = 0.0, turn_rate: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
+        ...
     def __repr__(self) -> str:
         ...
     @property
     def busy(self) -> bool:
         """
-        Executing a motion plan.
+        Executing a motion command.
         """
     @property
     def collisions(self) -> int:
@@ -468,7 +497,7 @@ class RobotState:
     @property
     def commands(self) -> int:
         """
-        Motion plans received so far.
+        Motion commands received so far.
         """
     @property
     def id(self) -> int:
@@ -481,7 +510,7 @@ class RobotState:
     @property
     def pose(self) -> tuple:
         """
-        True pose (x, y, yaw).
+        The platform's pose (x, y, yaw): the truth in the simulator.
         """
     @property
     def radius(self) -> float:
@@ -497,7 +526,85 @@ class RobotState:
     @property
     def turn_rate(self) -> float:
         ...
-class PhysicsWorld:
+class Collision:
+    """
+    A robot touched a wall (other = 0) or another robot.
+    """
+    def __init__(self, robot: typing.SupportsInt | typing.SupportsIndex, other: typing.SupportsInt | typing.SupportsIndex, pose: typing.Any = (0.0, 0.0, 0.0), time: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
+        ...
+    @property
+    def other(self) -> int:
+        ...
+    @property
+    def pose(self) -> tuple:
+        ...
+    @property
+    def robot(self) -> int:
+        ...
+    @property
+    def time(self) -> float:
+        ...
+class RobotPlatform:
+    """
+    Where frames meet robots: the Box2D simulator (PhysicsWorld) or a real robot's link. Subclass it in
+    Python and define add_robot(settings), remove_robot(id), command(robot, steps) — steps are
+    ('turn', radians) and ('drive', metres), the latest command replacing the previous one — advance(seconds),
+    robots() -> list of RobotState, take_collisions() -> list of Collision, time() and name().
+    """
+    def __init__(self) -> None:
+        ...
+    def add_robot(self, settings: RobotSettings) -> None:
+        ...
+    def advance(self, seconds: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        """
+        Let `seconds` pass on the platform.
+        """
+    def command(self, robot: typing.SupportsInt | typing.SupportsIndex, steps: typing.Any) -> None:
+        """
+        Replace the robot's command: a list of ('turn', radians) and ('drive', metres) steps.
+        """
+    def name(self) -> str:
+        ...
+    def remove_robot(self, id: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    def robot(self, id: typing.SupportsInt | typing.SupportsIndex) -> RobotState:
+        ...
+    def robots(self) -> list[RobotState]:
+        """
+        Every robot's state.
+        """
+    def take_collisions(self) -> list[Collision]:
+        """
+        The collisions since the last call.
+        """
+    def time(self) -> float:
+        """
+        The platform's clock, seconds.
+        """
+class MotionBackend(Backend):
+    """
+    φ on a robot platform (paper Table I): α(Robot<id>) commands robot `id` with the Move<d> and
+    Rotate<a> transformations it is displayed under, outermost first; the end of a frame lets its dt
+    pass on the platform. The same string drives the simulator and a real robot.
+    """
+    def __init__(self, platform: RobotPlatform, robot: str = 'Robot', move: str = 'Move', rotate: str = 'Rotate') -> None:
+        ...
+    @property
+    def platform(self) -> RobotPlatform:
+        ...
+class OdometryGenerator(Generator):
+    """
+    Each frame, for each robot of the platform: event<to=id, x, y, angle, busy, commands> (its odometry).
+    """
+    def __init__(self, platform: RobotPlatform, alphabet: Alphabet, event: str = 'eOdometry') -> None:
+        ...
+class CollisionGenerator(Generator):
+    """
+    For each collision since the last frame: event<to=robot, other> (other = 0 for a wall).
+    """
+    def __init__(self, platform: RobotPlatform, alphabet: Alphabet, event: str = 'eCollision') -> None:
+        ...
+class PhysicsWorld(RobotPlatform):
     """
     The Box2D world of the simulator: walls from an occupancy grid (merged into few rectangles) and
     differential-drive robots that execute motion plans under speed and acceleration limits, stepped at
@@ -506,54 +613,11 @@ class PhysicsWorld:
     """
     def __init__(self, grid: typing.Any, robots: list, step: typing.SupportsFloat | typing.SupportsIndex = 0.01, motor_noise: typing.SupportsFloat | typing.SupportsIndex = 0.0, odometry_noise: typing.SupportsFloat | typing.SupportsIndex = 0.0, seed: typing.SupportsInt | typing.SupportsIndex = 0, obstacle_threshold: typing.SupportsInt | typing.SupportsIndex = 50, walls_at_border: bool = True) -> None:
         ...
-    def advance(self, seconds: typing.SupportsFloat | typing.SupportsIndex) -> None:
-        """
-        Step the world for `seconds` at its fixed time step.
-        """
-    def command(self, robot: typing.SupportsInt | typing.SupportsIndex, plan: list) -> None:
-        """
-        Replace the robot's plan: a list of ('turn', radians) and ('drive', metres) steps.
-        """
-    def robot(self, id: typing.SupportsInt | typing.SupportsIndex) -> RobotState:
-        ...
-    def take_collisions(self) -> list:
-        """
-        Collisions since the last call: dicts with robot, other (0 = a wall), pose, time.
-        """
-    @property
-    def robots(self) -> list[RobotState]:
-        ...
-    @property
-    def time(self) -> float:
-        ...
     @property
     def wall_shapes(self) -> int:
         """
         Rectangles the walls were merged into.
         """
-class SimBackend(Backend):
-    """
-    The simulator as the geometric system G (paper Table I): α(Robot<id>) makes robot `id` execute the
-    Move<d> and Rotate<a> transformations it is displayed under, outermost first; end_frame steps the
-    physics for the frame's dt.
-    """
-    def __init__(self, world: PhysicsWorld, robot: str = 'Robot', move: str = 'Move', rotate: str = 'Rotate') -> None:
-        ...
-    @property
-    def world(self) -> PhysicsWorld:
-        ...
-class OdometryGenerator(Generator):
-    """
-    Each frame, for each robot: event<to=id, x, y, angle, busy, commands> with its odometry estimate.
-    """
-    def __init__(self, world: PhysicsWorld, alphabet: Alphabet, event: str = 'eOdometry') -> None:
-        ...
-class CollisionGenerator(Generator):
-    """
-    For each collision since the last frame: event<to=robot, other> (other = 0 for a wall).
-    """
-    def __init__(self, world: PhysicsWorld, alphabet: Alphabet, event: str = 'eCollision') -> None:
-        ...
 class BackendGroup(Backend):
     """
     Several backends as one: every call goes to each, in order (e.g. the simulator, then a renderer).

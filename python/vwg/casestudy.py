@@ -31,7 +31,8 @@ from . import _core
 from .engine import Engine
 from .errors import SchemaError
 from .generators import every_frame
-from .robotworld import RobotWorld
+from .registry import platforms
+from .robotworld import PlatformSpec, RobotWorld
 from .sim import MOTION_SYMBOLS, Simulation
 from .world import Alphabet, World
 
@@ -61,14 +62,13 @@ def make_decider(planner: str | _core.Decider) -> _core.Decider:
         raise SchemaError(f"planner: unknown planner '{planner}' (known: {', '.join(PLANNERS)})") from None
 
 
-def case_study_world(world: RobotWorld, decider: _core.Decider, *, goal_tolerance: float = 0.25,
-                     step_length: float = 1.0) -> World:
+def case_study_world(world: RobotWorld, decider: _core.Decider, *, step_length: float = 1.0) -> World:
     """The alphabet of the case study with ARobot deciding by `decider`, for this robot world."""
     events = {name: {f: spec[1] for f, spec in fields.items()} for name, fields in _core.arobot_event_types().items()}
     alphabet = Alphabet(events=events, visual=["eExecute"], **MOTION_SYMBOLS)
     rooms = {room.marker: room.goal for room in world.rooms.values()}
     radius = max((r.radius for r in world.robots), default=0.18)
-    _core.add_arobot(alphabet, decider, world.grid, rooms, radius=radius, goal_tolerance=goal_tolerance,
+    _core.add_arobot(alphabet, decider, world.grid, rooms, radius=radius, goal_tolerance=world.goal_tolerance,
                      step_length=step_length)
     return World(alphabet)
 
@@ -147,7 +147,7 @@ class Orders(_core.Generator):
 class RobotSummary:
     id: int
     room: str | None       # the last room ordered
-    reached: bool          # at that room's goal (true pose within the tolerance) at the end
+    reached: bool          # the robot says it reached that room (its pose within the world's goal_tolerance)
     distance_to_goal_m: float
     path_length_m: float   # metres driven (true)
     collisions: int
@@ -185,14 +185,16 @@ class CaseStudy:
     kinds of generators to make among those each robot lists (it selects, it does not add: a
     robot without a Kinect in the world file gets none); ``video``/``images`` record a view;
     ``backends`` adds backends after the simulator (or factories given the Simulation);
-    ``knows_map=False`` starts the robots with empty grids (eq. 13)."""
+    ``knows_map=False`` starts the robots with empty grids (eq. 13); ``platform`` names where the
+    robots run (default: the world file's ``platform``, the simulator)."""
 
     def __init__(self, world: RobotWorld, planner: str | _core.Decider = "astar", *,
                  goals: Mapping[int, str] | None = None, seed: int | None = None, frames: int | None = None,
                  sensors: Iterable[str] = ("laser", "kinect", "camera"), video: str | Path | None = None,
                  images: str | Path | None = None, view_width: int = 800, max_symbols: int = 0,
                  world_orders: bool | None = None, knows_map: bool = True,
-                 backends: Iterable[_core.Backend | Callable[[Simulation], _core.Backend]] = ()) -> None:
+                 backends: Iterable[_core.Backend | Callable[[Simulation], _core.Backend]] = (),
+                 platform: str | PlatformSpec | None = None) -> None:
         self.world = world
         self.knows_map = knows_map
         self.seed = world.seed if seed is None else seed
@@ -201,7 +203,9 @@ class CaseStudy:
         self.planner = planner if isinstance(planner, str) else self.decider.name
         self.vworld = case_study_world(world, self.decider)
         alphabet = self.vworld.alphabet
-        self.sim = Simulation(world, seed=self.seed)
+        # The platform by name (the world file's, or `platform`): the simulator unless said otherwise.
+        spec = world.platform if platform is None else PlatformSpec(platform) if isinstance(platform, str) else platform
+        self.sim = platforms.create(spec.kind, world, self.seed, dict(spec.options))
         self.orders = Orders(world)
         # The world file's timed orders play unless orders are given here (or world_orders says).
         if world_orders is None:
@@ -311,8 +315,10 @@ class CaseStudy:
                 gx, gy = self.world.rooms[room].goal
                 dist = math.hypot(state.pose[0] - gx, state.pose[1] - gy)
             actor = actors.get(spec.id)
+            # One definition of "reached": the robot's own (ARobot, the world's goal_tolerance).
+            reached = room is not None and actor is not None and bool(actor["reached"])
             robots.append(RobotSummary(
-                id=spec.id, room=room, reached=room is not None and dist <= 0.3 + 1e-9,
+                id=spec.id, room=room, reached=reached,
                 distance_to_goal_m=dist, path_length_m=state.travelled, collisions=int(state.collisions),
                 replans=int(actor["replans"]) if actor is not None else 0, commands=int(state.commands),
                 status=self.status_of(spec.id, actor) if actor is not None else "gone"))

@@ -92,7 +92,8 @@ def _run_robot(args: argparse.Namespace, path: Path) -> int:
         world = dataclasses.replace(world, dt=args.dt)
     goals = _goals(args.goal, [r.id for r in world.robots])
     # Orders on the command line replace the world file's timed orders.
-    case = CaseStudy(world, args.planner or "astar", goals=goals, seed=args.seed, frames=args.frames, video=args.video,
+    case = CaseStudy(world, args.planner or "astar", goals=goals, platform=args.platform, seed=args.seed,
+                     frames=args.frames, video=args.video,
                      images=args.images, max_symbols=args.max_symbols,
                      world_orders=False if args.no_world_orders else None)
     if args.stdin_orders:
@@ -158,7 +159,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
     if kind == "robot":
         return _run_robot(args, path)
     robot_options = ("planner", "goal", "video", "images", "summary_json", "trajectory", "no_world_orders",
-                     "stdin_orders", "allow_unreached")
+                     "stdin_orders", "allow_unreached", "platform")
     for option in robot_options:
         if getattr(args, option) not in (None, False):
             raise Error(f"--{option.replace('_', '-')} is for robot worlds (world files that name a map); "
@@ -325,6 +326,8 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--max-symbols", type=int, default=10_000_000,
                      help="fail if the string grows past this many symbols (default 10 000 000; 0: no limit)")
     robot = run.add_argument_group("robot worlds (the case study: world files that name a map)")
+    robot.add_argument("--platform", help="where the robots run (default: the world file's platform:, else sim, "
+                                           "the Box2D simulator)")
     robot.add_argument("--planner",
                        help="the decision inside eDecide: random, astar, dstar, rrtconnect, rrtstar, prm "
                             "(default astar)")

@@ -8,7 +8,7 @@ from typing import Any, Generic, TypeVar
 
 from .errors import SchemaError
 
-__all__ = ["Registry", "backends", "generators"]
+__all__ = ["Registry", "backends", "generators", "platforms"]
 
 T = TypeVar("T")
 
@@ -45,6 +45,10 @@ class Registry(Generic[T]):
 
 backends: Registry[Any] = Registry("backend")
 generators: Registry[Any] = Registry("generator")
+#: Robot platforms by name: a factory (robot world, seed, options) -> an object with ``platform`` (a
+#: vwg.RobotPlatform), ``backend`` (φ on it), ``feedback(alphabet)``, ``sensors(alphabet, kinds)``,
+#: ``view(...)`` and ``robot(id)``, as vwg.Simulation has them.
+platforms: Registry[Any] = Registry("platform")
 
 
 def _register_builtins() -> None:
@@ -52,6 +56,15 @@ def _register_builtins() -> None:
 
     backends.register("trace", lambda **_: _core.TraceBackend())
     backends.register("null", lambda **_: _core.NullBackend())
+
+    def simulator(world: Any, seed: int, options: dict[str, Any]) -> Any:
+        from .sim import Simulation
+
+        if options:
+            raise SchemaError(f"platform sim: unknown option(s) {', '.join(sorted(options))} (it takes none)")
+        return Simulation(world, seed=seed)
+
+    platforms.register("sim", simulator)
 
 
 _register_builtins()

@@ -29,7 +29,9 @@ their sensors, noise, and a timed script of user orders.
     noise: {odometry: 0.0, motors: 0.0, laser: 0.01}   # laser defaults to laser.noise
     frames: 3000                       # [3000]
     dt: 0.1                            # [0.1] seconds per frame
+    goal_tolerance: 0.25               # [0.25] m: a robot whose pose is this near its room's goal has reached it
     seed: 0                            # [0]
+    platform: sim                      # [sim] where the robots run: a name, or {kind: NAME, ...options}
     orders:                            # [[]] the user's orders (gObjective), sorted by time when loaded
       - {time: 0.0, robot: 1, room: kitchen}
 
@@ -61,13 +63,13 @@ from .maps import OccupancyGrid, _movingai_spec, load_map
 from .worlds import shipped_worlds
 from .yamldoc import YamlDoc
 
-__all__ = ["CameraSpec", "KinectSpec", "LaserSpec", "NoiseSpec", "Order", "RobotSpec", "RobotWorld", "Room",
-           "load_robot_world"]
+__all__ = ["CameraSpec", "KinectSpec", "LaserSpec", "NoiseSpec", "Order", "PlatformSpec", "RobotSpec", "RobotWorld",
+           "Room", "load_robot_world"]
 
 SENSORS = ("laser", "kinect", "camera")
 MAX_MARKER = 586  # tag36h11 has 587 codes
 _TOP_KEYS = ("name", "description", "map", "wall_height", "rooms", "robots", "laser", "kinect", "camera", "noise",
-             "frames", "dt", "seed", "orders")
+             "frames", "dt", "seed", "orders", "platform", "goal_tolerance")
 _ROOM_KEYS = ("marker", "at", "facing", "size", "height", "goal")
 _ROBOT_KEYS = ("id", "start", "radius", "max_speed", "max_turn_rate", "max_accel", "max_turn_accel", "sensors")
 _ORDER_KEYS = ("time", "robot", "room")
@@ -158,6 +160,14 @@ class Order:
     room: str
 
 
+@dataclass(frozen=True)
+class PlatformSpec:
+    """Where the robots run: a registered platform (``sim``, the Box2D simulator) and its options."""
+
+    kind: str = "sim"
+    options: dict[str, Any] = field(default_factory=dict)
+
+
 @dataclass(eq=False)
 class RobotWorld:
     """A loaded robot world file."""
@@ -178,6 +188,8 @@ class RobotWorld:
     dt: float
     seed: int
     orders: list[Order]
+    goal_tolerance: float = 0.25  # the one definition of "reached", for the robots and the summary
+    platform: PlatformSpec = field(default_factory=PlatformSpec)
     data: dict[str, Any] = field(default_factory=dict)  # the YAML as read
 
     def robot(self, robot_id: int) -> RobotSpec:
@@ -435,6 +447,20 @@ def _orders(doc: YamlDoc, rooms: dict[str, Room], robots: list[RobotSpec]) -> li
     return sorted(orders, key=lambda o: o.time)  # stable: equal times keep the file's order
 
 
+def _platform(doc: YamlDoc) -> PlatformSpec:
+    from .registry import platforms
+
+    entry = doc.get(("platform",), (str, dict), default="sim")
+    if isinstance(entry, str):
+        kind, options = entry, {}
+    else:
+        kind = doc.get(("platform", "kind"), str)
+        options = {k: v for k, v in entry.items() if k != "kind"}
+    if kind not in platforms:
+        raise doc.error(("platform",), f"unknown platform {kind!r} (known: {', '.join(platforms)})")
+    return PlatformSpec(kind, options)
+
+
 def load_robot_world(path: str | Path) -> RobotWorld:
     """Load and check a robot world file (see the module docs for the schema), or a shipped world by
     name (``"office"``); errors are WorldFileError naming the file, the line and the field."""
@@ -464,6 +490,9 @@ def load_robot_world(path: str | Path) -> RobotWorld:
     dt = float(doc.number(("dt",), 0.1, minimum=0.0, exclusive_minimum=True))
     seed = int(doc.number(("seed",), 0, minimum=0, integer=True))
     orders = _orders(doc, rooms, robots)
-    return RobotWorld(path=path, name=name, description=description, map_path=map_path, grid=grid,
+    platform = _platform(doc)
+    tolerance = float(doc.number(("goal_tolerance",), 0.25, minimum=0.0, exclusive_minimum=True))
+    return RobotWorld(path=path, platform=platform, goal_tolerance=tolerance, name=name, description=description,
+                      map_path=map_path, grid=grid,
                       wall_height=wall_height, rooms=rooms, robots=robots, laser=laser, kinect=kinect, camera=camera,
                       noise=noise, frames=frames, dt=dt, seed=seed, orders=orders, data=doc.data)

@@ -1,6 +1,6 @@
-"""The simulator of the case study for a robot world: the physics (the backend G that executes the
-robots' Move/Rotate actions), the range sensors and the robots' feedback (event generators), and a
-view (a backend that draws the simulation and records video).
+"""The simulator of the case study for a robot world: the physics (the Box2D RobotPlatform, which the
+motion backend G commands with the robots' Move/Rotate actions), the range sensors and the robots'
+feedback (event generators), and a view (a backend that draws the simulation and records video).
 
     world = vwg.load_robot_world("maps/office.yaml")
     sim = vwg.Simulation(world)
@@ -40,7 +40,8 @@ MOTION_SYMBOLS: dict[str, dict[str, dict[str, Any]]] = {
 
 
 class Simulation:
-    """One robot world simulated: ``physics`` (Box2D), ``backend`` (α/β/δ of Robot, Move, Rotate),
+    """One robot world simulated: ``physics`` (Box2D, the robot platform), ``backend`` (α/β/δ of Robot,
+    Move, Rotate on that platform),
     ``raycaster`` and ``scanner`` (walls and other robots), and factories for the generators."""
 
     def __init__(self, world: RobotWorld, *, seed: int | None = None, noise: NoiseSpec | None = None,
@@ -52,7 +53,8 @@ class Simulation:
                                           odometry_noise=self.noise.odometry, seed=self.seed)
         self.raycaster = _core.GridRaycaster(world.grid)
         self.scanner = _core.RangeScanner(self.raycaster, self.physics)
-        self.backend = _core.SimBackend(self.physics)
+        self.platform: _core.RobotPlatform = self.physics
+        self.backend = _core.MotionBackend(self.physics)
         self.lasers: list[_core.LaserGenerator] = []
         self.kinects: list[_core.KinectGenerator] = []
         self.cameras: list[_core.CameraGenerator] = []
@@ -106,7 +108,7 @@ class Simulation:
         return ranging + cameras
 
     def feedback(self, alphabet: _core.Alphabet) -> list[_core.Generator]:
-        """Odometry and collisions of every robot, as events."""
+        """Odometry and collisions of every robot, as events (from the platform: here the simulator)."""
         return [_core.OdometryGenerator(self.physics, alphabet), _core.CollisionGenerator(self.physics, alphabet)]
 
     def view(self, *, width: int = 800, video: str | None = None, fps: float | None = None,

@@ -5,11 +5,13 @@
 
 #include <atomic>
 #include <cstdint>
+#include <initializer_list>
 #include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "vwg/value.hpp"
@@ -122,5 +124,10 @@ class Alphabet {
   std::unordered_map<std::string, Entry, StringHash, std::equal_to<>> names_;
   mutable std::atomic<int> frames_in_progress_{0};
 };
+
+/// Throws SchemaError unless event type `id` declares exactly these fields, with these kinds, in
+/// this order (a generator that emits the type checks it once, when it is made).
+void require_fields(const Alphabet& alphabet, EventTypeId id,
+                    std::initializer_list<std::pair<const char*, ValueKind>> fields);
 
 }  // namespace vwg

@@ -6,27 +6,21 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "vwg/random.hpp"
+#include "vwg/platform/platform.hpp"
 #include "vwg/sim/grid.hpp"
 
 namespace vwg::sim {
 
-/// Speed and acceleration limits of a differential-drive robot.
-struct RobotLimits {
-  double max_speed = 0.5;       ///< m/s
-  double max_turn_rate = 1.5;   ///< rad/s
-  double max_accel = 1.0;       ///< m/s²
-  double max_turn_accel = 4.0;  ///< rad/s²
-};
-
-struct RobotSettings {
-  int id = 1;
-  Pose2 start{};
-  double radius = 0.18;  ///< m
-  RobotLimits limits{};
-};
+// The robot vocabulary is the platform's (vwg/platform/platform.hpp): the simulator is one platform.
+using platform::Collision;
+using platform::MotionStep;
+using platform::RobotLimits;
+using platform::RobotSettings;
+using platform::RobotState;
 
 /// The paper's "odometry errors" (§III.F test 3): standard deviations, 0 = exact.
 struct NoiseModel {
@@ -48,35 +42,8 @@ struct PhysicsSettings {
   std::uint64_t seed = 0;
 };
 
-/// One step of a motion plan, in the robot's own frame.
-struct MotionStep {
-  enum Kind : std::uint8_t { Turn, Drive } kind;
-  double amount;  ///< radians (counter-clockwise) or metres (forward; negative backwards)
-};
-
-struct RobotState {
-  int id = 0;
-  double radius = 0.0;
-  Pose2 pose{};      ///< true pose (what the simulator knows)
-  Pose2 odometry{};  ///< the robot's own estimate (equal to pose without odometry noise)
-  double speed = 0.0;      ///< m/s along the heading
-  double turn_rate = 0.0;  ///< rad/s
-  bool busy = false;       ///< executing a motion plan
-  std::uint64_t commands = 0;  ///< motion plans received so far (a robot can tell its last one arrived)
-  std::uint64_t collisions = 0;
-  double travelled = 0.0;  ///< metres driven (true)
-};
-
-/// A robot touched a wall or another robot (reported when the contact begins), or gave up a drive
-/// because it pushed against one without moving.
-struct Collision {
-  int robot = 0;
-  int other = 0;  ///< id of the other robot, 0 for a wall
-  Pose2 pose{};
-  double time = 0.0;
-};
-
-class PhysicsWorld {
+/// The Box2D simulator as a RobotPlatform.
+class PhysicsWorld final : public platform::RobotPlatform {
  public:
   /// Throws vwg::SchemaError for bad settings (a robot outside the map, overlapping a wall or
   /// another robot, duplicate ids, non-finite or non-positive limits).
@@ -85,16 +52,21 @@ class PhysicsWorld {
   PhysicsWorld(const PhysicsWorld&) = delete;
   PhysicsWorld& operator=(const PhysicsWorld&) = delete;
 
+  /// A robot's body; throws SchemaError like the constructor (and for an id in use).
+  void add_robot(const RobotSettings& robot) override;
+  /// The robot's body leaves the world.
+  void remove_robot(int id) override;
   /// Replace the robot's current plan with `plan` (the latest command wins; an empty plan stops it).
-  void command(int robot, std::vector<MotionStep> plan);
+  void command(int robot, std::vector<MotionStep> plan) override;
   /// Step the world for `seconds` (a whole number of fixed steps; the remainder carries over).
-  void advance(double seconds);
+  void advance(double seconds) override;
 
-  const RobotState& robot(int id) const;
-  std::span<const RobotState> robots() const { return states_; }
+  const RobotState& robot(int id) const override;
+  const std::vector<RobotState>& robots() const override { return states_; }
   /// Collisions since the last call.
-  std::vector<Collision> take_collisions();
-  double time() const { return time_; }
+  std::vector<Collision> take_collisions() override;
+  double time() const override { return time_; }
+  std::string name() const override { return "sim"; }
   const OccupancyGrid& grid() const { return grid_; }
   /// How many rectangles the walls were merged into (one Box2D fixture each).
   std::size_t wall_shapes() const { return wall_shapes_; }
@@ -112,6 +84,7 @@ class PhysicsWorld {
   void step_robot(Robot& r, double dt);
   void start_step(Robot& r);
   Robot& find(int id);
+  std::size_t index_of(int id) const;
 
   OccupancyGrid grid_;
   PhysicsSettings settings_;

@@ -12,18 +12,18 @@
 #include <vector>
 
 #include "vwg/backend.hpp"
+#include "vwg/platform/motion.hpp"
 #include "vwg/sim/depth_camera.hpp"
 #include "vwg/sim/laser.hpp"
 #include "vwg/sim/physics.hpp"
 #include "vwg/sim/render2d.hpp"
-#include "vwg/sim/sim_backend.hpp"
 #include "vwg/sim/video.hpp"
 
 namespace vwg::sim {
 
 class SimView final : public Backend {
  public:
-  SimView(std::shared_ptr<const PhysicsWorld> world, RenderStyle style = {}, MotionSymbols symbols = {});
+  SimView(std::shared_ptr<const PhysicsWorld> world, RenderStyle style = {}, platform::MotionSymbols symbols = {});
 
   /// Scans to draw: a laser's or a Kinect's last scan, at its robot.
   void add_laser(std::shared_ptr<const LaserGenerator> laser) { lasers_.push_back(std::move(laser)); }
@@ -70,14 +70,14 @@ class SimView final : public Backend {
   };
   std::shared_ptr<const PhysicsWorld> world_;
   TopDownRenderer renderer_;
-  MotionInterpreter motion_;
+  platform::MotionInterpreter motion_;
   std::vector<std::shared_ptr<const LaserGenerator>> lasers_;
   std::vector<std::shared_ptr<const KinectGenerator>> kinects_;
   std::vector<Marker> markers_;
   std::map<int, std::vector<cv::Point2d>> paths_;
   std::map<int, std::vector<std::int8_t>> beliefs_;
   std::map<int, std::vector<cv::Point2d>> trajectories_;
-  std::map<int, std::vector<MotionStep>> commanded_;  // robots displayed this frame, with their plan
+  std::map<int, std::vector<platform::MotionStep>> commanded_;  // robots displayed this frame, with their plan
   std::string status_;
   std::optional<VideoWriter> video_;
   std::string video_path_;

@@ -1,10 +1,10 @@
-#include "vwg/sim/sim_backend.hpp"
+#include "vwg/platform/motion.hpp"
 
 #include <cmath>
 
 #include "vwg/error.hpp"
 
-namespace vwg::sim {
+namespace vwg::platform {
 
 void MotionInterpreter::open(const NodeView& t) {
   const std::string& name = t.info().name;
@@ -21,31 +21,30 @@ void MotionInterpreter::close(const NodeView&) {
   if (!stack_.empty()) stack_.pop_back();
 }
 
-bool MotionInterpreter::robot(const NodeView& p, int& id, std::vector<MotionStep>& plan) const {
+bool MotionInterpreter::robot(const NodeView& p, int& id, std::vector<MotionStep>& steps) const {
   if (p.info().name != symbols_.robot) return false;
   if (p.value_count() < 1) throw SchemaError(symbols_.robot, "needs the robot id as first parameter");
   id = static_cast<int>(p.number(0));
-  plan.clear();
+  steps.clear();
   for (const auto& step : stack_) {
-    if (step) plan.push_back(*step);
+    if (step) steps.push_back(*step);
   }
   return true;
 }
 
-SimBackend::SimBackend(std::shared_ptr<PhysicsWorld> world, MotionSymbols symbols)
-    : world_(std::move(world)), motion_(std::move(symbols)) {
-  if (!world_) throw Error("SimBackend: no physics world");
+MotionBackend::MotionBackend(std::shared_ptr<RobotPlatform> platform, MotionSymbols symbols)
+    : platform_(std::move(platform)), motion_(std::move(symbols)) {
+  if (!platform_) throw Error("MotionBackend: no platform");
 }
 
-void SimBackend::begin_frame(const FrameInfo&) { motion_.begin_frame(); }
+void MotionBackend::begin_frame(const FrameInfo&) { motion_.begin_frame(); }
 
-void SimBackend::primitive(const NodeView& p) {
+void MotionBackend::primitive(const NodeView& p) {
   int id = 0;
-  std::vector<MotionStep> plan;
-  // A robot displayed under no motion keeps doing what it was doing (Table I: "no action").
-  if (motion_.robot(p, id, plan) && !plan.empty()) world_->command(id, std::move(plan));
+  std::vector<MotionStep> steps;
+  if (motion_.robot(p, id, steps) && !steps.empty()) platform_->command(id, std::move(steps));
 }
 
-void SimBackend::end_frame(const FrameInfo& frame) { world_->advance(frame.dt); }
+void MotionBackend::end_frame(const FrameInfo& frame) { platform_->advance(frame.dt); }
 
-}  // namespace vwg::sim
+}  // namespace vwg::platform

@@ -1,0 +1,175 @@
+// The robot platform in Python (vwg/platform/*.hpp): RobotPlatform — implemented by the simulator
+// (PhysicsWorld) and subclassable in Python, so a real-robot link written in Python plugs into
+// the same frame path — the robots' states, collisions and settings, the motion backend and the
+// feedback generators.
+#include <string>
+#include <vector>
+
+#include "sim_convert.hpp"
+#include "vwg/platform/feedback.hpp"
+#include "vwg/platform/motion.hpp"
+#include "vwg/platform/platform.hpp"
+
+namespace vwg::bindings {
+
+namespace {
+
+using platform::Collision;
+using platform::MotionStep;
+using platform::RobotPlatform;
+using platform::RobotSettings;
+using platform::RobotState;
+
+py::list steps_to_python(const std::vector<MotionStep>& steps) {
+  py::list out;
+  for (const MotionStep& s : steps) out.append(py::make_tuple(s.kind == MotionStep::Turn ? "turn" : "drive", s.amount));
+  return out;
+}
+
+/// A platform written in Python: each virtual call runs the Python method (taking the GIL). What
+/// robots() returns is kept here, as C++ callers hold a reference to it until the next call.
+class PyRobotPlatform final : public RobotPlatform {
+ public:
+  void add_robot(const RobotSettings& robot) override { PYBIND11_OVERRIDE_PURE(void, RobotPlatform, add_robot, robot); }
+  void remove_robot(int id) override { PYBIND11_OVERRIDE_PURE(void, RobotPlatform, remove_robot, id); }
+  void command(int id, std::vector<MotionStep> steps) override {
+    py::gil_scoped_acquire gil;
+    py::function fn = py::get_override(static_cast<const RobotPlatform*>(this), "command");
+    if (!fn) throw Error("a vwg.RobotPlatform subclass must define command(self, robot, steps)");
+    fn(id, steps_to_python(steps));
+  }
+  void advance(double seconds) override { PYBIND11_OVERRIDE_PURE(void, RobotPlatform, advance, seconds); }
+  const std::vector<RobotState>& robots() const override {
+    py::gil_scoped_acquire gil;
+    py::function fn = py::get_override(static_cast<const RobotPlatform*>(this), "robots");
+    if (!fn) throw Error("a vwg.RobotPlatform subclass must define robots(self) -> list of vwg.RobotState");
+    robots_ = fn().cast<std::vector<RobotState>>();
+    return robots_;
+  }
+  std::vector<Collision> take_collisions() override {
+    PYBIND11_OVERRIDE_PURE(std::vector<Collision>, RobotPlatform, take_collisions, );
+  }
+  double time() const override { PYBIND11_OVERRIDE_PURE(double, RobotPlatform, time, ); }
+  std::string name() const override { PYBIND11_OVERRIDE_PURE(std::string, RobotPlatform, name, ); }
+
+ private:
+  mutable std::vector<RobotState> robots_;
+};
+
+}  // namespace
+
+std::vector<MotionStep> steps_from_python(py::handle steps) {
+  std::vector<MotionStep> out;
+  for (auto item : steps) {
+    py::tuple t = item.cast<py::tuple>();
+    const std::string kind = t.size() == 2 ? t[0].cast<std::string>() : "";
+    if (kind != "turn" && kind != "drive") throw SchemaError("steps", "steps are ('turn', radians) or ('drive', metres)");
+    out.push_back(MotionStep{kind == "turn" ? MotionStep::Turn : MotionStep::Drive, t[1].cast<double>()});
+  }
+  return out;
+}
+
+void init_platform(py::module_& m) {
+  py::class_<RobotSettings>(m, "RobotSettings", "A robot as the world file describes it: id, start, radius, limits.")
+      .def(py::init([](int id, py::object start, double radius, double max_speed, double max_turn_rate, double max_accel,
+                       double max_turn_accel) {
+             return RobotSettings{id, pose_from_python(start, "start"), radius,
+                                  platform::RobotLimits{max_speed, max_turn_rate, max_accel, max_turn_accel}};
+           }),
+           py::arg("id"), py::arg("start"), py::arg("radius") = 0.18, py::arg("max_speed") = 0.5,
+           py::arg("max_turn_rate") = 1.5, py::arg("max_accel") = 1.0, py::arg("max_turn_accel") = 4.0)
+      .def_readonly("id", &RobotSettings::id)
+      .def_property_readonly("start", [](const RobotSettings& r) { return pose_to_python(r.start); })
+      .def_readonly("radius", &RobotSettings::radius)
+      .def_property_readonly("max_speed", [](const RobotSettings& r) { return r.limits.max_speed; })
+      .def_property_readonly("max_turn_rate", [](const RobotSettings& r) { return r.limits.max_turn_rate; })
+      .def_property_readonly("max_accel", [](const RobotSettings& r) { return r.limits.max_accel; })
+      .def_property_readonly("max_turn_accel", [](const RobotSettings& r) { return r.limits.max_turn_accel; });
+
+  py::class_<RobotState>(m, "RobotState", "A robot as a platform knows it after its last step.")
+      .def(py::init([](int id, py::object pose, py::object odometry, double radius, bool busy, std::uint64_t commands,
+                       std::uint64_t collisions, double travelled, double speed, double turn_rate) {
+             RobotState s;
+             s.id = id;
+             s.pose = pose_from_python(pose, "pose");
+             s.odometry = odometry.is_none() ? s.pose : pose_from_python(odometry, "odometry");
+             s.radius = radius;
+             s.busy = busy;
+             s.commands = commands;
+             s.collisions = collisions;
+             s.travelled = travelled;
+             s.speed = speed;
+             s.turn_rate = turn_rate;
+             return s;
+           }),
+           py::arg("id"), py::arg("pose"), py::arg("odometry") = py::none(), py::kw_only(), py::arg("radius") = 0.18,
+           py::arg("busy") = false, py::arg("commands") = 0, py::arg("collisions") = 0, py::arg("travelled") = 0.0,
+           py::arg("speed") = 0.0, py::arg("turn_rate") = 0.0)
+      .def_readonly("id", &RobotState::id)
+      .def_readonly("radius", &RobotState::radius)
+      .def_property_readonly("pose", [](const RobotState& s) { return pose_to_python(s.pose); },
+                             "The platform's pose (x, y, yaw): the truth in the simulator.")
+      .def_property_readonly("odometry", [](const RobotState& s) { return pose_to_python(s.odometry); },
+                             "The robot's own pose estimate (x, y, yaw), with odometry noise.")
+      .def_readonly("speed", &RobotState::speed)
+      .def_readonly("turn_rate", &RobotState::turn_rate)
+      .def_readonly("busy", &RobotState::busy, "Executing a motion command.")
+      .def_readonly("commands", &RobotState::commands, "Motion commands received so far.")
+      .def_readonly("collisions", &RobotState::collisions)
+      .def_readonly("travelled", &RobotState::travelled, "Metres driven.")
+      .def("__repr__", [](const RobotState& s) {
+        return "vwg.RobotState(id=" + std::to_string(s.id) + ", pose=(" + format_real(s.pose.x) + ", " +
+               format_real(s.pose.y) + ", " + format_real(s.pose.theta) + "), busy=" + (s.busy ? "True" : "False") + ")";
+      });
+
+  py::class_<Collision>(m, "Collision", "A robot touched a wall (other = 0) or another robot.")
+      .def(py::init([](int robot, int other, py::object pose, double time) {
+             return Collision{robot, other, pose_from_python(pose, "pose"), time};
+           }),
+           py::arg("robot"), py::arg("other"), py::arg("pose") = py::make_tuple(0.0, 0.0, 0.0), py::arg("time") = 0.0)
+      .def_readonly("robot", &Collision::robot)
+      .def_readonly("other", &Collision::other)
+      .def_property_readonly("pose", [](const Collision& c) { return pose_to_python(c.pose); })
+      .def_readonly("time", &Collision::time);
+
+  py::class_<RobotPlatform, PyRobotPlatform, std::shared_ptr<RobotPlatform>>(m, "RobotPlatform", R"doc(
+Where frames meet robots: the Box2D simulator (PhysicsWorld) or a real robot's link. Subclass it in
+Python and define add_robot(settings), remove_robot(id), command(robot, steps) — steps are
+('turn', radians) and ('drive', metres), the latest command replacing the previous one — advance(seconds),
+robots() -> list of RobotState, take_collisions() -> list of Collision, time() and name().)doc")
+      .def(py::init<>())
+      .def("add_robot", &RobotPlatform::add_robot, py::arg("settings"))
+      .def("remove_robot", &RobotPlatform::remove_robot, py::arg("id"))
+      .def("command", [](RobotPlatform& p, int robot, py::handle steps) { p.command(robot, steps_from_python(steps)); },
+           py::arg("robot"), py::arg("steps"),
+           "Replace the robot's command: a list of ('turn', radians) and ('drive', metres) steps.")
+      .def("advance", &RobotPlatform::advance, py::arg("seconds"), py::call_guard<py::gil_scoped_release>(),
+           "Let `seconds` pass on the platform.")
+      .def("robots", [](const RobotPlatform& p) { return p.robots(); }, "Every robot's state.")
+      .def("robot", &RobotPlatform::robot, py::arg("id"), py::return_value_policy::copy)
+      .def("take_collisions", &RobotPlatform::take_collisions, "The collisions since the last call.")
+      .def("time", &RobotPlatform::time, "The platform's clock, seconds.")
+      .def("name", &RobotPlatform::name);
+
+  py::class_<platform::MotionBackend, Backend, std::shared_ptr<platform::MotionBackend>>(m, "MotionBackend", R"doc(
+φ on a robot platform (paper Table I): α(Robot<id>) commands robot `id` with the Move<d> and
+Rotate<a> transformations it is displayed under, outermost first; the end of a frame lets its dt
+pass on the platform. The same string drives the simulator and a real robot.)doc")
+      .def(py::init([](std::shared_ptr<RobotPlatform> platform, std::string robot, std::string move, std::string rotate) {
+             return std::make_shared<platform::MotionBackend>(std::move(platform),
+                                                             platform::MotionSymbols{robot, move, rotate});
+           }),
+           py::arg("platform"), py::arg("robot") = "Robot", py::arg("move") = "Move", py::arg("rotate") = "Rotate")
+      .def_property_readonly("platform", &platform::MotionBackend::platform);
+
+  py::class_<platform::OdometryGenerator, Generator, std::shared_ptr<platform::OdometryGenerator>>(m, "OdometryGenerator",
+      "Each frame, for each robot of the platform: event<to=id, x, y, angle, busy, commands> (its odometry).")
+      .def(py::init<std::shared_ptr<RobotPlatform>, const Alphabet&, const std::string&>(), py::arg("platform"),
+           py::arg("alphabet"), py::arg("event") = "eOdometry");
+  py::class_<platform::CollisionGenerator, Generator, std::shared_ptr<platform::CollisionGenerator>>(m, "CollisionGenerator",
+      "For each collision since the last frame: event<to=robot, other> (other = 0 for a wall).")
+      .def(py::init<std::shared_ptr<RobotPlatform>, const Alphabet&, const std::string&>(), py::arg("platform"),
+           py::arg("alphabet"), py::arg("event") = "eCollision");
+}
+
+}  // namespace vwg::bindings

@@ -1,0 +1,87 @@
+// Where the frame meets a robot, simulated or real (DESIGN.md, "The platform"). The motion backend
+// (φ of Rotate<a>(Move<d>(Robot<id>))) and the feedback generators (odometry, collisions) know
+// this interface only; the Box2D simulator implements it, and so can a real-robot link (in C++ or
+// in Python: the bindings let a Python class implement it). Switching platform is one setting; the
+// world string does not change (paper §III.F, test 3).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "vwg/sim/grid.hpp"
+
+namespace vwg::platform {
+
+using sim::Pose2;
+
+/// Speed and acceleration limits of a differential-drive robot.
+struct RobotLimits {
+  double max_speed = 0.5;       ///< m/s
+  double max_turn_rate = 1.5;   ///< rad/s
+  double max_accel = 1.0;       ///< m/s²
+  double max_turn_accel = 4.0;  ///< rad/s²
+};
+
+/// A robot as the world file describes it: id, start pose, size and limits.
+struct RobotSettings {
+  int id = 1;
+  Pose2 start{};
+  double radius = 0.18;  ///< m
+  RobotLimits limits{};
+};
+
+/// One step of a motion command, in the robot's own frame.
+struct MotionStep {
+  enum Kind : std::uint8_t { Turn, Drive } kind;
+  double amount;  ///< radians (counter-clockwise) or metres (forward; negative backwards)
+};
+
+/// What a platform knows of one robot after its last step.
+struct RobotState {
+  int id = 0;
+  double radius = 0.0;
+  Pose2 pose{};      ///< the platform's best pose: the truth in a simulator, start ⊕ odometry on a real robot
+  Pose2 odometry{};  ///< the robot's own estimate (equal to pose without odometry noise)
+  double speed = 0.0;      ///< m/s along the heading
+  double turn_rate = 0.0;  ///< rad/s
+  bool busy = false;       ///< executing a motion command
+  std::uint64_t commands = 0;  ///< motion commands received so far (acknowledgements: a robot can tell its last one arrived)
+  std::uint64_t collisions = 0;
+  double travelled = 0.0;  ///< metres driven
+};
+
+/// A robot touched a wall or another robot (reported when the contact begins), or gave up a drive
+/// because it pushed against one without moving.
+struct Collision {
+  int robot = 0;
+  int other = 0;  ///< id of the other robot, 0 for a wall
+  Pose2 pose{};
+  double time = 0.0;
+};
+
+class RobotPlatform {
+ public:
+  virtual ~RobotPlatform() = default;
+  /// Add a robot (a body in a simulator, a link's robot on a real one). Throws vwg::SchemaError for
+  /// bad settings or an id in use.
+  virtual void add_robot(const RobotSettings& robot) = 0;
+  /// Remove a robot: it is stopped and no longer reported. Throws vwg::SchemaError for an unknown id.
+  virtual void remove_robot(int id) = 0;
+  /// Replace robot `id`'s current command by `steps` (the latest command wins; none stops it).
+  virtual void command(int id, std::vector<MotionStep> steps) = 0;
+  /// Let `seconds` pass on the platform: a simulator steps its physics, a real robot's link runs
+  /// its control loop until its clock has advanced as much.
+  virtual void advance(double seconds) = 0;
+  /// Every robot's state, by increasing id.
+  virtual const std::vector<RobotState>& robots() const = 0;
+  /// One robot's state; throws vwg::SchemaError for an unknown id.
+  virtual const RobotState& robot(int id) const;
+  /// The contacts since the last call.
+  virtual std::vector<Collision> take_collisions() = 0;
+  /// The platform's clock, seconds since it started.
+  virtual double time() const = 0;
+  virtual std::string name() const = 0;
+};
+
+}  // namespace vwg::platform

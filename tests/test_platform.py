@@ -1,0 +1,122 @@
+"""The robot platform: the motion backend and the feedback generators know only RobotPlatform, so a
+platform written in Python (as a real robot's link can be) runs the same world string as the
+simulator; the simulator adds and removes robots while it runs."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+from test_sim import case_study_world, empty_map
+
+import vwg
+from vwg import _core
+
+
+class Kinematic(vwg.RobotPlatform):
+    """A platform that executes every step exactly and at once when time passes: turn, then drive,
+    in the robot's frame. Records what it was told."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.poses: dict[int, tuple[float, float, float]] = {}
+        self.pending: dict[int, list[tuple[str, float]]] = {}
+        self.commands: dict[int, int] = {}
+        self.clock = 0.0
+        self.told: list[tuple[int, list[tuple[str, float]]]] = []
+
+    def add_robot(self, settings):
+        self.poses[settings.id] = settings.start
+        self.commands[settings.id] = 0
+
+    def remove_robot(self, id):
+        del self.poses[id]
+
+    def command(self, robot, steps):
+        self.told.append((robot, steps))
+        self.pending[robot] = list(steps)
+        self.commands[robot] += 1
+
+    def advance(self, seconds):
+        self.clock += seconds
+        for robot, steps in self.pending.items():
+            x, y, a = self.poses[robot]
+            for kind, amount in steps:
+                if kind == "turn":
+                    a += amount
+                else:
+                    x, y = x + amount * math.cos(a), y + amount * math.sin(a)
+            self.poses[robot] = (x, y, a)
+        self.pending.clear()
+
+    def robots(self):
+        return [vwg.RobotState(i, p, commands=self.commands[i]) for i, p in sorted(self.poses.items())]
+
+    def take_collisions(self):
+        return []
+
+    def time(self):
+        return self.clock
+
+    def name(self):
+        return "kinematic"
+
+
+class Listener(vwg.Actor):
+    """Shows Rotate<π/2>(Move<1>(Robot<1>)) when told to go; remembers its odometry."""
+
+    events = ("go", "eOdometry")
+    attributes = {"id": 1, "x": 0.0, "y": 0.0}
+
+    def show_go(self, e):
+        return vwg.Sym("Rotate", math.pi / 2)(vwg.Sym("Move", 1.0)(vwg.Sym("Robot", 1)))
+
+    def on_eOdometry(self, e):
+        return self.with_(x=e.x, y=e.y)
+
+
+def test_a_python_platform_runs_the_world_string_through_the_motion_backend():
+    platform = Kinematic()
+    platform.add_robot(vwg.RobotSettings(1, (2.0, 3.0, 0.0)))
+    world = vwg.World(**vwg.MOTION_SYMBOLS, events={"go": None, "eOdometry": vwg.SIM_EVENTS["eOdometry"]},
+                      visual=["go"], actors=[Listener])
+    engine = vwg.Engine(world, "Listener", [vwg.Schedule({0: ["go"]}), vwg.OdometryGenerator(platform, world.alphabet)],
+                        vwg.MotionBackend(platform), dt=0.5)
+    engine.run(2)
+    # Turn a quarter to the left, then 1 m: from (2, 3) facing +x to (2, 4) facing +y.
+    assert platform.told == [(1, [("turn", pytest.approx(math.pi / 2)), ("drive", 1.0)])]
+    assert platform.poses[1] == pytest.approx((2.0, 4.0, math.pi / 2))
+    assert platform.clock == pytest.approx(1.0)  # each frame let dt pass on the platform
+    actor = engine.string.actors()[0]
+    assert (actor["x"], actor["y"]) == pytest.approx((2.0, 4.0))  # odometry came back as events
+
+
+def test_the_simulator_adds_and_removes_robots_while_running():
+    physics = _core.PhysicsWorld(empty_map(), [{"id": 1, "start": (2.0, 2.5, 0.0)}])
+    assert isinstance(physics, vwg.RobotPlatform) and physics.name() == "sim"
+    physics.add_robot(vwg.RobotSettings(7, (5.0, 2.5, math.pi), radius=0.2))
+    with pytest.raises(vwg.SchemaError, match="used twice"):
+        physics.add_robot(vwg.RobotSettings(7, (8.0, 2.5, 0.0)))
+    with pytest.raises(vwg.SchemaError, match="overlaps robot 7"):
+        physics.add_robot(vwg.RobotSettings(8, (5.1, 2.5, 0.0)))
+    physics.command(7, [("drive", 1.0)])
+    physics.advance(5.0)
+    x, y, yaw = physics.robot(7).pose
+    assert (x, y, math.cos(yaw)) == pytest.approx((4.0, 2.5, -1.0), abs=1e-4)  # 1 m towards -x
+    assert [r.id for r in physics.robots()] == [1, 7]
+    physics.remove_robot(1)
+    assert [r.id for r in physics.robots()] == [7]
+    with pytest.raises(vwg.SchemaError, match="no robot with id 1"):
+        physics.command(1, [("drive", 1.0)])
+    physics.command(7, [("drive", 1.0)])  # the others go on
+    physics.advance(5.0)
+    assert physics.robot(7).pose[0] == pytest.approx(3.0, abs=1e-4)
+
+
+def test_motion_backend_drives_the_simulator_as_before():
+    world = case_study_world()
+    physics = _core.PhysicsWorld(empty_map(), [{"id": 1, "start": (2.0, 2.5, 0.0), "radius": 0.2}])
+    engine = vwg.Engine(world, 'Driver<order="Rotate<1.5707963267948966>(Move<1.0>(Robot<1>))">',
+                        [vwg.Schedule({0: ["go"]})], vwg.MotionBackend(physics))
+    engine.run(80)
+    assert physics.robot(1).pose == pytest.approx((2.0, 3.5, math.pi / 2), abs=1e-4)
