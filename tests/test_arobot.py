@@ -140,12 +140,19 @@ def test_edecide_without_an_objective_does_nothing():
     assert decider.seen == []
 
 
-def test_eexecute_shows_the_action_or_the_robot_alone():
+def test_eexecute_shows_the_action_or_the_robot_alone_with_its_status_and_path():
     world, w = setup(action="Rotate<0.5>(Move<0.3>(Robot<1>))")
     shown = _core.visualize(w, [world.event("eExecute<to=1>")])
-    assert str(shown) == "Rotate<0.5>(Move<0.3>(Robot<1>))"
+    assert str(shown) == 'Status<1, "idle"> . Rotate<0.5>(Move<0.3>(Robot<1>))'
     world, w = setup()
-    assert str(_core.visualize(w, [world.event("eExecute<to=1>")])) == "Robot<1>"
+    assert str(_core.visualize(w, [world.event("eExecute<to=1>")])) == 'Status<1, "idle"> . Robot<1>'
+    # A planned path is shown too, as its points (the same blob the robot holds).
+    points = np.array([[0.55, 0.55], [1.05, 0.55]])
+    world, w = setup(path=vwg.Blob(points), status="to marker 3")
+    shown = _core.visualize(w, [world.event("eExecute<to=1>")])
+    text = str(shown)
+    assert text.startswith("Path<1, @") and text.endswith('> . Status<1, "to marker 3"> . Robot<1>')
+    np.testing.assert_array_equal(np.asarray(robot(w)["path"]), points)
 
 
 def test_other_events_leave_the_robot_as_it_is():

@@ -103,19 +103,20 @@ def test_ompl_paths_never_cross_an_occupied_cell():
                 checked += 1
     assert checked > 100
     # The robot itself never entered an occupied cell either.
-    for x, y in run.trajectories[1]:
+    for x, y in run.view.trajectories[1]:
         assert not blocked[w.grid.world_to_cell(x, y)]
 
 
-def test_random_robot_success_rate_is_measured():
+def test_random_robot_wanders_differently_by_seed():
+    # The paper's first algorithm is the baseline: its success rate is measured by the experiments,
+    # not asserted here. What must hold: it moves, and the seed changes where it goes.
     w = world("field")
     robot = w.robots[0]
     room = min(w.rooms, key=lambda r: math.dist(w.rooms[r].goal, robot.start[:2]))
-    reached = [CaseStudy(w, "random", goals={robot.id: room}, sensors=("laser",), seed=seed, world_orders=False)
-               .run(frames=600).robots[0].reached for seed in range(4)]
-    rate = sum(reached) / len(reached)
-    print(f"random robot on field to {room}: {rate:.2f} of {len(reached)} seeds within 60 s")
-    assert 0.0 <= rate <= 1.0  # reported, not asserted high (paper: random is the baseline)
+    runs = [CaseStudy(w, "random", goals={robot.id: room}, sensors=("laser",), seed=seed, world_orders=False)
+            .run(frames=300).robots[0] for seed in range(4)]
+    assert all(r.path_length_m > 0.5 for r in runs)
+    assert len({round(r.path_length_m, 6) for r in runs}) > 1
 
 
 def test_same_world_and_seed_give_the_same_frame_log(tmp_path):

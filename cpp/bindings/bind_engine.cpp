@@ -31,13 +31,29 @@ std::string stop_name(StopReason r) {
     case StopReason::Empty: return "empty";
     case StopReason::FrameLimit: return "frames";
     case StopReason::Requested: return "stopped";
+    case StopReason::Done: return "done";
   }
   return "?";
 }
 
 }  // namespace
 
+/// A stop condition written in Python: done(w, frame) runs the Python method (taking the GIL).
+class PyStopCondition final : public StopCondition {
+ public:
+  bool done(const WorldString& w, std::uint64_t frame) override {
+    PYBIND11_OVERRIDE_PURE(bool, StopCondition, done, w, frame);
+  }
+};
+
 void init_engine(py::module_& m) {
+  py::class_<StopCondition, PyStopCondition, std::shared_ptr<StopCondition>>(m, "StopCondition", R"doc(
+When a run has done its job: run() returns 'done' after a frame for which done(w, frame) is true.
+C++ conditions (vwg.ArrivalCondition) cost no call into Python; a Python subclass may define
+done(self, w, frame).)doc")
+      .def(py::init<>())
+      .def("done", &StopCondition::done, py::arg("w"), py::arg("frame"));
+
   py::class_<PyFrameRecord, std::shared_ptr<PyFrameRecord>>(m, "FrameRecord", "A completed frame, as observers see it (valid during the call).")
       .def_readonly("frame", &PyFrameRecord::frame)
       .def_readonly("time", &PyFrameRecord::time)
@@ -137,8 +153,17 @@ vwg.FrameError naming the frame, the stage, the actor and the event.)doc")
         }
         return stop_name(StopReason::FrameLimit);
       }, py::arg("frames"),
-      "Run until w = ε ('empty'), `frames` more frames ran ('frames'), or request_stop() ('stopped').")
+      "Run until w = ε ('empty'), `frames` more frames ran ('frames'), request_stop() ('stopped'), or the stop "
+      "condition holds ('done').")
       .def("request_stop", [](PyEngine& e) { e.engine->request_stop(); }, "Stop run() after the current frame.")
+      .def("stop_when", [](PyEngine& e, py::object condition) {
+        if (condition.is_none()) {
+          e.engine->stop_when(nullptr);
+          return;
+        }
+        e.keep_alive.append(condition);
+        e.engine->stop_when(condition.cast<std::shared_ptr<StopCondition>>());
+      }, py::arg("condition"), "run() returns 'done' after a frame that leaves condition (a vwg.StopCondition) true.")
       .def_property_readonly("string", [](const PyEngine& e) { return e.engine->string(); }, "The current string w (a copy).")
       .def("set_string", [](PyEngine& e, const WorldString& w) { e.engine->set_string(w); }, py::arg("w"))
       .def_property_readonly("frame", [](const PyEngine& e) { return e.engine->frame(); }, "Frames completed so far (t).")

@@ -4,6 +4,7 @@
 #include "sim_convert.hpp"
 #include "vwg/robot/arobot.hpp"
 #include "vwg/robot/decider.hpp"
+#include "vwg/robot/orders.hpp"
 #include "vwg/robot/planners.hpp"
 
 namespace vwg::bindings {
@@ -153,6 +154,22 @@ machine. Replans when the path becomes blocked.)doc")
       .def(py::init<std::string, unsigned>(), py::arg("planner") = "RRTConnect", py::arg("iterations") = 20000)
       .def_property_readonly("search_seconds", &robot::OmplDecider::search_seconds)
       .def_property_readonly("searches", &robot::OmplDecider::searches);
+
+  py::class_<robot::OrderGenerator, Generator, std::shared_ptr<robot::OrderGenerator>>(m, "OrderGenerator", R"doc(
+gObjective: eObjective<to=robot, marker> events from a timed script (schedule) and from orders given
+while running (order, from any thread: they go out at the next frame).)doc")
+      .def(py::init<const Alphabet&, const std::string&>(), py::arg("alphabet"), py::arg("event") = "eObjective")
+      .def("schedule", &robot::OrderGenerator::schedule, py::arg("frame"), py::arg("robot"), py::arg("marker"))
+      .def("order", &robot::OrderGenerator::order, py::arg("robot"), py::arg("marker"),
+           py::call_guard<py::gil_scoped_release>())
+      .def("pending", &robot::OrderGenerator::pending, py::arg("frame"),
+           "Whether orders are still to come after `frame`.")
+      .def_property_readonly("given", &robot::OrderGenerator::given, "Orders sent so far.")
+      .def_property_readonly("last", &robot::OrderGenerator::last, "Robot -> the marker of its last order.");
+  py::class_<robot::ArrivalCondition, StopCondition, std::shared_ptr<robot::ArrivalCondition>>(m, "ArrivalCondition",
+      "Done when orders were sent, none is still to come, and every robot sent somewhere has reached it.")
+      .def(py::init<const Alphabet&, std::shared_ptr<const robot::OrderGenerator>, const std::string&>(),
+           py::arg("alphabet"), py::arg("orders"), py::arg("actor") = "ARobot");
 
   m.def("robot_map", [](py::object grid, bool knows_map) {
          return std::const_pointer_cast<Blob>(std::shared_ptr<const Blob>(robot::make_robot_map(grid_from_python(grid), knows_map)));

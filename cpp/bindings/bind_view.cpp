@@ -1,4 +1,5 @@
 // SimView: the simulation drawn from above as a backend, to PNG files and MP4/GIF videos.
+#include <optional>
 #include <string>
 
 #include "sim_convert.hpp"
@@ -25,23 +26,23 @@ after the SimBackend in a BackendGroup. Frames go to a video (MP4 H.264 or GIF) 
       .def("add_kinect", &sim::SimView::add_kinect, py::arg("kinect"))
       .def("add_marker", &sim::SimView::add_marker, py::arg("x"), py::arg("y"), py::arg("facing"), py::arg("label"),
            py::arg("tag_id"))
-      .def("set_path", [](sim::SimView& v, int robot, py::object points) {
-             v.set_path(robot, points.is_none() ? std::vector<cv::Point2d>{} : points_from_python(points, "path"));
-           }, py::arg("robot"), py::arg("points"), "The robot's planned path (N×2 world points); None or [] removes it.")
       .def("set_belief", [](sim::SimView& v, int robot, py::object cells) {
              if (cells.is_none()) return v.set_belief(robot, {});
              py::array_t<std::int8_t, py::array::c_style | py::array::forcecast> a(cells);
              v.set_belief(robot, std::vector<std::int8_t>(a.data(), a.data() + a.size()));
            }, py::arg("robot"), py::arg("cells"), "The robot's own grid (int8, the map's shape); None removes it.")
-      .def("set_status", &sim::SimView::set_status, py::arg("status"))
       .def("record_video", [](sim::SimView& v, const std::string& path, double fps) { v.record_video(path, fps); },
            py::arg("path"), py::arg("fps") = 10.0, "Write every frame to an MP4 (H.264) or GIF video.")
       .def("record_images", &sim::SimView::record_images, py::arg("directory"), "Write every frame as frame_00001.png, ...")
       .def("close", py::overload_cast<>(&sim::SimView::close), py::call_guard<py::gil_scoped_release>(),
            "Finish the video.")
-      .def("finish", &sim::SimView::finish, py::arg("hold_frames") = 10, py::call_guard<py::gil_scoped_release>(),
-           "Draw the last frame again with the current status and paths, write it hold_frames times to the video "
-           "(once to the images), and close.")
+      .def("finish", [](sim::SimView& v, int hold_frames, std::optional<WorldString> final_view) {
+             py::gil_scoped_release release;
+             v.finish(hold_frames, final_view ? &*final_view : nullptr);
+           }, py::arg("hold_frames") = 10, py::arg("final") = py::none(),
+           "Draw the last frame again — with `final`, the displayable string of the state reached (π of the last "
+           "string), shown instead of the last frame's — write it hold_frames times to the video (once to the "
+           "images), and close.")
       .def("image", [](sim::SimView& v) { return rgb_to_numpy(v.image()); }, "The last frame (H×W×3 uint8, a copy).")
       .def_property_readonly("frames_written", &sim::SimView::frames_written)
       .def_property_readonly("trajectories", [](const sim::SimView& v) {

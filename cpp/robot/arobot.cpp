@@ -84,7 +84,11 @@ ARobot::ARobot(const Alphabet& alphabet, ARobotConfig config, std::shared_ptr<De
                alphabet.event_type_id("eObjective"), alphabet.event_type_id("eOdometry"),
                alphabet.event_type_id("eCollision")};
   sym_ = Symbols{alphabet.symbol_id("Robot", SymbolKind::Primitive), alphabet.symbol_id("Move", SymbolKind::Transformation),
-                 alphabet.symbol_id("Rotate", SymbolKind::Transformation)};
+                 alphabet.symbol_id("Rotate", SymbolKind::Transformation), std::nullopt, std::nullopt};
+  // Path<robot, points> and Status<robot, text>: what a view shows of the robot comes through π and
+  // φ like its action, when the alphabet declares them (MOTION_SYMBOLS does).
+  if (const auto p = alphabet.find_symbol("Path"); p && alphabet.symbol(*p).kind == SymbolKind::Primitive) sym_.path = p;
+  if (const auto t = alphabet.find_symbol("Status"); t && alphabet.symbol(*t).kind == SymbolKind::Primitive) sym_.status = t;
 }
 
 std::string ARobot::action_text(int robot, double turn, double distance) {
@@ -225,6 +229,15 @@ void ARobot::decide(ActorState& self, const EvolutionContext& ctx) {
 
 void ARobot::visualize(const ActorState& self, const EventView& e, const EvolutionContext&, StringBuilder& out) {
   if (e.type() != ev_.execute) return;
+  const Datum robot_id(self.get_int(kId));
+  if (sym_.path && self.get_blob(kPath)->nbytes() > 0) {
+    const Datum params[] = {robot_id, Datum(self.get_blob(kPath))};
+    out.primitive(*sym_.path, params);
+  }
+  if (sym_.status) {
+    const Datum params[] = {robot_id, Datum(std::string(self.get_text(kStatus)))};
+    out.primitive(*sym_.status, params);
+  }
   const std::string_view action = self.get_text(kAction);
   if (action.empty()) {
     // Table I: the robot primitive alone (drawn by a renderer, no motion on a robot).

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "vwg/error.hpp"
+#include "vwg/semantics.hpp"
 
 namespace vwg::sim {
 
@@ -14,14 +15,6 @@ SimView::SimView(std::shared_ptr<const PhysicsWorld> world, RenderStyle style, p
 
 void SimView::add_marker(double x, double y, double facing, std::string label, int tag_id) {
   markers_.push_back(Marker{x, y, facing, std::move(label), tag_id});
-}
-
-void SimView::set_path(int robot, std::vector<cv::Point2d> path) {
-  if (path.empty()) {
-    paths_.erase(robot);
-  } else {
-    paths_[robot] = std::move(path);
-  }
 }
 
 void SimView::set_belief(int robot, std::vector<std::int8_t> cells) {
@@ -50,23 +43,59 @@ void SimView::close() {
 void SimView::begin_frame(const FrameInfo&) {
   motion_.begin_frame();
   commanded_.clear();
+  paths_.clear();
+  statuses_.clear();
 }
 
 void SimView::primitive(const NodeView& p) {
   int id = 0;
   std::vector<platform::MotionStep> plan;
-  if (motion_.robot(p, id, plan)) commanded_[id] = std::move(plan);
+  if (motion_.robot(p, id, plan)) {
+    commanded_[id] = std::move(plan);
+    return;
+  }
+  const std::string& name = p.info().name;
+  if (name == "Path" && p.value_count() >= 2 && p.value(1).kind == ValueKind::Blob) {
+    const std::span<const double> xy = p.store().blob(p.value(1))->view<double>();
+    std::vector<cv::Point2d>& points = paths_[static_cast<int>(p.number(0))];
+    points.clear();
+    for (std::size_t k = 0; k + 1 < xy.size(); k += 2) points.emplace_back(xy[k], xy[k + 1]);
+  } else if (name == "Status" && p.value_count() >= 2 && p.value(1).kind == ValueKind::Text) {
+    statuses_[static_cast<int>(p.number(0))] = std::string(p.store().text(p.value(1)));
+  }
+}
+
+std::string SimView::status_line() const {
+  std::string line;
+  for (const auto& [id, text] : statuses_) {
+    std::string shown = text;
+    for (const Marker& m : markers_) {  // "to marker 3" -> "to kitchen"
+      const std::string key = "marker " + std::to_string(m.tag_id);
+      const std::size_t at = shown.find(key);
+      if (at != std::string::npos && (at + key.size() == shown.size() || shown[at + key.size()] == ' ')) {
+        shown.replace(at, key.size(), m.label);
+        break;
+      }
+    }
+    line += (line.empty() ? "" : "   ") + std::to_string(id) + ": " + shown;
+  }
+  return line;
 }
 
 void SimView::end_frame(const FrameInfo& frame) {
   // Trajectories grow every frame, whether or not the robot was displayed.
   for (const RobotState& st : world_->robots()) trajectories_[st.id].emplace_back(st.pose.x, st.pose.y);
   last_frame_ = frame;
+  if (!video_ && !images_) return;  // nothing to write: the trajectories are all that is kept
   draw(frame.frame, frame.time);
   write(1);
 }
 
-void SimView::finish(int hold_frames) {
+void SimView::finish(int hold_frames, const WorldString* final_view) {
+  if (final_view) {
+    begin_frame(last_frame_.value_or(FrameInfo{}));
+    vwg::display(*final_view, *this);
+  }
   if (last_frame_ && (video_ || images_)) {
     draw(last_frame_->frame, last_frame_->time);
     write(std::max(1, hold_frames));
@@ -77,7 +106,7 @@ void SimView::finish(int hold_frames) {
 }
 
 void SimView::draw(std::uint64_t frame, double time) {
-  renderer_.begin(FrameText{static_cast<std::int64_t>(frame), time, status_});
+  renderer_.begin(FrameText{static_cast<std::int64_t>(frame), time, status_line()});
   for (const auto& [id, cells] : beliefs_) {
     (void)id;
     renderer_.draw_belief(cells);

@@ -130,6 +130,7 @@ StopReason Engine::run(std::uint64_t max_frames) {
       stop_requested_ = false;
       return StopReason::Requested;
     }
+    if (stop_when_ && stop_when_->done(w_, frame_ - 1)) return StopReason::Done;
   }
   return w_.empty() ? StopReason::Empty : StopReason::FrameLimit;
 }

@@ -8,7 +8,7 @@ import numpy
 import numpy.typing
 import os
 import typing
-__all__: list[str] = ['ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'Backend', 'BackendGroup', 'Blob', 'CameraGenerator', 'CameraRenderer', 'Collision', 'CollisionGenerator', 'DStarLite', 'Decider', 'DecisionInput', 'Engine', 'Event', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'Generator', 'GridDecider', 'GridRaycaster', 'ImageFiles', 'ImageSequence', 'ImageSource', 'KinectGenerator', 'LaserGenerator', 'MotionBackend', 'Node', 'NullBackend', 'OdometryGenerator', 'OmplDecider', 'OmplPlan', 'OmplPlanner', 'OverviewCamera', 'PhysicsWorld', 'PythonActor', 'RandomDecider', 'RangeScanner', 'RenderStyle', 'RobotPlatform', 'RobotSettings', 'RobotState', 'SimView', 'SimulatedCamera', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoSource', 'VideoWriter', 'add_arobot', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'arobot_action', 'arobot_event_types', 'astar', 'build_string', 'detect_apriltags', 'display', 'estimate_tag_pose', 'evolve', 'overview_camera', 'plan_ompl', 'read_image', 'render_overview', 'robot_map', 'set_log_sink', 'visualize', 'walker_behavior', 'write_image']
+__all__: list[str] = ['ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'ArrivalCondition', 'Backend', 'BackendGroup', 'Blob', 'CameraGenerator', 'CameraRenderer', 'Collision', 'CollisionGenerator', 'DStarLite', 'Decider', 'DecisionInput', 'Engine', 'Event', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'Generator', 'GridDecider', 'GridRaycaster', 'ImageFiles', 'ImageSequence', 'ImageSource', 'KinectGenerator', 'LaserGenerator', 'MotionBackend', 'Node', 'NullBackend', 'OdometryGenerator', 'OmplDecider', 'OmplPlan', 'OmplPlanner', 'OrderGenerator', 'OverviewCamera', 'PhysicsWorld', 'PythonActor', 'RandomDecider', 'RangeScanner', 'RenderStyle', 'RobotPlatform', 'RobotSettings', 'RobotState', 'SimView', 'SimulatedCamera', 'StopCondition', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoSource', 'VideoWriter', 'add_arobot', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'arobot_action', 'arobot_event_types', 'astar', 'build_string', 'detect_apriltags', 'display', 'estimate_tag_pose', 'evolve', 'overview_camera', 'plan_ompl', 'read_image', 'render_overview', 'robot_map', 'set_log_sink', 'visualize', 'walker_behavior', 'write_image']
 class Blob:
     """
     A large attribute value held by reference from world strings (an occupancy grid, an image, a path).
@@ -343,6 +343,16 @@ class Node:
         """
         Canonical text of the symbol alone, e.g. 'Move<0.5>'.
         """
+class StopCondition:
+    """
+    When a run has done its job: run() returns 'done' after a frame for which done(w, frame) is true.
+    C++ conditions (vwg.ArrivalCondition) cost no call into Python; a Python subclass may define
+    done(self, w, frame).
+    """
+    def __init__(self) -> None:
+        ...
+    def done(self, w: String, frame: typing.SupportsInt | typing.SupportsIndex) -> bool:
+        ...
 class FrameRecord:
     """
     A completed frame, as observers see it (valid during the call).
@@ -405,7 +415,7 @@ class Engine:
         """
     def run(self, frames: typing.SupportsInt | typing.SupportsIndex) -> str:
         """
-        Run until w = ε ('empty'), `frames` more frames ran ('frames'), or request_stop() ('stopped').
+        Run until w = ε ('empty'), `frames` more frames ran ('frames'), request_stop() ('stopped'), or the stop condition holds ('done').
         """
     def set_string(self, w: String) -> None:
         ...
@@ -416,6 +426,10 @@ class Engine:
     def step_with(self, events: typing.Any) -> bool:
         """
         Run one frame with these events instead of the generators' (replay).
+        """
+    def stop_when(self, condition: typing.Any) -> None:
+        """
+        run() returns 'done' after a frame that leaves condition (a vwg.StopCondition) true.
         """
     @property
     def backend(self) -> Backend:
@@ -1291,9 +1305,9 @@ class SimView(Backend):
         """
         Finish the video.
         """
-    def finish(self, hold_frames: typing.SupportsInt | typing.SupportsIndex = 10) -> None:
+    def finish(self, hold_frames: typing.SupportsInt | typing.SupportsIndex = 10, final: String | None = None) -> None:
         """
-        Draw the last frame again with the current status and paths, write it hold_frames times to the video (once to the images), and close.
+        Draw the last frame again — with `final`, the displayable string of the state reached (π of the last string), shown instead of the last frame's — write it hold_frames times to the video (once to the images), and close.
         """
     def image(self) -> numpy.ndarray[typing.Any, numpy.dtype[typing.Any]]:
         """
@@ -1311,12 +1325,6 @@ class SimView(Backend):
         """
         The robot's own grid (int8, the map's shape); None removes it.
         """
-    def set_path(self, robot: typing.SupportsInt | typing.SupportsIndex, points: typing.Any) -> None:
-        """
-        The robot's planned path (N×2 world points); None or [] removes it.
-        """
-    def set_status(self, status: str) -> None:
-        ...
     @property
     def frames_written(self) -> int:
         ...
@@ -1546,6 +1554,37 @@ class OmplDecider(Decider):
         ...
     @property
     def searches(self) -> int:
+        ...
+class OrderGenerator(Generator):
+    """
+    gObjective: eObjective<to=robot, marker> events from a timed script (schedule) and from orders given
+    while running (order, from any thread: they go out at the next frame).
+    """
+    def __init__(self, alphabet: Alphabet, event: str = 'eObjective') -> None:
+        ...
+    def order(self, robot: typing.SupportsInt | typing.SupportsIndex, marker: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    def pending(self, frame: typing.SupportsInt | typing.SupportsIndex) -> bool:
+        """
+        Whether orders are still to come after `frame`.
+        """
+    def schedule(self, frame: typing.SupportsInt | typing.SupportsIndex, robot: typing.SupportsInt | typing.SupportsIndex, marker: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def given(self) -> int:
+        """
+        Orders sent so far.
+        """
+    @property
+    def last(self) -> dict[int, int]:
+        """
+        Robot -> the marker of its last order.
+        """
+class ArrivalCondition(StopCondition):
+    """
+    Done when orders were sent, none is still to come, and every robot sent somewhere has reached it.
+    """
+    def __init__(self, alphabet: Alphabet, orders: OrderGenerator, actor: str = 'ARobot') -> None:
         ...
 class CameraRenderer:
     """

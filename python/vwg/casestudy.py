@@ -15,7 +15,6 @@
 from __future__ import annotations
 
 import math
-import queue
 import sys
 import threading
 import time
@@ -24,8 +23,6 @@ from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, TextIO
-
-import numpy as np
 
 from . import _core
 from .engine import Engine
@@ -73,20 +70,16 @@ def case_study_world(world: RobotWorld, decider: _core.Decider, *, step_length: 
     return World(alphabet)
 
 
-class Orders(_core.Generator):
-    """gObjective: the users' orders — a timed script, calls to order(), and lines read from a
-    stream (``kitchen`` for robot 1, or ``2 kitchen``) — as eObjective<to=robot, marker> events."""
+class Orders:
+    """gObjective, the users' orders: a timed script, calls to order(), and lines read from a stream
+    (``kitchen`` for robot 1, or ``2 kitchen``), by room name. The events (eObjective<to=robot,
+    marker>) come from ``generator``, a C++ OrderGenerator: orders given from other threads go out at
+    the next frame, and the run's stop condition reads it without calling into Python."""
 
-    name = "gObjective"
-
-    def __init__(self, world: RobotWorld) -> None:
-        super().__init__()
+    def __init__(self, world: RobotWorld, alphabet: _core.Alphabet) -> None:
         self.world = world
-        self._pending: queue.Queue[tuple[int, int]] = queue.Queue()
-        self._script: dict[int, list[tuple[int, int]]] = {}
+        self.generator = _core.OrderGenerator(alphabet)
         self._rooms = {room.marker: name for name, room in world.rooms.items()}
-        self.last: dict[int, str] = {}  # robot -> the last room it was sent to (orders given so far)
-        self.given = 0
 
     def marker_of(self, room: str) -> int:
         if room not in self.world.rooms:
@@ -98,18 +91,28 @@ class Orders(_core.Generator):
             raise SchemaError(f"goal: no robot {robot} (robots: {', '.join(str(r.id) for r in self.world.robots)})")
 
     def order(self, robot: int, room: str) -> None:
-        """Send `robot` to `room` at the next frame."""
+        """Send `robot` to `room` at the next frame (from any thread)."""
         self.check_robot(robot)
-        self._pending.put((robot, self.marker_of(room)))
+        self.generator.order(robot, self.marker_of(room))
 
     def schedule(self, frame: int, robot: int, room: str) -> None:
         """Send `robot` to `room` at `frame`."""
         self.check_robot(robot)
-        self._script.setdefault(frame, []).append((robot, self.marker_of(room)))
+        self.generator.schedule(frame, robot, self.marker_of(room))
 
     def pending(self, frame: int) -> bool:
         """Whether orders are still to come after `frame`."""
-        return not self._pending.empty() or any(f > frame for f in self._script)
+        return bool(self.generator.pending(frame))
+
+    @property
+    def given(self) -> int:
+        """Orders sent so far."""
+        return int(self.generator.given)
+
+    @property
+    def last(self) -> dict[int, str]:
+        """Robot -> the room of the last order it was sent."""
+        return {robot: self._rooms[marker] for robot, marker in self.generator.last.items()}
 
     def read_lines(self, stream: TextIO, on_error: Callable[[str], None]) -> threading.Thread:
         """Take orders from `stream` as they come, in a background thread."""
@@ -128,19 +131,6 @@ class Orders(_core.Generator):
         thread = threading.Thread(target=loop, name="vwg-orders", daemon=True)
         thread.start()
         return thread
-
-    def generate(self, frame: _core.FrameInfo) -> list[_core.Event]:
-        events = [_core.Event("eObjective", target=r, marker=m) for r, m in self._script.get(frame.frame, [])]
-        while True:
-            try:
-                robot, marker = self._pending.get_nowait()
-            except queue.Empty:
-                break
-            events.append(_core.Event("eObjective", target=robot, marker=marker))
-        for e in events:
-            self.last[e.target] = self._rooms[e.marker]
-        self.given += len(events)
-        return events
 
 
 @dataclass
@@ -206,7 +196,7 @@ class CaseStudy:
         # The platform by name (the world file's, or `platform`): the simulator unless said otherwise.
         spec = world.platform if platform is None else PlatformSpec(platform) if isinstance(platform, str) else platform
         self.sim = platforms.create(spec.kind, world, self.seed, dict(spec.options))
-        self.orders = Orders(world)
+        self.orders = Orders(world, alphabet)
         # The world file's timed orders play unless orders are given here (or world_orders says).
         if world_orders is None:
             world_orders = not goals
@@ -215,26 +205,25 @@ class CaseStudy:
         for robot, room in (goals or {}).items():
             self.orders.schedule(0, robot, room)
         generators: list[Any] = [*self.sim.feedback(alphabet), *self.sim.sensors(alphabet, tuple(sensors)),
-                                 self.orders, every_frame("eDecide"), every_frame("eExecute")]
-        self.view: _core.SimView | None = None
+                                 self.orders.generator, every_frame("eDecide"), every_frame("eExecute")]
+        # The view draws what θ shows of the robots (their actions, paths and status lines) through π
+        # and φ, and keeps the trajectories; without video or images it draws nothing.
+        self.view: _core.SimView = self.sim.view(width=view_width, video=str(video) if video else None,
+                                                 images=str(images) if images else None)
         # Extra backends (after the simulator): ready ones, or factories given the simulation.
-        shown: list[_core.Backend] = [b if isinstance(b, _core.Backend) else b(self.sim) for b in backends]
-        if video or images:
-            self.view = self.sim.view(width=view_width, video=str(video) if video else None,
-                                      images=str(images) if images else None)
-            shown.insert(0, self.view)
-        # The simulator first (it moves the robots), then what shows them.
-        backend: _core.Backend = _core.BackendGroup([self.sim.backend, *shown]) if shown else self.sim.backend
+        shown = [self.view, *(b if isinstance(b, _core.Backend) else b(self.sim) for b in backends)]
+        # The platform's motion backend first (it moves the robots), then what shows them.
+        backend = _core.BackendGroup([self.sim.backend, *shown])
         self.engine = Engine(self.vworld, self.initial_string(), generators, backend, dt=world.dt, seed=self.seed,
                              max_symbols=max_symbols)
-        self.engine.add_observer(self._after_frame)
+        # Done when every robot sent somewhere is there: checked in C++ after each frame.
+        self.engine.stop_when(_core.ArrivalCondition(alphabet, self.orders.generator))
         self.video = str(video) if video else None
         # The video is finished by close(), or at the latest when this object goes or Python exits.
-        hold = max(1, round(1.0 / world.dt))
-        self._finish = weakref.finalize(self, self.view.finish, hold) if self.view is not None else None
+        self._hold = max(1, round(1.0 / world.dt))
+        self._finish = weakref.finalize(self, self.view.finish, self._hold)
         self._closed = False
         self.wall_time = 0.0
-        self.trajectories: dict[int, list[tuple[float, float]]] = {}
 
     def initial_string(self) -> _core.String:
         """Eq. 13: ARobot<grid, row, column, angle, ε, ε> per robot, its grid the known map (or,
@@ -254,30 +243,11 @@ class CaseStudy:
         w = self.engine.string if w is None else w
         return {a["id"]: a for a in w.actors() if a.name == "ARobot"}
 
-    def _after_frame(self, record: _core.FrameRecord) -> None:
-        for spec in self.world.robots:
-            self.trajectories.setdefault(spec.id, []).append(self.sim.robot(spec.id).pose[:2])
-        if self.view is not None:
-            statuses = []
-            for rid, actor in self.robot_actors(record.after).items():
-                path = np.asarray(actor["path"])
-                self.view.set_path(rid, path if len(path) else None)
-                statuses.append(f"{rid}: {self.status_of(rid, actor)}")
-            self.view.set_status("   ".join(statuses))
-        if self._done(record.frame):
-            self.engine.request_stop()
-
     def status_of(self, robot: int, actor: _core.Node) -> str:
         """The robot's status with its room by name ("to kitchen" rather than "to marker 1")."""
         room = self.orders.last.get(robot)
         status = str(actor["status"])
         return status.replace(f"marker {actor['objective']}", room) if room else status
-
-    def _done(self, frame: int) -> bool:
-        if self.orders.pending(frame) or self.orders.given == 0:
-            return False
-        actors = self.robot_actors()
-        return all(actors[r]["reached"] for r in self.orders.last)
 
     def run(self, frames: int | None = None, progress: bool | None = False) -> RunSummary:
         """Run up to `frames` frames (default the world's), stopping early when every order is
@@ -294,8 +264,11 @@ class CaseStudy:
     def close(self) -> None:
         """Finish the video: its last second shows the final state (arrivals included). Done at
         exit too, and by ``with CaseStudy(...) as run:``; running again after close() is an error."""
-        if self._finish is not None:
-            self._finish()
+        if not self._closed and self._finish.alive:
+            self._finish.detach()
+            # The end shows the state reached: π of the last string (an arrival decided in the last frame).
+            final = _core.visualize(self.engine.string, [self.vworld.event("eExecute")])
+            self.view.finish(self._hold, final)
         self._closed = True
 
     def __enter__(self) -> CaseStudy:
@@ -341,8 +314,8 @@ class CaseStudy:
         renderer.begin(frame=self.engine.frame, time=self.engine.time, status=f"{self.world.name}: {self.planner}")
         for room in self.world.rooms.values():
             renderer.draw_marker(room.at[0], room.at[1], room.facing, room.name, room.marker)
-        for rid, points in self.trajectories.items():
-            renderer.draw_trajectory(np.asarray(points), rid)
+        for rid, points in self.view.trajectories.items():
+            renderer.draw_trajectory(points, rid)
         legend = []
         for robot, spec in zip(self.summary().robots, self.world.robots, strict=True):
             renderer.draw_start(spec.start[0], spec.start[1], spec.id)

@@ -183,7 +183,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
     w = engine.string
     if not args.quiet:
         print(f"vwg run {spec.path} — {spec.name}")
-        why = {"empty": "the world became empty", "stopped": "stopped"}.get(reason, "frame limit")
+        why = {"empty": "the world became empty", "stopped": "stopped", "done": "done"}.get(reason, "frame limit")
         rows = [
             ("frames", f"{engine.frame} ({why})"),
             ("simulated time", f"{engine.time:.3f} s (dt {spec.dt} s)"),
@@ -399,6 +399,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("vwg: interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError:
+        # The reader of the output went away (`vwg run ... | head`): not a failure of the run.
+        import os
+
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
 
 
 if __name__ == "__main__":

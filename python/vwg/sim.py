@@ -32,9 +32,10 @@ SIM_EVENTS: dict[str, dict[str, Any]] = {
     "eCollision": {"other": 0},
 }
 
-#: The primitive and transformations of the case study (paper Table I).
+#: The primitives and transformations of the case study (paper Table I), and what a view shows of a
+#: robot beside its action: its planned path (N×2 points) and its status line.
 MOTION_SYMBOLS: dict[str, dict[str, dict[str, Any]]] = {
-    "primitives": {"Robot": {"id": 0}},
+    "primitives": {"Robot": {"id": 0}, "Path": {"robot": 0, "points": _core.Blob}, "Status": {"robot": 0, "text": ""}},
     "transformations": {"Move": {"dist": 0.0}, "Rotate": {"angle": 0.0}},
 }
 

@@ -41,7 +41,16 @@ struct FrameRecord {
 };
 
 /// Why run() returned.
-enum class StopReason { Empty, FrameLimit, Requested };
+enum class StopReason { Empty, FrameLimit, Requested, Done };
+
+/// When a run has done its job (every robot at its room, say): checked by run() after each frame,
+/// in C++, so a run needs no per-frame call into Python to know when to stop.
+class StopCondition {
+ public:
+  virtual ~StopCondition() = default;
+  /// `w` is the string after the frame numbered `frame`.
+  virtual bool done(const WorldString& w, std::uint64_t frame) = 0;
+};
 
 /// An engine is used by one thread at a time and is not re-entrant: step(), step_with(), run(),
 /// set_string() and collect_events() called from inside one of its frames (a λ, θ, generator,
@@ -64,6 +73,8 @@ class Engine {
   /// Ask run() to stop after the current frame (safe from another thread or a callback). A
   /// request made between runs stops the next run after its first frame.
   void request_stop() { stop_requested_ = true; }
+  /// run() returns StopReason::Done after a frame that leaves `condition` true (null: never).
+  void stop_when(std::shared_ptr<StopCondition> condition) { stop_when_ = std::move(condition); }
 
   const WorldString& string() const { return w_; }
   /// Replace w (e.g. to load a snapshot); the frame counter is kept.
@@ -93,6 +104,7 @@ class Engine {
   EventList last_events_;
   std::vector<Observer> observers_;
   std::atomic<bool> stop_requested_{false};
+  std::shared_ptr<StopCondition> stop_when_;
   std::mutex use_;
   std::atomic<std::thread::id> user_{};  // the thread inside a call, if any
 };

@@ -20,6 +20,7 @@
 
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -77,6 +78,7 @@ class ARobot final : public ActorBehavior {
   } ev_{};
   struct Symbols {
     SymbolId robot, move, rotate;
+    std::optional<SymbolId> path, status;  // shown with the action when the alphabet has them
   } sym_{};
 };
 

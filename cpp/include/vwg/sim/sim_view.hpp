@@ -1,8 +1,10 @@
 // The simulation drawn from above, as a backend (paper Table I, simulator column: "draw the robot
 // in the GS"): each frame, the map, the room markers, every robot displayed by α(Robot<id>) at its
-// true pose with its trajectory and latest scan, and the plans and beliefs the caller supplies;
-// written to a video and/or PNG files. Put it after the SimBackend in a BackendGroup, so it draws
-// the frame's motion.
+// true pose with its trajectory and latest scan, the paths and status lines displayed by
+// α(Path<robot, points>) and α(Status<robot, text>) (what θ of the robot shows, through π and φ),
+// and the beliefs the caller supplies; written to a video and/or PNG files. It keeps every robot's
+// trajectory (the one place it is kept), drawing nothing when it writes nothing. Put it after the
+// motion backend in a BackendGroup, so it draws the frame's motion.
 #pragma once
 
 #include <map>
@@ -29,11 +31,8 @@ class SimView final : public Backend {
   void add_laser(std::shared_ptr<const LaserGenerator> laser) { lasers_.push_back(std::move(laser)); }
   void add_kinect(std::shared_ptr<const KinectGenerator> kinect) { kinects_.push_back(std::move(kinect)); }
   void add_marker(double x, double y, double facing, std::string label, int tag_id);
-  /// A robot's planned path (world points) and its belief grid (same geometry as the map), shown
-  /// until replaced; an empty path / belief removes them.
-  void set_path(int robot, std::vector<cv::Point2d> path);
+  /// A robot's belief grid (same geometry as the map), shown until replaced; empty removes it.
   void set_belief(int robot, std::vector<std::int8_t> cells);
-  void set_status(std::string status) { status_ = std::move(status); }
   /// Where frames go: an MP4/GIF video (opened at the first frame) and/or numbered PNG files.
   void record_video(const std::string& path, double fps, VideoSettings settings = {});
   void record_images(const std::string& directory);
@@ -42,7 +41,9 @@ class SimView final : public Backend {
   /// Draw the last frame again with what was set since (status, paths), write it `hold_frames`
   /// times to the video (once to the images), then close: a video's end shows the final state,
   /// such as a robot's arrival, which is only known after its frame was drawn.
-  void finish(int hold_frames);
+  /// With `final_view` (π of the string the run ended with), that is what is drawn, so the end
+  /// shows what the last frame's λ decided (an arrival) rather than what that frame displayed.
+  void finish(int hold_frames, const WorldString* final_view = nullptr);
 
   void begin_frame(const FrameInfo& frame) override;
   void primitive(const NodeView& p) override;
@@ -74,11 +75,12 @@ class SimView final : public Backend {
   std::vector<std::shared_ptr<const LaserGenerator>> lasers_;
   std::vector<std::shared_ptr<const KinectGenerator>> kinects_;
   std::vector<Marker> markers_;
-  std::map<int, std::vector<cv::Point2d>> paths_;
+  std::map<int, std::vector<cv::Point2d>> paths_;  // displayed this frame (α of Path)
+  std::map<int, std::string> statuses_;            // displayed this frame (α of Status)
   std::map<int, std::vector<std::int8_t>> beliefs_;
   std::map<int, std::vector<cv::Point2d>> trajectories_;
   std::map<int, std::vector<platform::MotionStep>> commanded_;  // robots displayed this frame, with their plan
-  std::string status_;
+  std::string status_line() const;  // "1: to kitchen   2: idle", markers by their rooms' names
   std::optional<VideoWriter> video_;
   std::string video_path_;
   double video_fps_ = 10;
