@@ -205,12 +205,17 @@ def _video_frames(path):
 
 
 def test_a_second_run_continues_the_video_and_the_end_holds_the_final_state(tmp_path):
-    video, images = tmp_path / "run.mp4", tmp_path / "frames"
+    from vwg.record import Recorder, read_record
+
+    video, images, log = tmp_path / "run.mp4", tmp_path / "frames", tmp_path / "run.jsonl"
     with CaseStudy(world("office"), "astar", goals={1: "kitchen"}, video=video, images=images) as run:
+        recorder = Recorder(log, run.engine)
         run.run(frames=40)
         run.orders.order(1, "lab")
         summary = run.run(frames=30)
+        recorder.close()
     assert summary.frames == 70
+    assert [f["t"] for f in read_record(log).frames] == list(range(70))  # one record, both runs
     hold = round(1.0 / run.world.dt)  # one second of the final state
     assert _video_frames(video) == 70 + hold
     pngs = sorted(images.glob("*.png"))
