@@ -115,13 +115,13 @@ def test_edecide_asks_the_decider_and_moves_the_belief():
     world, w = setup(decider, objective=3)
     a = robot(evolve(world, w, "eDecide<to=1>"))
     assert decider.seen == [((0.55, 0.55, 0.0), (1.55, 0.55))]  # its pose and its room's goal
-    assert a["action"] == "Rotate<0.5>(Move<0.3>(Robot<1>))"
+    assert (a["acting"], a["turn"], a["move"]) == (True, 0.5, 0.3)  # shown by θ as Rotate<0.5>(Move<0.3>(...))
     assert (a["sent"], a["busy"]) == (1, True)
     # Dead reckoning: turn 0.5 rad, then 0.3 m: (0.55 + 0.3 cos 0.5, 0.55 + 0.3 sin 0.5).
     assert (a["x"], a["y"], a["angle"]) == pytest.approx((0.55 + 0.3 * math.cos(0.5), 0.55 + 0.3 * math.sin(0.5), 0.5))
     # While the motors have not acknowledged the command (acked < sent) it decides nothing more.
     a2 = robot(evolve(world, evolve(world, w, "eDecide<to=1>"), "eDecide<to=1>"))
-    assert len(decider.seen) == 2 and a2["sent"] == 1 and a2["action"] == ""
+    assert len(decider.seen) == 2 and a2["sent"] == 1 and not a2["acting"]
 
 
 def test_edecide_at_the_goal_says_reached_and_asks_nothing():
@@ -130,7 +130,7 @@ def test_edecide_at_the_goal_says_reached_and_asks_nothing():
     world, w = setup(decider, objective=3, x=1.35, y=0.55)
     a = robot(evolve(world, w, "eDecide<to=1>"))
     assert decider.seen == []
-    assert (a["reached"], a["status"], a["action"]) == (True, "arrived at marker 3", "")
+    assert (a["reached"], a["status"], a["acting"]) == (True, "arrived at marker 3", False)
 
 
 def test_edecide_without_an_objective_does_nothing():
@@ -141,7 +141,7 @@ def test_edecide_without_an_objective_does_nothing():
 
 
 def test_eexecute_shows_the_action_or_the_robot_alone_with_its_status_and_path():
-    world, w = setup(action="Rotate<0.5>(Move<0.3>(Robot<1>))")
+    world, w = setup(acting=True, turn=0.5, move=0.3)
     shown = _core.visualize(w, [world.event("eExecute<to=1>")])
     assert str(shown) == 'Status<1, "idle"> . Rotate<0.5>(Move<0.3>(Robot<1>))'
     world, w = setup()

@@ -204,8 +204,6 @@ Robot, Move, Rotate and the events of arobot_event_types().)doc");
     for (const auto& [name, schema] : robot::arobot_event_types()) out[py::str(name)] = schema_to_python(schema);
     return out;
   }, "The event types ARobot responds to, with their fields {name: (kind, default)}.");
-  m.def("arobot_action", &robot::ARobot::action_text, py::arg("robot"), py::arg("turn"), py::arg("distance"),
-        "The action string of a decision: Rotate<turn>(Move<distance>(Robot<robot>)).");
 }
 
 }  // namespace vwg::bindings

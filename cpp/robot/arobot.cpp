@@ -4,7 +4,6 @@
 #include <string>
 
 #include "vwg/error.hpp"
-#include "vwg/text.hpp"
 
 namespace vwg::robot {
 
@@ -34,7 +33,11 @@ Schema arobot_attributes() {
       spec("column", ValueKind::Int, Datum(0)),
       spec("angle", ValueKind::Real, Datum(0.0)),
       spec("objective", ValueKind::Int, Datum(-1)),
-      spec("action", ValueKind::Text, Datum("")),
+      // The action (eq. 11): Rotate<turn>(Move<move>(Robot<id>)) while `acting`, held as numbers so
+      // θ builds it from symbol ids, with no text made and parsed in the frame.
+      spec("acting", ValueKind::Bool, Datum(false)),
+      spec("turn", ValueKind::Real, Datum(0.0)),
+      spec("move", ValueKind::Real, Datum(0.0)),
       spec("x", ValueKind::Real, Datum(0.0)),
       spec("y", ValueKind::Real, Datum(0.0)),
       spec("path", ValueKind::Blob, Datum(empty_path())),
@@ -89,10 +92,6 @@ ARobot::ARobot(const Alphabet& alphabet, ARobotConfig config, std::shared_ptr<De
   // φ like its action, when the alphabet declares them (MOTION_SYMBOLS does).
   if (const auto p = alphabet.find_symbol("Path"); p && alphabet.symbol(*p).kind == SymbolKind::Primitive) sym_.path = p;
   if (const auto t = alphabet.find_symbol("Status"); t && alphabet.symbol(*t).kind == SymbolKind::Primitive) sym_.status = t;
-}
-
-std::string ARobot::action_text(int robot, double turn, double distance) {
-  return "Rotate<" + format_real(turn) + ">(Move<" + format_real(distance) + ">(Robot<" + std::to_string(robot) + ">))";
 }
 
 void ARobot::evolve(ActorState& self, const EventView& e, const EvolutionContext& ctx, Replacement&) {
@@ -164,7 +163,11 @@ bool ARobot::goal_of(const ActorState& self, int marker, double& x, double& y) c
 void ARobot::decide(ActorState& self, const EvolutionContext& ctx) {
   const std::int64_t objective = self.get_int(kObjective);
   // A decided action is shown (θ, eExecute) in the next frame only: from then on it is gone.
-  if (!self.get_text(kAction).empty()) self.set_text(kAction, "");
+  if (self.get_bool(kActing)) {
+    self.set_bool(kActing, false);
+    self.set_real(kTurn, 0.0);
+    self.set_real(kMove, 0.0);
+  }
   if (objective < 0) return;
   // Wait until the motors have received the last command and finished it.
   if (self.get_int(kAcked) < self.get_int(kSent) || self.get_bool(kBusy)) return;
@@ -208,8 +211,9 @@ void ARobot::decide(ActorState& self, const EvolutionContext& ctx) {
     return;
   }
   if (!d.keep_path) self.set_blob(kPath, path_blob(d.path));
-  const int id = static_cast<int>(self.get_int(kId));
-  self.set_text(kAction, action_text(id, d.turn, d.distance));
+  self.set_bool(kActing, true);
+  self.set_real(kTurn, d.turn);
+  self.set_real(kMove, d.distance);
   self.set_int(kSent, self.get_int(kSent) + 1);
   self.set_bool(kBusy, true);
   // Dead reckoning (eq. 12, eDecide): the belief moves where the action should take the robot;
@@ -238,14 +242,16 @@ void ARobot::visualize(const ActorState& self, const EventView& e, const Evoluti
     const Datum params[] = {robot_id, Datum(std::string(self.get_text(kStatus)))};
     out.primitive(*sym_.status, params);
   }
-  const std::string_view action = self.get_text(kAction);
-  if (action.empty()) {
-    // Table I: the robot primitive alone (drawn by a renderer, no motion on a robot).
-    const Datum id(self.get_int(kId));
-    out.primitive(sym_.robot, std::span<const Datum>(&id, 1));
-  } else {
-    out.append(parse_string(out.alphabet_ptr(), action, "<ARobot action>"));
+  // Rotate<turn>(Move<move>(Robot<id>)) while acting; otherwise the robot primitive alone (Table I:
+  // drawn by a renderer, no motion on a robot).
+  const bool acting = self.get_bool(kActing);
+  if (acting) {
+    const Datum turn(self.get_real(kTurn)), move(self.get_real(kMove));
+    out.open(sym_.rotate, std::span<const Datum>(&turn, 1));
+    out.open(sym_.move, std::span<const Datum>(&move, 1));
   }
+  out.primitive(sym_.robot, std::span<const Datum>(&robot_id, 1));
+  if (acting) out.close().close();
 }
 
 }  // namespace vwg::robot

@@ -8,7 +8,7 @@ import numpy
 import numpy.typing
 import os
 import typing
-__all__: list[str] = ['ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'ArrivalCondition', 'Backend', 'BackendGroup', 'Blob', 'CameraGenerator', 'CameraRenderer', 'Collision', 'CollisionGenerator', 'DStarLite', 'Decider', 'DecisionInput', 'Engine', 'Event', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'Generator', 'GridDecider', 'GridRaycaster', 'ImageFiles', 'ImageSequence', 'ImageSource', 'KinectGenerator', 'LaserGenerator', 'MotionBackend', 'Node', 'NullBackend', 'OdometryGenerator', 'OmplDecider', 'OmplPlan', 'OmplPlanner', 'OrderGenerator', 'OverviewCamera', 'PhysicsWorld', 'PythonActor', 'RandomDecider', 'RangeScanner', 'RenderStyle', 'RobotPlatform', 'RobotSettings', 'RobotState', 'SimView', 'SimulatedCamera', 'StopCondition', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoSource', 'VideoWriter', 'add_arobot', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'arobot_action', 'arobot_event_types', 'astar', 'build_string', 'detect_apriltags', 'display', 'estimate_tag_pose', 'evolve', 'overview_camera', 'plan_ompl', 'read_image', 'render_overview', 'robot_map', 'set_log_sink', 'visualize', 'walker_behavior', 'write_image']
+__all__: list[str] = ['ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'ArrivalCondition', 'Backend', 'BackendGroup', 'Blob', 'CameraGenerator', 'CameraRenderer', 'Collision', 'CollisionGenerator', 'DStarLite', 'Decider', 'DecisionInput', 'Engine', 'Event', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'Generator', 'GridDecider', 'GridRaycaster', 'ImageFiles', 'ImageSequence', 'ImageSource', 'KinectGenerator', 'LaserGenerator', 'MotionBackend', 'Node', 'NullBackend', 'OdometryGenerator', 'OmplDecider', 'OmplPlan', 'OmplPlanner', 'OrderGenerator', 'OverviewCamera', 'PhysicsWorld', 'PythonActor', 'RandomDecider', 'RangeScanner', 'RenderStyle', 'RobotPlatform', 'RobotSettings', 'RobotState', 'SimView', 'SimulatedCamera', 'StopCondition', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoSource', 'VideoWriter', 'add_arobot', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'arobot_event_types', 'astar', 'build_string', 'detect_apriltags', 'display', 'estimate_tag_pose', 'evolve', 'overview_camera', 'plan_ompl', 'read_image', 'render_overview', 'robot_map', 'set_log_sink', 'visualize', 'walker_behavior', 'write_image']
 class Blob:
     """
     A large attribute value held by reference from world strings (an occupancy grid, an image, a path).
@@ -1786,10 +1786,6 @@ def apriltag_family(family: str) -> AprilTagFamily:
 def apriltag_image(id: typing.SupportsInt | typing.SupportsIndex, family: str = 'tag36h11', scale: typing.SupportsInt | typing.SupportsIndex = 1, border: typing.SupportsInt | typing.SupportsIndex = 0) -> numpy.typing.NDArray[numpy.uint8]:
     """
     The tag's bitmap (the library's apriltag_to_image) as an H×W uint8 array, white 255, black 0: total_width cells across (tag36h11: 10, a white ring around the 8×8 black-bordered code), as in AprilRobotics/apriltag-imgs. Each cell becomes scale×scale pixels, then border white pixels are added on every side. Raises vwg.SchemaError for an unknown family or an id outside the family.
-    """
-def arobot_action(robot: typing.SupportsInt | typing.SupportsIndex, turn: typing.SupportsFloat | typing.SupportsIndex, distance: typing.SupportsFloat | typing.SupportsIndex) -> str:
-    """
-    The action string of a decision: Rotate<turn>(Move<distance>(Robot<robot>)).
     """
 def arobot_event_types() -> dict:
     """

@@ -5,17 +5,19 @@
 //
 // with, beside the paper's attributes: `id` (several robots share a world, and events are
 // addressed to one), the continuous pose belief `x, y` (row and column are its cell), the plan
-// `path`, and the bookkeeping of its motion commands, arrival, replans and collisions. It also
-// responds to eOdometry and eCollision, the simulator's (or the real robot's) feedback.
+// `path`, and the bookkeeping of its motion commands, arrival, replans and collisions. The action
+// is held as numbers (`acting`, `turn`, `move`), so θ builds it from symbol ids. It also responds
+// to eOdometry and eCollision, the platform's feedback (simulator or real robot).
 //
 //   λ(eLaser<dist, angle>)   marks the obstacle at (x + dist·cos(angle₀ + angle), ...) in the grid
 //                            and clears the cells the beam crossed (moving obstacles leave)
 //   λ(eCamera<marker, dist, angle>)  marks the marker's cell (eq. 12)
 //   λ(eObjective<marker>)    sets the objective
 //   λ(eOdometry<x, y, angle, busy, commands>)  updates the pose belief and what the motors did
-//   λ(eDecide)               when the last command is done: the Decider's next motion, as the
-//                            action string Rotate<a>(Move<d>(Robot<id>)); the belief moves on
-//   θ(eExecute)              the action string (or Robot<id>, drawn and not moved)
+//   λ(eDecide)               when the last command is done: the Decider's next motion (turn a,
+//                            move d); the belief moves on
+//   θ(eExecute)              Rotate<a>(Move<d>(Robot<id>)) (or Robot<id>, drawn and not moved),
+//                            with Path<id, points> and Status<id, text> when the alphabet has them
 #pragma once
 
 #include <map>
@@ -64,9 +66,6 @@ class ARobot final : public ActorBehavior {
   const ARobotConfig& config() const { return config_; }
   Decider& decider() { return *decider_; }
 
-  /// The action string of a decision, e.g. `Rotate<0.5>(Move<1.2>(Robot<1>))`.
-  static std::string action_text(int robot, double turn, double distance);
-
  private:
   void decide(ActorState& self, const EvolutionContext& ctx);
   bool goal_of(const ActorState& self, int marker, double& x, double& y) const;
@@ -84,7 +83,7 @@ class ARobot final : public ActorBehavior {
 
 /// Attribute indices of ARobot (the order of arobot_attributes()).
 enum ARobotAttr : std::size_t {
-  kId, kGrid, kRow, kColumn, kAngle, kObjective, kAction, kX, kY, kPath, kSent, kAcked, kBusy, kReached, kReplans,
+  kId, kGrid, kRow, kColumn, kAngle, kObjective, kActing, kTurn, kMove, kX, kY, kPath, kSent, kAcked, kBusy, kReached, kReplans,
   kCollisions, kStatus, kWait
 };
 
