@@ -154,3 +154,25 @@ def test_core_eta_pi_phi_agree_with_the_reference(parts, events, splits):
     trace = vwg.TraceBackend()
     vwg.display(v, trace)
     assert trace.calls == REF.phi(v.tree())
+
+
+class Renamer(vwg.Actor):
+    """rename<new>: takes the id `new`; ping: counts the pings that reach it."""
+
+    events = ("rename", "ping")
+    attributes = {"id": 1, "pings": 0}
+
+    def on_rename(self, e):
+        return self.with_(id=e.new)
+
+    def on_ping(self, e):
+        return self.with_(pings=self.pings + 1)
+
+
+def test_addressed_events_follow_an_actor_that_changes_its_id_within_the_frame():
+    # Events reach an actor by its id at the moment it takes them (the fold of DESIGN.md choice 1):
+    # the first ping (to 2) and the last (to 1) miss it, the one after the rename reaches it.
+    world = vwg.World(events={"rename": {"new": 0}, "ping": None}, actors=[Renamer])
+    events = [world.event(t) for t in ("ping<to=2>", "rename<to=1, new=2>", "ping<to=2>", "ping<to=1>", "ping")]
+    w = vwg.evolve(world.parse("Renamer<id=1> . Renamer<id=3>"), events)
+    assert str(w) == "Renamer<id=2, pings=2> . Renamer<id=3, pings=1>"  # the untargeted ping reaches both
