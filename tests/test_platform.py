@@ -120,3 +120,30 @@ def test_motion_backend_drives_the_simulator_as_before():
                         [vwg.Schedule({0: ["go"]})], vwg.MotionBackend(physics))
     engine.run(80)
     assert physics.robot(1).pose == pytest.approx((2.0, 3.5, math.pi / 2), abs=1e-4)
+
+
+class Spawner(vwg.Actor):
+    """On its first eDecide, spawns robot 3 at (12, 9) beside itself (a λ that returns two actors)."""
+
+    events = ("eDecide",)
+    attributes = {"grid": vwg.Blob, "left": 1}
+
+    def on_eDecide(self, e):
+        if self.left == 0:
+            return self
+        return [self.with_(left=0), vwg.Sym("ARobot", id=3, grid=self.grid, x=12.0, y=9.0, angle=0.0)]
+
+
+def test_robots_spawned_by_a_lambda_get_a_body_and_those_gone_lose_it():
+    from vwg.casestudy import CaseStudy
+
+    run = CaseStudy(vwg.load_robot_world("office"), "astar", sensors=())
+    run.vworld.alphabet.add_actor_type(Spawner)
+    initial = run.initial_string()
+    run.engine.set_string(run.vworld.string(initial, vwg.Sym("Spawner", grid=_core.robot_map(run.world.grid))))
+    run.run(frames=2)
+    assert [r.id for r in run.sim.platform.robots()] == [1, 2, 3]
+    assert run.sim.platform.robot(3).pose[:2] == pytest.approx((12.0, 9.0), abs=1e-3)
+    run.engine.set_string(initial)  # robot 3 (and the spawner) leave the string
+    run.run(frames=1)
+    assert [r.id for r in run.sim.platform.robots()] == [1, 2]

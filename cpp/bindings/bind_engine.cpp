@@ -3,6 +3,7 @@
 #include <string>
 
 #include "common.hpp"
+#include "vwg/robot/platform_sync.hpp"
 
 namespace vwg::bindings {
 
@@ -156,6 +157,13 @@ vwg.FrameError naming the frame, the stage, the actor and the event.)doc")
       "Run until w = ε ('empty'), `frames` more frames ran ('frames'), request_stop() ('stopped'), or the stop "
       "condition holds ('done').")
       .def("request_stop", [](PyEngine& e) { e.engine->request_stop(); }, "Stop run() after the current frame.")
+      .def("keep_robots_in_step", [](PyEngine& e, std::shared_ptr<platform::RobotPlatform> platform, double radius,
+                                     const std::string& actor) {
+        e.engine->add_observer(robot::PlatformSync(e.engine->string().alphabet(), platform, radius, {}, actor));
+        e.keep_alive.append(py::cast(platform));
+      }, py::arg("platform"), py::arg("radius") = 0.18, py::arg("actor") = "ARobot",
+      "After each frame, give the platform a robot (of `radius`, at its believed pose) for each robot actor a λ "
+      "spawned, and take it away from those that left the string (in C++, no call into Python).")
       .def("stop_when", [](PyEngine& e, py::object condition) {
         if (condition.is_none()) {
           e.engine->stop_when(nullptr);

@@ -20,10 +20,10 @@ PYBIND11_MODULE(_core, m) {
   init_actors(m);
   init_strings(m);
   init_alphabet(m);
+  init_platform(m);  // before the engine, whose keep_robots_in_step takes a RobotPlatform
   init_engine(m);
   init_bench_actors(m);
   init_sim(m);
-  init_platform(m);
   init_physics(m);
   init_render(m);
   init_perception(m);

@@ -343,128 +343,6 @@ class Node:
         """
         Canonical text of the symbol alone, e.g. 'Move<0.5>'.
         """
-class StopCondition:
-    """
-    When a run has done its job: run() returns 'done' after a frame for which done(w, frame) is true.
-    C++ conditions (vwg.ArrivalCondition) cost no call into Python; a Python subclass may define
-    done(self, w, frame).
-    """
-    def __init__(self) -> None:
-        ...
-    def done(self, w: String, frame: typing.SupportsInt | typing.SupportsIndex) -> bool:
-        ...
-class FrameRecord:
-    """
-    A completed frame, as observers see it (valid during the call).
-    """
-    @property
-    def after(self) -> String:
-        """
-        w after the frame (a copy).
-        """
-    @property
-    def after_text(self) -> str:
-        ...
-    @property
-    def before(self) -> String:
-        """
-        w at the start of the frame (a copy).
-        """
-    @property
-    def before_text(self) -> str:
-        ...
-    @property
-    def blobs(self) -> dict:
-        """
-        The blobs referred to by the strings and events of the frame, by name.
-        """
-    @property
-    def event_texts(self) -> list:
-        ...
-    @property
-    def events(self) -> list:
-        """
-        S: the events of the frame, in priority order.
-        """
-    @property
-    def frame(self) -> int:
-        ...
-    @property
-    def time(self) -> float:
-        ...
-class Engine:
-    """
-    The system algorithm (paper §II.D). Each frame: S = the generators' events in priority order,
-    w_next = η(w, S), v = π(w, Z), φ(v) on the backend, w = w_next. A frame is all or nothing: if λ, θ,
-    a generator or the backend raises, the engine keeps the last complete frame and raises
-    vwg.FrameError naming the frame, the stage, the actor and the event.
-    """
-    def __init__(self, initial: String, generators: list = [], backend: typing.Any = None, dt: typing.SupportsFloat | typing.SupportsIndex = 0.1, seed: typing.SupportsInt | typing.SupportsIndex = 0, first_frame: typing.SupportsInt | typing.SupportsIndex = 0, max_symbols: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
-        ...
-    def add_observer(self, observer: collections.abc.Callable) -> None:
-        """
-        Call observer(record: FrameRecord) after every completed frame.
-        """
-    def collect_events(self) -> list:
-        """
-        Ask the generators for the current frame's events without running the frame.
-        """
-    def request_stop(self) -> None:
-        """
-        Stop run() after the current frame.
-        """
-    def run(self, frames: typing.SupportsInt | typing.SupportsIndex) -> str:
-        """
-        Run until w = ε ('empty'), `frames` more frames ran ('frames'), request_stop() ('stopped'), or the stop condition holds ('done').
-        """
-    def set_string(self, w: String) -> None:
-        ...
-    def step(self) -> bool:
-        """
-        Run one frame; False (and nothing done) if w = ε.
-        """
-    def step_with(self, events: typing.Any) -> bool:
-        """
-        Run one frame with these events instead of the generators' (replay).
-        """
-    def stop_when(self, condition: typing.Any) -> None:
-        """
-        run() returns 'done' after a frame that leaves condition (a vwg.StopCondition) true.
-        """
-    @property
-    def backend(self) -> Backend:
-        ...
-    @property
-    def dt(self) -> float:
-        ...
-    @property
-    def frame(self) -> int:
-        """
-        Frames completed so far (t).
-        """
-    @property
-    def generators(self) -> list:
-        """
-        The generators, in priority order.
-        """
-    @property
-    def last_events(self) -> list:
-        """
-        The events S of the last completed frame.
-        """
-    @property
-    def seed(self) -> int:
-        ...
-    @property
-    def string(self) -> String:
-        """
-        The current string w (a copy).
-        """
-    @property
-    def time(self) -> float:
-        """
-        Simulated seconds: frame * dt.
-        """
 class RobotSettings:
     """
     A robot as the world file describes it: id, start, radius, limits.
@@ -618,6 +496,132 @@ class CollisionGenerator(Generator):
     """
     def __init__(self, platform: RobotPlatform, alphabet: Alphabet, event: str = 'eCollision') -> None:
         ...
+class StopCondition:
+    """
+    When a run has done its job: run() returns 'done' after a frame for which done(w, frame) is true.
+    C++ conditions (vwg.ArrivalCondition) cost no call into Python; a Python subclass may define
+    done(self, w, frame).
+    """
+    def __init__(self) -> None:
+        ...
+    def done(self, w: String, frame: typing.SupportsInt | typing.SupportsIndex) -> bool:
+        ...
+class FrameRecord:
+    """
+    A completed frame, as observers see it (valid during the call).
+    """
+    @property
+    def after(self) -> String:
+        """
+        w after the frame (a copy).
+        """
+    @property
+    def after_text(self) -> str:
+        ...
+    @property
+    def before(self) -> String:
+        """
+        w at the start of the frame (a copy).
+        """
+    @property
+    def before_text(self) -> str:
+        ...
+    @property
+    def blobs(self) -> dict:
+        """
+        The blobs referred to by the strings and events of the frame, by name.
+        """
+    @property
+    def event_texts(self) -> list:
+        ...
+    @property
+    def events(self) -> list:
+        """
+        S: the events of the frame, in priority order.
+        """
+    @property
+    def frame(self) -> int:
+        ...
+    @property
+    def time(self) -> float:
+        ...
+class Engine:
+    """
+    The system algorithm (paper §II.D). Each frame: S = the generators' events in priority order,
+    w_next = η(w, S), v = π(w, Z), φ(v) on the backend, w = w_next. A frame is all or nothing: if λ, θ,
+    a generator or the backend raises, the engine keeps the last complete frame and raises
+    vwg.FrameError naming the frame, the stage, the actor and the event.
+    """
+    def __init__(self, initial: String, generators: list = [], backend: typing.Any = None, dt: typing.SupportsFloat | typing.SupportsIndex = 0.1, seed: typing.SupportsInt | typing.SupportsIndex = 0, first_frame: typing.SupportsInt | typing.SupportsIndex = 0, max_symbols: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
+        ...
+    def add_observer(self, observer: collections.abc.Callable) -> None:
+        """
+        Call observer(record: FrameRecord) after every completed frame.
+        """
+    def collect_events(self) -> list:
+        """
+        Ask the generators for the current frame's events without running the frame.
+        """
+    def keep_robots_in_step(self, platform: RobotPlatform, radius: typing.SupportsFloat | typing.SupportsIndex = 0.18, actor: str = 'ARobot') -> None:
+        """
+        After each frame, give the platform a robot (of `radius`, at its believed pose) for each robot actor a λ spawned, and take it away from those that left the string (in C++, no call into Python).
+        """
+    def request_stop(self) -> None:
+        """
+        Stop run() after the current frame.
+        """
+    def run(self, frames: typing.SupportsInt | typing.SupportsIndex) -> str:
+        """
+        Run until w = ε ('empty'), `frames` more frames ran ('frames'), request_stop() ('stopped'), or the stop condition holds ('done').
+        """
+    def set_string(self, w: String) -> None:
+        ...
+    def step(self) -> bool:
+        """
+        Run one frame; False (and nothing done) if w = ε.
+        """
+    def step_with(self, events: typing.Any) -> bool:
+        """
+        Run one frame with these events instead of the generators' (replay).
+        """
+    def stop_when(self, condition: typing.Any) -> None:
+        """
+        run() returns 'done' after a frame that leaves condition (a vwg.StopCondition) true.
+        """
+    @property
+    def backend(self) -> Backend:
+        ...
+    @property
+    def dt(self) -> float:
+        ...
+    @property
+    def frame(self) -> int:
+        """
+        Frames completed so far (t).
+        """
+    @property
+    def generators(self) -> list:
+        """
+        The generators, in priority order.
+        """
+    @property
+    def last_events(self) -> list:
+        """
+        The events S of the last completed frame.
+        """
+    @property
+    def seed(self) -> int:
+        ...
+    @property
+    def string(self) -> String:
+        """
+        The current string w (a copy).
+        """
+    @property
+    def time(self) -> float:
+        """
+        Simulated seconds: frame * dt.
+        """
 class PhysicsWorld(RobotPlatform):
     """
     The Box2D world of the simulator: walls from an occupancy grid (merged into few rectangles) and

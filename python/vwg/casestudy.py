@@ -218,6 +218,8 @@ class CaseStudy:
                              max_symbols=max_symbols)
         # Done when every robot sent somewhere is there: checked in C++ after each frame.
         self.engine.stop_when(_core.ArrivalCondition(alphabet, self.orders.generator))
+        # A robot a λ spawns gets a body on the platform; one that leaves the string loses it.
+        self.engine.keep_robots_in_step(self.sim.platform, radius=max((r.radius for r in world.robots), default=0.18))
         self.video = str(video) if video else None
         # The video is finished by close(), or at the latest when this object goes or Python exits.
         self._hold = max(1, round(1.0 / world.dt))
