@@ -171,3 +171,24 @@ def test_the_platform_is_one_setting(tmp_path, capsys):
     assert main(["check", str(mine)]) == 2
     err = capsys.readouterr().err
     assert f"{mine}:{len(text.splitlines()) + 1}: platform: unknown platform 'warp' (known: sim)" in err
+
+
+def test_a_third_party_decider_registers_by_name(tmp_path, capsys):
+    import vwg
+    from vwg.registry import deciders
+
+    class Straight(vwg.Decider):
+        """Face the goal, drive up to a metre: enough in the open field."""
+
+        name = "straight"
+
+        def decide(self, robot):
+            return robot.follow([robot.pose[:2], robot.goal])
+
+    deciders.register("straight-test", Straight)
+    summary = tmp_path / "s.json"
+    assert main(["run", "field", "--planner", "straight-test", "--goal", "rock", "--frames", "50",
+                 "--allow-unreached", "--summary-json", str(summary), "-q"]) == 0
+    assert strict_loads(summary.read_text())["planner"] == "straight-test"
+    assert main(["run", "field", "--planner", "nope"]) == 2
+    assert "unknown planner 'nope' (known: " in capsys.readouterr().err

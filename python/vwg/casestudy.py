@@ -28,35 +28,23 @@ from . import _core
 from .engine import Engine
 from .errors import SchemaError
 from .generators import every_frame
-from .registry import platforms
+from .registry import deciders, platforms
 from .robotworld import PlatformSpec, RobotWorld
 from .sim import MOTION_SYMBOLS, Simulation
 from .world import Alphabet, World
 
-__all__ = ["PLANNERS", "CaseStudy", "Orders", "RobotSummary", "RunSummary", "case_study_world", "make_decider"]
-
-#: Deciders by name (paper test 1: the decision is swapped, nothing else).
-PLANNERS: dict[str, Callable[[], _core.Decider]] = {
-    "random": lambda: _core.RandomDecider(),
-    "astar": lambda: _core.GridDecider("astar"),
-    "dstar": lambda: _core.GridDecider("dstar"),
-    # OMPL planners bounded by iterations, not time, so a run is the same on any machine: RRT-Connect
-    # stops at its first solution; RRT* improves its path for all its iterations; "prm" is OMPL's
-    # LazyPRM (PRM proper builds its roadmap on a second thread and is not reproducible).
-    "rrtconnect": lambda: _core.OmplDecider("RRTConnect", 20000),
-    "rrtstar": lambda: _core.OmplDecider("RRTstar", 5000),
-    "prm": lambda: _core.OmplDecider("LazyPRM", 5000),
-}
+__all__ = ["CaseStudy", "Orders", "RobotSummary", "RunSummary", "case_study_world", "make_decider"]
 
 
 def make_decider(planner: str | _core.Decider) -> _core.Decider:
-    """A decider by name (random, astar, dstar, rrtconnect, rrtstar, prm), or the one given."""
+    """A decider by its registered name (vwg.registry.deciders: random, astar, dstar, rrtconnect,
+    rrtstar, prm, and any a third party registers), or the one given."""
     if isinstance(planner, _core.Decider):
         return planner
-    try:
-        return PLANNERS[planner.lower()]()
-    except KeyError:
-        raise SchemaError(f"planner: unknown planner '{planner}' (known: {', '.join(PLANNERS)})") from None
+    name = planner.lower()
+    if name not in deciders:
+        raise SchemaError(f"planner: unknown planner '{planner}' (known: {', '.join(deciders)})")
+    return deciders.create(name)
 
 
 def case_study_world(world: RobotWorld, decider: _core.Decider, *, step_length: float = 1.0) -> World:

@@ -8,7 +8,7 @@ from typing import Any, Generic, TypeVar
 
 from .errors import SchemaError
 
-__all__ = ["Registry", "backends", "generators", "platforms"]
+__all__ = ["Registry", "backends", "deciders", "generators", "platforms"]
 
 T = TypeVar("T")
 
@@ -45,6 +45,9 @@ class Registry(Generic[T]):
 
 backends: Registry[Any] = Registry("backend")
 generators: Registry[Any] = Registry("generator")
+#: Deciders by name (paper test 1: the decision is swapped, nothing else): a factory with no
+#: arguments -> a vwg.Decider. ``deciders.register("mine", MyDecider)`` makes ``--planner mine`` work.
+deciders: Registry[Any] = Registry("decider")
 #: Robot platforms by name: a factory (robot world, seed, options) -> an object with ``platform`` (a
 #: vwg.RobotPlatform), ``backend`` (φ on it), ``feedback(alphabet)``, ``sensors(alphabet, kinds)``,
 #: ``view(...)`` and ``robot(id)``, as vwg.Simulation has them.
@@ -65,6 +68,16 @@ def _register_builtins() -> None:
         return Simulation(world, seed=seed)
 
     platforms.register("sim", simulator)
+
+    deciders.register("random", lambda: _core.RandomDecider())
+    deciders.register("astar", lambda: _core.GridDecider("astar"))
+    deciders.register("dstar", lambda: _core.GridDecider("dstar"))
+    # OMPL planners bounded by iterations, not time, so a run is the same on any machine: RRT-Connect
+    # stops at its first solution; RRT* improves its path for all its iterations; "prm" is OMPL's
+    # LazyPRM (PRM proper builds its roadmap on a second thread and is not reproducible).
+    deciders.register("rrtconnect", lambda: _core.OmplDecider("RRTConnect", 20000))
+    deciders.register("rrtstar", lambda: _core.OmplDecider("RRTstar", 5000))
+    deciders.register("prm", lambda: _core.OmplDecider("LazyPRM", 5000))
 
 
 _register_builtins()
