@@ -205,7 +205,8 @@ def _cmd_replay(args: argparse.Namespace) -> int:
     from .registry import backends
     from .worldfile import load_world
 
-    header = read_record(args.record).header
+    record = read_record(args.record)  # read once: decoding a long record is most of a replay's reading
+    header = record.header
     robot = (header.get("world") or {}).get("robot_world")
     if robot:
         from .casestudy import case_study_world, make_decider
@@ -217,9 +218,8 @@ def _cmd_replay(args: argparse.Namespace) -> int:
         world = load_world(_world_file(args.world, "replay", expected="generic")[0]).world if args.world else None
     backend = backends.create(args.backend, world=world) if args.backend else None
     start = time.perf_counter()
-    engine = replay(args.record, world=world, backend=backend)
+    engine = replay(args.record, world=world, backend=backend, record=record)
     wall = time.perf_counter() - start
-    record = read_record(args.record)
     print(f"vwg replay {args.record}: {len(record.frames)} frames replayed, every string as recorded "
           f"({wall:.1f} s)")
     print(f"  final string: {_clip(str(engine.string)) or 'ε'}")

@@ -566,13 +566,16 @@ def world_of_record(record: Record, path: Path) -> World:
     return build_world(doc)
 
 
-def replay(path: str | Path, *, world: World | None = None, backend: _core.Backend | None = None) -> _core.Engine:
+def replay(path: str | Path, *, world: World | None = None, backend: _core.Backend | None = None,
+           record: Record | None = None) -> _core.Engine:
     """Run a record again: the same initial string, the recorded events, the same seed. Raises
-    ReplayError at the first frame whose string differs from the record. Returns the engine."""
+    ReplayError at the first frame whose string differs from the record. Returns the engine.
+    ``record`` is the file already read (read_record(path)), if the caller has it."""
     from .engine import Engine
 
     path = Path(path)
-    record = read_record(path)
+    if record is None:
+        record = read_record(path)
     if world is None:
         world = world_of_record(record, path)
     initial = world.parse(record.header["initial"], f"{path}:initial", record.blobs)

@@ -60,7 +60,7 @@ import yaml
 
 from .errors import WorldFileError
 from .maps import OccupancyGrid, _movingai_spec, load_map
-from .worlds import shipped_worlds
+from .worlds import shipped_world
 from .yamldoc import YamlDoc
 
 __all__ = ["CameraSpec", "KinectSpec", "LaserSpec", "NoiseSpec", "Order", "PlatformSpec", "RobotSpec", "RobotWorld",
@@ -465,8 +465,7 @@ def load_robot_world(path: str | Path) -> RobotWorld:
     """Load and check a robot world file (see the module docs for the schema), or a shipped world by
     name (``"office"``); errors are WorldFileError naming the file, the line and the field."""
     path = Path(path)
-    if not path.exists() and path.parent == Path(".") and path.stem in shipped_worlds():
-        path = shipped_worlds()[path.stem]
+    path = shipped_world(path) or path
     try:
         text = path.read_text(encoding="utf-8")
     except FileNotFoundError:

@@ -16,7 +16,7 @@ from pathlib import Path
 
 from .errors import Error
 
-__all__ = ["kind_of_world", "resolve_world", "shipped_worlds", "worlds_dir"]
+__all__ = ["kind_of_world", "resolve_world", "shipped_world", "shipped_worlds", "worlds_dir"]
 
 
 def worlds_dir() -> Path:
@@ -36,6 +36,15 @@ def shipped_worlds() -> dict[str, Path]:
     return {p.stem: p for p in sorted(worlds_dir().glob("*.yaml"))}
 
 
+def shipped_world(arg: str | Path) -> Path | None:
+    """The shipped world a bare name stands for (``office`` or ``office.yaml``, no folder), when no
+    file of that name exists here; None otherwise."""
+    path = Path(arg).expanduser()
+    if path.exists() or path.parent != Path("."):
+        return None
+    return shipped_worlds().get(path.name.removesuffix(".yaml"))
+
+
 def resolve_world(arg: str | Path) -> Path:
     """The world file an argument names: an existing file, or the name of a shipped world
     (``office`` or ``office.yaml``). Raises Error saying what was looked for otherwise."""
@@ -44,13 +53,12 @@ def resolve_world(arg: str | Path) -> Path:
         return path
     if path.exists():
         raise Error(f"{path}: is not a file (expected a world file, .yaml)")
-    name = path.name.removesuffix(".yaml")
-    if path.parent == Path(".") or str(path.parent) == "":
-        worlds = shipped_worlds()
-        if name in worlds:
-            return worlds[name]
-        raise Error(f"{arg}: no such file, and no shipped world of that name (shipped: {', '.join(worlds)}; "
-                    "`vwg worlds` lists them)")
+    shipped = shipped_world(path)
+    if shipped is not None:
+        return shipped
+    if path.parent == Path("."):
+        raise Error(f"{arg}: no such file, and no shipped world of that name (shipped: "
+                    f"{', '.join(shipped_worlds())}; `vwg worlds` lists them)")
     raise Error(f"{arg}: file not found")
 
 
