@@ -63,6 +63,34 @@ def test_laser_sees_other_robots_and_only_hits_make_events():
     assert [e.dist for e in engine.last_events] == pytest.approx([3.7], abs=1e-6)
 
 
+@pytest.mark.parametrize("heading, fov, beams", [(0.3, 2 * math.pi, 360), (10.0, math.pi, 181), (-7.5, 1.0, 64)])
+def test_laser_in_a_crowd_equals_a_test_of_every_beam_against_every_disc(heading, fov, beams):
+    # The scanner tests only the beams near each neighbour's bearing; the truth here tests them all.
+    rng = np.random.default_rng(3)
+    grid = box_map(200)
+    robots = [{"id": 1, "start": (5.0, 5.0, heading)}]
+    while len(robots) < 40:
+        x, y = rng.uniform(0.5, 9.5, 2)
+        if all(math.hypot(x - r["start"][0], y - r["start"][1]) > 0.5 for r in robots):
+            robots.append({"id": len(robots) + 1, "start": (x, y, 0.0), "radius": float(rng.uniform(0.1, 0.3))})
+    alphabet, _, scanner = sim_world(grid, robots)
+    laser = _core.LaserGenerator(scanner, 1, alphabet, beams=beams, fov=fov, max_range=8.0)
+    vwg.Engine(vwg.World(alphabet), "Robot<1>", [laser]).step()
+    angles = laser.angles
+    truth = _core.GridRaycaster(grid).scan((5.0, 5.0, heading), angles, 8.0).astype(np.float64)
+    a = heading + angles
+    dx, dy = np.cos(a), np.sin(a)
+    for r in robots[1:]:
+        cx, cy = r["start"][0] - 5.0, r["start"][1] - 5.0
+        along = cx * dx + cy * dy
+        across2 = cx * cx + cy * cy - along**2
+        hit = across2 <= r["radius"] ** 2
+        t = along - np.sqrt(np.where(hit, r["radius"] ** 2 - across2, 0.0))
+        truth = np.where(hit & (t >= 0) & (t < truth), t, truth)
+    assert (truth < 8.0).sum() > beams // 4  # the crowd is seen, not only walls
+    np.testing.assert_allclose(laser.ranges, truth, atol=1e-5)
+
+
 def test_kinect_depth_image_by_hand():
     grid = box_map(200)  # inner faces at 0.05 and 9.95
     alphabet, _, scanner = sim_world(grid, [{"id": 1, "start": (7.95, 5.0, 0.0)}])

@@ -13,11 +13,10 @@ namespace {
 struct PyFrameRecord {
   std::uint64_t frame = 0;
   double time = 0.0;
-  const WorldString* before = nullptr;
   const WorldString* after = nullptr;
   const EventList* events = nullptr;
   void check() const {
-    if (!before) throw SchemaError("FrameRecord", "is only available during the observer call");
+    if (!after) throw SchemaError("FrameRecord", "is only available during the observer call");
   }
 };
 
@@ -55,14 +54,11 @@ done(self, w, frame).)doc")
       .def(py::init<>())
       .def("done", &StopCondition::done, py::arg("w"), py::arg("frame"));
 
-  py::class_<PyFrameRecord, std::shared_ptr<PyFrameRecord>>(m, "FrameRecord", "A completed frame, as observers see it (valid during the call).")
+  py::class_<PyFrameRecord, std::shared_ptr<PyFrameRecord>>(m, "FrameRecord", "A completed frame as observers see it (valid during the call): its events and the string they made. The string at its start is the previous frame's ``after``.")
       .def_readonly("frame", &PyFrameRecord::frame)
       .def_readonly("time", &PyFrameRecord::time)
-      .def_property_readonly("before", [](const PyFrameRecord& r) { r.check(); return WorldString(*r.before); },
-                             "w at the start of the frame (a copy).")
       .def_property_readonly("after", [](const PyFrameRecord& r) { r.check(); return WorldString(*r.after); },
                              "w after the frame (a copy).")
-      .def_property_readonly("before_text", [](const PyFrameRecord& r) { r.check(); return to_text(*r.before); })
       .def_property_readonly("after_text", [](const PyFrameRecord& r) { r.check(); return to_text(*r.after); })
       .def_property_readonly("events", [](const PyFrameRecord& r) {
         r.check();
@@ -82,11 +78,9 @@ done(self, w, frame).)doc")
         auto add = [&](const ValueStore& store, const Value& v) {
           if (v.kind == ValueKind::Blob) out[py::str(blob_name(*store.blob(v)).substr(1))] = blob_to_python(store.blob(v));
         };
-        for (const WorldString* w : {r.before, r.after}) {
-          for (const Node& n : w->nodes()) {
-            if (n.kind == NodeKind::Close) continue;
-            for (std::uint16_t k = 0; k < n.value_count; ++k) add(w->store(), w->store()[n.first_value + k]);
-          }
+        for (const Node& n : r.after->nodes()) {
+          if (n.kind == NodeKind::Close) continue;
+          for (std::uint16_t k = 0; k < n.value_count; ++k) add(r.after->store(), r.after->store()[n.first_value + k]);
         }
         for (std::size_t i = 0; i < r.events->size(); ++i) {
           const EventView e = (*r.events)[i];
@@ -203,7 +197,7 @@ vwg.FrameError naming the frame, the stage, the actor and the event.)doc")
         e.keep_alive.append(fn);
         e.engine->add_observer([fn](const FrameRecord& r) {
           py::gil_scoped_acquire gil;
-          auto record = std::make_shared<PyFrameRecord>(PyFrameRecord{r.frame, r.time, &r.before, &r.after, &r.events});
+          auto record = std::make_shared<PyFrameRecord>(PyFrameRecord{r.frame, r.time, &r.after, &r.events});
           py::object arg = py::cast(record);
           try {
             fn(arg);

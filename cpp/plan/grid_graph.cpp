@@ -65,12 +65,9 @@ BlockedGrid BlockedGrid::from_occupancy(const sim::OccupancyGrid& grid, int thre
   return out;
 }
 
-void BlockedGrid::set_blocked(Cell c, bool blocked) {
-  if (!inside(c)) {
-    throw SchemaError("cell", "cell " + to_string(c) + " is outside the " + std::to_string(rows_) + " × " +
-                                  std::to_string(cols_) + " grid");
-  }
-  cells_[index(c)] = blocked ? 1 : 0;
+void BlockedGrid::throw_outside(Cell c) const {
+  throw SchemaError("cell", "cell " + to_string(c) + " is outside the " + std::to_string(rows_) + " × " +
+                                std::to_string(cols_) + " grid");
 }
 
 std::size_t BlockedGrid::blocked_count() const {

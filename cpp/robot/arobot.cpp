@@ -102,14 +102,15 @@ void ARobot::evolve(ActorState& self, const EventView& e, const EvolutionContext
     const double d = e.number(0);
     const double x0 = self.get_real(kX), y0 = self.get_real(kY);
     const double hx = x0 + d * std::cos(a), hy = y0 + d * std::sin(a);
-    Blob& map = self.mutable_blob(kGrid);
+    MapEdit map = self.edit_blob<std::int16_t>(kGrid);
     if (config_.carve_free_space) carve_free(map, g, x0, y0, hx, hy);
     // Half a cell beyond the surface, so the cell marked is the one the beam stopped in.
     mark_obstacle(map, g, hx + 0.5 * g.resolution * std::cos(a), hy + 0.5 * g.resolution * std::sin(a));
   } else if (type == ev_.camera) {
     const double a = self.get_real(kAngle) + e.number(2);
     const double d = e.number(1) + 0.5 * g.resolution;
-    mark_marker(self.mutable_blob(kGrid), g, self.get_real(kX) + d * std::cos(a), self.get_real(kY) + d * std::sin(a),
+    MapEdit map = self.edit_blob<std::int16_t>(kGrid);
+    mark_marker(map, g, self.get_real(kX) + d * std::cos(a), self.get_real(kY) + d * std::sin(a),
                 static_cast<int>(e.value(0).i));
   } else if (type == ev_.objective) {
     const std::int64_t marker = e.value(0).i;
@@ -136,7 +137,8 @@ void ARobot::evolve(ActorState& self, const EventView& e, const EvolutionContext
     // cell just ahead, so the next plan goes round it. Robots move on: they are not marked.
     if (e.value(0).i == 0) {
       const double a = self.get_real(kAngle), d = config_.radius + 0.5 * g.resolution;
-      mark_obstacle(self.mutable_blob(kGrid), g, self.get_real(kX) + d * std::cos(a), self.get_real(kY) + d * std::sin(a));
+      MapEdit map = self.edit_blob<std::int16_t>(kGrid);
+      mark_obstacle(map, g, self.get_real(kX) + d * std::cos(a), self.get_real(kY) + d * std::sin(a));
     }
   } else if (type == ev_.decide) {
     decide(self, ctx);

@@ -39,19 +39,6 @@ std::vector<double> to_world(const MapGeometry& g, const plan::GridPath& path, d
 
 }  // namespace
 
-bool PlanningMap::update(const Blob& map, const MapGeometry& g, double r) {
-  const std::uint64_t hash = map.content_hash();
-  if (hash == map_hash && r == radius && obstacles.rows() == g.height) return false;
-  const auto cells = map.view<std::int16_t>();
-  std::vector<std::uint8_t> mask(cells.size());
-  for (std::size_t i = 0; i < cells.size(); ++i) mask[i] = is_obstacle(cells[i]) || cells[i] == kUnknownCell;
-  obstacles = plan::BlockedGrid::from_mask(std::span<const std::uint8_t>(mask), g.height, g.width);
-  inflated = plan::inflate(obstacles, r / g.resolution);
-  map_hash = hash;
-  radius = r;
-  return true;
-}
-
 plan::Cell nearest_free(const plan::BlockedGrid& grid, plan::Cell cell, int reach) {
   if (grid.inside(cell) && !grid.blocked(cell)) return cell;
   for (int d = 1; d <= reach; ++d) {
@@ -100,18 +87,18 @@ plan::GridPath GridDecider::search(RobotState& s, plan::Cell start, plan::Cell g
   const auto t0 = Clock::now();
   plan::GridPath path;
   if (algorithm_ == Algorithm::AStar) {
-    path = plan::astar(s.map.inflated, start, goal);
+    path = plan::astar(s.map.inflated(), start, goal);
   } else {
-    if (!s.dstar || !(s.goal == goal) || s.dstar->grid().rows() != s.map.inflated.rows()) {
-      s.dstar.emplace(s.map.inflated, start, goal);
+    if (!s.dstar || !(s.goal == goal) || s.dstar->grid().rows() != s.map.inflated().rows()) {
+      s.dstar.emplace(s.map.inflated(), start, goal);
     } else {
       // Tell D* Lite which cells differ from the grid it knows, both ways (also what changed while
       // the robot kept its plan): its repair touches only what they affect.
       const plan::BlockedGrid& known = s.dstar->grid();
       std::vector<plan::Cell> now_blocked, now_free;
-      for (int r = 0; r < s.map.inflated.rows(); ++r) {
-        for (int c = 0; c < s.map.inflated.cols(); ++c) {
-          const bool was = known.blocked({r, c}), is = s.map.inflated.blocked({r, c});
+      for (int r = 0; r < s.map.inflated().rows(); ++r) {
+        for (int c = 0; c < s.map.inflated().cols(); ++c) {
+          const bool was = known.blocked({r, c}), is = s.map.inflated().blocked({r, c});
           if (is && !was) now_blocked.push_back({r, c});
           if (!is && was) now_free.push_back({r, c});
         }
@@ -141,8 +128,8 @@ Decision GridDecider::decide(const DecisionInput& in) {
     return d;
   }
   const int reach = static_cast<int>(std::ceil(in.radius / g.resolution)) + 2;
-  const plan::Cell start = nearest_free(s.map.inflated, cell_at(g, in.pose.x, in.pose.y), reach);
-  const plan::Cell goal = nearest_free(s.map.inflated, cell_at(g, in.goal_x, in.goal_y), reach);
+  const plan::Cell start = nearest_free(s.map.inflated(), cell_at(g, in.pose.x, in.pose.y), reach);
+  const plan::Cell goal = nearest_free(s.map.inflated(), cell_at(g, in.goal_x, in.goal_y), reach);
   if (start.row < 0 || goal.row < 0) {
     d.kind = Decision::Kind::NoPath;
     return d;
@@ -191,7 +178,7 @@ Decision OmplDecider::decide(const DecisionInput& in) {
     return d;
   }
   const auto t0 = Clock::now();
-  plan::OmplGridPlanner planner(m.obstacles, g.resolution, g.origin, in.radius);
+  plan::OmplGridPlanner planner(m.obstacles(), g.resolution, g.origin, in.radius);
   plan::OmplOptions options;
   options.planner = planner_;
   options.time_limit = 0.0;  // iterations alone: no wall clock inside a frame's decision

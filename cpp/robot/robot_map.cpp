@@ -41,9 +41,7 @@ std::shared_ptr<Blob> make_robot_map(const sim::OccupancyGrid& world, bool knows
 }
 
 namespace {
-std::int16_t& cell(Blob& map, const MapGeometry& g, int row, int col) {
-  return map.mutable_view<std::int16_t>()[static_cast<std::size_t>(row) * g.width + col];
-}
+std::size_t index(const MapGeometry& g, int row, int col) { return static_cast<std::size_t>(row) * g.width + col; }
 std::int16_t cell(const Blob& map, const MapGeometry& g, int row, int col) {
   return map.view<std::int16_t>()[static_cast<std::size_t>(row) * g.width + col];
 }
@@ -54,27 +52,27 @@ void check(const Blob& map, const MapGeometry& g) {
 }
 }  // namespace
 
-bool mark_obstacle(Blob& map, const MapGeometry& g, double x, double y) {
-  check(map, g);
+bool mark_obstacle(MapEdit& map, const MapGeometry& g, double x, double y) {
+  check(map.blob(), g);
   int r, c;
   if (!g.cell_of(x, y, r, c)) return false;
-  if (is_obstacle(cell(static_cast<const Blob&>(map), g, r, c))) return false;  // walls and markers stay
-  cell(map, g, r, c) = kSeenCell;
+  if (is_obstacle(map[index(g, r, c)])) return false;  // walls and markers stay
+  map.set(index(g, r, c), kSeenCell);
   return true;
 }
 
-bool mark_marker(Blob& map, const MapGeometry& g, double x, double y, int tag) {
-  check(map, g);
+bool mark_marker(MapEdit& map, const MapGeometry& g, double x, double y, int tag) {
+  check(map.blob(), g);
   int r, c;
   if (!g.cell_of(x, y, r, c)) return false;
   const auto value = static_cast<std::int16_t>(kMarkerBase + tag);
-  if (cell(static_cast<const Blob&>(map), g, r, c) == value) return false;
-  cell(map, g, r, c) = value;
+  if (map[index(g, r, c)] == value) return false;
+  map.set(index(g, r, c), value);
   return true;
 }
 
-int carve_free(Blob& map, const MapGeometry& g, double x0, double y0, double x1, double y1) {
-  check(map, g);
+int carve_free(MapEdit& map, const MapGeometry& g, double x0, double y0, double x1, double y1) {
+  check(map.blob(), g);
   const sim::OccupancyGrid f = g.frame();
   double u0, v0, u1, v1;
   f.world_to_grid(x0, y0, u0, v0);
@@ -91,8 +89,8 @@ int carve_free(Blob& map, const MapGeometry& g, double x0, double y0, double x1,
   int changed = 0;
   const int limit = std::abs(end_col - col) + std::abs(end_row - row) + 2;
   for (int k = 0; k < limit && !(col == end_col && row == end_row); ++k) {
-    if (row >= 0 && col >= 0 && row < g.height && col < g.width && cell(static_cast<const Blob&>(map), g, row, col) == kSeenCell) {
-      cell(map, g, row, col) = kFreeCell;
+    if (row >= 0 && col >= 0 && row < g.height && col < g.width && map[index(g, row, col)] == kSeenCell) {
+      map.set(index(g, row, col), kFreeCell);
       ++changed;
     }
     if (t_u < t_v) {

@@ -13,6 +13,16 @@ void ActorState::load(const WorldString& s, std::size_t index) {
   info_ = &s.alphabet().symbol(n.symbol);
   store_.clear();
   store_.push_range(s.store(), n.first_value, n.value_count);
+  journal_ = nullptr;
+}
+
+void ActorState::load_in_place(const WorldString& s, std::size_t index, BlobJournal& journal) {
+  load(s, index);
+  journal_ = &journal;
+  loaded_blobs_.assign(size(), nullptr);
+  for (std::size_t k = 0; k < size(); ++k) {
+    if (value(k).kind == ValueKind::Blob) loaded_blobs_[k] = store_.blob(value(k)).get();
+  }
 }
 
 void ActorState::assign(const Alphabet& alphabet, SymbolId id, std::span<const Datum> attributes) {
@@ -23,6 +33,7 @@ void ActorState::assign(const Alphabet& alphabet, SymbolId id, std::span<const D
   info_ = &info;
   store_.clear();
   for (const Datum& d : checked) store_.push(d);
+  journal_ = nullptr;
 }
 
 std::size_t ActorState::index_of(std::string_view name) const {
@@ -103,6 +114,35 @@ void ActorState::set_blob(std::size_t i, std::shared_ptr<const Blob> v) {
   expect(i, ValueKind::Blob);
   if (!v) throw SchemaError(info_->name + "." + info_->schema.params[i].name, "null blob");
   store_.set(static_cast<std::uint32_t>(i), Datum(std::move(v)));
+}
+
+Blob& ActorState::writable_blob(std::size_t i, DType dtype, BlobJournal*& journal) {
+  expect(i, ValueKind::Blob);
+  const std::shared_ptr<const Blob>& held = store_.blob(value(i));
+  if (held->dtype() != dtype) {
+    throw SchemaError(info_->name + "." + info_->schema.params[i].name,
+                      "holds " + std::string(dtype_name(held->dtype())) + " elements, edited as " +
+                          std::string(dtype_name(dtype)));
+  }
+  bool in_other_attribute = false;
+  for (std::size_t k = 0; k < size(); ++k) {
+    if (k != i && value(k).kind == ValueKind::Blob && value(k).blob == value(i).blob) in_other_attribute = true;
+  }
+  journal = nullptr;
+  if (!in_other_attribute) {
+    // Held here alone (made in this frame): nobody can see the writes.
+    if (held.use_count() == 1) return const_cast<Blob&>(*held);
+    // Held here and by the engine's string it was loaded from, nowhere else (not by Python, a
+    // snapshot, another actor or the display): written in place, each change journaled.
+    if (journal_ && held.use_count() == 2 && i < loaded_blobs_.size() && loaded_blobs_[i] == held.get()) {
+      journal = journal_;
+      return const_cast<Blob&>(*held);
+    }
+  }
+  std::shared_ptr<Blob> copy = held->clone();
+  Blob& ref = *copy;
+  store_.set(static_cast<std::uint32_t>(i), Datum(std::shared_ptr<const Blob>(std::move(copy))));
+  return ref;
 }
 
 Blob& ActorState::mutable_blob(std::size_t i) {

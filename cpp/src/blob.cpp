@@ -1,5 +1,6 @@
 #include "vwg/blob.hpp"
 
+#include <atomic>
 #include <cstring>
 #include <string>
 
@@ -48,6 +49,10 @@ DType dtype_from_name(std::string_view name) {
 }
 
 namespace {
+// Revisions come from one process-wide counter, so no two contents ever share one.
+std::atomic<std::uint64_t> next_revision{1};
+std::uint64_t new_revision() { return next_revision.fetch_add(1, std::memory_order_relaxed); }
+
 std::size_t element_count(const std::vector<std::int64_t>& shape) {
   if (shape.size() > 4) throw SchemaError("shape", "a blob has at most 4 dimensions");
   std::size_t n = 1;
@@ -61,7 +66,12 @@ std::size_t element_count(const std::vector<std::int64_t>& shape) {
 
 Blob::Blob(DType dtype, std::vector<std::int64_t> shape)
     : dtype_(dtype), shape_(std::move(shape)), size_(element_count(shape_)),
-      bytes_(size_ * dtype_size(dtype)) {}
+      bytes_(size_ * dtype_size(dtype)), revision_(new_revision()) {}
+
+void Blob::note_written() {
+  hash_valid_ = false;
+  revision_ = new_revision();
+}
 
 Blob::Blob(DType dtype, std::vector<std::int64_t> shape, const void* data, std::size_t nbytes)
     : Blob(dtype, std::move(shape)) {

@@ -1,5 +1,7 @@
 #include "vwg/engine.hpp"
 
+#include <optional>
+
 #include <cmath>
 #include <string>
 #include <utility>
@@ -89,34 +91,45 @@ bool Engine::step_with(const EventList& events) {
 bool Engine::run_frame(const EventList& events) {
   const Alphabet::FrameUse frozen(w_.alphabet());  // no names added while the frame reads them
   const FrameContext ctx{frame_, time(), options_.seed};
-  // η and π both read w; a string with no actors is its own evolution and its own display.
+  // η and π both read w. π runs first, since η may change w's large attributes in place; a
+  // string with no actors is its own evolution and its own display.
   const bool has_actors = w_.actor_count() > 0;
-  WorldString next = has_actors ? evolve(w_, events, ctx) : w_;
-  if (options_.max_symbols && next.symbol_count() > options_.max_symbols) {
-    throw FrameError(frame_, "evolve", "", "", "", "the string grew to " + std::to_string(next.symbol_count()) +
-                     " symbols, over the limit of " + std::to_string(options_.max_symbols) +
-                     " (max_symbols); raise the limit if this growth is intended", nullptr);
-  }
-  if (backend_) {
-    const FrameInfo info{frame_, time(), options_.dt, &w_};
-    const WorldString shown = has_actors ? visualize(w_, events, ctx) : WorldString(w_.alphabet_ptr());
-    const WorldString& v = has_actors ? shown : w_;
-    std::string where = "backend '" + backend_->name() + "'";
-    try {
-      backend_->begin_frame(info);
-      display(v, *backend_);
-      backend_->end_frame(info);
-    } catch (...) {
-      const std::exception_ptr cause = std::current_exception();
-      throw FrameError(frame_, "display", "", "", where, describe_exception(cause), cause);
+  std::optional<WorldString> shown;
+  if (backend_ && has_actors) shown = visualize(w_, events, ctx);
+  journal_.clear();
+  std::optional<WorldString> next;
+  try {
+    next.emplace(has_actors ? evolve_in_place(w_, events, ctx, journal_) : w_);
+    if (options_.max_symbols && next->symbol_count() > options_.max_symbols) {
+      throw FrameError(frame_, "evolve", "", "", "", "the string grew to " + std::to_string(next->symbol_count()) +
+                       " symbols, over the limit of " + std::to_string(options_.max_symbols) +
+                       " (max_symbols); raise the limit if this growth is intended", nullptr);
     }
+    if (backend_) {
+      const FrameInfo info{frame_, time(), options_.dt, &*next};
+      std::string where = "backend '" + backend_->name() + "'";
+      try {
+        backend_->begin_frame(info);
+        display(shown ? *shown : w_, *backend_);
+        backend_->end_frame(info);
+      } catch (...) {
+        const std::exception_ptr cause = std::current_exception();
+        throw FrameError(frame_, "display", "", "", where, describe_exception(cause), cause);
+      }
+    }
+  } catch (...) {
+    // All or nothing: w gets back what λ changed in place.
+    next.reset();
+    journal_.rollback();
+    throw;
   }
   // The frame is complete: commit it, then tell the observers (a failing recorder does not undo
   // a frame the backend has already run).
-  const WorldString before = std::exchange(w_, std::move(next));
+  journal_.clear();
+  w_ = std::move(*next);
   last_events_ = events;
   const std::uint64_t done = frame_++;
-  const FrameRecord record{done, static_cast<double>(done) * options_.dt, before, last_events_, w_};
+  const FrameRecord record{done, static_cast<double>(done) * options_.dt, last_events_, w_};
   for (const auto& observer : observers_) observer(record);
   return true;
 }

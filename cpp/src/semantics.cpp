@@ -96,7 +96,8 @@ bool reaches(const EventView& e, const std::optional<std::int64_t>& actor_id) {
 
 class Evolver {
  public:
-  Evolver(const EventList& events, const FrameContext& ctx) : events_(events), ctx_(ctx), routing_(events, false) {}
+  Evolver(const EventList& events, const FrameContext& ctx, BlobJournal* journal = nullptr)
+      : events_(events), ctx_(ctx), routing_(events, false), journal_(journal) {}
 
   WorldString run(const WorldString& w) {
     StringBuilder out(w.alphabet_ptr());
@@ -158,7 +159,13 @@ class Evolver {
     }
     Level& L = level(w.alphabet(), depth, w.alphabet_ptr());
     ActorState& state = L.state;
-    state.load(w, i);
+    // Only the actors of the engine's own string (depth 0) are edited in place: a replacement
+    // string made this frame is not the engine's.
+    if (journal_ && depth == 0) {
+      state.load_in_place(w, i, *journal_);
+    } else {
+      state.load(w, i);
+    }
     while (it != relevant->end()) {
       const EventView e = events_[*it];
       const EvolutionContext ectx{ctx_.frame, ctx_.time, derive_seed(derive_seed(ctx_.seed, ctx_.frame, depth), i, *it)};
@@ -298,6 +305,7 @@ class Evolver {
   const EventList& events_;
   const FrameContext& ctx_;
   EventRouting routing_;
+  BlobJournal* journal_;
   std::vector<std::unique_ptr<Level>> levels_;
   std::map<SymbolId, std::vector<BatchMember>> batches_;
 };
@@ -307,6 +315,13 @@ class Evolver {
 WorldString evolve(const WorldString& w, const EventList& events, const FrameContext& ctx) {
   if (events.alphabet_ptr() != w.alphabet_ptr()) throw Error("evolve: events and string use different alphabets");
   Evolver evolver(events, ctx);
+  return evolver.run(w);
+}
+
+WorldString evolve_in_place(const WorldString& w, const EventList& events, const FrameContext& ctx,
+                            BlobJournal& journal) {
+  if (events.alphabet_ptr() != w.alphabet_ptr()) throw Error("evolve: events and string use different alphabets");
+  Evolver evolver(events, ctx, &journal);
   return evolver.run(w);
 }
 

@@ -508,7 +508,7 @@ class StopCondition:
         ...
 class FrameRecord:
     """
-    A completed frame, as observers see it (valid during the call).
+    A completed frame as observers see it (valid during the call): its events and the string they made. The string at its start is the previous frame's ``after``.
     """
     @property
     def after(self) -> String:
@@ -517,14 +517,6 @@ class FrameRecord:
         """
     @property
     def after_text(self) -> str:
-        ...
-    @property
-    def before(self) -> String:
-        """
-        w at the start of the frame (a copy).
-        """
-    @property
-    def before_text(self) -> str:
         ...
     @property
     def blobs(self) -> dict:

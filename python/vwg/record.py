@@ -417,6 +417,9 @@ class Recorder:
         self._columns = _Columns()
         initial = engine.string
         self._known = set(initial.blobs())
+        # A frame's line holds the string at its start: the previous frame's result, kept as text
+        # (its blobs were written with that frame, while they had that content).
+        self._before_text = str(initial)
         self._write({
             "vwg_record": FORMAT,
             "version": _core.__version__,
@@ -442,11 +445,12 @@ class Recorder:
             return
         events = _encode_events(self._columns, record.events, record.event_texts)
         line: dict[str, Any] = {"t": record.frame, "time": record.time, "events": events,
-                                "string": record.before_text}
+                                "string": self._before_text}
         fresh = {n: b for n, b in record.blobs.items() if n not in self._known}
         if fresh:
             line["blobs"] = {n: self._blobs.encode(n, b) for n, b in fresh.items()}
             self._known.update(fresh)
+        self._before_text = record.after_text
         self._write(line)
         self.frames += 1
 

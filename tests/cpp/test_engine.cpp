@@ -158,3 +158,128 @@ TEST(Engine, RefusesABadTimeStep) {
   EXPECT_THROW(Engine(parse_string(a, "Counter"), {}, nullptr, EngineOptions{0.0, 0}), SchemaError);
   EXPECT_THROW(Engine(parse_string(a, "Counter"), {}, nullptr, EngineOptions{std::nan(""), 0}), SchemaError);
 }
+
+// --- large attributes written in place during a frame (ActorState::edit_blob) ---------------
+
+namespace {
+
+/// Painter<canvas: 8 uint8 cells>: paint<cell, colour> sets a cell; fail<cell> sets it, then throws.
+std::shared_ptr<Alphabet> painter_alphabet() {
+  auto a = std::make_shared<Alphabet>();
+  a->add_primitive("Shown");
+  a->add_event_type("paint", false, schema({integer("cell"), integer("colour")}));
+  a->add_event_type("fail", false, schema({integer("cell")}));
+  a->add_event_type("show", true);
+  const EventTypeId fail = *a->find_event_type("fail");
+  a->add_actor("Painter", {"paint", "fail", "show"}, schema({ParamSpec{"canvas", ValueKind::Blob, std::nullopt}}),
+               std::make_shared<LambdaActor>(
+                   [fail](ActorState& s, const EventView& e, const EvolutionContext&, Replacement&) {
+                     if (e.field_count() == 0) return;
+                     auto canvas = s.edit_blob<std::uint8_t>(0);
+                     canvas.set(static_cast<std::size_t>(e.value(0).i), e.type() == fail ? 99 : static_cast<std::uint8_t>(e.value(1).i));
+                     if (e.type() == fail) throw std::runtime_error("failed after painting");
+                   },
+                   [](const ActorState&, const EventView&, StringBuilder& out) { out.primitive("Shown"); }));
+  return a;
+}
+
+WorldString painter(const std::shared_ptr<Alphabet>& a, std::vector<std::uint8_t> cells) {
+  auto canvas = std::make_shared<const Blob>(DType::UInt8, std::vector<std::int64_t>{8}, cells.data(), cells.size());
+  StringBuilder b(a);
+  b.actor("Painter", {Datum(std::shared_ptr<const Blob>(canvas))});
+  return b.finish();
+}
+
+const Blob& canvas_of(const Engine& engine) {
+  const WorldString& w = engine.string();
+  return *w.store().blob(w.node(0).value(0));
+}
+
+std::vector<std::uint8_t> cells_of(const Blob& b) { return {b.view<std::uint8_t>().begin(), b.view<std::uint8_t>().end()}; }
+
+class Script : public Generator {
+ public:
+  explicit Script(std::vector<std::vector<std::vector<std::int64_t>>> frames) : frames_(std::move(frames)) {}
+  void generate(const FrameInfo& f, EventList& out) override {
+    if (f.frame >= frames_.size()) return;
+    for (const auto& e : frames_[f.frame]) {
+      if (e.size() == 2) {
+        out.emit("paint", {e[0], e[1]});
+      } else {
+        out.emit("fail", {e[0]});
+      }
+    }
+  }
+
+ private:
+  std::vector<std::vector<std::vector<std::int64_t>>> frames_;
+};
+
+}  // namespace
+
+TEST(EngineInPlace, AnUnsharedBlobIsWrittenInPlaceAndASharedOneIsCopied) {
+  auto a = painter_alphabet();
+  Engine engine(painter(a, {0, 0, 0, 0, 0, 0, 0, 0}), {std::make_shared<Script>(std::vector<std::vector<std::vector<std::int64_t>>>{
+                    {{1, 5}}, {{2, 6}}, {{3, 7}}})},
+                nullptr);
+  const Blob* first = &canvas_of(engine);
+  engine.step();
+  EXPECT_EQ(&canvas_of(engine), first) << "held by the engine's string alone: no copy";
+  EXPECT_EQ(cells_of(canvas_of(engine)), (std::vector<std::uint8_t>{0, 5, 0, 0, 0, 0, 0, 0}));
+  const WorldString kept = engine.string();  // someone else holds the canvas now
+  engine.step();
+  EXPECT_NE(&canvas_of(engine), first) << "shared: written on a copy";
+  EXPECT_EQ(cells_of(*kept.store().blob(kept.node(0).value(0))), (std::vector<std::uint8_t>{0, 5, 0, 0, 0, 0, 0, 0}));
+  EXPECT_EQ(cells_of(canvas_of(engine)), (std::vector<std::uint8_t>{0, 5, 6, 0, 0, 0, 0, 0}));
+}
+
+TEST(EngineInPlace, AFailedFrameTakesBackWhatItWroteInPlace) {
+  auto a = painter_alphabet();
+  // Frame 1 paints cells 4 and 5 in place, then fails on cell 6: all three are taken back.
+  Engine engine(painter(a, {1, 1, 1, 1, 1, 1, 1, 1}),
+                {std::make_shared<Script>(std::vector<std::vector<std::vector<std::int64_t>>>{{{0, 9}}, {{4, 2}, {5, 3}, {6}}})},
+                nullptr);
+  engine.step();
+  const Blob* canvas = &canvas_of(engine);
+  const std::uint64_t revision = canvas->revision();
+  EXPECT_THROW(engine.step(), FrameError);
+  EXPECT_EQ(&canvas_of(engine), canvas);
+  EXPECT_EQ(cells_of(canvas_of(engine)), (std::vector<std::uint8_t>{9, 1, 1, 1, 1, 1, 1, 1}));
+  EXPECT_NE(canvas->revision(), revision) << "written and restored: a new revision (conservative)";
+  EXPECT_EQ(engine.frame(), 1u);
+}
+
+TEST(EngineInPlace, AFailedDisplayTakesBackTheFrame) {
+  class Show : public Generator {
+    void generate(const FrameInfo&, EventList& out) override { out.emit("show"); }
+  };
+  class Broken : public Backend {
+    void primitive(const NodeView&) override { throw std::runtime_error("display broke"); }
+    void open(const NodeView&) override {}
+    void close(const NodeView&) override {}
+  };
+  auto a = painter_alphabet();
+  Engine engine(painter(a, {0, 0, 0, 0, 0, 0, 0, 0}),
+                {std::make_shared<Script>(std::vector<std::vector<std::vector<std::int64_t>>>{{{3, 4}}}),
+                 std::make_shared<Show>()},
+                std::make_shared<Broken>());
+  EXPECT_THROW(engine.step(), FrameError);
+  EXPECT_EQ(cells_of(canvas_of(engine)), (std::vector<std::uint8_t>(8, 0)));
+}
+
+TEST(EngineInPlace, TheFreeFunctionEvolveNeverWritesItsInput) {
+  auto a = painter_alphabet();
+  const WorldString w = painter(a, {0, 0, 0, 0, 0, 0, 0, 0});
+  EventList events(a);
+  events.emit("paint", {std::int64_t{2}, std::int64_t{8}});
+  const WorldString next = evolve(w, events, FrameContext{});
+  EXPECT_EQ(cells_of(*w.store().blob(w.node(0).value(0))), (std::vector<std::uint8_t>(8, 0)));
+  EXPECT_EQ(cells_of(*next.store().blob(next.node(0).value(0))), (std::vector<std::uint8_t>{0, 0, 8, 0, 0, 0, 0, 0}));
+}
+
+TEST(EngineInPlace, EditingWithTheWrongElementTypeIsRefused) {
+  auto a = painter_alphabet();
+  ActorState s;
+  s.load(painter(a, {0, 0, 0, 0, 0, 0, 0, 0}), 0);
+  EXPECT_THROW(s.edit_blob<std::int16_t>(0), SchemaError);
+}

@@ -7,9 +7,11 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <vector>
 
 #include "vwg/alphabet.hpp"
+#include "vwg/blob_edit.hpp"
 #include "vwg/event.hpp"
 #include "vwg/value.hpp"
 #include "vwg/world_string.hpp"
@@ -23,6 +25,9 @@ class ActorState {
   ActorState() = default;
   /// Load the actor at node `index` of `s`.
   void load(const WorldString& s, std::size_t index);
+  /// Load it from the engine's own string during a frame: edit_blob may then write in place into
+  /// the blobs that only that string and this state hold, each change recorded in `journal`.
+  void load_in_place(const WorldString& s, std::size_t index, BlobJournal& journal);
   /// A fresh actor of type `id` with the given attributes (checked against the schema).
   void assign(const Alphabet& alphabet, SymbolId id, std::span<const Datum> attributes);
 
@@ -51,14 +56,40 @@ class ActorState {
   void set_blob(std::size_t i, std::shared_ptr<const Blob> v);
   /// Write access to a blob attribute: copied first if anyone else holds it (copy-on-write).
   Blob& mutable_blob(std::size_t i);
+  /// Element writes to a blob attribute of element type T: in place when nobody but this state
+  /// (and, in the engine's frame, the string it came from) can see it; else on a private copy.
+  /// Cheaper than mutable_blob when a few elements of a large array change.
+  template <class T>
+  BlobEdit<T> edit_blob(std::size_t i) {
+    BlobJournal* journal = nullptr;
+    Blob& blob = writable_blob(i, dtype_of<T>(), journal);
+    return BlobEdit<T>(blob, journal);
+  }
 
   const ValueStore& store() const { return store_; }
 
  private:
   void expect(std::size_t i, ValueKind kind) const;
+  Blob& writable_blob(std::size_t i, DType dtype, BlobJournal*& journal);
+  template <class T>
+  static constexpr DType dtype_of() {
+    if constexpr (std::is_same_v<T, std::int8_t>) return DType::Int8;
+    else if constexpr (std::is_same_v<T, std::uint8_t>) return DType::UInt8;
+    else if constexpr (std::is_same_v<T, std::int16_t>) return DType::Int16;
+    else if constexpr (std::is_same_v<T, std::int32_t>) return DType::Int32;
+    else if constexpr (std::is_same_v<T, std::int64_t>) return DType::Int64;
+    else if constexpr (std::is_same_v<T, float>) return DType::Float32;
+    else {
+      static_assert(std::is_same_v<T, double>, "a blob element is an int8..int64, float or double");
+      return DType::Float64;
+    }
+  }
   SymbolId symbol_ = 0;
   const SymbolInfo* info_ = nullptr;
   ValueStore store_;  // attribute i is store_[i]; replaced text and blobs leave garbage until load
+  // Set by load_in_place: the journal, and the blobs as loaded (the ones the string also holds).
+  BlobJournal* journal_ = nullptr;
+  std::vector<const Blob*> loaded_blobs_;
 };
 
 /// Canonical text of the actor, e.g. `ARobot<id=1, row=3, ...>`.

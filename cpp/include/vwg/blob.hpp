@@ -38,9 +38,16 @@ class Blob {
   const std::byte* data() const { return bytes_.data(); }
   /// Write access; forgets the cached hash. Only the sole owner may write (see class comment).
   std::byte* mutable_data() {
-    hash_valid_ = false;
+    note_written();
     return bytes_.data();
   }
+  /// Call after writing through a pointer taken earlier: forgets the cached hash and takes a new
+  /// revision.
+  void note_written();
+  /// A number that changes whenever the content may have changed and is never reused by another
+  /// content: equal revisions mean equal content (a copy keeps its original's until written).
+  /// Cheaper than content_hash() to tell whether a blob changed since it was last looked at.
+  std::uint64_t revision() const { return revision_; }
 
   template <class T>
   std::span<const T> view() const {
@@ -64,6 +71,7 @@ class Blob {
   std::vector<std::byte> bytes_;
   mutable std::uint64_t hash_ = 0;
   mutable bool hash_valid_ = false;
+  std::uint64_t revision_;
 };
 
 }  // namespace vwg

@@ -31,13 +31,14 @@ struct EngineOptions {
   std::uint64_t max_symbols = 0;
 };
 
-/// What one frame did, handed to frame observers (recorders, viewers) after the frame completes.
+/// What one frame did, handed to frame observers (recorders, viewers) after the frame completes:
+/// its events and the string they made. The string at its start is the previous frame's `after`
+/// (or the initial string); it is not kept, since λ may have changed its large attributes in place.
 struct FrameRecord {
   std::uint64_t frame;
   double time;
-  const WorldString& before;  ///< w at the start of the frame
-  const EventList& events;    ///< S
-  const WorldString& after;   ///< w_next
+  const EventList& events;  ///< S
+  const WorldString& after;  ///< w_next
 };
 
 /// Why run() returned.
@@ -102,6 +103,7 @@ class Engine {
   EngineOptions options_;
   std::uint64_t frame_ = 0;
   EventList last_events_;
+  BlobJournal journal_;  // what the frame changed in place, undone if it fails
   std::vector<Observer> observers_;
   std::atomic<bool> stop_requested_{false};
   std::shared_ptr<StopCondition> stop_when_;

@@ -15,7 +15,9 @@ struct FrameInfo {
   std::uint64_t frame = 0;  ///< t in the system algorithm
   double time = 0.0;        ///< simulated seconds: frame * dt
   double dt = 0.1;          ///< seconds per frame
-  const WorldString* world = nullptr;  ///< the string w the events will be applied to
+  /// For a generator, the string w the events will be applied to; for a backend, the string the
+  /// frame made (w_next: λ may have changed w's large attributes in place by then).
+  const WorldString* world = nullptr;
 };
 
 class Generator {

@@ -8,6 +8,7 @@
 
 #include <cstdint>
 
+#include "vwg/blob_edit.hpp"
 #include "vwg/actor.hpp"
 #include "vwg/backend.hpp"
 #include "vwg/event.hpp"
@@ -25,6 +26,11 @@ struct FrameContext {
 /// η: the next string. Transformations whose scope became empty are removed (t(ε) ∉ L(M)).
 /// Errors inside λ are raised as FrameError naming the actor, the event and the frame.
 WorldString evolve(const WorldString& w, const EventList& events, const FrameContext& ctx);
+/// η as the engine runs it on its own string: λ may write in place into blobs that `w` alone holds
+/// (ActorState::edit_blob), so `w` is left changed; `journal` keeps what to put back if the frame
+/// fails. Call visualize(w, ...) first: θ reads w as it was.
+WorldString evolve_in_place(const WorldString& w, const EventList& events, const FrameContext& ctx,
+                            BlobJournal& journal);
 
 /// π: the displayable string (no actors) for the visual events among `events`.
 WorldString visualize(const WorldString& w, const EventList& events, const FrameContext& ctx);

@@ -89,7 +89,10 @@ class BlockedGrid {
   /// Cells outside the grid count as blocked.
   bool blocked(Cell c) const { return !inside(c) || cells_[index(c)] != 0; }
   /// Throws SchemaError("cell") outside the grid.
-  void set_blocked(Cell c, bool blocked);
+  void set_blocked(Cell c, bool blocked) {
+    if (!inside(c)) throw_outside(c);
+    cells_[index(c)] = blocked ? 1 : 0;
+  }
   std::size_t blocked_count() const;
 
   // --- the padded layout the searches work on ---
@@ -101,6 +104,7 @@ class BlockedGrid {
   std::span<const std::uint8_t> padded() const { return cells_; }
 
  private:
+  [[noreturn]] void throw_outside(Cell c) const;
   void check_mask_size(std::size_t size) const;
 
   int rows_ = 0;

@@ -12,18 +12,9 @@
 #include "vwg/plan/dstar_lite.hpp"
 #include "vwg/plan/grid_graph.hpp"
 #include "vwg/robot/decider.hpp"
+#include "vwg/robot/planning_map.hpp"
 
 namespace vwg::robot {
-
-/// What a planning decider keeps of a robot's map: its obstacles and, for the radius in use, the
-/// cells the robot's centre may not enter. Rebuilt when the map's content changes.
-struct PlanningMap {
-  std::uint64_t map_hash = 0;
-  double radius = -1.0;
-  plan::BlockedGrid obstacles;  ///< walls, seen obstacles, markers and unknown cells
-  plan::BlockedGrid inflated;   ///< cells within `radius` of an obstacle
-  bool update(const Blob& map, const MapGeometry& g, double radius);  ///< true if it changed
-};
 
 /// Time and count of the searches a decider ran (for the replanning benchmark).
 struct SearchStats {

@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <memory>
 
-#include "vwg/blob.hpp"
+#include "vwg/blob_edit.hpp"
 #include "vwg/sim/grid.hpp"
 
 namespace vwg::robot {
@@ -42,14 +42,17 @@ struct MapGeometry {
 /// `knows_map`, else all free (the empty grid of eq. 13).
 std::shared_ptr<Blob> make_robot_map(const sim::OccupancyGrid& world, bool knows_map, int threshold = 50);
 
+/// The cells of a robot map being written (in place and journaled during a frame: ActorState::edit_blob).
+using MapEdit = BlobEdit<std::int16_t>;
+
 /// Mark a reported obstacle at (x, y); returns true if the cell changed. Markers and walls stay.
-bool mark_obstacle(Blob& map, const MapGeometry& g, double x, double y);
+bool mark_obstacle(MapEdit& map, const MapGeometry& g, double x, double y);
 /// Mark marker `tag` at (x, y); returns true if the cell changed.
-bool mark_marker(Blob& map, const MapGeometry& g, double x, double y, int tag);
+bool mark_marker(MapEdit& map, const MapGeometry& g, double x, double y, int tag);
 /// Clear reported obstacles (kSeenCell) on the cells the segment from (x0, y0) to (x1, y1)
 /// crosses, the end cell excluded (a laser beam passed through them, so they are free now).
 /// Returns how many cells changed.
-int carve_free(Blob& map, const MapGeometry& g, double x0, double y0, double x1, double y1);
+int carve_free(MapEdit& map, const MapGeometry& g, double x0, double y0, double x1, double y1);
 /// Whether a disc of `radius` moved along the segment stays off every obstacle of the map
 /// (unknown cells count as obstacles when `unknown_blocked`).
 bool segment_clear(const Blob& map, const MapGeometry& g, double x0, double y0, double x1, double y1, double radius,

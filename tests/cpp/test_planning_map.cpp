@@ -1,0 +1,84 @@
+// The grids a planning decider keeps of a robot's map, followed cell by cell as the map changes,
+// against their definition worked out from scratch at every step.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "vwg/error.hpp"
+#include "vwg/robot/planning_map.hpp"
+
+using namespace vwg;
+using namespace vwg::robot;
+
+namespace {
+
+bool blocks(std::int16_t v) { return v >= kWallCell || v == kUnknownCell; }
+
+/// Whether the centre of (row, col) is within `rc` cells of a blocking square or of the map's edge,
+/// by testing every square (the definition, no stamping).
+bool within(const std::vector<std::int16_t>& cells, int rows, int cols, int row, int col, double rc) {
+  const double cx = col + 0.5, cy = row + 0.5;
+  if (std::min({cx, cols - cx, cy, rows - cy}) <= rc) return true;
+  for (int r = 0; r < rows; ++r) {
+    for (int c = 0; c < cols; ++c) {
+      if (!blocks(cells[static_cast<std::size_t>(r) * cols + c])) continue;
+      const double ex = std::max({c - cx, cx - (c + 1), 0.0}), ey = std::max({r - cy, cy - (r + 1), 0.0});
+      if (ex * ex + ey * ey <= rc * rc) return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
+TEST(PlanningMap, FollowsChangesCellByCellAsIfRebuilt) {
+  const int rows = 24, cols = 31;
+  const MapGeometry g{cols, rows, 0.1, {}};
+  const double radius = 0.23;  // 2.3 cells
+  Blob map(DType::Int16, {rows, cols});
+  std::mt19937 rng(7);
+  const std::int16_t values[] = {kFreeCell, kFreeCell, kFreeCell, kUnknownCell, kWallCell, kSeenCell, 1003};
+  PlanningMap pm;
+  EXPECT_TRUE(pm.update(map, g, radius));
+  EXPECT_FALSE(pm.update(map, g, radius)) << "nothing changed";
+  for (int step = 0; step < 60; ++step) {
+    BlobEdit<std::int16_t> edit(map);
+    const int changes = static_cast<int>(rng() % 6);
+    for (int k = 0; k < changes; ++k) edit.set(rng() % map.size(), values[rng() % 7]);
+    const bool changed = pm.update(map, g, radius);
+    const auto cells_view = map.view<std::int16_t>();
+    const std::vector<std::int16_t> cells(cells_view.begin(), cells_view.end());
+    for (int r = 0; r < rows; ++r) {
+      for (int c = 0; c < cols; ++c) {
+        ASSERT_EQ(pm.obstacles().blocked({r, c}), blocks(cells[static_cast<std::size_t>(r) * cols + c])) << step;
+        ASSERT_EQ(pm.inflated().blocked({r, c}), within(cells, rows, cols, r, c, radius / g.resolution))
+            << "step " << step << " cell " << r << "," << c;
+      }
+    }
+    if (changes == 0) {
+      EXPECT_FALSE(changed);
+    }
+  }
+}
+
+TEST(PlanningMap, ACellChangedAndChangedBackIsNoChange) {
+  const MapGeometry g{10, 10, 0.1, {}};
+  Blob map(DType::Int16, {10, 10});
+  PlanningMap pm;
+  pm.update(map, g, 0.2);
+  BlobEdit<std::int16_t> edit(map);
+  edit.set(55, kSeenCell);
+  edit.set(55, kFreeCell);
+  EXPECT_FALSE(pm.update(map, g, 0.2));
+  edit.set(55, kSeenCell);
+  EXPECT_TRUE(pm.update(map, g, 0.2));
+  EXPECT_TRUE(pm.obstacles().blocked({5, 5}));
+}
+
+TEST(PlanningMap, RefusesAMapOfAnotherShape) {
+  PlanningMap pm;
+  Blob map(DType::Int16, {4, 4});
+  EXPECT_THROW(pm.update(map, MapGeometry{5, 4, 0.1, {}}, 0.2), SchemaError);
+}
