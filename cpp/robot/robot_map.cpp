@@ -52,26 +52,77 @@ void check(const Blob& map, const MapGeometry& g) {
 }
 }  // namespace
 
-bool mark_obstacle(MapEdit& map, const MapGeometry& g, double x, double y) {
+void SeenBlocks::sync(const Blob& map, const MapGeometry& g) {
+  check(map, g);
+  const int columns = (g.width + (1 << kShift) - 1) >> kShift, rows = (g.height + (1 << kShift) - 1) >> kShift;
+  if (revision_ == map.revision() && columns == columns_ && counts_.size() == static_cast<std::size_t>(rows) * columns) return;
+  columns_ = columns;
+  rows_ = rows;
+  counts_.assign(static_cast<std::size_t>(rows) * columns, 0);
+  lo_row_ = lo_col_ = std::numeric_limits<int>::max();
+  hi_row_ = hi_col_ = std::numeric_limits<int>::min();
+  const auto cells = map.view<std::int16_t>();
+  for (int r = 0; r < g.height; ++r) {
+    for (int c = 0; c < g.width; ++c) {
+      if (cells[index(g, r, c)] == kSeenCell) added(r, c);
+    }
+  }
+  revision_ = map.revision();
+}
+
+bool SeenBlocks::along(double u0, double v0, double u1, double v1) const {
+  const double size = 1 << kShift;
+  const double bu0 = u0 / size, bv0 = v0 / size, bu1 = u1 / size, bv1 = v1 / size;
+  int c = static_cast<int>(std::floor(bu0)), r = static_cast<int>(std::floor(bv0));
+  const int end_c = static_cast<int>(std::floor(bu1)), end_r = static_cast<int>(std::floor(bv1));
+  const double du = bu1 - bu0, dv = bv1 - bv0;
+  const int step_u = du > 0 ? 1 : -1, step_v = dv > 0 ? 1 : -1;
+  const double inf = std::numeric_limits<double>::infinity();
+  const double delta_u = du != 0 ? std::abs(1.0 / du) : inf, delta_v = dv != 0 ? std::abs(1.0 / dv) : inf;
+  double t_u = du != 0 ? ((du > 0 ? std::floor(bu0) + 1 - bu0 : bu0 - std::floor(bu0)) * delta_u) : inf;
+  double t_v = dv != 0 ? ((dv > 0 ? std::floor(bv0) + 1 - bv0 : bv0 - std::floor(bv0)) * delta_v) : inf;
+  auto holds = [&](int br, int bc) {
+    return br >= 0 && bc >= 0 && br < rows_ && bc < columns_ &&
+           counts_[static_cast<std::size_t>(br) * static_cast<std::size_t>(columns_) + static_cast<std::size_t>(bc)] != 0;
+  };
+  const int limit = std::abs(end_c - c) + std::abs(end_r - r) + 1;
+  for (int k = 0; k < limit; ++k) {
+    if (holds(r, c) || holds(r - 1, c) || holds(r + 1, c) || holds(r, c - 1) || holds(r, c + 1)) return true;
+    if (c == end_c && r == end_r) break;
+    if (t_u < t_v) {
+      t_u += delta_u;
+      c += step_u;
+    } else {
+      t_v += delta_v;
+      r += step_v;
+    }
+  }
+  return false;
+}
+
+bool mark_obstacle(MapEdit& map, const MapGeometry& g, double x, double y, SeenBlocks* seen) {
   check(map.blob(), g);
   int r, c;
   if (!g.cell_of(x, y, r, c)) return false;
   if (is_obstacle(map[index(g, r, c)])) return false;  // walls and markers stay
   map.set(index(g, r, c), kSeenCell);
+  if (seen) seen->added(r, c);
   return true;
 }
 
-bool mark_marker(MapEdit& map, const MapGeometry& g, double x, double y, int tag) {
+bool mark_marker(MapEdit& map, const MapGeometry& g, double x, double y, int tag, SeenBlocks* seen) {
   check(map.blob(), g);
   int r, c;
   if (!g.cell_of(x, y, r, c)) return false;
   const auto value = static_cast<std::int16_t>(kMarkerBase + tag);
-  if (map[index(g, r, c)] == value) return false;
+  const std::int16_t was = map[index(g, r, c)];
+  if (was == value) return false;
   map.set(index(g, r, c), value);
+  if (seen && was == kSeenCell) seen->removed(r, c);
   return true;
 }
 
-int carve_free(MapEdit& map, const MapGeometry& g, double x0, double y0, double x1, double y1) {
+int carve_free(MapEdit& map, const MapGeometry& g, double x0, double y0, double x1, double y1, SeenBlocks* seen) {
   check(map.blob(), g);
   const sim::OccupancyGrid f = g.frame();
   double u0, v0, u1, v1;
@@ -88,11 +139,15 @@ int carve_free(MapEdit& map, const MapGeometry& g, double x0, double y0, double 
   double t_v = dv != 0 ? ((dv > 0 ? std::floor(v0) + 1 - v0 : v0 - std::floor(v0)) * delta_v) : inf;
   int changed = 0;
   const int limit = std::abs(end_col - col) + std::abs(end_row - row) + 2;
-  for (int k = 0; k < limit && !(col == end_col && row == end_row); ++k) {
-    if (row >= 0 && col >= 0 && row < g.height && col < g.width && map[index(g, row, col)] == kSeenCell) {
-      map.set(index(g, row, col), kFreeCell);
-      ++changed;
-    }
+  // No reported obstacle in the walk's box of cells: nothing to clear.
+  if (seen && (!seen->may_hold(std::min(row, end_row), std::min(col, end_col), std::max(row, end_row), std::max(col, end_col)) ||
+               !seen->along(u0, v0, u1, v1))) {
+    return 0;
+  }
+  const std::int16_t* cells = map.view().data();
+  const auto rows = static_cast<unsigned>(g.height), cols = static_cast<unsigned>(g.width);
+  int k = 0;
+  auto advance = [&] {
     if (t_u < t_v) {
       t_u += delta_u;
       col += step_u;
@@ -100,8 +155,24 @@ int carve_free(MapEdit& map, const MapGeometry& g, double x0, double y0, double 
       t_v += delta_v;
       row += step_v;
     }
+    ++k;
+  };
+  while (true) {
+    // To the next cell holding a reported obstacle, with no call in the loop (it stays in registers).
+    bool found = false;
+    for (; k < limit && !(col == end_col && row == end_row); advance()) {
+      if (static_cast<unsigned>(row) < rows && static_cast<unsigned>(col) < cols && (!seen || seen->any(row, col)) &&
+          cells[index(g, row, col)] == kSeenCell) {
+        found = true;
+        break;
+      }
+    }
+    if (!found) return changed;
+    map.set(index(g, row, col), kFreeCell);
+    if (seen) seen->removed(row, col);
+    ++changed;
+    advance();
   }
-  return changed;
 }
 
 bool segment_clear(const Blob& map, const MapGeometry& g, double x0, double y0, double x1, double y1, double radius,

@@ -60,9 +60,13 @@ void EventList::emit(EventTypeId type, std::span<const Datum> fields, std::int64
                                      std::to_string(fields.size()));
   }
   Record r{type, store_.size(), static_cast<std::uint32_t>(specs.size()), target};
-  // Check all fields before storing any, so a bad event leaves the list as it was.
-  std::vector<Datum> checked;
-  checked.reserve(specs.size());
+  // Check all fields before storing any, so a bad event leaves the list as it was (in a buffer
+  // kept by the thread: a generator emits thousands of events a frame).
+  thread_local std::vector<Datum> checked;
+  checked.clear();
+  struct Forget {  // holds no value (a blob would stay alive) once the call is over
+    ~Forget() { checked.clear(); }
+  } forget;
   for (std::size_t i = 0; i < specs.size(); ++i) {
     if (i < fields.size()) {
       checked.push_back(coerce(specs[i], fields[i], info.name));

@@ -82,3 +82,33 @@ TEST(PlanningMap, RefusesAMapOfAnotherShape) {
   Blob map(DType::Int16, {4, 4});
   EXPECT_THROW(pm.update(map, MapGeometry{5, 4, 0.1, {}}, 0.2), SchemaError);
 }
+
+TEST(SeenBlocks, ClearingWithTheBlocksClearsWhatTheCellWalkClears) {
+  // Two maps with the same random reported obstacles; beams from random places carve both, one
+  // reading every cell, one skipping the blocks SeenBlocks says have none.
+  const MapGeometry g{45, 37, 0.1, {}};
+  Blob plain(DType::Int16, {37, 45}), fast(DType::Int16, {37, 45});
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> x(-0.5, 5.0), y(-0.5, 4.2);
+  BlobEdit<std::int16_t> a(plain), b(fast);
+  SeenBlocks seen;
+  for (int k = 0; k < 300; ++k) {
+    const double px = x(rng), py = y(rng);
+    mark_obstacle(a, g, px, py);
+    seen.sync(fast, g);
+    mark_obstacle(b, g, px, py, &seen);
+    seen.keep(fast);
+  }
+  for (int k = 0; k < 400; ++k) {
+    const double x0 = x(rng), y0 = y(rng), x1 = x(rng), y1 = y(rng);
+    const int n = carve_free(a, g, x0, y0, x1, y1);
+    seen.sync(fast, g);
+    EXPECT_EQ(carve_free(b, g, x0, y0, x1, y1, &seen), n);
+    seen.keep(fast);
+    if (k % 50 == 0) mark_obstacle(b, g, x0, y0, &seen), mark_obstacle(a, g, x0, y0), seen.keep(fast);
+  }
+  const auto pa = plain.view<std::int16_t>(), pb = fast.view<std::int16_t>();
+  EXPECT_TRUE(std::equal(pa.begin(), pa.end(), pb.begin(), pb.end()));
+  EXPECT_GT(std::count(pa.begin(), pa.end(), kSeenCell), 10);
+  EXPECT_LT(std::count(pa.begin(), pa.end(), kSeenCell), 290) << "some were cleared";
+}

@@ -23,6 +23,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <unordered_map>
 #include <string>
 #include <utility>
 
@@ -70,8 +71,14 @@ class ARobot final : public ActorBehavior {
   void decide(ActorState& self, const EvolutionContext& ctx);
   bool goal_of(const ActorState& self, int marker, double& x, double& y) const;
 
+  /// The robot's map, for writing, with its SeenBlocks made valid for it.
+  SeenBlocks& seen_blocks(const ActorState& self, const Blob& map);
+
   ARobotConfig config_;
   std::shared_ptr<Decider> decider_;
+  // Per robot id: which blocks of its map hold reported obstacles (a cache of the map, checked
+  // against its revision; see SeenBlocks).
+  std::unordered_map<std::int64_t, SeenBlocks> seen_;
   struct Events {
     EventTypeId laser, camera, decide, execute, objective, odometry, collision;
   } ev_{};

@@ -40,11 +40,21 @@ struct OccupancyGrid {
   /// World coordinates (metres) to continuous grid coordinates (cells): u along columns, v along rows.
   void world_to_grid(double x, double y, double& u, double& v) const {
     const double dx = x - origin.x, dy = y - origin.y;
+    if (origin.theta == 0.0) {  // most maps: no trigonometry per call (same values: cos 0 = 1, sin 0 = 0)
+      u = dx / resolution;
+      v = dy / resolution;
+      return;
+    }
     const double c = std::cos(origin.theta), s = std::sin(origin.theta);
     u = (c * dx + s * dy) / resolution;
     v = (-s * dx + c * dy) / resolution;
   }
   void grid_to_world(double u, double v, double& x, double& y) const {
+    if (origin.theta == 0.0) {
+      x = origin.x + u * resolution;
+      y = origin.y + v * resolution;
+      return;
+    }
     const double c = std::cos(origin.theta), s = std::sin(origin.theta);
     x = origin.x + (c * u - s * v) * resolution;
     y = origin.y + (s * u + c * v) * resolution;
