@@ -245,3 +245,42 @@ def test_the_3d_overview_is_taken_from_where_the_robots_are_seen():
                                   wall_height=office.wall_height, labels=False)
     chosen = render_world_overview(office, labels=False)
     assert all(c > d for c, d in zip(robot_pixels(chosen), robot_pixels(default), strict=True))
+
+
+def test_a_third_party_sensor_registers_by_name_and_a_world_file_lists_it(tmp_path):
+    from vwg.registry import Sensor, sensors
+
+    class Sonar(vwg.Generator):
+        """One echo straight ahead at 1 m, every frame, for its robot."""
+
+        def __init__(self, robot):
+            super().__init__()
+            self.robot = robot
+
+        def generate(self, frame):
+            return [vwg.Event("eLaser", target=self.robot, dist=1.0, angle=0.0)]
+
+    made = []
+    def make(platform, alphabet, robot):
+        made.append(robot)
+        return Sonar(robot)
+
+    sensors.register("sonar-test", lambda: Sensor(make))
+    field = ROOT / "maps" / "field.yaml"
+    text = field.read_text().replace("map: field/map.yaml", f"map: {field.parent / 'field' / 'map.yaml'}")
+    text = text.replace("sensors: [kinect, camera]", "sensors: [sonar-test]", 1)
+    (tmp_path / "sonar.yaml").write_text(text)
+    world = vwg.load_robot_world(tmp_path / "sonar.yaml")
+    assert world.robot(1).sensors == ("sonar-test",)
+    with CaseStudy(world, "astar", goals={1: "shed"}) as run:
+        run.run(frames=1)
+        grid = np.asarray(run.robot_actors()[1]["grid"])
+    assert made == [1]
+    # Robot 1 stands at (2, 2) facing +y: the echo ends at (2, 3), the cell marked half a cell beyond.
+    res = world.grid.resolution
+    row, col = world.grid.world_to_cell(2.0, 3.0 + res / 2)
+    assert grid[row, col] == 101
+    (tmp_path / "radar.yaml").write_text(text.replace("sonar-test", "radar"))
+    with pytest.raises(vwg.WorldFileError, match=r"robots\[0\]\.sensors\[0\]: unknown sensor 'radar' \(registered: "
+                                                 r"camera, kinect, laser, sonar-test\)"):
+        vwg.load_robot_world(tmp_path / "radar.yaml")

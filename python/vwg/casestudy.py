@@ -160,15 +160,15 @@ class CaseStudy:
 
     ``planner`` names the decider (or is one); ``goals`` are orders at the start, which replace the
     world file's timed orders unless ``world_orders=True`` (``False``: no timed orders); ``sensors`` the
-    kinds of generators to make among those each robot lists (it selects, it does not add: a
-    robot without a Kinect in the world file gets none); ``video``/``images`` record a view;
+    kinds of sensors to make among those each robot lists (default all; it selects, it does not add:
+    a robot without a Kinect in the world file gets none; sensors come from vwg.registry.sensors); ``video``/``images`` record a view;
     ``backends`` adds backends after the simulator (or factories given the Simulation);
     ``knows_map=False`` starts the robots with empty grids (eq. 13); ``platform`` names where the
     robots run (default: the world file's ``platform``, the simulator)."""
 
     def __init__(self, world: RobotWorld, planner: str | _core.Decider = "astar", *,
                  goals: Mapping[int, str] | None = None, seed: int | None = None, frames: int | None = None,
-                 sensors: Iterable[str] = ("laser", "kinect", "camera"), video: str | Path | None = None,
+                 sensors: Iterable[str] | None = None, video: str | Path | None = None,
                  images: str | Path | None = None, view_width: int = 800, max_symbols: int = 0,
                  world_orders: bool | None = None, knows_map: bool = True,
                  backends: Iterable[_core.Backend | Callable[[Simulation], _core.Backend]] = (),
@@ -192,7 +192,8 @@ class CaseStudy:
             self.orders.schedule(math.ceil(order.time / world.dt - 1e-9), order.robot, order.room)
         for robot, room in (goals or {}).items():
             self.orders.schedule(0, robot, room)
-        generators: list[Any] = [*self.sim.feedback(alphabet), *self.sim.sensors(alphabet, tuple(sensors)),
+        kinds = None if sensors is None else tuple(sensors)
+        generators: list[Any] = [*self.sim.feedback(alphabet), *self.sim.sensors(alphabet, kinds),
                                  self.orders.generator, every_frame("eDecide"), every_frame("eExecute")]
         # The view draws what θ shows of the robots (their actions, paths and status lines) through π
         # and φ, and keeps the trajectories; without video or images it draws nothing.

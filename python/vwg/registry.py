@@ -4,11 +4,12 @@ registered once; a second registration is refused."""
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator
+from dataclasses import dataclass
 from typing import Any, Generic, TypeVar
 
 from .errors import SchemaError
 
-__all__ = ["Registry", "backends", "deciders", "generators", "platforms"]
+__all__ = ["Registry", "Sensor", "backends", "deciders", "generators", "platforms", "sensors"]
 
 T = TypeVar("T")
 
@@ -43,6 +44,16 @@ class Registry(Generic[T]):
         return iter(sorted(self._factories))
 
 
+@dataclass(frozen=True)
+class Sensor:
+    """A kind of sensor a world file's robot may list: ``make(platform, alphabet, robot_id)`` gives
+    its event generator on that platform (a vwg.Simulation, say). ``ranging`` sensors come first in
+    the priority order, robot by robot, then the others (the paper's gLaser/gKinect, then gCamera)."""
+
+    make: Callable[..., Any]
+    ranging: bool = True
+
+
 backends: Registry[Any] = Registry("backend")
 generators: Registry[Any] = Registry("generator")
 #: Deciders by name (paper test 1: the decision is swapped, nothing else): a factory with no
@@ -52,6 +63,9 @@ deciders: Registry[Any] = Registry("decider")
 #: vwg.RobotPlatform), ``backend`` (φ on it), ``feedback(alphabet)``, ``sensors(alphabet, kinds)``,
 #: ``view(...)`` and ``robot(id)``, as vwg.Simulation has them.
 platforms: Registry[Any] = Registry("platform")
+#: Sensors by name, as world files list them (``robots[i].sensors``): a factory with no arguments ->
+#: a Sensor. ``sensors.register("sonar", lambda: Sensor(make_sonar))`` lets a world list ``sonar``.
+sensors: Registry[Sensor] = Registry("sensor")
 
 
 def _register_builtins() -> None:
@@ -68,6 +82,11 @@ def _register_builtins() -> None:
         return Simulation(world, seed=seed)
 
     platforms.register("sim", simulator)
+
+    sensors.register("laser", lambda: Sensor(lambda platform, alphabet, robot: platform.laser(alphabet, robot)))
+    sensors.register("kinect", lambda: Sensor(lambda platform, alphabet, robot: platform.kinect(alphabet, robot)))
+    sensors.register("camera", lambda: Sensor(lambda platform, alphabet, robot: platform.camera(alphabet, robot),
+                                              ranging=False))
 
     deciders.register("random", lambda: _core.RandomDecider())
     deciders.register("astar", lambda: _core.GridDecider("astar"))

@@ -22,7 +22,7 @@ their sensors, noise, and a timed script of user orders.
         max_turn_rate: 1.5             # [1.5] rad/s
         max_accel: 1.0                 # [1.0] m/s²
         max_turn_accel: 4.0            # [4.0] rad/s²
-        sensors: [laser, camera]       # [[laser, camera]]; any of laser, kinect, camera
+        sensors: [laser, camera]       # [[laser, camera]]; laser, kinect, camera or a registered sensor
     laser: {beams: 360, fov: 6.283185307179586, max_range: 8.0, noise: 0.01}
     kinect: {width: 640, height: 480, hfov: 1.0122909661567112, max_range: 4.5, min_range: 0.5, mount_height: 0.3}
     camera: {width: 640, height: 480, hfov: 1.0471975511965976, mount_height: 0.5, noise: 0.0, blur: 0.0}
@@ -66,7 +66,6 @@ from .yamldoc import YamlDoc
 __all__ = ["CameraSpec", "KinectSpec", "LaserSpec", "NoiseSpec", "Order", "PlatformSpec", "RobotSpec", "RobotWorld",
            "Room", "load_robot_world"]
 
-SENSORS = ("laser", "kinect", "camera")
 MAX_MARKER = 586  # tag36h11 has 587 codes
 _TOP_KEYS = ("name", "description", "map", "wall_height", "rooms", "robots", "laser", "kinect", "camera", "noise",
              "frames", "dt", "seed", "orders", "platform", "goal_tolerance")
@@ -309,6 +308,8 @@ def _load_grid(doc: YamlDoc, base: Path) -> tuple[OccupancyGrid, Path]:
 
 
 def _robots(doc: YamlDoc, grid: OccupancyGrid) -> list[RobotSpec]:
+    from .registry import sensors as sensor_registry
+
     entries = doc.get(("robots",), list)
     if not entries:
         raise doc.error(("robots",), "expected at least one robot")
@@ -330,8 +331,9 @@ def _robots(doc: YamlDoc, grid: OccupancyGrid) -> list[RobotSpec]:
                                        ("max_turn_accel", 4.0))}
         sensors = doc.get((*path, "sensors"), list, default=["laser", "camera"])
         for j, s in enumerate(sensors):
-            if s not in SENSORS:
-                raise doc.error((*path, "sensors", j), f"unknown sensor {s!r} (expected {', '.join(SENSORS)})")
+            if not isinstance(s, str) or s not in sensor_registry:
+                raise doc.error((*path, "sensors", j),
+                                f"unknown sensor {s!r} (registered: {', '.join(sensor_registry)})")
             if s in sensors[:j]:
                 raise doc.error((*path, "sensors", j), f"sensor {s!r} listed twice")
         problem = _place_problem(grid, x, y, radius)

@@ -92,21 +92,21 @@ class Simulation:
         self.cameras.append(gen)
         return gen
 
-    def sensors(self, alphabet: _core.Alphabet, kinds: tuple[str, ...] = ("laser", "kinect", "camera"),
-                ranges_first: bool = True) -> list[_core.Generator]:
-        """The sensors each robot lists (of `kinds`): all range sensors robot by robot (gLaser,
-        gKinect), then the cameras (gCamera), as the paper's priority order has them."""
+    def sensors(self, alphabet: _core.Alphabet, kinds: tuple[str, ...] | None = None) -> list[_core.Generator]:
+        """The sensors each robot lists (those of `kinds`, or all), made by the sensor registry
+        (vwg.registry.sensors): the ranging ones robot by robot (gLaser, gKinect), then the others
+        (gCamera), as the paper's priority order has them."""
+        from .registry import sensors as registry
+
         ranging: list[_core.Generator] = []
-        cameras: list[_core.Generator] = []
+        others: list[_core.Generator] = []
         for robot in self.world.robots:
-            for sensor in robot.sensors:
-                if sensor == "laser" and "laser" in kinds:
-                    ranging.append(self.laser(alphabet, robot.id))
-                elif sensor == "kinect" and "kinect" in kinds:
-                    ranging.append(self.kinect(alphabet, robot.id))
-                elif sensor == "camera" and "camera" in kinds:
-                    cameras.append(self.camera(alphabet, robot.id))
-        return ranging + cameras
+            for name in robot.sensors:
+                if kinds is not None and name not in kinds:
+                    continue
+                sensor = registry.create(name)
+                (ranging if sensor.ranging else others).append(sensor.make(self, alphabet, robot.id))
+        return ranging + others
 
     def feedback(self, alphabet: _core.Alphabet) -> list[_core.Generator]:
         """Odometry and collisions of every robot, as events (from the platform: here the simulator)."""
