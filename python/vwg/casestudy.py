@@ -162,7 +162,8 @@ class CaseStudy:
     world file's timed orders unless ``world_orders=True`` (``False``: no timed orders); ``sensors`` the
     kinds of sensors to make among those each robot lists (default all; it selects, it does not add:
     a robot without a Kinect in the world file gets none; sensors come from vwg.registry.sensors);
-    ``video``/``images`` record a view; ``backends`` adds backends after the simulator (or factories given the Simulation);
+    ``video``/``images`` record a view; ``backends`` adds backends after the simulator (or factories
+    given the Simulation);
     ``knows_map=False`` starts the robots with empty grids (eq. 13); ``platform`` names where the
     robots run (default: the world file's ``platform``, the simulator)."""
 
