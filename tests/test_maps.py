@@ -262,7 +262,7 @@ def test_inflate_matches_brute_force() -> None:
             slow = np.zeros_like(fast)
             for r in range(30):
                 for c in range(25):
-                    slow[r, c] = grid.clearance(*grid.cell_to_world(r, c), limit=1.0, unknown=unknown) < radius
+                    slow[r, c] = grid.clearance(*grid.cell_to_world(r, c), limit=1.0, unknown=unknown) <= radius
             np.testing.assert_array_equal(fast, slow)
 
 
