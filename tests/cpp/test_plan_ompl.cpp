@@ -1,4 +1,4 @@
-// The exact collision test of a disc robot (ClearanceField) against brute force, and the OMPL
+// The exact collision test of a disc robot (geometry::ClearanceField) against brute force, and the OMPL
 // planners on a MovingAI map: paths reach the goal, never come within the robot's radius of a
 // blocked cell (checked densely along every segment), and repeat for the same seed.
 #include <gtest/gtest.h>
@@ -24,6 +24,7 @@
 #include "vwg/plan/ompl_planner.hpp"
 
 using namespace vwg::plan;
+namespace geometry = vwg::geometry;
 
 namespace {
 
@@ -98,7 +99,7 @@ TEST(Clearance, CellBoundsPointsAndSegmentsAgreeWithBruteForce) {
     const BlockedGrid g = random_grid(rng, rows, cols, 0.03 + 0.1 * (trial % 3));
     const std::vector<Cell> cells = blocked_cells(g);
     const bool edge = trial % 2 == 0;
-    const ClearanceField field(g, edge);
+    const geometry::ClearanceField field(g, edge);
     // The cell bound is the square-to-square distance to the nearest blocked cell.
     for (int r = 0; r < rows; ++r) {
       for (int c = 0; c < cols; ++c) {
@@ -147,7 +148,7 @@ TEST(Clearance, HandWorked) {
   // One blocked cell (1, 1) in a 3 × 3 grid, no edge.
   BlockedGrid g(3, 3);
   g.set_blocked({1, 1}, true);
-  const ClearanceField field(g, false);
+  const geometry::ClearanceField field(g, false);
   EXPECT_DOUBLE_EQ(field.clearance(0.5, 0.5, 10.0), std::hypot(0.5, 0.5));  // to the corner (1, 1)
   EXPECT_DOUBLE_EQ(field.clearance(1.5, 0.25, 10.0), 0.75);                 // straight below
   EXPECT_DOUBLE_EQ(field.clearance(1.5, 1.5, 10.0), 0.0);                   // inside
@@ -163,8 +164,8 @@ TEST(Clearance, HandWorked) {
   EXPECT_FALSE(inflated.blocked({0, 0}));
   EXPECT_TRUE(inflated.blocked({0, 1}));
   // With the map's edge as an obstacle, every cell centre is 0.5 from it.
-  EXPECT_EQ(ClearanceField(g, true).inflated(0.5).blocked_count(), 9u);
-  EXPECT_EQ(ClearanceField(g, true).inflated(0.49).blocked_count(), 1u);
+  EXPECT_EQ(geometry::ClearanceField(g, true).inflated(0.5).blocked_count(), 9u);
+  EXPECT_EQ(geometry::ClearanceField(g, true).inflated(0.49).blocked_count(), 1u);
 }
 
 // --- OMPL ---
