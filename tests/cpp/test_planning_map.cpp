@@ -99,16 +99,16 @@ TEST(SeenBlocks, ClearingWithTheBlocksClearsWhatTheCellWalkClears) {
     mark_obstacle(b, g, px, py, &seen);
     seen.keep(fast);
   }
-  for (int k = 0; k < 400; ++k) {
+  for (int k = 0; k < 60; ++k) {
     const double x0 = x(rng), y0 = y(rng), x1 = x(rng), y1 = y(rng);
     const int n = carve_free(a, g, x0, y0, x1, y1);
     seen.sync(fast, g);
     EXPECT_EQ(carve_free(b, g, x0, y0, x1, y1, &seen), n);
     seen.keep(fast);
-    if (k % 50 == 0) mark_obstacle(b, g, x0, y0, &seen), mark_obstacle(a, g, x0, y0), seen.keep(fast);
+    if (k % 20 == 0) mark_obstacle(b, g, x0, y0, &seen), mark_obstacle(a, g, x0, y0), seen.keep(fast);
   }
   const auto pa = plain.view<std::int16_t>(), pb = fast.view<std::int16_t>();
   EXPECT_TRUE(std::equal(pa.begin(), pa.end(), pb.begin(), pb.end()));
-  EXPECT_GT(std::count(pa.begin(), pa.end(), kSeenCell), 10);
+  EXPECT_GT(std::count(pa.begin(), pa.end(), kSeenCell), 5) << "some are left";
   EXPECT_LT(std::count(pa.begin(), pa.end(), kSeenCell), 290) << "some were cleared";
 }
