@@ -126,7 +126,7 @@ cpp-package: deps
 	cd $(BUILD)/example-cpp && ctest --output-on-failure
 	@# An unknown component must fail, naming it.
 	@if cmake -S examples/cpp -B $(BUILD)/example-cpp-bad -DCMAKE_PREFIX_PATH=$(CURDIR)/$(BUILD)/prefix \
-	    -DVWG_EXAMPLE_COMPONENTS="core nosuch" > $(BUILD)/example-cpp-bad.log 2>&1; then \
+	    -DVWG_EXAMPLE_COMPONENTS="core;nosuch" > $(BUILD)/example-cpp-bad.log 2>&1; then \
 	  echo "find_package(vwg COMPONENTS nosuch) did not fail"; exit 1; \
 	elif ! grep -q "no component 'nosuch'" $(BUILD)/example-cpp-bad.log; then \
 	  cat $(BUILD)/example-cpp-bad.log; echo "the failure does not name the unknown component"; exit 1; fi
