@@ -119,11 +119,17 @@ cpp-test: deps
 cpp-package: deps
 	@echo "The installed C++ package and a downstream project (first time 2-3 min)"
 	cmake -S . -B $(BUILD)/cpp-release -DCMAKE_BUILD_TYPE=Release -DCMAKE_INSTALL_PREFIX=$(CURDIR)/$(BUILD)/prefix > /dev/null
-	cmake --build $(BUILD)/cpp-release -j $(JOBS) --target vwg_core
+	cmake --build $(BUILD)/cpp-release -j $(JOBS)
 	cmake --install $(BUILD)/cpp-release > /dev/null
 	cmake -S examples/cpp -B $(BUILD)/example-cpp -DCMAKE_PREFIX_PATH=$(CURDIR)/$(BUILD)/prefix > /dev/null
 	cmake --build $(BUILD)/example-cpp -j $(JOBS)
 	cd $(BUILD)/example-cpp && ctest --output-on-failure
+	@# An unknown component must fail, naming it.
+	@if cmake -S examples/cpp -B $(BUILD)/example-cpp-bad -DCMAKE_PREFIX_PATH=$(CURDIR)/$(BUILD)/prefix \
+	    -DVWG_EXAMPLE_COMPONENTS="core;nosuch" > $(BUILD)/example-cpp-bad.log 2>&1; then \
+	  echo "find_package(vwg COMPONENTS nosuch) did not fail"; exit 1; \
+	elif ! grep -q "no component 'nosuch'" $(BUILD)/example-cpp-bad.log; then \
+	  cat $(BUILD)/example-cpp-bad.log; echo "the failure does not name the unknown component"; exit 1; fi
 
 bench: install
 	@for b in benchmarks/bench_*.py; do echo "== $$b"; $(PY) $$b; done

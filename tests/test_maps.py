@@ -262,7 +262,7 @@ def test_inflate_matches_brute_force() -> None:
             slow = np.zeros_like(fast)
             for r in range(30):
                 for c in range(25):
-                    slow[r, c] = grid.clearance(*grid.cell_to_world(r, c), limit=1.0, unknown=unknown) < radius
+                    slow[r, c] = grid.clearance(*grid.cell_to_world(r, c), limit=1.0, unknown=unknown) <= radius
             np.testing.assert_array_equal(fast, slow)
 
 
@@ -492,3 +492,13 @@ def test_bad_movingai_placement(tmp_path: Path) -> None:
 
 def test_load_map_server_alias() -> None:
     assert load_map_server(MST / "testmap.yaml") == load_map(MST / "testmap.yaml")
+
+
+def test_inflate_counts_a_centre_exactly_radius_away() -> None:
+    # One wall square [3, 4] × [3, 4]; the centre of cell (3, 5) is 1.5 m from it. The planners' rule
+    # (vwg::geometry::inflate, the configuration space robots plan in) blocks it; vwg.maps used to free it.
+    data = np.zeros((7, 7), np.int8)
+    data[3, 3] = 100
+    inflated = OccupancyGrid(data, 1.0).inflate(1.5, unknown=False)
+    assert inflated[3, 5] and inflated[5, 3] and not inflated[4, 5]
+    assert inflated.sum() == 13  # the 3 × 3 block and the four cells two away in a line

@@ -86,7 +86,7 @@ namespace {
 std::string type_name(py::handle obj) { return py::str(py::type::handle_of(obj).attr("__name__")); }
 
 /// A 2-D numpy bool array (True = blocked) as a BlockedGrid, rows and columns as in the array.
-plan::BlockedGrid blocked_from_python(py::handle obj, const char* field) {
+geometry::BlockedGrid blocked_from_python(py::handle obj, const char* field) {
   if (!py::isinstance<py::array>(obj)) {
     throw SchemaError(field, "expected a 2-D numpy array of bool (True = blocked), got " + type_name(obj));
   }
@@ -106,11 +106,11 @@ plan::BlockedGrid blocked_from_python(py::handle obj, const char* field) {
   }
   const auto typed = py::reinterpret_borrow<py::array_t<bool>>(array);
   if (typed.flags() & py::array::c_style) {
-    return plan::BlockedGrid::from_mask(std::span<const bool>(typed.data(), static_cast<std::size_t>(rows * cols)),
+    return geometry::BlockedGrid::from_mask(std::span<const bool>(typed.data(), static_cast<std::size_t>(rows * cols)),
                                         static_cast<int>(rows), static_cast<int>(cols));
   }
   // A strided view (say blocked[::-1]): read it element by element.
-  plan::BlockedGrid grid(static_cast<int>(rows), static_cast<int>(cols));
+  geometry::BlockedGrid grid(static_cast<int>(rows), static_cast<int>(cols));
   const auto view = typed.unchecked<2>();
   for (py::ssize_t r = 0; r < rows; ++r) {
     for (py::ssize_t c = 0; c < cols; ++c) {
@@ -162,7 +162,7 @@ std::vector<py::object> items_of(py::handle obj, const std::string& field, std::
   return items;
 }
 
-plan::Cell cell_from_python(py::handle obj, const std::string& field) {
+geometry::Cell cell_from_python(py::handle obj, const std::string& field) {
   const auto items = items_of(obj, field, 2, 2, "a (row, col) pair of integers");
   const long long row = integer_from_python(items[0], field, "a (row, col) pair of integers");
   const long long col = integer_from_python(items[1], field, "a (row, col) pair of integers");
@@ -172,9 +172,9 @@ plan::Cell cell_from_python(py::handle obj, const std::string& field) {
 }
 
 /// (x, y) or (x, y, yaw).
-sim::Pose2 pose_from_python(py::handle obj, const std::string& field) {
+geometry::Pose2 pose_from_python(py::handle obj, const std::string& field) {
   const auto items = items_of(obj, field, 2, 3, "(x, y) or (x, y, yaw) in metres and radians");
-  sim::Pose2 p;
+  geometry::Pose2 p;
   p.x = real_from_python(items[0], field);
   p.y = real_from_python(items[1], field);
   p.theta = items.size() == 3 ? real_from_python(items[2], field) : 0.0;
@@ -240,8 +240,8 @@ void init_plan(py::module_& m) {
       "astar",
       [](MaskArg blocked, CellArg start, CellArg goal, bool diagonal, bool corner_cutting,
          const std::string& heuristic) {
-        const plan::BlockedGrid grid = blocked_from_python(blocked, "blocked");
-        const plan::Cell s = cell_from_python(start, "start"), g = cell_from_python(goal, "goal");
+        const geometry::BlockedGrid grid = blocked_from_python(blocked, "blocked");
+        const geometry::Cell s = cell_from_python(start, "start"), g = cell_from_python(goal, "goal");
         const plan::GridSearchOptions o = options_from_python(diagonal, corner_cutting, heuristic);
         plan::GridPath p;
         {
@@ -269,8 +269,8 @@ after cells change or the robot moves it repairs its previous search instead of 
 )doc")
       .def(py::init([](MaskArg blocked, CellArg start, CellArg goal, bool diagonal, bool corner_cutting,
                        const std::string& heuristic) {
-             plan::BlockedGrid grid = blocked_from_python(blocked, "blocked");
-             const plan::Cell s = cell_from_python(start, "start"), g = cell_from_python(goal, "goal");
+             geometry::BlockedGrid grid = blocked_from_python(blocked, "blocked");
+             const geometry::Cell s = cell_from_python(start, "start"), g = cell_from_python(goal, "goal");
              const plan::GridSearchOptions o = options_from_python(diagonal, corner_cutting, heuristic);
              return std::make_unique<DStarLiteHandle>(plan::DStarLite(std::move(grid), s, g, o));
            }),
@@ -291,7 +291,7 @@ after cells change or the robot moves it repairs its previous search instead of 
       .def(
           "update_cells",
           [](DStarLiteHandle& self, CellsArg cells, bool blocked) {
-            std::vector<plan::Cell> list;
+            std::vector<geometry::Cell> list;
             if (py::isinstance<py::str>(cells) || !py::hasattr(cells, "__iter__")) {
               throw SchemaError("cells", "expected an iterable of (row, col) pairs, got " + type_name(cells));
             }
@@ -305,7 +305,7 @@ after cells change or the robot moves it repairs its previous search instead of 
       .def(
           "move_to",
           [](DStarLiteHandle& self, CellArg cell) {
-            const plan::Cell c = cell_from_python(cell, "cell");
+            const geometry::Cell c = cell_from_python(cell, "cell");
             const std::lock_guard<std::mutex> lock(self.mutex);
             self.planner.move_to(c);
           },
@@ -368,9 +368,9 @@ vwg.OccupancyGrid (flip an image-ordered mask with mask[::-1]); resolution: metr
 A pose is valid when the robot's disc stays strictly clear of blocked cells and inside the map;
 motions are checked exactly (no sampling), so paths never cross or graze an obstacle.)doc")
       .def(py::init([](MaskArg blocked, RealArg resolution, PoseArg origin, RealArg robot_radius) {
-             plan::BlockedGrid grid = blocked_from_python(blocked, "blocked");
+             geometry::BlockedGrid grid = blocked_from_python(blocked, "blocked");
              const double res = real_from_python(resolution, "resolution");
-             const sim::Pose2 o = pose_from_python(origin, "origin");
+             const geometry::Pose2 o = pose_from_python(origin, "origin");
              const double radius = real_from_python(robot_radius, "robot_radius");
              py::gil_scoped_release release;  // the distance transform is a pass over the map
              return std::make_unique<plan::OmplGridPlanner>(std::move(grid), res, o, radius);
@@ -380,8 +380,8 @@ motions are checked exactly (no sampling), so paths never cross or graze an obst
           "plan",
           [](const plan::OmplGridPlanner& self, PoseArg start_pose, PoseArg goal_pose, const std::string& planner,
              RealArg time_limit, IntArg seed, bool simplify, std::optional<RealArg> spacing, IntArg iterations) {
-            const sim::Pose2 s = pose_from_python(start_pose, "start_pose");
-            const sim::Pose2 g = pose_from_python(goal_pose, "goal_pose");
+            const geometry::Pose2 s = pose_from_python(start_pose, "start_pose");
+            const geometry::Pose2 g = pose_from_python(goal_pose, "goal_pose");
             const plan::OmplOptions o = ompl_options(planner, time_limit, seed, simplify, spacing, iterations);
             py::gil_scoped_release release;
             return self.plan(s, g, o);
@@ -404,11 +404,11 @@ motions are checked exactly (no sampling), so paths never cross or graze an obst
       [](MaskArg blocked, RealArg resolution, PoseArg origin, PoseArg start_pose, PoseArg goal_pose,
          RealArg robot_radius, const std::string& planner, RealArg time_limit, IntArg seed, bool simplify,
          std::optional<RealArg> spacing, IntArg iterations) {
-        plan::BlockedGrid grid = blocked_from_python(blocked, "blocked");
+        geometry::BlockedGrid grid = blocked_from_python(blocked, "blocked");
         const double res = real_from_python(resolution, "resolution");
-        const sim::Pose2 o = pose_from_python(origin, "origin");
-        const sim::Pose2 s = pose_from_python(start_pose, "start_pose");
-        const sim::Pose2 g = pose_from_python(goal_pose, "goal_pose");
+        const geometry::Pose2 o = pose_from_python(origin, "origin");
+        const geometry::Pose2 s = pose_from_python(start_pose, "start_pose");
+        const geometry::Pose2 g = pose_from_python(goal_pose, "goal_pose");
         const double radius = real_from_python(robot_radius, "robot_radius");
         const plan::OmplOptions opts = ompl_options(planner, time_limit, seed, simplify, spacing, iterations);
         py::gil_scoped_release release;

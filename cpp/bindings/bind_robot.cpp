@@ -79,7 +79,7 @@ py::array blob_view(std::shared_ptr<const Blob> blob, const T* data, std::vector
   return a;
 }
 
-robot::MapGeometry geometry_of(py::handle grid) { return robot::MapGeometry::of(grid_from_python(grid)); }
+geometry::MapGeometry geometry_of(py::handle grid) { return geometry::MapGeometry::of(grid_from_python(grid)); }
 
 }  // namespace
 

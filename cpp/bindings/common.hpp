@@ -33,6 +33,7 @@ void init_render(py::module_& m);
 void init_perception(py::module_& m);
 void init_sensors(py::module_& m);
 void init_view(py::module_& m);
+void init_geometry(py::module_& m);
 void init_plan(py::module_& m);
 void init_robot(py::module_& m);
 void init_camera(py::module_& m);

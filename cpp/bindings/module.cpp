@@ -29,6 +29,7 @@ PYBIND11_MODULE(_core, m) {
   init_perception(m);
   init_sensors(m);
   init_view(m);
+  init_geometry(m);
   init_plan(m);
   init_robot(m);
   init_camera(m);

@@ -175,15 +175,15 @@ class DiscMotionValidator : public ob::MotionValidator {
   const OmplGridPlanner& robot_;
 };
 
-bool finite_pose(const sim::Pose2& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.theta); }
+bool finite_pose(const geometry::Pose2& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.theta); }
 
-std::string pose_text(const sim::Pose2& p) {
+std::string pose_text(const geometry::Pose2& p) {
   return "(x " + std::to_string(p.x) + ", y " + std::to_string(p.y) + ", yaw " + std::to_string(p.theta) + ")";
 }
 
-void set_pose(ob::ScopedState<ob::SE2StateSpace>& state, const sim::Pose2& p) {
+void set_pose(ob::ScopedState<ob::SE2StateSpace>& state, const geometry::Pose2& p) {
   state->setXY(p.x, p.y);
-  state->setYaw(std::remainder(p.theta, 2.0 * std::numbers::pi));  // SO(2) states live in [-π, π]
+  state->setYaw(geometry::wrap_angle(p.theta));  // SO(2) states live in [-π, π]
 }
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -192,7 +192,7 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 
 }  // namespace
 
-OmplGridPlanner::OmplGridPlanner(BlockedGrid grid, double resolution, sim::Pose2 origin, double robot_radius)
+OmplGridPlanner::OmplGridPlanner(BlockedGrid grid, double resolution, geometry::Pose2 origin, double robot_radius)
     : resolution_(resolution), origin_(origin), robot_radius_(robot_radius) {
   if (!(std::isfinite(resolution) && resolution > 0.0)) {
     throw SchemaError("resolution", "expected a positive number of metres per cell, got " + std::to_string(resolution));
@@ -205,10 +205,10 @@ OmplGridPlanner::OmplGridPlanner(BlockedGrid grid, double resolution, sim::Pose2
   }
   if (grid.rows() == 0 || grid.cols() == 0) throw SchemaError("grid", "the map has no cells");
   radius_cells_ = robot_radius / resolution;
-  field_ = ClearanceField(std::move(grid), true);
+  field_ = geometry::ClearanceField(std::move(grid), true);
 }
 
-OmplGridPlanner OmplGridPlanner::from_occupancy(const sim::OccupancyGrid& grid, double robot_radius, int threshold,
+OmplGridPlanner OmplGridPlanner::from_occupancy(const geometry::OccupancyGrid& grid, double robot_radius, int threshold,
                                                 bool unknown_blocked) {
   return OmplGridPlanner(BlockedGrid::from_occupancy(grid, threshold, unknown_blocked), grid.resolution, grid.origin,
                          robot_radius);
@@ -252,7 +252,7 @@ std::vector<std::string> OmplGridPlanner::planner_names() {
   return names;
 }
 
-OmplPlan OmplGridPlanner::plan(const sim::Pose2& start, const sim::Pose2& goal, const OmplOptions& options) const {
+OmplPlan OmplGridPlanner::plan(const geometry::Pose2& start, const geometry::Pose2& goal, const OmplOptions& options) const {
   const auto found = planners().find(options.planner);
   if (found == planners().end()) {
     std::string known;
@@ -403,8 +403,8 @@ OmplPlan OmplGridPlanner::plan(const sim::Pose2& start, const sim::Pose2& goal, 
   return out;
 }
 
-OmplPlan plan_ompl(const BlockedGrid& grid, double resolution, const sim::Pose2& origin, const sim::Pose2& start,
-                   const sim::Pose2& goal, double robot_radius, const OmplOptions& options) {
+OmplPlan plan_ompl(const BlockedGrid& grid, double resolution, const geometry::Pose2& origin, const geometry::Pose2& start,
+                   const geometry::Pose2& goal, double robot_radius, const OmplOptions& options) {
   const OmplGridPlanner planner(grid, resolution, origin, robot_radius);
   return planner.plan(start, goal, options);
 }

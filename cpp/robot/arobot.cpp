@@ -4,6 +4,7 @@
 #include <string>
 
 #include "vwg/error.hpp"
+#include "vwg/geometry/pose.hpp"
 
 namespace vwg::robot {
 
@@ -19,8 +20,6 @@ std::shared_ptr<const Blob> path_blob(const std::vector<double>& xy) {
   const auto n = static_cast<std::int64_t>(xy.size() / 2);
   return std::make_shared<const Blob>(DType::Float64, std::vector<std::int64_t>{n, 2}, xy.data(), xy.size() * sizeof(double));
 }
-
-double wrap(double a) { return std::remainder(a, 2 * M_PI); }
 
 }  // namespace
 
@@ -95,7 +94,7 @@ ARobot::ARobot(const Alphabet& alphabet, ARobotConfig config, std::shared_ptr<De
 }
 
 void ARobot::evolve(ActorState& self, const EventView& e, const EvolutionContext& ctx, Replacement&) {
-  const MapGeometry& g = config_.map;
+  const geometry::MapGeometry& g = config_.map;
   const EventTypeId type = e.type();
   if (type == ev_.laser) {
     const double a = self.get_real(kAngle) + e.number(1);
@@ -207,7 +206,7 @@ void ARobot::decide(ActorState& self, const EvolutionContext& ctx) {
   in.robot = static_cast<int>(self.get_int(kId));
   in.map = self.get_blob(kGrid);
   in.geometry = &config_.map;
-  in.pose = sim::Pose2{x, y, theta};
+  in.pose = geometry::Pose2{x, y, theta};
   in.goal_x = gx;
   in.goal_y = gy;
   in.radius = config_.radius + config_.margin;
@@ -232,7 +231,7 @@ void ARobot::decide(ActorState& self, const EvolutionContext& ctx) {
   self.set_bool(kBusy, true);
   // Dead reckoning (eq. 12, eDecide): the belief moves where the action should take the robot;
   // odometry corrects it as the motion happens.
-  const double heading = wrap(theta + d.turn);
+  const double heading = geometry::wrap_angle(theta + d.turn);
   const double nx = x + d.distance * std::cos(heading), ny = y + d.distance * std::sin(heading);
   self.set_real(kAngle, heading);
   self.set_real(kX, nx);

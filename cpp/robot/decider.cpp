@@ -2,13 +2,10 @@
 
 #include <cmath>
 
+#include "vwg/geometry/pose.hpp"
 #include "vwg/random.hpp"
 
 namespace vwg::robot {
-
-namespace {
-double wrap(double a) { return std::remainder(a, 2 * M_PI); }
-}  // namespace
 
 Decision RandomDecider::decide(const DecisionInput& in) {
   Rng rng(in.seed);
@@ -18,7 +15,7 @@ Decision RandomDecider::decide(const DecisionInput& in) {
     const double distance = rng.uniform(0.3 * in.step_length, in.step_length);
     const double tx = in.pose.x + distance * std::cos(heading), ty = in.pose.y + distance * std::sin(heading);
     if (segment_clear(*in.map, *in.geometry, in.pose.x, in.pose.y, tx, ty, in.radius)) {
-      d.turn = wrap(heading - in.pose.theta);
+      d.turn = geometry::wrap_angle(heading - in.pose.theta);
       d.distance = distance;
       d.path = {in.pose.x, in.pose.y, tx, ty};
       return d;
@@ -69,7 +66,7 @@ bool follow_path(const DecisionInput& in_, std::span<const double> path, Decisio
   const double dx = px - in.pose.x, dy = py - in.pose.y;
   const double distance = std::min(std::hypot(dx, dy), in.step_length);
   out.kind = Decision::Kind::Move;
-  out.turn = wrap(std::atan2(dy, dx) - in.pose.theta);
+  out.turn = geometry::wrap_angle(std::atan2(dy, dx) - in.pose.theta);
   out.distance = distance;
   return true;
 }

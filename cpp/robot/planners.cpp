@@ -5,7 +5,7 @@
 
 #include "vwg/error.hpp"
 #include "vwg/plan/astar.hpp"
-#include "vwg/plan/clearance.hpp"
+#include "vwg/geometry/clearance_field.hpp"
 #include "vwg/plan/ompl_planner.hpp"
 
 namespace vwg::robot {
@@ -16,13 +16,13 @@ using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-plan::Cell cell_at(const MapGeometry& g, double x, double y) {
+geometry::Cell cell_at(const geometry::MapGeometry& g, double x, double y) {
   int row, col;
   if (!g.cell_of(x, y, row, col)) return {-1, -1};
   return {row, col};
 }
 
-std::vector<double> to_world(const MapGeometry& g, const plan::GridPath& path, double start_x, double start_y,
+std::vector<double> to_world(const geometry::MapGeometry& g, const plan::GridPath& path, double start_x, double start_y,
                              double goal_x, double goal_y) {
   // The robot's own position first, the cells' centres, then the goal point itself.
   std::vector<double> xy{start_x, start_y};
@@ -39,15 +39,15 @@ std::vector<double> to_world(const MapGeometry& g, const plan::GridPath& path, d
 
 }  // namespace
 
-plan::Cell nearest_free(const plan::BlockedGrid& grid, plan::Cell cell, int reach) {
+geometry::Cell nearest_free(const geometry::BlockedGrid& grid, geometry::Cell cell, int reach) {
   if (grid.inside(cell) && !grid.blocked(cell)) return cell;
   for (int d = 1; d <= reach; ++d) {
-    plan::Cell best{-1, -1};
+    geometry::Cell best{-1, -1};
     double best_dist = std::numeric_limits<double>::infinity();
     for (int dr = -d; dr <= d; ++dr) {
       for (int dc = -d; dc <= d; ++dc) {
         if (std::max(std::abs(dr), std::abs(dc)) != d) continue;  // the ring at distance d
-        const plan::Cell c{cell.row + dr, cell.col + dc};
+        const geometry::Cell c{cell.row + dr, cell.col + dc};
         if (!grid.inside(c) || grid.blocked(c)) continue;
         const double dist = std::hypot(dr, dc);
         if (dist < best_dist) {
@@ -83,7 +83,7 @@ bool path_clear(const DecisionInput& in, std::span<const double> path) {
   return true;
 }
 
-plan::GridPath GridDecider::search(RobotState& s, plan::Cell start, plan::Cell goal) {
+plan::GridPath GridDecider::search(RobotState& s, geometry::Cell start, geometry::Cell goal) {
   const auto t0 = Clock::now();
   plan::GridPath path;
   if (algorithm_ == Algorithm::AStar) {
@@ -94,8 +94,8 @@ plan::GridPath GridDecider::search(RobotState& s, plan::Cell start, plan::Cell g
     } else {
       // Tell D* Lite which cells differ from the grid it knows, both ways (also what changed while
       // the robot kept its plan): its repair touches only what they affect.
-      const plan::BlockedGrid& known = s.dstar->grid();
-      std::vector<plan::Cell> now_blocked, now_free;
+      const geometry::BlockedGrid& known = s.dstar->grid();
+      std::vector<geometry::Cell> now_blocked, now_free;
       for (int r = 0; r < s.map.inflated().rows(); ++r) {
         for (int c = 0; c < s.map.inflated().cols(); ++c) {
           const bool was = known.blocked({r, c}), is = s.map.inflated().blocked({r, c});
@@ -116,7 +116,7 @@ plan::GridPath GridDecider::search(RobotState& s, plan::Cell start, plan::Cell g
 }
 
 Decision GridDecider::decide(const DecisionInput& in) {
-  const MapGeometry& g = *in.geometry;
+  const geometry::MapGeometry& g = *in.geometry;
   RobotState& s = robots_[in.robot];
   const bool changed = s.map.update(*in.map, g, in.radius);
   Decision d;
@@ -128,8 +128,8 @@ Decision GridDecider::decide(const DecisionInput& in) {
     return d;
   }
   const int reach = static_cast<int>(std::ceil(in.radius / g.resolution)) + 2;
-  const plan::Cell start = nearest_free(s.map.inflated(), cell_at(g, in.pose.x, in.pose.y), reach);
-  const plan::Cell goal = nearest_free(s.map.inflated(), cell_at(g, in.goal_x, in.goal_y), reach);
+  const geometry::Cell start = nearest_free(s.map.inflated(), cell_at(g, in.pose.x, in.pose.y), reach);
+  const geometry::Cell goal = nearest_free(s.map.inflated(), cell_at(g, in.goal_x, in.goal_y), reach);
   if (start.row < 0 || goal.row < 0) {
     d.kind = Decision::Kind::NoPath;
     return d;
@@ -145,7 +145,7 @@ Decision GridDecider::decide(const DecisionInput& in) {
   if (!follow_path(along, d.path, d)) {
     // The robot stands inside the clearance (pushed against something): take the first cell.
     const double x = d.path.size() >= 4 ? d.path[2] : in.goal_x, y = d.path.size() >= 4 ? d.path[3] : in.goal_y;
-    d.turn = std::remainder(std::atan2(y - in.pose.y, x - in.pose.x) - in.pose.theta, 2 * M_PI);
+    d.turn = geometry::wrap_angle(std::atan2(y - in.pose.y, x - in.pose.x) - in.pose.theta);
     d.distance = std::min(std::hypot(x - in.pose.x, y - in.pose.y), in.step_length);
   }
   return d;
@@ -167,7 +167,7 @@ OmplDecider::OmplDecider(std::string planner, unsigned iterations) : planner_(st
 }
 
 Decision OmplDecider::decide(const DecisionInput& in) {
-  const MapGeometry& g = *in.geometry;
+  const geometry::MapGeometry& g = *in.geometry;
   PlanningMap& m = maps_[in.robot];
   const bool changed = m.update(*in.map, g, in.radius);
   Decision d;
@@ -186,7 +186,7 @@ Decision OmplDecider::decide(const DecisionInput& in) {
   options.seed = static_cast<std::uint32_t>(in.seed & 0xFFFFFFFFu);
   plan::OmplPlan plan;
   try {
-    plan = planner.plan(in.pose, sim::Pose2{in.goal_x, in.goal_y, 0.0}, options);
+    plan = planner.plan(in.pose, geometry::Pose2{in.goal_x, in.goal_y, 0.0}, options);
   } catch (const SchemaError&) {
     // The robot or the goal does not fit where it is (pushed against something): no path now.
   }

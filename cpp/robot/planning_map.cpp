@@ -6,7 +6,7 @@
 #include <limits>
 
 #include "vwg/error.hpp"
-#include "vwg/plan/clearance.hpp"
+#include "vwg/geometry/inflate.hpp"
 
 namespace vwg::robot {
 
@@ -16,42 +16,35 @@ bool planning_obstacle(std::int16_t v) { return is_obstacle(v) || v == kUnknownC
 
 }  // namespace
 
-void PlanningMap::rebuild(std::span<const std::int16_t> cells, const MapGeometry& g, double radius) {
+void PlanningMap::rebuild(std::span<const std::int16_t> cells, const geometry::MapGeometry& g, double radius) {
   const int rows = g.height, cols = g.width;
   const double rc = radius / g.resolution;
   seen_.assign(cells.begin(), cells.end());
   std::vector<std::uint8_t> mask(cells.size());
   for (std::size_t i = 0; i < cells.size(); ++i) mask[i] = planning_obstacle(cells[i]);
-  obstacles_ = plan::BlockedGrid::from_mask(std::span<const std::uint8_t>(mask), rows, cols);
+  obstacles_ = geometry::BlockedGrid::from_mask(std::span<const std::uint8_t>(mask), rows, cols);
   radius_ = radius;
-  // The disc of plan::inflate: offsets whose centre is within rc of the square at (0, 0). Per row
-  // offset it is one run of columns [-w, w].
-  const int reach = static_cast<int>(std::ceil(rc + 0.5));
-  disc_.clear();
-  std::vector<int> half(static_cast<std::size_t>(2 * reach + 1), -1);
-  for (int dr = -reach; dr <= reach; ++dr) {
-    for (int dc = -reach; dc <= reach; ++dc) {
-      const double ex = std::max(std::abs(dc) - 0.5, 0.0), ey = std::max(std::abs(dr) - 0.5, 0.0);
-      if (ex * ex + ey * ey <= rc * rc) {
-        disc_.push_back({dr, dc});
-        half[static_cast<std::size_t>(dr + reach)] = std::max(half[static_cast<std::size_t>(dr + reach)], std::abs(dc));
-      }
-    }
-  }
+  // The disc of geometry::inflate; per row offset it is one run of columns [-w, w].
+  disc_ = geometry::inflation_disc(rc);
   counted_ = rc >= 0 && disc_.size() + 1 < std::numeric_limits<std::uint16_t>::max();
   if (!counted_) {
-    inflated_ = plan::inflate(obstacles_, rc);
+    inflated_ = geometry::inflate(obstacles_, rc);
     return;
   }
+  const int reach = static_cast<int>(std::ceil(rc + 0.5));
+  std::vector<int> half(static_cast<std::size_t>(2 * reach + 1), -1);
+  for (const geometry::Cell& d : disc_) {
+    half[static_cast<std::size_t>(d.row + reach)] = std::max(half[static_cast<std::size_t>(d.row + reach)], std::abs(d.col));
+  }
   // cover = the number of obstacle cells whose disc holds the cell (a sum over the disc, by row
-  // prefix sums), plus one within rc of the map's edge (as plan::inflate's outside_blocked).
+  // prefix sums), plus one within rc of the map's edge (as geometry::inflate's outside_blocked).
   cover_.assign(cells.size(), 0);
   std::vector<std::int32_t> prefix(static_cast<std::size_t>(rows) * (cols + 1), 0);
   for (int r = 0; r < rows; ++r) {
     std::int32_t* p = &prefix[static_cast<std::size_t>(r) * (cols + 1)];
     for (int c = 0; c < cols; ++c) p[c + 1] = p[c] + mask[static_cast<std::size_t>(r) * cols + c];
   }
-  inflated_ = plan::BlockedGrid(rows, cols);
+  inflated_ = geometry::BlockedGrid(rows, cols);
   for (int r = 0; r < rows; ++r) {
     for (int c = 0; c < cols; ++c) {
       std::int32_t n = 0;
@@ -61,8 +54,7 @@ void PlanningMap::rebuild(std::span<const std::int16_t> cells, const MapGeometry
         const std::int32_t* p = &prefix[static_cast<std::size_t>(rr) * (cols + 1)];
         n += p[std::min(cols, c + w + 1)] - p[std::max(0, c - w)];
       }
-      const double edge = std::min({c + 0.5, cols - c - 0.5, r + 0.5, rows - r - 0.5});
-      if (edge <= rc) ++n;
+      if (geometry::centre_near_edge(r, c, rows, cols, rc)) ++n;
       cover_[static_cast<std::size_t>(r) * cols + c] = static_cast<std::uint16_t>(n);
       if (n > 0) inflated_.set_blocked({r, c}, true);
     }
@@ -72,7 +64,7 @@ void PlanningMap::rebuild(std::span<const std::int16_t> cells, const MapGeometry
 void PlanningMap::set_obstacle(int row, int col, bool blocked) {
   obstacles_.set_blocked({row, col}, blocked);
   const int rows = obstacles_.rows(), cols = obstacles_.cols();
-  for (const plan::Cell& d : disc_) {
+  for (const geometry::Cell& d : disc_) {
     const int r = row + d.row, c = col + d.col;
     if (r < 0 || c < 0 || r >= rows || c >= cols) continue;
     std::uint16_t& n = cover_[static_cast<std::size_t>(r) * cols + c];
@@ -81,7 +73,7 @@ void PlanningMap::set_obstacle(int row, int col, bool blocked) {
   }
 }
 
-bool PlanningMap::update(const Blob& map, const MapGeometry& g, double radius) {
+bool PlanningMap::update(const Blob& map, const geometry::MapGeometry& g, double radius) {
   if (map.dtype() != DType::Int16 || map.size() != g.cells()) {
     throw SchemaError("grid", "a robot map is an int16 array of the world map's shape");
   }
@@ -113,7 +105,7 @@ bool PlanningMap::update(const Blob& map, const MapGeometry& g, double radius) {
       }
     }
   }
-  if (changed && !counted_) inflated_ = plan::inflate(obstacles_, radius / g.resolution);
+  if (changed && !counted_) inflated_ = geometry::inflate(obstacles_, radius / g.resolution);
   return changed;
 }
 

@@ -4,31 +4,11 @@
 #include <cmath>
 
 #include "vwg/error.hpp"
-#include "vwg/plan/clearance.hpp"
+#include "vwg/geometry/clearance.hpp"
 
 namespace vwg::robot {
 
-sim::OccupancyGrid MapGeometry::frame() const {
-  sim::OccupancyGrid g;
-  g.width = width;
-  g.height = height;
-  g.resolution = resolution;
-  g.origin = origin;
-  return g;
-}
-
-bool MapGeometry::cell_of(double x, double y, int& row, int& col) const {
-  double u, v;
-  frame().world_to_grid(x, y, u, v);
-  if (!(u >= 0 && v >= 0 && u < width && v < height)) return false;
-  col = static_cast<int>(u);
-  row = static_cast<int>(v);
-  return true;
-}
-
-void MapGeometry::centre_of(int row, int col, double& x, double& y) const { frame().grid_to_world(col + 0.5, row + 0.5, x, y); }
-
-std::shared_ptr<Blob> make_robot_map(const sim::OccupancyGrid& world, bool knows_map, int threshold) {
+std::shared_ptr<Blob> make_robot_map(const geometry::OccupancyGrid& world, bool knows_map, int threshold) {
   auto map = std::make_shared<Blob>(DType::Int16, std::vector<std::int64_t>{world.height, world.width});
   auto cells = map->mutable_view<std::int16_t>();
   if (knows_map) {
@@ -41,18 +21,18 @@ std::shared_ptr<Blob> make_robot_map(const sim::OccupancyGrid& world, bool knows
 }
 
 namespace {
-std::size_t index(const MapGeometry& g, int row, int col) { return static_cast<std::size_t>(row) * g.width + col; }
-std::int16_t cell(const Blob& map, const MapGeometry& g, int row, int col) {
+std::size_t index(const geometry::MapGeometry& g, int row, int col) { return static_cast<std::size_t>(row) * g.width + col; }
+std::int16_t cell(const Blob& map, const geometry::MapGeometry& g, int row, int col) {
   return map.view<std::int16_t>()[static_cast<std::size_t>(row) * g.width + col];
 }
-void check(const Blob& map, const MapGeometry& g) {
+void check(const Blob& map, const geometry::MapGeometry& g) {
   if (map.dtype() != DType::Int16 || map.ndim() != 2 || map.shape()[0] != g.height || map.shape()[1] != g.width) {
     throw SchemaError("grid", "a robot map is an int16 array of the world map's shape");
   }
 }
 }  // namespace
 
-void SeenBlocks::sync(const Blob& map, const MapGeometry& g) {
+void SeenBlocks::sync(const Blob& map, const geometry::MapGeometry& g) {
   check(map, g);
   const int columns = (g.width + (1 << kShift) - 1) >> kShift, rows = (g.height + (1 << kShift) - 1) >> kShift;
   if (revision_ == map.revision() && columns == columns_ && counts_.size() == static_cast<std::size_t>(rows) * columns) return;
@@ -100,7 +80,7 @@ bool SeenBlocks::along(double u0, double v0, double u1, double v1) const {
   return false;
 }
 
-bool mark_obstacle(MapEdit& map, const MapGeometry& g, double x, double y, SeenBlocks* seen) {
+bool mark_obstacle(MapEdit& map, const geometry::MapGeometry& g, double x, double y, SeenBlocks* seen) {
   check(map.blob(), g);
   int r, c;
   if (!g.cell_of(x, y, r, c)) return false;
@@ -110,7 +90,7 @@ bool mark_obstacle(MapEdit& map, const MapGeometry& g, double x, double y, SeenB
   return true;
 }
 
-bool mark_marker(MapEdit& map, const MapGeometry& g, double x, double y, int tag, SeenBlocks* seen) {
+bool mark_marker(MapEdit& map, const geometry::MapGeometry& g, double x, double y, int tag, SeenBlocks* seen) {
   check(map.blob(), g);
   int r, c;
   if (!g.cell_of(x, y, r, c)) return false;
@@ -122,9 +102,9 @@ bool mark_marker(MapEdit& map, const MapGeometry& g, double x, double y, int tag
   return true;
 }
 
-int carve_free(MapEdit& map, const MapGeometry& g, double x0, double y0, double x1, double y1, SeenBlocks* seen) {
+int carve_free(MapEdit& map, const geometry::MapGeometry& g, double x0, double y0, double x1, double y1, SeenBlocks* seen) {
   check(map.blob(), g);
-  const sim::OccupancyGrid f = g.frame();
+  const geometry::OccupancyGrid f = g.frame();
   double u0, v0, u1, v1;
   f.world_to_grid(x0, y0, u0, v0);
   f.world_to_grid(x1, y1, u1, v1);
@@ -175,51 +155,35 @@ int carve_free(MapEdit& map, const MapGeometry& g, double x0, double y0, double 
   }
 }
 
-bool segment_clear(const Blob& map, const MapGeometry& g, double x0, double y0, double x1, double y1, double radius,
+bool segment_clear(const Blob& map, const geometry::MapGeometry& g, double x0, double y0, double x1, double y1, double radius,
                    bool unknown_blocked) {
   check(map, g);
-  const sim::OccupancyGrid f = g.frame();
+  const geometry::OccupancyGrid f = g.frame();
   double u0, v0, u1, v1;
   f.world_to_grid(x0, y0, u0, v0);
   f.world_to_grid(x1, y1, u1, v1);
   const double rc = radius / g.resolution;
-  // Every cell within the segment's bounding box grown by the radius is tested against the
-  // exact distance from the segment to the cell square.
-  const int r_lo = std::max(0, static_cast<int>(std::floor(std::min(v0, v1) - rc)));
-  const int r_hi = std::min(g.height - 1, static_cast<int>(std::floor(std::max(v0, v1) + rc)));
-  const int c_lo = std::max(0, static_cast<int>(std::floor(std::min(u0, u1) - rc)));
-  const int c_hi = std::min(g.width - 1, static_cast<int>(std::floor(std::max(u0, u1) + rc)));
-  for (int r = r_lo; r <= r_hi; ++r) {
-    for (int c = c_lo; c <= c_hi; ++c) {
-      const std::int16_t v = cell(map, g, r, c);
-      if (!is_obstacle(v) && !(unknown_blocked && v == kUnknownCell)) continue;
-      if (plan::segment_distance_to_cell(u0, v0, u1, v1, plan::Cell{r, c}) < rc) return false;
-    }
-  }
+  // Touching is allowed: `radius` already holds the margin the robot keeps (ARobotConfig::margin).
+  const bool clear = geometry::segment_clear_of_blocked(u0, v0, u1, v1, rc, geometry::Touch::Allowed, g.height, g.width,
+                                                        [&](int r, int c) {
+                                                          const std::int16_t v = cell(map, g, r, c);
+                                                          return is_obstacle(v) || (unknown_blocked && v == kUnknownCell);
+                                                        });
   // Leaving the map is not allowed either.
-  return u0 >= rc && v0 >= rc && u1 >= rc && v1 >= rc && u0 <= g.width - rc && u1 <= g.width - rc && v0 <= g.height - rc &&
-         v1 <= g.height - rc;
+  return clear && u0 >= rc && v0 >= rc && u1 >= rc && v1 >= rc && u0 <= g.width - rc && u1 <= g.width - rc &&
+         v0 <= g.height - rc && v1 <= g.height - rc;
 }
 
-double clearance(const Blob& map, const MapGeometry& g, double x, double y, double cap) {
+double clearance(const Blob& map, const geometry::MapGeometry& g, double x, double y, double cap) {
   check(map, g);
-  const sim::OccupancyGrid f = g.frame();
   double u, v;
-  f.world_to_grid(x, y, u, v);
+  g.frame().world_to_grid(x, y, u, v);
   const double rc = cap / g.resolution;
-  double best = rc;
-  const int r_lo = std::max(0, static_cast<int>(std::floor(v - rc))), r_hi = std::min(g.height - 1, static_cast<int>(std::floor(v + rc)));
-  const int c_lo = std::max(0, static_cast<int>(std::floor(u - rc))), c_hi = std::min(g.width - 1, static_cast<int>(std::floor(u + rc)));
-  for (int r = r_lo; r <= r_hi; ++r) {
-    for (int c = c_lo; c <= c_hi; ++c) {
-      if (!is_obstacle(cell(map, g, r, c))) continue;
-      best = std::min(best, std::sqrt(plan::squared_distance_to_cell(u, v, plan::Cell{r, c})));
-    }
-  }
-  return best * g.resolution;
+  return geometry::clearance_to_blocked(u, v, rc, g.height, g.width, [&](int r, int c) { return is_obstacle(cell(map, g, r, c)); }) *
+         g.resolution;
 }
 
-bool find_marker(const Blob& map, const MapGeometry& g, int tag, double& x, double& y) {
+bool find_marker(const Blob& map, const geometry::MapGeometry& g, int tag, double& x, double& y) {
   check(map, g);
   const auto cells = map.view<std::int16_t>();
   const auto value = static_cast<std::int16_t>(kMarkerBase + tag);

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "vwg/error.hpp"
+#include "vwg/geometry/pose.hpp"
 
 namespace vwg::sim {
 
@@ -67,7 +68,7 @@ void RangeScanner::scan(int self, const Pose2& pose, std::span<const double> ang
     }
     // Beams whose angle (relative to the sensor) lies within the disc's half-angle of its bearing,
     // widened a little so that rounding never leaves out a beam the exact test would accept.
-    const double bearing = std::remainder(std::atan2(cy, cx) - pose.theta, 2 * M_PI);
+    const double bearing = geometry::wrap_angle(std::atan2(cy, cx) - pose.theta);
     const double half = std::asin(other.radius / dist) + 1e-6;
     for (const double turn : {-2 * M_PI, 0.0, 2 * M_PI}) {
       const double lo = bearing + turn - half, hi = bearing + turn + half;

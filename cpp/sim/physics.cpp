@@ -9,6 +9,7 @@
 #include <box2d/box2d.h>
 
 #include "vwg/error.hpp"
+#include "vwg/geometry/pose.hpp"
 
 namespace vwg::sim {
 
@@ -325,7 +326,7 @@ void PhysicsWorld::advance(double seconds) {
       const b2Vec2 heading(std::cos(angle_before[i]), std::sin(angle_before[i]));
       const double ds = b2Dot(p - before[i], heading);
       const double da = static_cast<double>(a) - angle_before[i];
-      s.pose = Pose2{p.x, p.y, std::remainder(static_cast<double>(a), 2 * M_PI)};
+      s.pose = Pose2{p.x, p.y, geometry::wrap_angle(static_cast<double>(a))};
       s.travelled += std::abs(ds);
       if (settings_.noise.odometry > 0.0) {
         const double sigma = settings_.noise.odometry;
@@ -334,7 +335,7 @@ void PhysicsWorld::advance(double seconds) {
         s.odometry.theta += da_m / 2;
         s.odometry.x += ds_m * std::cos(s.odometry.theta);
         s.odometry.y += ds_m * std::sin(s.odometry.theta);
-        s.odometry.theta = std::remainder(s.odometry.theta + da_m / 2, 2 * M_PI);
+        s.odometry.theta = geometry::wrap_angle(s.odometry.theta + da_m / 2);
       } else {
         s.odometry = s.pose;
       }

@@ -8,7 +8,7 @@ import numpy
 import numpy.typing
 import os
 import typing
-__all__: list[str] = ['ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'ArrivalCondition', 'Backend', 'BackendGroup', 'Blob', 'CameraGenerator', 'CameraRenderer', 'Collision', 'CollisionGenerator', 'DStarLite', 'Decider', 'DecisionInput', 'Engine', 'Event', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'Generator', 'GridDecider', 'GridRaycaster', 'ImageFiles', 'ImageSequence', 'ImageSource', 'KinectGenerator', 'LaserGenerator', 'MotionBackend', 'Node', 'NullBackend', 'OdometryGenerator', 'OmplDecider', 'OmplPlan', 'OmplPlanner', 'OrderGenerator', 'OverviewCamera', 'PhysicsWorld', 'PythonActor', 'RandomDecider', 'RangeScanner', 'RenderStyle', 'RobotPlatform', 'RobotSettings', 'RobotState', 'SimView', 'SimulatedCamera', 'StopCondition', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoSource', 'VideoWriter', 'add_arobot', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'arobot_event_types', 'astar', 'build_string', 'detect_apriltags', 'display', 'estimate_tag_pose', 'evolve', 'overview_camera', 'plan_ompl', 'read_image', 'render_overview', 'robot_map', 'set_log_sink', 'visualize', 'walker_behavior', 'write_image']
+__all__: list[str] = ['ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'ArrivalCondition', 'Backend', 'BackendGroup', 'Blob', 'CameraGenerator', 'CameraRenderer', 'Collision', 'CollisionGenerator', 'DStarLite', 'Decider', 'DecisionInput', 'Engine', 'Event', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'Generator', 'GridDecider', 'GridRaycaster', 'ImageFiles', 'ImageSequence', 'ImageSource', 'KinectGenerator', 'LaserGenerator', 'MotionBackend', 'Node', 'NullBackend', 'OdometryGenerator', 'OmplDecider', 'OmplPlan', 'OmplPlanner', 'OrderGenerator', 'OverviewCamera', 'PhysicsWorld', 'PythonActor', 'RandomDecider', 'RangeScanner', 'RenderStyle', 'RobotPlatform', 'RobotSettings', 'RobotState', 'SimView', 'SimulatedCamera', 'StopCondition', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoSource', 'VideoWriter', 'add_arobot', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'arobot_event_types', 'astar', 'build_string', 'detect_apriltags', 'display', 'estimate_tag_pose', 'evolve', 'grid_clearance', 'grid_inflate', 'overview_camera', 'plan_ompl', 'read_image', 'render_overview', 'robot_map', 'set_log_sink', 'visualize', 'walker_behavior', 'write_image']
 class Blob:
     """
     A large attribute value held by reference from world strings (an occupancy grid, an image, a path).
@@ -1821,6 +1821,14 @@ def estimate_tag_pose(detection: AprilTagDetection, tag_size: typing.SupportsFlo
 def evolve(w: String, events: typing.Any, frame: typing.SupportsInt | typing.SupportsIndex = 0, time: typing.SupportsFloat | typing.SupportsIndex = 0.0, seed: typing.SupportsInt | typing.SupportsIndex = 0) -> String:
     """
     η(w, S) (paper eq. 8): every actor takes the events of S it responds to, in order.
+    """
+def grid_clearance(grid: typing.Any, x: typing.SupportsFloat | typing.SupportsIndex, y: typing.SupportsFloat | typing.SupportsIndex, limit: typing.SupportsFloat | typing.SupportsIndex, threshold: typing.SupportsInt | typing.SupportsIndex = 50, unknown: bool = True) -> float:
+    """
+    Distance (m) from the world point (x, y) to the nearest cell of value >= threshold (and unknown cells and everything off the grid when `unknown`), capped at `limit`; 0 inside one.
+    """
+def grid_inflate(grid: typing.Any, radius: typing.SupportsFloat | typing.SupportsIndex, threshold: typing.SupportsInt | typing.SupportsIndex = 50, unknown: bool = True) -> numpy.typing.NDArray[numpy.bool]:
+    """
+    Boolean mask of the cells whose centre is within `radius` metres (inclusive) of a cell of value >= threshold (and of unknown cells and the grid's edge when `unknown`): where a disc robot's centre may not be.
     """
 def overview_camera(grid: typing.Any, wall_height: typing.SupportsFloat | typing.SupportsIndex = 2.5, width: typing.SupportsInt | typing.SupportsIndex = 1000, height: typing.SupportsInt | typing.SupportsIndex = 700, azimuth: typing.SupportsFloat | typing.SupportsIndex = -1.9, elevation: typing.SupportsFloat | typing.SupportsIndex = 1.1, fov: typing.SupportsFloat | typing.SupportsIndex = 0.6, threshold: typing.SupportsInt | typing.SupportsIndex = 50, target: typing.Any = None, scale: typing.Any = None, distance: typing.Any = None) -> OverviewCamera:
     """

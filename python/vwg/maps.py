@@ -172,45 +172,17 @@ class OccupancyGrid:
         return (self.data >= 0) & (self.data < threshold)
 
     def inflate(self, radius: float, threshold: int = 50, unknown: bool = True) -> np.ndarray:
-        """Cells a disc robot of ``radius`` metres cannot be centred on: those whose centre is closer than
-        ``radius`` to a blocked cell (as a square). Cells outside the grid count as blocked when ``unknown``.
-        The free cells of the result are the configuration space of the robot, for 8-connected search."""
-        blocked = self.blocked(threshold, unknown)
-        k = max(0, math.ceil(radius / self.resolution + 0.5))
-        if radius <= 0 or k == 0:
-            return blocked.copy()
-        padded = np.pad(blocked, k, constant_values=unknown)
-        out = np.zeros_like(blocked)
-        h, w = blocked.shape
-        r_cells = radius / self.resolution
-        for di in range(-k, k + 1):
-            for dj in range(-k, k + 1):
-                # distance from a cell centre to the nearest point of the cell (di, dj) away
-                d = math.hypot(max(abs(di) - 0.5, 0.0), max(abs(dj) - 0.5, 0.0))
-                if d < r_cells:
-                    out |= padded[k + di:k + di + h, k + dj:k + dj + w]
-        return out
+        """Cells a disc robot of ``radius`` metres cannot be centred on: those whose centre is at most
+        ``radius`` from a blocked cell (as a square). Cells outside the grid count as blocked when ``unknown``.
+        The free cells of the result are the configuration space of the robot, for 8-connected search: the
+        same cells the C++ planners avoid (one implementation, ``vwg::geometry::inflate``)."""
+        return _core.grid_inflate(self, radius, threshold, unknown)
 
     def clearance(self, x: float, y: float, limit: float = 1.0, threshold: int = 50, unknown: bool = True) -> float:
         """Distance (m) from the world point (x, y) to the nearest blocked cell, capped at ``limit``;
-        0 inside a blocked cell. Cells outside the grid count as blocked when ``unknown``."""
-        u, v = self.world_to_grid(x, y)
-        k = math.ceil(limit / self.resolution) + 1
-        c0, r0 = math.floor(u), math.floor(v)
-        rows = np.arange(r0 - k, r0 + k + 1)
-        cols = np.arange(c0 - k, c0 + k + 1)
-        inside = ((rows >= 0) & (rows < self.height))[:, None] & ((cols >= 0) & (cols < self.width))[None, :]
-        window = np.full(inside.shape, unknown)
-        rr, cc = np.clip(rows, 0, self.height - 1), np.clip(cols, 0, self.width - 1)
-        sub = self.data[np.ix_(rr, cc)]
-        mask = (sub >= threshold) | ((sub < 0) & unknown)
-        window = np.where(inside, mask, window)
-        if not window.any():
-            return limit
-        dv = np.maximum(np.maximum(rows - v, 0.0), v - (rows + 1))[:, None]
-        du = np.maximum(np.maximum(cols - u, 0.0), u - (cols + 1))[None, :]
-        dist = np.hypot(du, dv)[window].min() * self.resolution
-        return float(min(dist, limit))
+        0 inside a blocked cell. Cells outside the grid count as blocked when ``unknown``
+        (``vwg::geometry::clearance``)."""
+        return _core.grid_clearance(self, x, y, limit, threshold, unknown)
 
     # -- files --------------------------------------------------------------------------------------------
     def to_image(self, threshold: int = 50) -> np.ndarray:

@@ -198,7 +198,7 @@ TEST(BlockedGrid, MaskOccupancyAndBorder) {
             }),
             "blocked");
 
-  vwg::sim::OccupancyGrid occ;
+  vwg::geometry::OccupancyGrid occ;
   occ.width = 3;
   occ.height = 1;
   occ.data = {0, 100, -1};

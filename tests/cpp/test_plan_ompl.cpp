@@ -1,4 +1,4 @@
-// The exact collision test of a disc robot (ClearanceField) against brute force, and the OMPL
+// The exact collision test of a disc robot (geometry::ClearanceField) against brute force, and the OMPL
 // planners on a MovingAI map: paths reach the goal, never come within the robot's radius of a
 // blocked cell (checked densely along every segment), and repeat for the same seed.
 #include <gtest/gtest.h>
@@ -19,11 +19,12 @@
 #include <vector>
 
 #include "vwg/error.hpp"
-#include "vwg/plan/clearance.hpp"
+#include "vwg/geometry/clearance_field.hpp"
 #include "vwg/plan/movingai.hpp"
 #include "vwg/plan/ompl_planner.hpp"
 
 using namespace vwg::plan;
+namespace geometry = vwg::geometry;
 
 namespace {
 
@@ -98,7 +99,7 @@ TEST(Clearance, CellBoundsPointsAndSegmentsAgreeWithBruteForce) {
     const BlockedGrid g = random_grid(rng, rows, cols, 0.03 + 0.1 * (trial % 3));
     const std::vector<Cell> cells = blocked_cells(g);
     const bool edge = trial % 2 == 0;
-    const ClearanceField field(g, edge);
+    const geometry::ClearanceField field(g, edge);
     // The cell bound is the square-to-square distance to the nearest blocked cell.
     for (int r = 0; r < rows; ++r) {
       for (int c = 0; c < cols; ++c) {
@@ -147,7 +148,7 @@ TEST(Clearance, HandWorked) {
   // One blocked cell (1, 1) in a 3 × 3 grid, no edge.
   BlockedGrid g(3, 3);
   g.set_blocked({1, 1}, true);
-  const ClearanceField field(g, false);
+  const geometry::ClearanceField field(g, false);
   EXPECT_DOUBLE_EQ(field.clearance(0.5, 0.5, 10.0), std::hypot(0.5, 0.5));  // to the corner (1, 1)
   EXPECT_DOUBLE_EQ(field.clearance(1.5, 0.25, 10.0), 0.75);                 // straight below
   EXPECT_DOUBLE_EQ(field.clearance(1.5, 1.5, 10.0), 0.0);                   // inside
@@ -163,8 +164,8 @@ TEST(Clearance, HandWorked) {
   EXPECT_FALSE(inflated.blocked({0, 0}));
   EXPECT_TRUE(inflated.blocked({0, 1}));
   // With the map's edge as an obstacle, every cell centre is 0.5 from it.
-  EXPECT_EQ(ClearanceField(g, true).inflated(0.5).blocked_count(), 9u);
-  EXPECT_EQ(ClearanceField(g, true).inflated(0.49).blocked_count(), 1u);
+  EXPECT_EQ(geometry::ClearanceField(g, true).inflated(0.5).blocked_count(), 9u);
+  EXPECT_EQ(geometry::ClearanceField(g, true).inflated(0.49).blocked_count(), 1u);
 }
 
 // --- OMPL ---
@@ -175,17 +176,17 @@ class OmplArena : public ::testing::Test {
   void SetUp() override {
     grid_ = bottom_up(read_movingai_map(movingai_dir() / "arena.map"));
     cells_ = blocked_cells(grid_);
-    planner_ = std::make_unique<OmplGridPlanner>(grid_, kResolution, vwg::sim::Pose2{-1.0, 2.0, 0.3}, kRadius);
+    planner_ = std::make_unique<OmplGridPlanner>(grid_, kResolution, vwg::geometry::Pose2{-1.0, 2.0, 0.3}, kRadius);
   }
 
   /// Free cell centres (with a margin beyond the radius), as poses with random headings.
-  std::vector<vwg::sim::Pose2> free_poses(int count, unsigned seed) const {
+  std::vector<vwg::geometry::Pose2> free_poses(int count, unsigned seed) const {
     std::mt19937 rng(seed);
-    std::vector<vwg::sim::Pose2> out;
+    std::vector<vwg::geometry::Pose2> out;
     while (static_cast<int>(out.size()) < count) {
       const int r = static_cast<int>(rng() % grid_.rows()), c = static_cast<int>(rng() % grid_.cols());
       if (brute_clearance(grid_, cells_, c + 0.5, r + 0.5, true) <= kRadius / kResolution + 0.3) continue;
-      vwg::sim::Pose2 p;
+      vwg::geometry::Pose2 p;
       planner_->grid_to_world(c + 0.5, r + 0.5, p.x, p.y);
       p.theta = std::uniform_real_distribution<double>(-3.0, 3.0)(rng);
       out.push_back(p);
@@ -250,7 +251,7 @@ TEST_F(OmplArena, PlannersReachTheGoalWithoutTouchingObstacles) {
 
 TEST_F(OmplArena, SameSeedSamePath) {
   // Two poses that do not see each other, so that the simplified paths depend on the samples.
-  std::vector<vwg::sim::Pose2> poses;
+  std::vector<vwg::geometry::Pose2> poses;
   for (unsigned seed = 2; poses.empty(); ++seed) {
     poses = free_poses(2, seed);
     if (planner_->motion_valid(poses[0].x, poses[0].y, poses[1].x, poses[1].y)) poses.clear();
@@ -290,8 +291,8 @@ TEST_F(OmplArena, SameSeedSamePath) {
 TEST_F(OmplArena, FailuresAndBadInput) {
   const auto poses = free_poses(2, 3);
   // A goal in a wall, or off the map: a failed plan, not an exception.
-  for (const vwg::sim::Pose2& goal : {vwg::sim::Pose2{1e3, 1e3, 0.0}, [&] {
-         vwg::sim::Pose2 p;
+  for (const vwg::geometry::Pose2& goal : {vwg::geometry::Pose2{1e3, 1e3, 0.0}, [&] {
+         vwg::geometry::Pose2 p;
          for (int r = 0; r < grid_.rows(); ++r) {
            if (grid_.blocked({r, 20})) planner_->grid_to_world(20.5, r + 0.5, p.x, p.y);
          }
@@ -347,10 +348,10 @@ void time_planners(const std::string& name, double resolution, double radius, do
   const auto t0 = std::chrono::steady_clock::now();
   const OmplGridPlanner planner(bottom_up(map), resolution, {}, radius);
   const double setup = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  std::vector<std::pair<vwg::sim::Pose2, vwg::sim::Pose2>> queries;
+  std::vector<std::pair<vwg::geometry::Pose2, vwg::geometry::Pose2>> queries;
   for (auto it = scenarios.rbegin(); it != scenarios.rend() && queries.size() < 5; ++it) {
     auto pose = [&](Cell c) {
-      return vwg::sim::Pose2{(c.col + 0.5) * resolution, (map.height - 1 - c.row + 0.5) * resolution, 0.0};
+      return vwg::geometry::Pose2{(c.col + 0.5) * resolution, (map.height - 1 - c.row + 0.5) * resolution, 0.0};
     };
     const auto s = pose(it->start), g = pose(it->goal);
     if (planner.valid(s.x, s.y) && planner.valid(g.x, g.y)) queries.emplace_back(s, g);
@@ -396,7 +397,7 @@ TEST(Clearance, InflatedEqualsThePerCellClearanceTest) {
     std::vector<std::uint8_t> mask(static_cast<std::size_t>(rows) * cols);
     for (auto& m : mask) m = rng.uniform() < 0.08 ? 1 : 0;
     for (bool outside : {true, false}) {
-      vwg::plan::ClearanceField field(vwg::plan::BlockedGrid::from_mask(std::span<const std::uint8_t>(mask), rows, cols), outside);
+      vwg::geometry::ClearanceField field(vwg::geometry::BlockedGrid::from_mask(std::span<const std::uint8_t>(mask), rows, cols), outside);
       for (double radius : {0.0, 0.5, 1.3, 2.7, 4.0, 5.2}) {
         const auto inflated = field.inflated(radius);
         for (int r = 0; r < rows; ++r) {

@@ -35,7 +35,7 @@ bool within(const std::vector<std::int16_t>& cells, int rows, int cols, int row,
 
 TEST(PlanningMap, FollowsChangesCellByCellAsIfRebuilt) {
   const int rows = 24, cols = 31;
-  const MapGeometry g{cols, rows, 0.1, {}};
+  const geometry::MapGeometry g{cols, rows, 0.1, {}};
   const double radius = 0.23;  // 2.3 cells
   Blob map(DType::Int16, {rows, cols});
   std::mt19937 rng(7);
@@ -64,7 +64,7 @@ TEST(PlanningMap, FollowsChangesCellByCellAsIfRebuilt) {
 }
 
 TEST(PlanningMap, ACellChangedAndChangedBackIsNoChange) {
-  const MapGeometry g{10, 10, 0.1, {}};
+  const geometry::MapGeometry g{10, 10, 0.1, {}};
   Blob map(DType::Int16, {10, 10});
   PlanningMap pm;
   pm.update(map, g, 0.2);
@@ -80,13 +80,13 @@ TEST(PlanningMap, ACellChangedAndChangedBackIsNoChange) {
 TEST(PlanningMap, RefusesAMapOfAnotherShape) {
   PlanningMap pm;
   Blob map(DType::Int16, {4, 4});
-  EXPECT_THROW(pm.update(map, MapGeometry{5, 4, 0.1, {}}, 0.2), SchemaError);
+  EXPECT_THROW(pm.update(map, geometry::MapGeometry{5, 4, 0.1, {}}, 0.2), SchemaError);
 }
 
 TEST(SeenBlocks, ClearingWithTheBlocksClearsWhatTheCellWalkClears) {
   // Two maps with the same random reported obstacles; beams from random places carve both, one
   // reading every cell, one skipping the blocks SeenBlocks says have none.
-  const MapGeometry g{45, 37, 0.1, {}};
+  const geometry::MapGeometry g{45, 37, 0.1, {}};
   Blob plain(DType::Int16, {37, 45}), fast(DType::Int16, {37, 45});
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> x(-0.5, 5.0), y(-0.5, 4.2);

@@ -14,17 +14,14 @@
 #include <type_traits>
 #include <vector>
 
-#include "vwg/sim/grid.hpp"
+#include "vwg/geometry/blocked_grid.hpp"
 
 namespace vwg::plan {
 
-/// A cell of a grid by (row, column) index. The planners do not care which way rows run: row 0 is
-/// the bottom row of a vwg::sim::OccupancyGrid and the top row of a MovingAI map.
-struct Cell {
-  int row = 0;
-  int col = 0;
-  friend bool operator==(const Cell&, const Cell&) = default;
-};
+// The grids the planners search are the geometry library's obstacle masks.
+using geometry::BlockedGrid;
+using geometry::Cell;
+using geometry::to_string;
 
 /// The estimate of the remaining path length between two cells.
 enum class Heuristic {
@@ -57,66 +54,8 @@ struct GridPath {
   bool found() const { return !cells.empty(); }
 };
 
-/// A rows × cols mask of blocked cells, stored with a one-cell blocked border around it so that the
-/// searches look at neighbours without bounds checks (the border stands for "outside the grid").
-class BlockedGrid {
- public:
-  BlockedGrid() = default;
-  /// All cells free.
-  BlockedGrid(int rows, int cols);
-
-  /// From a row-major mask of `rows * cols` values, non-zero (or true) meaning blocked.
-  template <class T>
-  static BlockedGrid from_mask(std::span<const T> mask, int rows, int cols) {
-    static_assert(std::is_arithmetic_v<T>, "a mask holds numbers or bools");
-    BlockedGrid grid(rows, cols);
-    grid.check_mask_size(mask.size());
-    for (int r = 0; r < rows; ++r) {
-      for (int c = 0; c < cols; ++c) {
-        grid.cells_[grid.index({r, c})] = mask[static_cast<std::size_t>(r) * cols + c] != T{} ? 1 : 0;
-      }
-    }
-    return grid;
-  }
-
-  /// The obstacles of an occupancy grid: values of at least `threshold` are blocked, unknown cells
-  /// (negative values) too when `unknown_blocked`. Row 0 stays the bottom row.
-  static BlockedGrid from_occupancy(const sim::OccupancyGrid& grid, int threshold = 50, bool unknown_blocked = true);
-
-  int rows() const { return rows_; }
-  int cols() const { return cols_; }
-  bool inside(Cell c) const { return c.row >= 0 && c.col >= 0 && c.row < rows_ && c.col < cols_; }
-  /// Cells outside the grid count as blocked.
-  bool blocked(Cell c) const { return !inside(c) || cells_[index(c)] != 0; }
-  /// Throws SchemaError("cell") outside the grid.
-  void set_blocked(Cell c, bool blocked) {
-    if (!inside(c)) throw_outside(c);
-    cells_[index(c)] = blocked ? 1 : 0;
-  }
-  std::size_t blocked_count() const;
-
-  // --- the padded layout the searches work on ---
-  /// Distance between vertically adjacent cells in the padded layout.
-  std::int32_t stride() const { return cols_ + 2; }
-  std::int32_t index(Cell c) const { return (c.row + 1) * stride() + (c.col + 1); }
-  Cell cell(std::int32_t index) const { return {index / stride() - 1, index % stride() - 1}; }
-  /// (rows + 2) * (cols + 2) flags, 1 = blocked, the border included.
-  std::span<const std::uint8_t> padded() const { return cells_; }
-
- private:
-  [[noreturn]] void throw_outside(Cell c) const;
-  void check_mask_size(std::size_t size) const;
-
-  int rows_ = 0;
-  int cols_ = 0;
-  std::vector<std::uint8_t> cells_;
-};
-
 /// Throws SchemaError(`field`) when `cell` is outside the grid, or blocked and `must_be_free`.
 void check_cell(const BlockedGrid& grid, Cell cell, const std::string& field, bool must_be_free);
-
-/// Text of a cell for messages: "(row 3, col 7)".
-std::string to_string(Cell c);
 
 /// √2, the cost of a diagonal move.
 inline constexpr double kDiagonalCost = 1.4142135623730951;

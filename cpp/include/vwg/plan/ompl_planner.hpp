@@ -9,8 +9,10 @@
 #include <string>
 #include <vector>
 
-#include "vwg/plan/clearance.hpp"
-#include "vwg/sim/grid.hpp"
+#include "vwg/geometry/clearance_field.hpp"
+#include "vwg/plan/grid_graph.hpp"
+#include "vwg/geometry/occupancy_grid.hpp"
+#include "vwg/geometry/pose.hpp"
 
 namespace vwg::plan {
 
@@ -47,7 +49,7 @@ struct OmplPlan {
   /// (the planner got only near the goal), "invalid goal: ..." (the goal pose is in collision or
   /// off the map), or OMPL's own status text.
   std::string status;
-  std::vector<sim::Pose2> waypoints;  ///< from the start pose to the goal pose, in the world frame
+  std::vector<geometry::Pose2> waypoints;  ///< from the start pose to the goal pose, in the world frame
   double length = std::numeric_limits<double>::infinity();  ///< metres travelled in x-y (yaw not counted)
   double plan_time = 0.0;      ///< seconds spent by the planner
   double simplify_time = 0.0;  ///< seconds spent shortening the path
@@ -59,7 +61,7 @@ struct OmplPlan {
 /// The collision test is exact: a pose is valid when the disc of `robot_radius` around (x, y) stays
 /// strictly away from every blocked cell and inside the map; a motion between two poses (a straight
 /// line in x-y, as OMPL's SE(2) interpolates) is valid when every pose along it is, which is tested
-/// without sampling (see ClearanceField::segment_clear), so paths never cross or graze an obstacle.
+/// without sampling (see geometry::ClearanceField::segment_clear), so paths never cross or graze an obstacle.
 /// Yaw is planned (start and goal headings are reached) but does not affect collisions.
 class OmplGridPlanner {
  public:
@@ -67,16 +69,16 @@ class OmplGridPlanner {
   /// metres per cell; `origin` the pose of the lower-left corner of cell (0, 0) in the world frame.
   /// Throws SchemaError("resolution"/"robot_radius"/"grid") for non-positive or non-finite values
   /// or an empty grid.
-  OmplGridPlanner(BlockedGrid grid, double resolution, sim::Pose2 origin, double robot_radius);
+  OmplGridPlanner(BlockedGrid grid, double resolution, geometry::Pose2 origin, double robot_radius);
   /// The obstacles of an occupancy grid (see BlockedGrid::from_occupancy) with its geometry.
-  static OmplGridPlanner from_occupancy(const sim::OccupancyGrid& grid, double robot_radius, int threshold = 50,
+  static OmplGridPlanner from_occupancy(const geometry::OccupancyGrid& grid, double robot_radius, int threshold = 50,
                                         bool unknown_blocked = true);
 
   /// Plan from `start` to `goal`. Throws SchemaError("start_pose") when the start is off the map,
   /// not finite or in collision, SchemaError("planner"/"time_limit"/...) for bad options; an
   /// invalid goal is a failed plan ("invalid goal: ..."), like a blocked goal cell for A*.
   /// Plans are serialised process-wide (OMPL's random seed is global); the caller's thread blocks.
-  OmplPlan plan(const sim::Pose2& start, const sim::Pose2& goal, const OmplOptions& options = {}) const;
+  OmplPlan plan(const geometry::Pose2& start, const geometry::Pose2& goal, const OmplOptions& options = {}) const;
 
   /// Whether the robot fits at (x, y).
   bool valid(double x, double y) const;
@@ -90,23 +92,23 @@ class OmplGridPlanner {
   void grid_to_world(double u, double v, double& x, double& y) const;
 
   double resolution() const { return resolution_; }
-  const sim::Pose2& origin() const { return origin_; }
+  const geometry::Pose2& origin() const { return origin_; }
   double robot_radius() const { return robot_radius_; }
-  const ClearanceField& field() const { return field_; }
+  const geometry::ClearanceField& field() const { return field_; }
 
   /// The planner names `plan` accepts.
   static std::vector<std::string> planner_names();
 
  private:
-  ClearanceField field_;
+  geometry::ClearanceField field_;
   double resolution_;
-  sim::Pose2 origin_;
+  geometry::Pose2 origin_;
   double robot_radius_;
   double radius_cells_;
 };
 
 /// One plan on a map (builds the OmplGridPlanner, whose distance transform costs a pass over the map).
-OmplPlan plan_ompl(const BlockedGrid& grid, double resolution, const sim::Pose2& origin, const sim::Pose2& start,
-                   const sim::Pose2& goal, double robot_radius, const OmplOptions& options = {});
+OmplPlan plan_ompl(const BlockedGrid& grid, double resolution, const geometry::Pose2& origin, const geometry::Pose2& start,
+                   const geometry::Pose2& goal, double robot_radius, const OmplOptions& options = {});
 
 }  // namespace vwg::plan

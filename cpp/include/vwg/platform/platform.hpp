@@ -9,11 +9,11 @@
 #include <string>
 #include <vector>
 
-#include "vwg/sim/grid.hpp"
+#include "vwg/geometry/pose.hpp"
 
 namespace vwg::platform {
 
-using sim::Pose2;
+using geometry::Pose2;
 
 /// Speed and acceleration limits of a differential-drive robot.
 struct RobotLimits {

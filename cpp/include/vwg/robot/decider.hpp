@@ -10,8 +10,9 @@
 #include <vector>
 
 #include "vwg/blob.hpp"
+#include "vwg/geometry/map_geometry.hpp"
+#include "vwg/geometry/pose.hpp"
 #include "vwg/robot/robot_map.hpp"
-#include "vwg/sim/grid.hpp"
 
 namespace vwg::robot {
 
@@ -21,8 +22,8 @@ struct DecisionInput {
   /// The robot's map (int16, see robot_map.hpp). Shared, so a view of it may outlive the call: the
   /// actor's next write then goes to a copy (copy-on-write), and the view keeps what it showed.
   std::shared_ptr<const Blob> map;
-  const MapGeometry* geometry = nullptr;
-  sim::Pose2 pose{};            ///< where the robot believes it is
+  const geometry::MapGeometry* geometry = nullptr;
+  geometry::Pose2 pose{};            ///< where the robot believes it is
   double goal_x = 0, goal_y = 0;
   double radius = 0.18;         ///< robot radius plus the clearance it keeps, metres
   double step_length = 1.0;     ///< the longest straight move of one decision, metres

@@ -35,9 +35,9 @@ class GridDecider final : public Decider {
   struct RobotState {
     PlanningMap map;
     std::optional<plan::DStarLite> dstar;
-    plan::Cell goal{-1, -1};
+    geometry::Cell goal{-1, -1};
   };
-  plan::GridPath search(RobotState& s, plan::Cell start, plan::Cell goal);
+  plan::GridPath search(RobotState& s, geometry::Cell start, geometry::Cell goal);
   Algorithm algorithm_;
   std::map<int, RobotState> robots_;
   SearchStats stats_;
@@ -63,7 +63,7 @@ class OmplDecider final : public Decider {
 
 /// The nearest cell to `cell` that is free in `grid` (searching outwards up to `reach` cells); the
 /// cell itself if free; {-1, -1} if none.
-plan::Cell nearest_free(const plan::BlockedGrid& grid, plan::Cell cell, int reach);
+geometry::Cell nearest_free(const geometry::BlockedGrid& grid, geometry::Cell cell, int reach);
 /// Whether every segment of the path from the robot onwards (x0, y0, ...) stays clear.
 bool path_clear(const DecisionInput& in, std::span<const double> path);
 

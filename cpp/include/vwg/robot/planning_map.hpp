@@ -17,23 +17,23 @@ class PlanningMap {
  public:
   /// Bring the grids up to `map` (a robot map of geometry `g`) for a robot of `radius` metres;
   /// true if the map changed since the last call (any cell), false if it is the same.
-  bool update(const Blob& map, const MapGeometry& g, double radius);
+  bool update(const Blob& map, const geometry::MapGeometry& g, double radius);
 
   /// Walls, seen obstacles, markers and unknown cells.
-  const plan::BlockedGrid& obstacles() const { return obstacles_; }
+  const geometry::BlockedGrid& obstacles() const { return obstacles_; }
   /// The cells whose centre is within `radius` of an obstacle square or of the map's edge: equal
-  /// to plan::inflate(obstacles(), radius / resolution).
-  const plan::BlockedGrid& inflated() const { return inflated_; }
+  /// to geometry::inflate(obstacles(), radius / resolution).
+  const geometry::BlockedGrid& inflated() const { return inflated_; }
 
  private:
-  void rebuild(std::span<const std::int16_t> cells, const MapGeometry& g, double radius);
+  void rebuild(std::span<const std::int16_t> cells, const geometry::MapGeometry& g, double radius);
   void set_obstacle(int row, int col, bool blocked);
 
   std::uint64_t revision_ = 0;  // Blob::revision() of the map last looked at
   double radius_ = -1.0;
   std::vector<std::int16_t> seen_;  // its cells
-  plan::BlockedGrid obstacles_, inflated_;
-  std::vector<plan::Cell> disc_;      // offsets covered by an obstacle cell's disc
+  geometry::BlockedGrid obstacles_, inflated_;
+  std::vector<geometry::Cell> disc_;      // offsets covered by an obstacle cell's disc
   std::vector<std::uint16_t> cover_;  // per cell: obstacle discs (and the map's edge) covering it
   bool counted_ = false;              // cover_ is kept (false when a disc is too large to count)
 };

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "vwg/blob_edit.hpp"
-#include "vwg/sim/grid.hpp"
+#include "vwg/geometry/map_geometry.hpp"
 
 namespace vwg::robot {
 
@@ -25,24 +25,9 @@ enum RobotCell : std::int16_t {
 
 inline bool is_obstacle(std::int16_t v) { return v >= kWallCell; }
 
-/// Size and placement of a robot map (those of the world map).
-struct MapGeometry {
-  int width = 0, height = 0;
-  double resolution = 0.05;
-  sim::Pose2 origin{};
-
-  static MapGeometry of(const sim::OccupancyGrid& g) { return MapGeometry{g.width, g.height, g.resolution, g.origin}; }
-  sim::OccupancyGrid frame() const;  ///< an empty grid of this geometry, for its coordinate functions
-  /// The cell holding (x, y); false when it is outside the map.
-  bool cell_of(double x, double y, int& row, int& col) const;
-  /// The centre of cell (row, col) in world coordinates.
-  void centre_of(int row, int col, double& x, double& y) const;
-  std::size_t cells() const { return static_cast<std::size_t>(width) * height; }
-};
-
 /// A robot map of the world's geometry: the known map (walls 100, free 0, unknown -1) when
 /// `knows_map`, else all free (the empty grid of eq. 13).
-std::shared_ptr<Blob> make_robot_map(const sim::OccupancyGrid& world, bool knows_map, int threshold = 50);
+std::shared_ptr<Blob> make_robot_map(const geometry::OccupancyGrid& world, bool knows_map, int threshold = 50);
 
 /// The cells of a robot map being written (in place and journaled during a frame: ActorState::edit_blob).
 using MapEdit = BlobEdit<std::int16_t>;
@@ -55,7 +40,7 @@ class SeenBlocks {
  public:
   static constexpr int kShift = 3;  // 8 × 8 cells
   /// Make it valid for `map`, scanning the map unless it already is.
-  void sync(const Blob& map, const MapGeometry& g);
+  void sync(const Blob& map, const geometry::MapGeometry& g);
   /// After the edits that went through it: valid for the map as it is now.
   void keep(const Blob& map) { revision_ = map.revision(); }
   bool any(int row, int col) const { return counts_[block(row, col)] != 0; }
@@ -85,22 +70,22 @@ class SeenBlocks {
 
 /// Mark a reported obstacle at (x, y); returns true if the cell changed. Markers and walls stay.
 /// `seen`, if given, is kept valid (see SeenBlocks).
-bool mark_obstacle(MapEdit& map, const MapGeometry& g, double x, double y, SeenBlocks* seen = nullptr);
+bool mark_obstacle(MapEdit& map, const geometry::MapGeometry& g, double x, double y, SeenBlocks* seen = nullptr);
 /// Mark marker `tag` at (x, y); returns true if the cell changed.
-bool mark_marker(MapEdit& map, const MapGeometry& g, double x, double y, int tag, SeenBlocks* seen = nullptr);
+bool mark_marker(MapEdit& map, const geometry::MapGeometry& g, double x, double y, int tag, SeenBlocks* seen = nullptr);
 /// Clear reported obstacles (kSeenCell) on the cells the segment from (x0, y0) to (x1, y1)
 /// crosses, the end cell excluded (a laser beam passed through them, so they are free now).
 /// Returns how many cells changed.
 /// With `seen` (valid for the map: SeenBlocks::sync), cells of blocks without reported obstacles
 /// are not read; the cells cleared are the same.
-int carve_free(MapEdit& map, const MapGeometry& g, double x0, double y0, double x1, double y1, SeenBlocks* seen = nullptr);
+int carve_free(MapEdit& map, const geometry::MapGeometry& g, double x0, double y0, double x1, double y1, SeenBlocks* seen = nullptr);
 /// Whether a disc of `radius` moved along the segment stays off every obstacle of the map
 /// (unknown cells count as obstacles when `unknown_blocked`).
-bool segment_clear(const Blob& map, const MapGeometry& g, double x0, double y0, double x1, double y1, double radius,
+bool segment_clear(const Blob& map, const geometry::MapGeometry& g, double x0, double y0, double x1, double y1, double radius,
                    bool unknown_blocked = false);
 /// Distance from (x, y) to the nearest obstacle square of the map, or `cap` if none is nearer.
-double clearance(const Blob& map, const MapGeometry& g, double x, double y, double cap);
+double clearance(const Blob& map, const geometry::MapGeometry& g, double x, double y, double cap);
 /// Where marker `tag` was seen (the centre of its cell); false if it never was.
-bool find_marker(const Blob& map, const MapGeometry& g, int tag, double& x, double& y);
+bool find_marker(const Blob& map, const geometry::MapGeometry& g, int tag, double& x, double& y);
 
 }  // namespace vwg::robot

@@ -1,12 +1,12 @@
-// How far points and segments of the plane are from the blocked cells of a grid: the collision
-// test of a disc-shaped robot, exact rather than sampled, for the sampling-based planners.
+// A distance field over the blocked cells of a grid: exact clearance and swept-disc segment tests
+// for the sampling-based planners, answered at once far from obstacles.
 #pragma once
 
 #include <vector>
 
-#include "vwg/plan/grid_graph.hpp"
+#include "vwg/geometry/blocked_grid.hpp"
 
-namespace vwg::plan {
+namespace vwg::geometry {
 
 /// Distances to the blocked cells of a grid, in cells. Points are in continuous grid coordinates:
 /// u along columns, v along rows, cell (r, c) being the closed square [c, c+1] × [r, r+1] (as
@@ -52,13 +52,4 @@ class ClearanceField {
   std::vector<double> cell_clearance_;  ///< rows × cols, row-major
 };
 
-/// The cells whose centre is within `radius` (cells) of a blocked square — or of the map's edge
-/// when `outside_blocked` — as ClearanceField::inflated, without building the distance field.
-BlockedGrid inflate(const BlockedGrid& grid, double radius, bool outside_blocked = true);
-
-/// The squared distance from point (u, v) to the square [c, c+1] × [r, r+1].
-double squared_distance_to_cell(double u, double v, Cell cell);
-/// The distance from the segment (u0, v0)–(u1, v1) to the square of `cell` (0 if they meet).
-double segment_distance_to_cell(double u0, double v0, double u1, double v1, Cell cell);
-
-}  // namespace vwg::plan
+}  // namespace vwg::geometry

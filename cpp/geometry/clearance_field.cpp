@@ -1,0 +1,133 @@
+#include "vwg/geometry/clearance_field.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "vwg/geometry/clearance.hpp"
+#include "vwg/geometry/inflate.hpp"
+
+namespace vwg::geometry {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+/// One pass of the exact squared Euclidean distance transform of Felzenszwalb & Huttenlocher
+/// (2012): d[q] = min over p of (q - p)² + f[p], through the lower envelope of the parabolas
+/// rooted at the finite f[p]. `v` and `z` are scratch of n and n + 1 entries.
+void distance_transform_1d(const double* f, double* d, int n, std::vector<int>& v, std::vector<double>& z) {
+  int k = -1;
+  for (int q = 0; q < n; ++q) {
+    if (f[q] == kInf) continue;  // no parabola: keeps ∞ out of the intersection arithmetic
+    const double fq = f[q] + static_cast<double>(q) * q;
+    double s = -kInf;
+    while (k >= 0) {
+      const int p = v[k];
+      s = (fq - (f[p] + static_cast<double>(p) * p)) / (2.0 * (q - p));
+      if (s > z[k]) break;
+      --k;
+    }
+    ++k;
+    v[k] = q;
+    z[k] = k == 0 ? -kInf : s;
+    z[k + 1] = kInf;
+  }
+  if (k < 0) {
+    std::fill(d, d + n, kInf);
+    return;
+  }
+  int j = 0;
+  for (int q = 0; q < n; ++q) {
+    while (z[j + 1] < q) ++j;
+    const double dq = q - v[j];
+    d[q] = dq * dq + f[v[j]];
+  }
+}
+
+}  // namespace
+
+ClearanceField::ClearanceField(BlockedGrid grid, bool outside_blocked)
+    : grid_(std::move(grid)), outside_blocked_(outside_blocked) {
+  const int rows = grid_.rows(), cols = grid_.cols();
+  const auto at = [cols](int r, int c) { return static_cast<std::size_t>(r) * cols + c; };
+  // The distance between two cells' squares is the distance between their centres less one cell
+  // on each axis (never below 0). Growing the obstacles by their 8 neighbours subtracts exactly
+  // that, so the centre-to-centre transform of the grown mask is the square-to-square distance.
+  std::vector<double> f(static_cast<std::size_t>(rows) * cols, kInf);
+  for (int r = 0; r < rows; ++r) {
+    for (int c = 0; c < cols; ++c) {
+      bool near = false;
+      for (int dr = -1; dr <= 1 && !near; ++dr) {
+        for (int dc = -1; dc <= 1 && !near; ++dc) near = grid_.inside({r + dr, c + dc}) && grid_.blocked({r + dr, c + dc});
+      }
+      if (near) f[at(r, c)] = 0.0;
+    }
+  }
+  const int longest = std::max(rows, cols);
+  std::vector<double> line(static_cast<std::size_t>(longest)), out(static_cast<std::size_t>(longest));
+  std::vector<int> v(static_cast<std::size_t>(longest));
+  std::vector<double> z(static_cast<std::size_t>(longest) + 1);
+  for (int c = 0; c < cols; ++c) {  // along columns first, then along rows
+    for (int r = 0; r < rows; ++r) line[r] = f[at(r, c)];
+    distance_transform_1d(line.data(), out.data(), rows, v, z);
+    for (int r = 0; r < rows; ++r) f[at(r, c)] = out[r];
+  }
+  cell_clearance_.resize(f.size());
+  for (int r = 0; r < rows; ++r) {
+    distance_transform_1d(&f[at(r, 0)], out.data(), cols, v, z);
+    for (int c = 0; c < cols; ++c) cell_clearance_[at(r, c)] = std::sqrt(out[c]);
+  }
+}
+
+double ClearanceField::edge_distance(double u, double v) const {
+  if (!outside_blocked_) return kInf;
+  return geometry::edge_distance(u, v, grid_.rows(), grid_.cols());
+}
+
+double ClearanceField::clearance(double u, double v, double cap) const {
+  const double edge = edge_distance(u, v);
+  if (edge <= 0.0) return 0.0;
+  cap = std::min(cap, edge);
+  const int row = static_cast<int>(std::floor(v)), col = static_cast<int>(std::floor(u));
+  // Fast path: the whole cell is at least this far from every obstacle.
+  if (grid_.inside({row, col}) && cell_clearance({row, col}) >= cap) return cap;
+  return clearance_to_blocked(u, v, cap, grid_.rows(), grid_.cols(), [this](int r, int c) { return grid_.blocked({r, c}); });
+}
+
+bool ClearanceField::piece_clear(double u0, double v0, double u1, double v1, double radius) const {
+  return segment_clear_of_blocked(u0, v0, u1, v1, radius, Touch::Refused, grid_.rows(), grid_.cols(),
+                                  [this](int r, int c) { return grid_.blocked({r, c}); });
+}
+
+bool ClearanceField::segment_clear(double u0, double v0, double u1, double v1, double radius) const {
+  // The distance to the map's edge is concave along a segment inside it: checking the ends suffices.
+  if (edge_distance(u0, v0) <= radius || edge_distance(u1, v1) <= radius) return false;
+  const double length = std::hypot(u1 - u0, v1 - v0);
+  if (length == 0.0) return piece_clear(u0, v0, u0, v0, radius);
+  const double du = (u1 - u0) / length, dv = (v1 - v0) / length;
+  // Pieces tested square by square are one cell long; a free step is taken only when it is longer.
+  constexpr double kPiece = 1.0;
+  double t = 0.0;
+  while (t < length) {
+    const double u = u0 + du * t, v = v0 + dv * t;
+    const Cell cell{static_cast<int>(std::floor(v)), static_cast<int>(std::floor(u))};
+    if (grid_.inside(cell)) {
+      // Every point within cell_clearance of (u, v) is free, so the disc can travel that far less
+      // its radius before it could touch anything.
+      const double free_run = cell_clearance(cell) - radius;
+      if (free_run >= kPiece) {
+        t += free_run;
+        continue;
+      }
+    }
+    const double end = std::min(length, t + kPiece);
+    if (!piece_clear(u, v, u0 + du * end, v0 + dv * end, radius)) return false;
+    t = end;
+  }
+  return true;
+}
+
+BlockedGrid ClearanceField::inflated(double radius) const { return inflate(grid_, radius, outside_blocked_); }
+
+}  // namespace vwg::geometry

@@ -1,0 +1,82 @@
+// Which cells of a grid are blocked: the obstacle mask that clearance, inflation and the grid
+// planners work on.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "vwg/geometry/occupancy_grid.hpp"
+
+namespace vwg::geometry {
+
+/// A cell of a grid by (row, column) index. Which way rows run is the grid's business: row 0 is
+/// the bottom row of an OccupancyGrid and the top row of a MovingAI map.
+struct Cell {
+  int row = 0;
+  int col = 0;
+  friend bool operator==(const Cell&, const Cell&) = default;
+};
+
+/// Text of a cell for messages: "(row 3, col 7)".
+std::string to_string(Cell c);
+
+/// A rows × cols mask of blocked cells, stored with a one-cell blocked border around it so that the
+/// searches look at neighbours without bounds checks (the border stands for "outside the grid").
+class BlockedGrid {
+ public:
+  BlockedGrid() = default;
+  /// All cells free.
+  BlockedGrid(int rows, int cols);
+
+  /// From a row-major mask of `rows * cols` values, non-zero (or true) meaning blocked.
+  template <class T>
+  static BlockedGrid from_mask(std::span<const T> mask, int rows, int cols) {
+    static_assert(std::is_arithmetic_v<T>, "a mask holds numbers or bools");
+    BlockedGrid grid(rows, cols);
+    grid.check_mask_size(mask.size());
+    for (int r = 0; r < rows; ++r) {
+      for (int c = 0; c < cols; ++c) {
+        grid.cells_[grid.index({r, c})] = mask[static_cast<std::size_t>(r) * cols + c] != T{} ? 1 : 0;
+      }
+    }
+    return grid;
+  }
+
+  /// The obstacles of an occupancy grid: values of at least `threshold` are blocked, unknown cells
+  /// (negative values) too when `unknown_blocked`. Row 0 stays the bottom row.
+  static BlockedGrid from_occupancy(const OccupancyGrid& grid, int threshold = 50, bool unknown_blocked = true);
+
+  int rows() const { return rows_; }
+  int cols() const { return cols_; }
+  bool inside(Cell c) const { return c.row >= 0 && c.col >= 0 && c.row < rows_ && c.col < cols_; }
+  /// Cells outside the grid count as blocked.
+  bool blocked(Cell c) const { return !inside(c) || cells_[index(c)] != 0; }
+  /// Throws SchemaError("cell") outside the grid.
+  void set_blocked(Cell c, bool blocked) {
+    if (!inside(c)) throw_outside(c);
+    cells_[index(c)] = blocked ? 1 : 0;
+  }
+  std::size_t blocked_count() const;
+
+  // --- the padded layout the searches work on ---
+  /// Distance between vertically adjacent cells in the padded layout.
+  std::int32_t stride() const { return cols_ + 2; }
+  std::int32_t index(Cell c) const { return (c.row + 1) * stride() + (c.col + 1); }
+  Cell cell(std::int32_t index) const { return {index / stride() - 1, index % stride() - 1}; }
+  /// (rows + 2) * (cols + 2) flags, 1 = blocked, the border included.
+  std::span<const std::uint8_t> padded() const { return cells_; }
+
+ private:
+  [[noreturn]] void throw_outside(Cell c) const;
+  void check_mask_size(std::size_t size) const;
+
+  int rows_ = 0;
+  int cols_ = 0;
+  std::vector<std::uint8_t> cells_;
+};
+
+}  // namespace vwg::geometry
