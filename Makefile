@@ -15,7 +15,9 @@ PIP := $(VENV)/bin/pip
 JOBS ?= $(shell nproc)
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
-# Debian packages: compilers and tools, then the libraries of DESIGN.md.
+# Debian packages: compilers and tools, then the libraries of DESIGN.md. Videos are encoded by PyAV
+# (a Python dependency); the ffmpeg package is here for its ffprobe and ffmpeg programs, with which
+# the tests read the videos back.
 APT_PACKAGES := build-essential cmake pkg-config python3-dev python3-venv \
 	libeigen3-dev libbox2d-dev libompl-dev libapriltag-dev \
 	libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev libopencv-videoio-dev libopencv-calib3d-dev \

@@ -1,13 +1,11 @@
-"""The 2D top-down renderer and the video writers from Python (vwg._core.TopDownRenderer, VideoWriter,
-ImageSequence). Expected pixels are worked out by hand from each test's geometry: pixel (i, j) covers
-[i, i+1) × [j, j+1), the map's bottom row is at the image bottom, and numpy indexes image[row, column]."""
+"""The 2D top-down renderer and image sequences from Python (vwg._core.TopDownRenderer, ImageSequence;
+videos are tested in test_video.py). Expected pixels are worked out by hand from each test's geometry:
+pixel (i, j) covers [i, i+1) × [j, j+1), the map's bottom row is at the image bottom, and numpy indexes
+image[row, column]."""
 
 from __future__ import annotations
 
-import gc
 import math
-import shutil
-import subprocess
 import types
 
 import numpy as np
@@ -17,13 +15,6 @@ import vwg
 from vwg.errors import Error, SchemaError
 
 core = vwg._core
-
-
-
-def test_ffmpeg_is_installed():
-    # The Makefile installs Debian's ffmpeg; video tests must fail, not skip, without it.
-    assert shutil.which("ffmpeg") and shutil.which("ffprobe"), "install ffmpeg (make deps)"
-
 
 
 def free_grid() -> np.ndarray:
@@ -53,14 +44,6 @@ def plain_style() -> core.RenderStyle:
 
 def renderer(grid: np.ndarray | None = None, **kw) -> core.TopDownRenderer:
     return core.TopDownRenderer(free_grid() if grid is None else grid, 0.1, (0.0, 0.0, 0.0), style=plain_style(), **kw)
-
-
-def probe(path) -> dict[str, str]:
-    """ffprobe's view of the first video stream, counting its frames."""
-    out = subprocess.run(["ffprobe", "-v", "error", "-select_streams", "v:0", "-count_frames", "-show_entries",
-                          "stream=codec_name,pix_fmt,width,height,nb_read_frames", "-of", "default=noprint_wrappers=1",
-                          str(path)], capture_output=True, text=True, check=True).stdout
-    return dict(line.split("=", 1) for line in out.split())
 
 
 def solid(width: int, height: int, i: int) -> np.ndarray:
@@ -229,107 +212,6 @@ def test_style_reads_back():
     assert s.palette == [(10, 20, 30), (40, 50, 60), (200, 100, 0)]
     r = renderer()
     assert r.style.unknown == (128, 0, 128)
-
-
-# ------------------------------------------------------------------ video
-
-
-def test_mp4_is_h264_yuv420p_with_every_frame(tmp_path):
-    path = tmp_path / "run.mp4"
-    with core.VideoWriter(path, fps=10) as video:
-        for i in range(12):
-            video.write(solid(64, 48, i))
-        assert video.frames == 12
-        assert video.size == (64, 48)
-        assert video.encoder == "ffmpeg libx264"
-    info = probe(path)
-    assert info == {"codec_name": "h264", "width": "64", "height": "48", "pix_fmt": "yuv420p", "nb_read_frames": "12"}
-    head = path.read_bytes()[:65536]
-    assert head.index(b"moov") < head.index(b"mdat")  # faststart: the index first
-
-
-def test_gif_signature_and_frames(tmp_path):
-    path = tmp_path / "run.gif"
-    video = core.VideoWriter(str(path), fps=5)
-    for i in range(5):
-        video.write(solid(40, 30, i))
-    video.close()
-    assert not video.is_open
-    assert path.read_bytes()[:6] == b"GIF89a"
-    info = probe(path)
-    assert info["codec_name"] == "gif"
-    assert info["nb_read_frames"] == "5"
-
-
-def test_gif_with_one_global_palette(tmp_path):
-    path = tmp_path / "global.gif"
-    with core.VideoWriter(path, fps=5, gif_global_palette=True) as video:
-        for i in range(4):
-            video.write(solid(40, 30, i))
-    assert probe(path)["nb_read_frames"] == "4"
-
-
-def test_renderer_frames_go_into_a_video(tmp_path):
-    r = renderer()
-    with core.VideoWriter(tmp_path / "sim.mp4", fps=20) as video:
-        for i in range(6):
-            r.begin(frame=i, time=i * 0.05)
-            r.draw_robot((0.5 + 0.1 * i, 0.5, 0.0), 0.15, id=1)
-            video.write(r.image())
-    assert probe(tmp_path / "sim.mp4")["nb_read_frames"] == "6"
-
-
-def test_an_exception_in_the_block_passes_through_and_the_file_is_finished(tmp_path):
-    path = tmp_path / "partial.mp4"
-    with pytest.raises(KeyError), core.VideoWriter(path) as video:
-        video.write(solid(64, 48, 0))
-        video.write(solid(64, 48, 1))
-        raise KeyError("stop")
-    assert probe(path)["nb_read_frames"] == "2"
-
-
-def test_a_writer_dropped_without_close_finishes_its_file(tmp_path):
-    path = tmp_path / "dropped.mp4"
-    video = core.VideoWriter(path, fps=10)
-    for i in range(3):
-        video.write(solid(64, 48, i))
-    del video
-    gc.collect()
-    assert probe(path)["nb_read_frames"] == "3"
-
-
-def test_wrong_frames_are_refused(tmp_path):
-    path = tmp_path / "run.mp4"
-    with core.VideoWriter(path, fps=10, size=(64, 48)) as video:
-        with pytest.raises(Error, match="32×32") as e:
-            video.write(solid(32, 32, 0))
-        assert str(path) in str(e.value)
-        with pytest.raises(SchemaError, match="uint8"):
-            video.write(solid(64, 48, 0).astype(np.float32))
-        with pytest.raises(SchemaError, match="H×W×3"):
-            video.write(np.zeros((48, 64), dtype=np.uint8))
-        video.write(solid(64, 48, 0))  # still usable
-
-
-def test_bad_places_and_settings_are_named(tmp_path):
-    missing = tmp_path / "no" / "such" / "run.mp4"
-    with pytest.raises(Error, match="does not exist") as e:
-        core.VideoWriter(missing)
-    assert str(missing) in str(e.value)
-    with pytest.raises(Error, match="even"):
-        core.VideoWriter(tmp_path / "odd.mp4", size=(63, 48))
-    with pytest.raises(Error, match=r"\.mp4"):
-        core.VideoWriter(tmp_path / "run.avi")
-    with pytest.raises(SchemaError, match="backend"):
-        core.VideoWriter(tmp_path / "run.mp4", backend="nope")
-
-
-def test_closing_without_frames_is_an_error_and_leaves_no_file(tmp_path):
-    path = tmp_path / "empty.mp4"
-    video = core.VideoWriter(path)
-    with pytest.raises(Error, match="no frames"):
-        video.close()
-    assert not path.exists()
 
 
 def test_image_sequence_writes_numbered_pngs(tmp_path):

@@ -3,6 +3,7 @@
 //
 // Threads: rendering releases the GIL. A CameraRenderer keeps buffers and a noise generator, so
 // its renders take turns (a mutex); separate renderers render in parallel.
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <memory>
@@ -175,6 +176,9 @@ constexpr const char* kViewArgs =
     "(x, y[, z]) it aims there with scale pixels per metre (orthographic) or the eye distance metres away "
     "(perspective).";
 
+/// A 3D vector as Python has always seen the overview's axes: a list [x, y, z].
+std::array<double, 3> xyz(const sim::Vec3& v) { return {v.x(), v.y(), v.z()}; }
+
 }  // namespace
 
 std::vector<sim::WallMarker> wall_markers_from_python(py::handle markers) { return markers_from_python(markers); }
@@ -282,10 +286,13 @@ y), facing, and optionally size (0.3), height (0.6), label; or RobotWorld.rooms 
       .def_readonly("width", &sim::OverviewCamera::width)
       .def_readonly("height", &sim::OverviewCamera::height)
       .def_readonly("orthographic", &sim::OverviewCamera::orthographic)
-      .def_readonly("eye", &sim::OverviewCamera::eye, "The eye (orthographic: a point far behind the scene).")
-      .def_readonly("right", &sim::OverviewCamera::right, "The image's x axis in the world.")
-      .def_readonly("down", &sim::OverviewCamera::down, "The image's y axis in the world.")
-      .def_readonly("forward", &sim::OverviewCamera::forward, "The line of sight.")
+      .def_property_readonly("eye", [](const sim::OverviewCamera& c) { return xyz(c.eye); },
+                             "The eye (orthographic: a point far behind the scene).")
+      .def_property_readonly("right", [](const sim::OverviewCamera& c) { return xyz(c.right); },
+                             "The image's x axis in the world.")
+      .def_property_readonly("down", [](const sim::OverviewCamera& c) { return xyz(c.down); },
+                             "The image's y axis in the world.")
+      .def_property_readonly("forward", [](const sim::OverviewCamera& c) { return xyz(c.forward); }, "The line of sight.")
       .def_readonly("focal", &sim::OverviewCamera::focal, "Perspective: pixels per unit x/z; orthographic: pixels per metre.")
       .def_readonly("cu", &sim::OverviewCamera::cu)
       .def_readonly("cv", &sim::OverviewCamera::cv)

@@ -1,5 +1,5 @@
-// The renderers and video writers of vwg._core: TopDownRenderer (2D frames of the simulation),
-// RenderStyle, VideoWriter (MP4 / GIF) and ImageSequence (numbered PNG files).
+// The renderers of vwg._core: TopDownRenderer (2D frames of the simulation), RenderStyle and
+// ImageSequence (numbered PNG files). Videos are written by vwg.video (PyAV).
 #include <pybind11/stl/filesystem.h>
 
 #include <cmath>
@@ -16,7 +16,6 @@
 #include "sim_convert.hpp"
 #include "vwg/sim/image_io.hpp"
 #include "vwg/sim/render2d.hpp"
-#include "vwg/sim/video.hpp"
 
 namespace vwg::bindings {
 
@@ -150,25 +149,12 @@ void colour_property(py::class_<sim::RenderStyle>& cls, const char* name, const 
       [name](sim::RenderStyle& s, const Colour& c) { s.*Field = rgb_from(c, std::string("RenderStyle.") + name); }, doc);
 }
 
-/// The Python VideoWriter: the C++ writer, and a lock because writes run without the GIL.
-struct PyVideoWriter {
-  sim::VideoWriter writer;
-  std::mutex mutex;
-};
-
-/// The Python ImageSequence, locked for the same reason.
+/// The Python ImageSequence, and a lock because writes run without the GIL.
 struct PyImageSequence {
   explicit PyImageSequence(sim::ImageSequence s) : seq(std::move(s)) {}
   sim::ImageSequence seq;
   std::mutex mutex;
 };
-
-sim::VideoBackend backend_of(const std::string& name) {
-  if (name == "auto") return sim::VideoBackend::Auto;
-  if (name == "ffmpeg") return sim::VideoBackend::Ffmpeg;
-  if (name == "opencv") return sim::VideoBackend::OpenCV;
-  throw SchemaError("backend", "expected 'auto', 'ffmpeg' or 'opencv', got '" + name + "'");
-}
 
 }  // namespace
 
@@ -370,85 +356,6 @@ void init_render(py::module_& m) {
       .def_property_readonly(
           "style", [](const sim::TopDownRenderer& r) { return r.style(); },
           "The settings (a copy: changing it does not change the renderer).");
-
-  // ---------------------------------------------------------------- VideoWriter
-  py::class_<PyVideoWriter>(m, "VideoWriter",
-                            "A video file, by extension: .mp4 (H.264, yuv420p, faststart: plays in browsers) or "
-                            ".gif. Frames are H×W×3 uint8 RGB arrays of one size (the first frame's, unless "
-                            "given). Use as a context manager, or call close(); a writer garbage-collected "
-                            "unclosed still finishes its file.")
-      .def(py::init([](const std::filesystem::path& path, double fps, std::optional<std::tuple<int, int>> size,
-                       const std::string& backend, int crf, const std::string& preset, bool gif_dither,
-                       bool gif_global_palette, const std::string& ffmpeg) {
-             sim::VideoSettings s;
-             s.backend = backend_of(backend);
-             s.crf = crf;
-             s.preset = preset;
-             s.gif_dither = gif_dither;
-             s.gif_global_palette = gif_global_palette;
-             s.ffmpeg = ffmpeg;
-             auto w = std::make_unique<PyVideoWriter>();
-             const auto [width, height] = size.value_or(std::tuple<int, int>{0, 0});
-             py::gil_scoped_release release;  // may start the encoder
-             w->writer.open(path.string(), width, height, fps, std::move(s));
-             return w;
-           }),
-           py::arg("path"), py::arg("fps") = 10.0, py::kw_only(), py::arg("size") = py::none(),
-           py::arg("backend") = "auto", py::arg("crf") = 20, py::arg("preset") = "fast", py::arg("gif_dither") = false,
-           py::arg("gif_global_palette") = false, py::arg("ffmpeg") = "ffmpeg",
-           "size: (width, height), or None for the first frame's. backend: 'auto' (the ffmpeg command if "
-           "found, else OpenCV for MP4), 'ffmpeg' or 'opencv'. crf/preset: H.264 quality and speed. "
-           "gif_global_palette: one palette for the whole GIF (smaller, faster; holds every frame in memory "
-           "until close, so for short clips).")
-      .def(
-          "write",
-          [](PyVideoWriter& w, const py::array& image) {
-            py::array keep;
-            const cv::Mat frame = frame_of(image, keep, "image");
-            py::gil_scoped_release release;
-            std::lock_guard<std::mutex> lock(w.mutex);
-            w.writer.write(frame);
-          },
-          py::arg("image"), "Append an H×W×3 uint8 RGB frame.")
-      .def(
-          "close",
-          [](PyVideoWriter& w) {
-            py::gil_scoped_release release;
-            std::lock_guard<std::mutex> lock(w.mutex);
-            w.writer.close();
-          },
-          "Finish the file (waits for the encoder). Raises if no frame was written or the encoder failed.")
-      .def("__enter__", [](PyVideoWriter& w) -> PyVideoWriter& { return w; }, py::return_value_policy::reference)
-      .def(
-          "__exit__",
-          [](PyVideoWriter& w, py::handle type, py::handle, py::handle) {
-            py::gil_scoped_release release;
-            std::lock_guard<std::mutex> lock(w.mutex);
-            if (type.is_none()) {
-              w.writer.close();
-              return false;
-            }
-            // An exception is already on its way out: finishing must not replace it with our own.
-            try {
-              w.writer.close();
-            } catch (const Error&) {
-            }
-            return false;
-          },
-          py::arg("type"), py::arg("value"), py::arg("traceback"))
-      .def_property_readonly("is_open", [](const PyVideoWriter& w) { return w.writer.is_open(); })
-      .def_property_readonly("path", [](const PyVideoWriter& w) { return w.writer.path(); })
-      .def_property_readonly("frames", [](const PyVideoWriter& w) { return w.writer.frames(); }, "Frames written.")
-      .def_property_readonly("fps", [](const PyVideoWriter& w) { return w.writer.fps(); })
-      .def_property_readonly(
-          "size",
-          [](const PyVideoWriter& w) {
-            const cv::Size s = w.writer.size();
-            return std::make_tuple(s.width, s.height);
-          },
-          "(width, height); (0, 0) before the first frame when not given.")
-      .def_property_readonly("encoder", [](const PyVideoWriter& w) { return w.writer.encoder(); },
-                             "'ffmpeg libx264', 'ffmpeg gif', 'opencv avc1', or '' before the first frame.");
 
   // ---------------------------------------------------------------- ImageSequence
   py::class_<PyImageSequence>(m, "ImageSequence",

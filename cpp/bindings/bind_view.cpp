@@ -1,18 +1,59 @@
-// SimView: the simulation drawn from above as a backend, to PNG files and MP4/GIF videos.
+// SimView: the simulation drawn from above as a backend, to PNG files and a FrameSink (the video
+// writer of vwg.video, in Python).
+#include <memory>
 #include <optional>
 #include <string>
 
 #include "sim_convert.hpp"
+#include "vwg/sim/frame_sink.hpp"
 #include "vwg/sim/sim_view.hpp"
 
 namespace vwg::bindings {
 
+namespace {
+
+/// A FrameSink written in Python: each frame goes to its write() as an H×W×3 uint8 copy (the
+/// caller's image lives only during the call), taking the GIL.
+class PyFrameSink final : public sim::FrameSink {
+ public:
+  void write(const cv::Mat& rgb) override {
+    py::gil_scoped_acquire gil;
+    py::function fn = py::get_override(static_cast<const sim::FrameSink*>(this), "write");
+    if (!fn) throw Error("a vwg.FrameSink subclass must define write(self, image)");
+    fn(rgb_to_numpy(rgb));
+  }
+  void close() override { PYBIND11_OVERRIDE_PURE(void, sim::FrameSink, close, ); }
+};
+
+/// The sink a Python object implements, keeping that object alive as long as C++ holds it (its
+/// methods are Python); the reference is dropped under the GIL, whichever thread lets go last.
+std::shared_ptr<sim::FrameSink> sink_from_python(const py::object& sink) {
+  if (!py::isinstance<sim::FrameSink>(sink)) {
+    throw SchemaError("sink", "expected a vwg.FrameSink (a vwg.VideoWriter, for one), got " + python_type_name(sink));
+  }
+  auto* raw = sink.cast<sim::FrameSink*>();
+  return std::shared_ptr<sim::FrameSink>(raw, [keep = sink](sim::FrameSink*) mutable {
+    py::gil_scoped_acquire gil;
+    keep = py::object();
+  });
+}
+
+}  // namespace
+
 void init_view(py::module_& m) {
+  py::class_<sim::FrameSink, PyFrameSink, std::shared_ptr<sim::FrameSink>>(m, "FrameSink", R"doc(
+Where a SimView hands its rendered frames (the C++ interface FrameSink). Subclass it in Python and
+define ``write(self, image)`` (an H×W×3 uint8 RGB array, the sink's own copy) and ``close(self)``
+(called once at the end, only after frames were written); call ``super().__init__()``.
+vwg.VideoWriter is one.)doc")
+      .def(py::init<>())
+      .def("close", &sim::FrameSink::close, "Finish the recording.");
   py::class_<sim::SimView, Backend, std::shared_ptr<sim::SimView>>(m, "SimView", R"doc(
 The simulation drawn from above, as a backend (paper Table I: α(Robot) draws the robot): each
 frame, the map, room markers, the robots displayed this frame at their true poses with their
 trajectories, the scans of the lasers and Kinects added, and the paths and beliefs set. Put it
-after the SimBackend in a BackendGroup. Frames go to a video (MP4 H.264 or GIF) and/or PNG files.)doc")
+after the SimBackend in a BackendGroup. Frames go to a video (a FrameSink: vwg.VideoWriter writes MP4 H.264
+or GIF) and/or PNG files; without either nothing is drawn.)doc")
       .def(py::init([](std::shared_ptr<sim::PhysicsWorld> world, std::optional<sim::RenderStyle> style, int width, int header) {
              sim::RenderStyle s = style ? *style : sim::RenderStyle{};
              if (!style) {
@@ -31,11 +72,13 @@ after the SimBackend in a BackendGroup. Frames go to a video (MP4 H.264 or GIF) 
              py::array_t<std::int8_t, py::array::c_style | py::array::forcecast> a(cells);
              v.set_belief(robot, std::vector<std::int8_t>(a.data(), a.data() + a.size()));
            }, py::arg("robot"), py::arg("cells"), "The robot's own grid (int8, the map's shape); None removes it.")
-      .def("record_video", [](sim::SimView& v, const std::string& path, double fps) { v.record_video(path, fps); },
-           py::arg("path"), py::arg("fps") = 10.0, "Write every frame to an MP4 (H.264) or GIF video.")
+      .def("record_video", [](sim::SimView& v, const py::object& sink) { v.record_video(sink_from_python(sink)); },
+           py::arg("sink"),
+           "Hand every frame to `sink` (a vwg.FrameSink, such as vwg.VideoWriter(path, fps=...)); its close() "
+           "is called by close() or finish().")
       .def("record_images", &sim::SimView::record_images, py::arg("directory"), "Write every frame as frame_00001.png, ...")
       .def("close", py::overload_cast<>(&sim::SimView::close), py::call_guard<py::gil_scoped_release>(),
-           "Finish the video.")
+           "Finish the video (the sink's close(), if it was given frames); later frames are not recorded.")
       .def("finish", [](sim::SimView& v, int hold_frames, std::optional<WorldString> final_view) {
              py::gil_scoped_release release;
              v.finish(hold_frames, final_view ? &*final_view : nullptr);

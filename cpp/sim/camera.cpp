@@ -12,6 +12,7 @@
 #include "vwg/error.hpp"
 #include "vwg/sim/raycast.hpp"
 #include "vwg/sim/render2d.hpp"
+#include "vwg/sim/view3d.hpp"
 
 namespace vwg::sim {
 
@@ -93,7 +94,7 @@ double coverage(int v, double top, double bottom) {
 
 // --- spec ---------------------------------------------------------------------------------------
 
-double CameraSpec::fx() const { return (width / 2.0) / std::tan(hfov / 2.0); }
+double CameraSpec::fx() const { return PinholeCamera::focal_for(width, hfov); }
 
 void check_camera_spec(const CameraSpec& s, const std::string& owner) {
   if (s.width < 1 || s.width > 8192) throw SchemaError(owner + ".width", "expected 1 to 8192 pixels, got " + std::to_string(s.width));
@@ -342,14 +343,14 @@ void CameraRenderer::render_columns(const Pose2& pose, std::span<const RobotShap
   const int W = spec_.width, H = spec_.height;
   const double fx = spec_.fx(), fy = spec_.fy(), cx = spec_.cx(), cy = spec_.cy();
   const double mount = spec_.mount_height, wall_top = spec_.wall_height;
-  const double cos_h = std::cos(pose.theta), sin_h = std::sin(pose.theta);
+  const PinholeCamera cam = PinholeCamera::level(pose, mount, fx, cx, cy);
   // Unnormalised horizontal ray direction of image x-coordinate u' (not necessarily a pixel
-  // centre): forward minus x_c times left, so its forward component is 1 and a distance t along it
+  // centre): forward plus x_c times right, so its forward component is 1 and a distance t along it
   // is the depth.
   auto direction = [&](double u, double& dx, double& dy) {
-    const double xc = (u - cx) / fx;
-    dx = cos_h + xc * sin_h;
-    dy = sin_h - xc * cos_h;
+    const Vec3 d = cam.forward + cam.right * cam.column_x(u);
+    dx = d.x();
+    dy = d.y();
   };
 
   sc.raycaster.scan(pose, sc.angles, std::numeric_limits<double>::infinity(), sc.ranges);
@@ -373,8 +374,8 @@ void CameraRenderer::render_columns(const Pose2& pose, std::span<const RobotShap
     const auto uu = static_cast<std::size_t>(u);
     std::uint8_t* col = columns.ptr<std::uint8_t>(u);
     for (int v = 0; v < H; ++v) background[static_cast<std::size_t>(v)].store(col + v * Channels);
-    const double azimuth_x = (cos_h + sc.column_x[uu] * sin_h) / sc.stretch[uu];  // unit direction
-    const double azimuth_y = (sin_h - sc.column_x[uu] * cos_h) / sc.stretch[uu];
+    const Vec3 azimuth = (cam.forward + cam.right * sc.column_x[uu]) / sc.stretch[uu];  // unit direction
+    const double azimuth_x = azimuth.x(), azimuth_y = azimuth.y();
     const double dist = sc.ranges[uu];
 
     if (std::isfinite(dist)) {

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "vwg/error.hpp"
+#include "vwg/sim/view3d.hpp"
 
 namespace vwg::sim {
 
@@ -30,9 +31,9 @@ void check_depth_spec(const DepthCameraSpec& s, const std::string& owner) {
 DepthCamera::DepthCamera(std::shared_ptr<const RangeScanner> scanner, DepthCameraSpec spec)
     : scanner_(std::move(scanner)), spec_(spec) {
   check_depth_spec(spec_, "kinect");
-  fx_ = (spec_.width / 2.0) / std::tan(spec_.hfov / 2);
-  cx_ = (spec_.width - 1) / 2.0;
-  cy_ = (spec_.height - 1) / 2.0;
+  fx_ = PinholeCamera::focal_for(spec_.width, spec_.hfov);
+  cx_ = PinholeCamera::centre_of(spec_.width);
+  cy_ = PinholeCamera::centre_of(spec_.height);
   angles_.resize(static_cast<std::size_t>(spec_.width));
   column_x_.resize(static_cast<std::size_t>(spec_.width));
   for (int u = 0; u < spec_.width; ++u) {

@@ -16,23 +16,11 @@
 #include "vwg/sim/physics.hpp"
 #include "vwg/sim/raycast.hpp"
 #include "vwg/sim/render2d.hpp"
+#include "vwg/sim/view3d.hpp"
 
 namespace vwg::sim {
 
 namespace {
-
-// --- small vector algebra -----------------------------------------------------------------------
-
-struct Vec3 {
-  double x = 0, y = 0, z = 0;
-};
-Vec3 operator+(Vec3 a, Vec3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-Vec3 operator-(Vec3 a, Vec3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-Vec3 operator*(Vec3 a, double k) { return {a.x * k, a.y * k, a.z * k}; }
-double dot(Vec3 a, Vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-Vec3 cross(Vec3 a, Vec3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
-Vec3 vec(const std::array<double, 3>& a) { return {a[0], a[1], a[2]}; }
-std::array<double, 3> arr(Vec3 v) { return {v.x, v.y, v.z}; }
 
 struct Colour {
   float r = 0, g = 0, b = 0;
@@ -66,7 +54,7 @@ constexpr double kLightElevation = 0.85;     // radians above the horizon
 constexpr double kTileLine = 0.02;           // width of the floor's 1 m lines, metres
 
 /// Ambient plus Lambert: faces turned away from the light keep 45 % of their colour.
-float shade(Vec3 normal, Vec3 light) { return static_cast<float>(0.45 + 0.55 * std::max(0.0, dot(normal, light))); }
+float shade(const Vec3& normal, const Vec3& light) { return static_cast<float>(0.45 + 0.55 * std::max(0.0, normal.dot(light))); }
 
 // --- the scene as polygons ------------------------------------------------------------------------
 
@@ -75,7 +63,7 @@ enum class Material : std::uint8_t { Flat, Side, Floor, Tag };
 /// A convex planar polygon.
 struct Polygon {
   std::vector<Vec3> points;
-  Vec3 normal;
+  Vec3 normal = Vec3::Zero();
   Material material = Material::Flat;
   Colour colour;
   int tag = -1;  // index into Scene::tags for Material::Tag
@@ -84,7 +72,7 @@ struct Polygon {
 /// A tag texture on a wall: the square's top-left corner, its axes (right along the wall, down)
 /// and its bitmap.
 struct TagTexture {
-  Vec3 corner, along, down;
+  Vec3 corner = Vec3::Zero(), along = Vec3::Zero(), down = Vec3::Zero();
   double side = 0;
   int cells = 0;
   std::vector<std::uint8_t> black;
@@ -98,37 +86,38 @@ struct Scene {
 Vec3 grid_point(const OccupancyGrid& g, double u, double v, double z) {
   double x, y;
   g.grid_to_world(u, v, x, y);
-  return {x, y, z};
+  return Vec3(x, y, z);
 }
 
 /// A unit world-frame normal of a grid-axis direction (du, dv).
 Vec3 grid_normal(const OccupancyGrid& g, double du, double dv) {
   const double c = std::cos(g.origin.theta), s = std::sin(g.origin.theta);
-  return {c * du - s * dv, s * du + c * dv, 0.0};
+  return Vec3(c * du - s * dv, s * du + c * dv, 0.0);
 }
 
-bool facing_eye(const OverviewCamera& cam, Vec3 point, Vec3 normal) {
-  if (cam.orthographic) return dot(normal, vec(cam.forward)) < 0;
-  return dot(normal, vec(cam.eye) - point) > 0;
+bool facing_eye(const OverviewCamera& cam, const Vec3& point, const Vec3& normal) {
+  if (cam.orthographic) return normal.dot(cam.forward) < 0;
+  return normal.dot(cam.eye - point) > 0;
 }
 
-void add_walls(Scene& scene, const OccupancyGrid& g, double wall_height, int threshold, const OverviewCamera& cam, Vec3 light) {
+void add_walls(Scene& scene, const OccupancyGrid& g, double wall_height, int threshold, const OverviewCamera& cam, const Vec3& light) {
   // Tops: the merged rectangles, all one flat colour, so their seams do not show.
   for (const auto& r : PhysicsWorld::merge_walls(g, threshold)) {
     Polygon p;
     p.points = {grid_point(g, r.col0, r.row0, wall_height), grid_point(g, r.col1, r.row0, wall_height),
                 grid_point(g, r.col1, r.row1, wall_height), grid_point(g, r.col0, r.row1, wall_height)};
-    p.normal = {0, 0, 1};
+    p.normal = Vec3::UnitZ();
     p.colour = kWallTop;
     scene.polygons.push_back(std::move(p));
   }
   // Sides: only the faces between a wall cell and a free one (boxes of touching rectangles would
   // put faces inside the walls, whose edges flicker through the tops), merged into runs.
   auto blocked = [&](int row, int col) { return g.blocked(row, col, threshold); };
-  auto add_side = [&](Vec3 a, Vec3 b, Vec3 normal) {
+  auto add_side = [&](const Vec3& a, const Vec3& b, const Vec3& normal) {
     if (!facing_eye(cam, (a + b) * 0.5, normal)) return;
     Polygon p;
-    p.points = {a, b, b + Vec3{0, 0, wall_height}, a + Vec3{0, 0, wall_height}};
+    const Vec3 up(0, 0, wall_height);
+    p.points = {a, b, b + up, a + up};
     p.normal = normal;
     p.material = Material::Side;
     p.colour = kWallSide * shade(normal, light);
@@ -169,19 +158,18 @@ void add_walls(Scene& scene, const OccupancyGrid& g, double wall_height, int thr
 void add_markers(Scene& scene, const OccupancyGrid& g, std::span<const WallMarker> markers, const OverviewCamera& cam) {
   const perception::TagFamilyInfo family = perception::family_info("tag36h11");
   for (const WallMarker& m : markers) {
-    const Vec3 n{std::cos(m.facing), std::sin(m.facing), 0};
-    const Vec3 along{-n.y, n.x, 0};  // to the right of someone facing the marker
+    const Vec3 n(std::cos(m.facing), std::sin(m.facing), 0);
+    const Vec3 along(-n.y(), n.x(), 0);  // to the right of someone facing the marker
     // Off the wall a little so the z-buffer keeps it in front; a slanted wall is a staircase of
     // cells that can stand up to a cell proud of the marker's plane, so move those out further.
     const double slant = std::remainder(m.facing - g.origin.theta, std::numbers::pi / 2);
     const double lift = std::fabs(slant) > 1e-6 ? g.resolution : 0.0;
-    const Vec3 centre{m.x, m.y, m.height};
+    const Vec3 centre(m.x, m.y, m.height);
     if (!facing_eye(cam, centre, n)) continue;
     const double half = m.size * family.total_width / family.width_at_border / 2;
     auto square = [&](double h, double offset) {
-      const Vec3 c = centre + n * (offset + lift);
-      return std::vector<Vec3>{c - along * h + Vec3{0, 0, h}, c + along * h + Vec3{0, 0, h},
-                               c + along * h - Vec3{0, 0, h}, c - along * h - Vec3{0, 0, h}};
+      const Vec3 c = centre + n * (offset + lift), up(0, 0, h);
+      return std::vector<Vec3>{c - along * h + up, c + along * h + up, c + along * h - up, c - along * h - up};
     };
     Polygon frame;
     frame.points = square(half + 0.05, 0.006);
@@ -198,7 +186,7 @@ void add_markers(Scene& scene, const OccupancyGrid& g, std::span<const WallMarke
     tag.points = square(half, 0.012);
     tex.corner = tag.points[0];
     tex.along = along;
-    tex.down = {0, 0, -1};
+    tex.down = -Vec3::UnitZ();
     tex.side = 2 * half;
     tag.normal = n;
     tag.material = Material::Tag;
@@ -208,38 +196,38 @@ void add_markers(Scene& scene, const OccupancyGrid& g, std::span<const WallMarke
   }
 }
 
-void add_robots(Scene& scene, std::span<const RobotShape> robots, double height, const OverviewCamera& cam, Vec3 light) {
+void add_robots(Scene& scene, std::span<const RobotShape> robots, double height, const OverviewCamera& cam, const Vec3& light) {
   const std::vector<Rgb> palette = RenderStyle{}.palette;
   constexpr int kFacets = 48;
   for (const RobotShape& r : robots) {
     const Rgb c = palette[static_cast<std::size_t>(((r.id % 10) + 10) % 10)];
     const Colour body{static_cast<float>(c.r), static_cast<float>(c.g), static_cast<float>(c.b)};
-    const Vec3 base{r.pose.x, r.pose.y, 0};
+    const Vec3 base(r.pose.x, r.pose.y, 0), up(0, 0, height);
     Polygon lid;
     for (int i = 0; i < kFacets; ++i) {
       const double a0 = 2 * std::numbers::pi * i / kFacets, a1 = 2 * std::numbers::pi * (i + 1) / kFacets;
-      const Vec3 p0 = base + Vec3{r.radius * std::cos(a0), r.radius * std::sin(a0), 0};
-      const Vec3 p1 = base + Vec3{r.radius * std::cos(a1), r.radius * std::sin(a1), 0};
-      const Vec3 normal{std::cos(0.5 * (a0 + a1)), std::sin(0.5 * (a0 + a1)), 0};
-      lid.points.push_back(p0 + Vec3{0, 0, height});
+      const Vec3 p0 = base + Vec3(r.radius * std::cos(a0), r.radius * std::sin(a0), 0);
+      const Vec3 p1 = base + Vec3(r.radius * std::cos(a1), r.radius * std::sin(a1), 0);
+      const Vec3 normal(std::cos(0.5 * (a0 + a1)), std::sin(0.5 * (a0 + a1)), 0);
+      lid.points.push_back(p0 + up);
       if (!facing_eye(cam, (p0 + p1) * 0.5, normal)) continue;
       Polygon side;
-      side.points = {p0, p1, p1 + Vec3{0, 0, height}, p0 + Vec3{0, 0, height}};
+      side.points = {p0, p1, p1 + up, p0 + up};
       side.normal = normal;
       side.colour = body * shade(normal, light);
       scene.polygons.push_back(std::move(side));
     }
-    lid.normal = {0, 0, 1};
+    lid.normal = Vec3::UnitZ();
     lid.colour = mix(body, Colour{255, 255, 255}, 0.25f) * shade(lid.normal, light);
     scene.polygons.push_back(std::move(lid));
     // The heading: a white arrowhead on the lid.
     const double h = r.pose.theta;
-    auto at = [&](double angle, double k) {
-      return base + Vec3{k * r.radius * std::cos(h + angle), k * r.radius * std::sin(h + angle), height + 0.004};
+    auto at = [&](double angle, double k) -> Vec3 {
+      return base + Vec3(k * r.radius * std::cos(h + angle), k * r.radius * std::sin(h + angle), height + 0.004);
     };
     Polygon arrow;
     arrow.points = {at(0, 0.85), at(2.5, 0.55), at(std::numbers::pi, 0.15), at(-2.5, 0.55)};
-    arrow.normal = {0, 0, 1};
+    arrow.normal = Vec3::UnitZ();
     arrow.colour = Colour{250, 250, 250};
     // The arrow is a dart (not convex): draw it as two triangles.
     Polygon left = arrow, right = arrow;
@@ -304,7 +292,7 @@ class Raster {
 /// (Sutherland-Hodgman against that one plane): the floor and the wall tops of a map larger than
 /// the framed part can reach behind the eye.
 std::vector<Vec3> clip_near(const std::vector<Vec3>& points, const OverviewCamera& cam, double near) {
-  auto depth = [&](Vec3 p) { return dot(p - vec(cam.eye), vec(cam.forward)) - near; };
+  auto depth = [&](const Vec3& p) { return (p - cam.eye).dot(cam.forward) - near; };
   std::vector<Vec3> out;
   for (std::size_t i = 0; i < points.size(); ++i) {
     const Vec3 a = points[i], b = points[(i + 1) % points.size()];
@@ -327,26 +315,14 @@ OverviewCamera scaled(const OverviewCamera& cam, int factor) {
   return s;
 }
 
-/// The ray through pixel (u, v): origin and direction.
-void pixel_ray(const OverviewCamera& cam, double u, double v, Vec3& origin, Vec3& dir) {
-  const double a = (u - cam.cu) / cam.focal, b = (v - cam.cv) / cam.focal;
-  if (cam.orthographic) {
-    origin = vec(cam.eye) + vec(cam.right) * a + vec(cam.down) * b;
-    dir = vec(cam.forward);
-  } else {
-    origin = vec(cam.eye);
-    dir = vec(cam.forward) + vec(cam.right) * a + vec(cam.down) * b;
-  }
-}
-
 /// Which floor cells lie in a wall's shadow: a cell is shadowed if a wall stands between it and
 /// the light within the distance at which a wall's top still hides the light.
-std::vector<float> floor_shadows(const OccupancyGrid& g, double wall_height, int threshold, Vec3 light) {
+std::vector<float> floor_shadows(const OccupancyGrid& g, double wall_height, int threshold, const Vec3& light) {
   std::vector<float> lit(g.data.size(), 1.0f);
-  const double horizontal = std::hypot(light.x, light.y);
+  const double horizontal = std::hypot(light.x(), light.y());
   if (horizontal < 1e-9) return lit;
-  const double reach = wall_height * horizontal / light.z;
-  const double angle = std::atan2(light.y, light.x);
+  const double reach = wall_height * horizontal / light.z();
+  const double angle = std::atan2(light.y(), light.x());
   const GridRaycaster caster(g, threshold);
   for (int row = 0; row < g.height; ++row) {
     for (int col = 0; col < g.width; ++col) {
@@ -404,20 +380,6 @@ void check_grid(const OccupancyGrid& g) {
 
 // --- camera -------------------------------------------------------------------------------------
 
-bool OverviewCamera::project(double x, double y, double z, double& u, double& v, double& depth) const {
-  const Vec3 p = Vec3{x, y, z} - vec(eye);
-  depth = dot(p, vec(forward));
-  if (orthographic) {
-    u = cu + focal * dot(p, vec(right));
-    v = cv + focal * dot(p, vec(down));
-    return true;
-  }
-  if (!(depth > 1e-9)) return false;
-  u = cu + focal * dot(p, vec(right)) / depth;
-  v = cv + focal * dot(p, vec(down)) / depth;
-  return true;
-}
-
 void check_overview_view(const OverviewView& v) {
   if (v.width < 16 || v.width > 8192) throw SchemaError("view.width", "expected 16 to 8192 pixels");
   if (v.height < 16 || v.height > 8192) throw SchemaError("view.height", "expected 16 to 8192 pixels");
@@ -447,14 +409,14 @@ OverviewCamera overview_camera(const OccupancyGrid& g, double wall_height, const
   cam.orthographic = view.fov == 0;
   const double ca = std::cos(view.azimuth), sa = std::sin(view.azimuth);
   const double ce = std::cos(view.elevation), se = std::sin(view.elevation);
-  const Vec3 forward{-ce * ca, -ce * sa, -se};
-  const Vec3 right{-sa, ca, 0};
-  const Vec3 down = cross(forward, right);
-  cam.forward = arr(forward);
-  cam.right = arr(right);
-  cam.down = arr(down);
-  cam.cu = (view.width - 1) / 2.0;
-  cam.cv = (view.height - 1) / 2.0;
+  const Vec3 forward(-ce * ca, -ce * sa, -se);
+  const Vec3 right(-sa, ca, 0);
+  const Vec3 down = forward.cross(right);
+  cam.forward = forward;
+  cam.right = right;
+  cam.down = down;
+  cam.cu = PinholeCamera::centre_of(view.width);
+  cam.cv = PinholeCamera::centre_of(view.height);
 
   // What must fit: the free part of the map and its walls, from the floor to the wall tops.
   int col0, row0, col1, row1;
@@ -465,26 +427,27 @@ OverviewCamera overview_camera(const OccupancyGrid& g, double wall_height, const
       corners.push_back(grid_point(g, u, v, z));
     }
   }
-  Vec3 target{view.target_x, view.target_y, view.target_z};
+  Vec3 target(view.target_x, view.target_y, view.target_z);
   double radius = 0;
   if (view.fit) {
     target = (grid_point(g, col0, row0, 0) + grid_point(g, col1 + 1, row1 + 1, 0)) * 0.5;
   }
-  for (const Vec3& c : corners) radius = std::max(radius, std::sqrt(dot(c - target, c - target)));
+  for (const Vec3& c : corners) radius = std::max(radius, (c - target).norm());
   radius = std::max(radius, 1.0);
 
   const double margin_u = 0.04 * view.width, margin_v = 0.05 * view.height;
   const double room_u = view.width - 2 * margin_u, room_v = view.height - 2 * margin_v;
   if (cam.orthographic) {
-    cam.eye = arr(target - forward * (4 * radius + 10));
+    cam.eye = target - forward * (4 * radius + 10);
     cam.focal = view.scale;
     if (view.fit) {
       double lo_u = 1e300, hi_u = -1e300, lo_v = 1e300, hi_v = -1e300;
       for (const Vec3& c : corners) {
-        lo_u = std::min(lo_u, dot(c - target, right));
-        hi_u = std::max(hi_u, dot(c - target, right));
-        lo_v = std::min(lo_v, dot(c - target, down));
-        hi_v = std::max(hi_v, dot(c - target, down));
+        const Vec3 d = c - target;
+        lo_u = std::min(lo_u, d.dot(right));
+        hi_u = std::max(hi_u, d.dot(right));
+        lo_v = std::min(lo_v, d.dot(down));
+        hi_v = std::max(hi_v, d.dot(down));
       }
       cam.focal = std::min(room_u / std::max(hi_u - lo_u, 1e-9), room_v / std::max(hi_v - lo_v, 1e-9));
       cam.cu -= cam.focal * 0.5 * (lo_u + hi_u);
@@ -493,9 +456,9 @@ OverviewCamera overview_camera(const OccupancyGrid& g, double wall_height, const
     return cam;
   }
 
-  cam.focal = (view.width / 2.0) / std::tan(view.fov / 2);
+  cam.focal = PinholeCamera::focal_for(view.width, view.fov);
   if (!view.fit) {
-    cam.eye = arr(target - forward * view.distance);
+    cam.eye = target - forward * view.distance;
     return cam;
   }
   // The nearest eye distance at which the corners fit the image (the frame shrinks as the eye
@@ -508,8 +471,8 @@ OverviewCamera overview_camera(const OccupancyGrid& g, double wall_height, const
     Extent e{1e300, -1e300, 1e300, -1e300};
     for (const Vec3& c : corners) {
       const Vec3 p = c - eye;
-      const double z = dot(p, forward);
-      const double u = dot(p, right) / z, v = dot(p, down) / z;
+      const double z = p.dot(forward);
+      const double u = p.dot(right) / z, v = p.dot(down) / z;
       e.lo_u = std::min(e.lo_u, u);
       e.hi_u = std::max(e.hi_u, u);
       e.lo_v = std::min(e.lo_v, v);
@@ -533,7 +496,7 @@ OverviewCamera overview_camera(const OccupancyGrid& g, double wall_height, const
     }
   }
   const Extent e = extent(far);
-  cam.eye = arr(target - forward * far);
+  cam.eye = target - forward * far;
   cam.cu -= cam.focal * 0.5 * (e.lo_u + e.hi_u);
   cam.cv -= cam.focal * 0.5 * (e.lo_v + e.hi_v);
   return cam;
@@ -555,14 +518,14 @@ cv::Mat render_overview(const OccupancyGrid& g, double wall_height, std::span<co
   // The light comes from the viewer's right and above, so the sides facing the viewer differ in
   // brightness and the shadows fall to the left, where they can be seen.
   const double light_azimuth = view.azimuth + kLightAfterView;
-  const Vec3 light{std::cos(kLightElevation) * std::cos(light_azimuth), std::cos(kLightElevation) * std::sin(light_azimuth),
-                   std::sin(kLightElevation)};
+  const Vec3 light(std::cos(kLightElevation) * std::cos(light_azimuth), std::cos(kLightElevation) * std::sin(light_azimuth),
+                   std::sin(kLightElevation));
 
   Scene scene;
   {
     Polygon floor;
     floor.points = {grid_point(g, 0, 0, 0), grid_point(g, g.width, 0, 0), grid_point(g, g.width, g.height, 0), grid_point(g, 0, g.height, 0)};
-    floor.normal = {0, 0, 1};
+    floor.normal = Vec3::UnitZ();
     floor.material = Material::Floor;
     scene.polygons.push_back(std::move(floor));
   }
@@ -580,7 +543,7 @@ cv::Mat render_overview(const OccupancyGrid& g, double wall_height, std::span<co
     corners.clear();
     for (const Vec3& q : big.orthographic ? p.points : clip_near(p.points, big, near_plane)) {
       double u, v, depth;
-      big.project(q.x, q.y, q.z, u, v, depth);
+      big.project(q, u, v, depth);
       corners.push_back({u, v, big.orthographic ? -depth : 1.0 / depth});
     }
     if (corners.size() < 3) continue;
@@ -619,31 +582,31 @@ cv::Mat render_overview(const OccupancyGrid& g, double wall_height, std::span<co
       }
       // Where the pixel's ray meets the polygon's plane.
       Vec3 origin, dir;
-      pixel_ray(big, u, v, origin, dir);
-      const double denom = dot(dir, p.normal);
-      const double t = std::fabs(denom) > 1e-12 ? dot(p.points[0] - origin, p.normal) / denom : 0.0;
+      big.ray(u, v, origin, dir);
+      const double denom = dir.dot(p.normal);
+      const double t = std::fabs(denom) > 1e-12 ? (p.points[0] - origin).dot(p.normal) / denom : 0.0;
       const Vec3 hit = origin + dir * t;
       if (p.material == Material::Side) {
         // Darker towards the floor (the light the floor and the other walls do not send back
         // there): the walls' feet read as corners rather than as flat cut-outs.
-        const float height = static_cast<float>(std::clamp(hit.z / wall_height, 0.0, 1.0));
+        const float height = static_cast<float>(std::clamp(hit.z() / wall_height, 0.0, 1.0));
         row[u] = to_pixel(p.colour * (0.8f + 0.2f * height));
       } else if (p.material == Material::Floor) {
         double gu, gv;
-        g.world_to_grid(hit.x, hit.y, gu, gv);
+        g.world_to_grid(hit.x(), hit.y(), gu, gv);
         const int col = std::clamp(floor_within(gu, 0, g.width), 0, g.width - 1);
         const int r = std::clamp(floor_within(gv, 0, g.height), 0, g.height - 1);
         const int value = g.at(r, col);
         Colour c = value < 0 ? kFloorUnknown : mix(kFloorFree, kFloorUnknown, static_cast<float>(std::min(value, 100)) / 100.0f);
-        const double fx = hit.x - std::floor(hit.x), fy = hit.y - std::floor(hit.y);
+        const double fx = hit.x() - std::floor(hit.x()), fy = hit.y() - std::floor(hit.y());
         if (value >= 0 && (fx < kTileLine || fy < kTileLine)) c = kFloorLine;
         c = c * static_cast<float>(kShadow + (1 - kShadow) * lit_at(gu, gv));
         row[u] = to_pixel(c);
       } else {
         const TagTexture& tex = scene.tags[static_cast<std::size_t>(p.tag)];
         const Vec3 d = hit - tex.corner;
-        const int cu = std::clamp(static_cast<int>(dot(d, tex.along) / tex.side * tex.cells), 0, tex.cells - 1);
-        const int cv = std::clamp(static_cast<int>(dot(d, tex.down) / tex.side * tex.cells), 0, tex.cells - 1);
+        const int cu = std::clamp(static_cast<int>(d.dot(tex.along) / tex.side * tex.cells), 0, tex.cells - 1);
+        const int cv = std::clamp(static_cast<int>(d.dot(tex.down) / tex.side * tex.cells), 0, tex.cells - 1);
         row[u] = to_pixel(tex.black[static_cast<std::size_t>(cv) * tex.cells + cu] ? kInk : kPaper);
       }
     }

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <exception>
+#include <utility>
 
 #include "vwg/error.hpp"
 #include "vwg/semantics.hpp"
@@ -27,17 +30,26 @@ void SimView::set_belief(int robot, std::vector<std::int8_t> cells) {
   beliefs_[robot] = std::move(cells);
 }
 
-void SimView::record_video(const std::string& path, double fps, VideoSettings settings) {
-  video_path_ = path;
-  video_fps_ = fps;
-  video_settings_ = settings;
-  video_.emplace();  // opened with the first frame's size
+SimView::~SimView() {
+  try {
+    close();
+  } catch (const std::exception& e) {
+    // A destructor must not throw; the message is all that can be done for the caller.
+    std::fprintf(stderr, "vwg: SimView: %s\n", e.what());
+  }
+}
+
+void SimView::record_video(std::shared_ptr<FrameSink> sink) {
+  close();  // a recording already going is finished first
+  video_ = std::move(sink);
 }
 
 void SimView::record_images(const std::string& directory) { images_.emplace(directory); }
 
 void SimView::close() {
-  if (video_ && video_->is_open()) video_->close();
+  const std::shared_ptr<FrameSink> sink = std::exchange(video_, nullptr);
+  const bool wrote = std::exchange(video_frames_, 0) > 0;
+  if (sink && wrote) sink->close();
 }
 
 void SimView::begin_frame(const FrameInfo&) {
@@ -100,8 +112,7 @@ void SimView::finish(int hold_frames, const WorldString* final_view) {
     draw(last_frame_->frame, last_frame_->time);
     write(std::max(1, hold_frames));
   }
-  close();
-  video_.reset();  // later frames are not recorded: the video is finished
+  close();  // later frames are not recorded: the video is finished
   images_.reset();
 }
 
@@ -133,8 +144,10 @@ void SimView::draw(std::uint64_t frame, double time) {
 void SimView::write(int copies_to_video) {
   const cv::Mat& image = renderer_.image();
   if (video_) {
-    if (!video_->is_open()) video_->open(video_path_, image.cols, image.rows, video_fps_, video_settings_);
-    for (int k = 0; k < copies_to_video; ++k) video_->write(image);
+    for (int k = 0; k < copies_to_video; ++k) {
+      video_->write(image);
+      ++video_frames_;
+    }
   }
   if (images_) images_->write(image);
   if (video_ || images_) ++written_;

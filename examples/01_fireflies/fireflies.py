@@ -118,7 +118,7 @@ class Picture(vwg.Backend):
             else:
                 image[row - 1:row + 2, col - 1:col + 2] = (90, 90, 70)
         if self.video is None:
-            self.video = vwg.VideoWriter(self.path, self.fps)
+            self.video = vwg.VideoWriter(self.path, fps=self.fps)
         self.video.write(np.clip(image, 0, 255).astype(np.uint8))
 
     def finish(self) -> None:

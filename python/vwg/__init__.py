@@ -42,6 +42,7 @@ from ._core import (
     EveryFrame,
     FrameInfo,
     FrameRecord,
+    FrameSink,
     Generator,
     GridDecider,
     GridRaycaster,
@@ -66,7 +67,6 @@ from ._core import (
     TopDownRenderer,
     TraceBackend,
     VideoSource,
-    VideoWriter,
     __version__,
     apriltag_families,
     apriltag_family,
@@ -100,6 +100,7 @@ from .robotworld import (
     load_robot_world,
 )
 from .sim import MOTION_SYMBOLS, SIM_EVENTS, Simulation
+from .video import VideoWriter
 from .world import Alphabet, World
 
 __all__ = [
@@ -130,6 +131,7 @@ __all__ = [
     "FrameError",
     "FrameInfo",
     "FrameRecord",
+    "FrameSink",
     "Generator",
     "GeneratorSpec",
     "GridDecider",

@@ -8,7 +8,7 @@ import numpy
 import numpy.typing
 import os
 import typing
-__all__: list[str] = ['ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'ArrivalCondition', 'Backend', 'BackendGroup', 'Blob', 'CameraGenerator', 'CameraRenderer', 'Collision', 'CollisionGenerator', 'DStarLite', 'Decider', 'DecisionInput', 'Engine', 'Event', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'Generator', 'GridDecider', 'GridRaycaster', 'ImageFiles', 'ImageSequence', 'ImageSource', 'KinectGenerator', 'LaserGenerator', 'MotionBackend', 'Node', 'NullBackend', 'OdometryGenerator', 'OmplDecider', 'OmplPlan', 'OmplPlanner', 'OrderGenerator', 'OverviewCamera', 'PhysicsWorld', 'PythonActor', 'RandomDecider', 'RangeScanner', 'RenderStyle', 'RobotPlatform', 'RobotSettings', 'RobotState', 'SimView', 'SimulatedCamera', 'StopCondition', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoSource', 'VideoWriter', 'add_arobot', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'arobot_event_types', 'astar', 'build_string', 'detect_apriltags', 'display', 'estimate_tag_pose', 'evolve', 'grid_clearance', 'grid_inflate', 'overview_camera', 'plan_ompl', 'read_image', 'render_overview', 'robot_map', 'set_log_sink', 'visualize', 'walker_behavior', 'write_image']
+__all__: list[str] = ['ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'ArrivalCondition', 'Backend', 'BackendGroup', 'Blob', 'CameraGenerator', 'CameraRenderer', 'Collision', 'CollisionGenerator', 'DStarLite', 'Decider', 'DecisionInput', 'Engine', 'Event', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'FrameSink', 'Generator', 'GridDecider', 'GridRaycaster', 'ImageFiles', 'ImageSequence', 'ImageSource', 'KinectGenerator', 'LaserGenerator', 'MotionBackend', 'Node', 'NullBackend', 'OdometryGenerator', 'OmplDecider', 'OmplPlan', 'OmplPlanner', 'OrderGenerator', 'OverviewCamera', 'PhysicsWorld', 'PythonActor', 'RandomDecider', 'RangeScanner', 'RenderStyle', 'RobotPlatform', 'RobotSettings', 'RobotState', 'SimView', 'SimulatedCamera', 'StopCondition', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoSource', 'add_arobot', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'arobot_event_types', 'astar', 'build_string', 'detect_apriltags', 'display', 'estimate_tag_pose', 'evolve', 'grid_clearance', 'grid_inflate', 'overview_camera', 'plan_ompl', 'read_image', 'render_overview', 'robot_map', 'set_log_sink', 'visualize', 'walker_behavior', 'write_image']
 class Blob:
     """
     A large attribute value held by reference from world strings (an occupancy grid, an image, a path).
@@ -1037,50 +1037,6 @@ class TopDownRenderer:
         """
         Image width.
         """
-class VideoWriter:
-    """
-    A video file, by extension: .mp4 (H.264, yuv420p, faststart: plays in browsers) or .gif. Frames are H×W×3 uint8 RGB arrays of one size (the first frame's, unless given). Use as a context manager, or call close(); a writer garbage-collected unclosed still finishes its file.
-    """
-    def __enter__(self) -> VideoWriter:
-        ...
-    def __exit__(self, type: typing.Any, value: typing.Any, traceback: typing.Any) -> bool:
-        ...
-    def __init__(self, path: os.PathLike | str | bytes, fps: typing.SupportsFloat | typing.SupportsIndex = 10.0, *, size: tuple[typing.SupportsInt | typing.SupportsIndex, typing.SupportsInt | typing.SupportsIndex] | None = None, backend: str = 'auto', crf: typing.SupportsInt | typing.SupportsIndex = 20, preset: str = 'fast', gif_dither: bool = False, gif_global_palette: bool = False, ffmpeg: str = 'ffmpeg') -> None:
-        """
-        size: (width, height), or None for the first frame's. backend: 'auto' (the ffmpeg command if found, else OpenCV for MP4), 'ffmpeg' or 'opencv'. crf/preset: H.264 quality and speed. gif_global_palette: one palette for the whole GIF (smaller, faster; holds every frame in memory until close, so for short clips).
-        """
-    def close(self) -> None:
-        """
-        Finish the file (waits for the encoder). Raises if no frame was written or the encoder failed.
-        """
-    def write(self, image: numpy.ndarray[typing.Any, numpy.dtype[typing.Any]]) -> None:
-        """
-        Append an H×W×3 uint8 RGB frame.
-        """
-    @property
-    def encoder(self) -> str:
-        """
-        'ffmpeg libx264', 'ffmpeg gif', 'opencv avc1', or '' before the first frame.
-        """
-    @property
-    def fps(self) -> float:
-        ...
-    @property
-    def frames(self) -> int:
-        """
-        Frames written.
-        """
-    @property
-    def is_open(self) -> bool:
-        ...
-    @property
-    def path(self) -> str:
-        ...
-    @property
-    def size(self) -> tuple[int, int]:
-        """
-        (width, height); (0, 0) before the first frame when not given.
-        """
 class ImageSequence:
     """
     Frames as numbered PNG files in a folder: frame_00001.png, frame_00002.png, ...
@@ -1282,12 +1238,26 @@ class KinectGenerator(Generator):
     @property
     def robot(self) -> int:
         ...
+class FrameSink:
+    """
+    Where a SimView hands its rendered frames (the C++ interface FrameSink). Subclass it in Python and
+    define ``write(self, image)`` (an H×W×3 uint8 RGB array, the sink's own copy) and ``close(self)``
+    (called once at the end, only after frames were written); call ``super().__init__()``.
+    vwg.VideoWriter is one.
+    """
+    def __init__(self) -> None:
+        ...
+    def close(self) -> None:
+        """
+        Finish the recording.
+        """
 class SimView(Backend):
     """
     The simulation drawn from above, as a backend (paper Table I: α(Robot) draws the robot): each
     frame, the map, room markers, the robots displayed this frame at their true poses with their
     trajectories, the scans of the lasers and Kinects added, and the paths and beliefs set. Put it
-    after the SimBackend in a BackendGroup. Frames go to a video (MP4 H.264 or GIF) and/or PNG files.
+    after the SimBackend in a BackendGroup. Frames go to a video (a FrameSink: vwg.VideoWriter writes MP4 H.264
+    or GIF) and/or PNG files; without either nothing is drawn.
     """
     def __init__(self, world: PhysicsWorld, style: RenderStyle | None = None, width: typing.SupportsInt | typing.SupportsIndex = 800, header: typing.SupportsInt | typing.SupportsIndex = 40) -> None:
         ...
@@ -1299,7 +1269,7 @@ class SimView(Backend):
         ...
     def close(self) -> None:
         """
-        Finish the video.
+        Finish the video (the sink's close(), if it was given frames); later frames are not recorded.
         """
     def finish(self, hold_frames: typing.SupportsInt | typing.SupportsIndex = 10, final: String | None = None) -> None:
         """
@@ -1313,9 +1283,9 @@ class SimView(Backend):
         """
         Write every frame as frame_00001.png, ...
         """
-    def record_video(self, path: str, fps: typing.SupportsFloat | typing.SupportsIndex = 10.0) -> None:
+    def record_video(self, sink: typing.Any) -> None:
         """
-        Write every frame to an MP4 (H.264) or GIF video.
+        Hand every frame to `sink` (a vwg.FrameSink, such as vwg.VideoWriter(path, fps=...)); its close() is called by close() or finish().
         """
     def set_belief(self, robot: typing.SupportsInt | typing.SupportsIndex, cells: typing.Any) -> None:
         """

@@ -17,10 +17,12 @@ per frame, ``eCollision<other>`` per contact; all addressed to the robot (``to=i
 from __future__ import annotations
 
 import dataclasses
+import os
 from typing import Any
 
 from . import _core
 from .robotworld import NoiseSpec, RobotWorld
+from .video import VideoWriter
 
 __all__ = ["MOTION_SYMBOLS", "SIM_EVENTS", "Simulation"]
 
@@ -112,10 +114,11 @@ class Simulation:
         """Odometry and collisions of every robot, as events (from the platform: here the simulator)."""
         return [_core.OdometryGenerator(self.physics, alphabet), _core.CollisionGenerator(self.physics, alphabet)]
 
-    def view(self, *, width: int = 800, video: str | None = None, fps: float | None = None,
+    def view(self, *, width: int = 800, video: str | os.PathLike[str] | None = None, fps: float | None = None,
              images: str | None = None) -> _core.SimView:
         """A backend drawing the simulation: map, markers, robots, scans of the sensors made so far,
-        trajectories; recording to `video` (MP4/GIF) and/or PNG files in `images`."""
+        trajectories; recording to `video` (MP4/GIF, a vwg.VideoWriter at `fps`, by default the world's frame
+        rate) and/or PNG files in `images`."""
         view = _core.SimView(self.physics, width=width)
         for room in self.world.rooms.values():
             view.add_marker(room.at[0], room.at[1], room.facing, room.name, room.marker)
@@ -124,7 +127,7 @@ class Simulation:
         for kinect in self.kinects:
             view.add_kinect(kinect)
         if video:
-            view.record_video(str(video), fps if fps is not None else 1.0 / self.world.dt)
+            view.record_video(VideoWriter(video, fps=fps if fps is not None else 1.0 / self.world.dt))
         if images:
             view.record_images(str(images))
         return view

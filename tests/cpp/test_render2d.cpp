@@ -1,4 +1,4 @@
-// The 2D top-down renderer and the video writers. Expected pixels and sizes are worked out by hand
+// The 2D top-down renderer, image sequences and the view's frame sink. Expected pixels and sizes are worked out by hand
 // from the geometry written in each test (pixel i covers [i, i+1); map bottom at image bottom).
 #include <gtest/gtest.h>
 
@@ -17,7 +17,9 @@
 #include "vwg/error.hpp"
 #include "vwg/sim/image_io.hpp"
 #include "vwg/sim/render2d.hpp"
-#include "vwg/sim/video.hpp"
+#include "vwg/sim/frame_sink.hpp"
+#include "vwg/sim/physics.hpp"
+#include "vwg/sim/sim_view.hpp"
 
 using namespace vwg;
 using namespace vwg::sim;
@@ -97,37 +99,9 @@ class TempDir {
   fs::path path_;
 };
 
-/// What a shell command prints (stdout), or "" if it cannot run.
-std::string run(const std::string& command) {
-  std::unique_ptr<FILE, int (*)(FILE*)> p(::popen(command.c_str(), "r"), ::pclose);
-  if (!p) return "";
-  std::string out;
-  char buf[4096];
-  std::size_t k;
-  while ((k = std::fread(buf, 1, sizeof buf, p.get())) > 0) out.append(buf, k);
-  return out;
-}
-
-bool have(const std::string& program) { return !run("command -v " + program + " 2>/dev/null").empty(); }
-
-/// ffprobe's view of the first video stream: "codec_name=h264\nwidth=64\n..." .
-std::string probe(const std::string& path) {
-  return run("ffprobe -v error -select_streams v:0 -count_frames -show_entries "
-             "stream=codec_name,pix_fmt,width,height,nb_read_frames -of default=noprint_wrappers=1 '" +
-             path + "'");
-}
-
 /// A frame filled with one colour, a different one per index.
 cv::Mat solid_frame(int w, int h, int i) {
   return cv::Mat(h, w, CV_8UC3, cv::Scalar(40 + 20 * (i % 10), 200 - 15 * (i % 10), 90));
-}
-
-std::string read_head(const std::string& path, std::size_t n) {
-  std::ifstream in(path, std::ios::binary);
-  std::string s(n, '\0');
-  in.read(s.data(), static_cast<std::streamsize>(n));
-  s.resize(static_cast<std::size_t>(in.gcount()));
-  return s;
 }
 
 std::string error_of(const std::function<void()>& f) {
@@ -416,228 +390,6 @@ TEST(TopDownRenderer, SkipsNonFiniteInput) {
   EXPECT_EQ(pixel(r.image(), 48, 28), (Rgb{255, 255, 255}));  // the gap in the path
 }
 
-// ---------------------------------------------------------------- video
-
-TEST(VideoWriter, Mp4IsH264Yuv420pWithEveryFrame) {
-  ASSERT_TRUE(have("ffmpeg") && have("ffprobe")) << "ffmpeg is a dependency: make deps installs it";
-  TempDir dir;
-  const std::string path = dir / "run.mp4";
-  VideoWriter v(path, 64, 48, 10);
-  EXPECT_EQ(v.encoder(), "ffmpeg libx264");
-  for (int i = 0; i < 12; ++i) v.write(solid_frame(64, 48, i));
-  EXPECT_EQ(v.frames(), 12);
-  v.close();
-  EXPECT_FALSE(v.is_open());
-  const std::string info = probe(path);
-  EXPECT_NE(info.find("codec_name=h264"), std::string::npos) << info;
-  EXPECT_NE(info.find("pix_fmt=yuv420p"), std::string::npos) << info;
-  EXPECT_NE(info.find("width=64"), std::string::npos) << info;
-  EXPECT_NE(info.find("height=48"), std::string::npos) << info;
-  EXPECT_NE(info.find("nb_read_frames=12"), std::string::npos) << info;
-  // faststart: the index (moov) comes before the data (mdat).
-  const std::string head = read_head(path, 1 << 16);
-  ASSERT_NE(head.find("moov"), std::string::npos);
-  EXPECT_LT(head.find("moov"), head.find("mdat"));
-  // Colours survive: frame 0 decoded back is (40, 200, 90) give or take the compression.
-  const std::string raw = run("ffmpeg -v error -i '" + path + "' -frames:v 1 -f rawvideo -pix_fmt rgb24 -");
-  ASSERT_EQ(raw.size(), 64u * 48u * 3u);
-  const std::size_t mid = (24 * 64 + 32) * 3;
-  EXPECT_TRUE(near({static_cast<std::uint8_t>(raw[mid]), static_cast<std::uint8_t>(raw[mid + 1]),
-                    static_cast<std::uint8_t>(raw[mid + 2])},
-                   {40, 200, 90}, 6));
-}
-
-TEST(VideoWriter, SizeFromTheFirstFrame) {
-  ASSERT_TRUE(have("ffprobe")) << "ffmpeg is a dependency: make deps installs it";
-  TempDir dir;
-  const std::string path = dir / "lazy.mp4";
-  VideoWriter v(path, 0, 0, 25);
-  EXPECT_EQ(v.size(), cv::Size(0, 0));
-  v.write(solid_frame(32, 16, 0));
-  v.write(solid_frame(32, 16, 1));
-  EXPECT_EQ(v.size(), cv::Size(32, 16));
-  v.close();
-  const std::string info = probe(path);
-  EXPECT_NE(info.find("width=32"), std::string::npos) << info;
-  EXPECT_NE(info.find("nb_read_frames=2"), std::string::npos) << info;
-}
-
-TEST(VideoWriter, FramesThatAreViewsIntoLargerImagesAreWritten) {
-  ASSERT_TRUE(have("ffprobe")) << "ffmpeg is a dependency: make deps installs it";
-  TempDir dir;
-  const std::string path = dir / "roi.mp4";
-  const cv::Mat big = solid_frame(100, 80, 2);
-  const cv::Mat view = big(cv::Rect(10, 10, 64, 48));  // rows are not contiguous
-  ASSERT_FALSE(view.isContinuous());
-  VideoWriter v(path, 64, 48, 10);
-  v.write(view);
-  v.write(view);
-  v.close();
-  EXPECT_NE(probe(path).find("nb_read_frames=2"), std::string::npos);
-}
-
-TEST(VideoWriter, GifStartsWithItsSignatureAndHasEveryFrame) {
-  ASSERT_TRUE(have("ffmpeg") && have("ffprobe")) << "ffmpeg is a dependency: make deps installs it";
-  TempDir dir;
-  const std::string path = dir / "run.gif";
-  {
-    VideoWriter v(path, 40, 30, 10);
-    EXPECT_EQ(v.encoder(), "ffmpeg gif");
-    for (int i = 0; i < 5; ++i) v.write(solid_frame(40, 30, i));
-    v.close();
-  }
-  EXPECT_EQ(read_head(path, 6), "GIF89a");
-  const std::string info = probe(path);
-  EXPECT_NE(info.find("codec_name=gif"), std::string::npos) << info;
-  EXPECT_NE(info.find("nb_read_frames=5"), std::string::npos) << info;
-}
-
-TEST(VideoWriter, GifWithOneGlobalPalette) {
-  ASSERT_TRUE(have("ffprobe")) << "ffmpeg is a dependency: make deps installs it";
-  TempDir dir;
-  const std::string path = dir / "global.gif";
-  VideoSettings s;
-  s.gif_global_palette = true;
-  VideoWriter v(path, 40, 30, 10, s);
-  for (int i = 0; i < 4; ++i) v.write(solid_frame(40, 30, i));
-  v.close();
-  EXPECT_EQ(read_head(path, 6), "GIF89a");
-  EXPECT_NE(probe(path).find("nb_read_frames=4"), std::string::npos);
-}
-
-TEST(VideoWriter, OddSizesAreFineForGif) {
-  ASSERT_TRUE(have("ffmpeg")) << "ffmpeg is a dependency: make deps installs it";
-  TempDir dir;
-  VideoWriter v(dir / "odd.gif", 41, 31, 5);
-  v.write(solid_frame(41, 31, 0));
-  EXPECT_NO_THROW(v.close());
-}
-
-TEST(VideoWriter, DestroyedWithoutCloseStillFinishesTheFile) {
-  ASSERT_TRUE(have("ffprobe")) << "ffmpeg is a dependency: make deps installs it";
-  TempDir dir;
-  const std::string path = dir / "abandoned.mp4";
-  {
-    VideoWriter v(path, 64, 48, 10);
-    for (int i = 0; i < 3; ++i) v.write(solid_frame(64, 48, i));
-  }
-  const std::string info = probe(path);
-  EXPECT_NE(info.find("codec_name=h264"), std::string::npos) << info;
-  EXPECT_NE(info.find("nb_read_frames=3"), std::string::npos) << info;
-}
-
-TEST(VideoWriter, MoveAssignmentFinishesTheOldVideo) {
-  ASSERT_TRUE(have("ffprobe")) << "ffmpeg is a dependency: make deps installs it";
-  TempDir dir;
-  VideoWriter v(dir / "a.mp4", 64, 48, 10);
-  v.write(solid_frame(64, 48, 0));
-  v = VideoWriter(dir / "b.mp4", 64, 48, 10);
-  EXPECT_EQ(v.path(), dir / "b.mp4");
-  EXPECT_NE(probe(dir / "a.mp4").find("nb_read_frames=1"), std::string::npos);
-  v.write(solid_frame(64, 48, 0));
-  v.close();
-}
-
-TEST(VideoWriter, OpenCvBackendWritesH264) {
-  ASSERT_TRUE(have("ffprobe")) << "ffmpeg is a dependency: make deps installs it";
-  TempDir dir;
-  const std::string path = dir / "cv.mp4";
-  VideoSettings s;
-  s.backend = VideoBackend::OpenCV;
-  VideoWriter v(path, 64, 48, 10, s);
-  EXPECT_EQ(v.encoder(), "opencv avc1");
-  for (int i = 0; i < 4; ++i) v.write(solid_frame(64, 48, i));
-  v.close();
-  const std::string info = probe(path);
-  EXPECT_NE(info.find("codec_name=h264"), std::string::npos) << info;
-  EXPECT_NE(info.find("nb_read_frames=4"), std::string::npos) << info;
-}
-
-TEST(VideoWriter, WithoutFfmpegMp4FallsBackToOpenCvAndGifFails) {
-  TempDir dir;
-  VideoSettings s;
-  s.ffmpeg = "/nonexistent/ffmpeg";
-  VideoWriter v(dir / "fallback.mp4", 64, 48, 10, s);
-  EXPECT_EQ(v.encoder(), "opencv avc1");
-  v.write(solid_frame(64, 48, 0));
-  v.close();
-  const std::string gif = error_of([&] { VideoWriter(dir / "x.gif", 64, 48, 10, s); });
-  EXPECT_NE(gif.find("x.gif"), std::string::npos) << gif;
-  EXPECT_NE(gif.find("ffmpeg"), std::string::npos) << gif;
-  EXPECT_NE(gif.find("not found"), std::string::npos) << gif;
-  s.backend = VideoBackend::Ffmpeg;
-  const std::string mp4 = error_of([&] { VideoWriter(dir / "y.mp4", 64, 48, 10, s); });
-  EXPECT_NE(mp4.find("not found"), std::string::npos) << mp4;
-}
-
-TEST(VideoWriter, UnwritablePlacesAreNamed) {
-  TempDir dir;
-  const std::string missing = dir / "no/such/folder/run.mp4";
-  const std::string e1 = error_of([&] { VideoWriter(missing, 64, 48, 10); });
-  EXPECT_EQ(e1.rfind(missing + ":", 0), 0u) << e1;
-  EXPECT_NE(e1.find("does not exist"), std::string::npos) << e1;
-  fs::create_directories(dir / "folder.mp4");
-  const std::string e2 = error_of([&] { VideoWriter(dir / "folder.mp4", 64, 48, 10); });
-  EXPECT_NE(e2.find("folder"), std::string::npos) << e2;
-  const std::string e3 = error_of([&] { VideoWriter(dir / "run.avi", 64, 48, 10); });
-  EXPECT_NE(e3.find(".mp4"), std::string::npos) << e3;
-  EXPECT_THROW(VideoWriter(dir / "run.mp4", 64, 48, 0), Error);
-}
-
-TEST(VideoWriter, WrongFramesAreRefusedWithTheirSizes) {
-  TempDir dir;
-  const std::string path = dir / "run.mp4";
-  VideoWriter v(path, 64, 48, 10);
-  const std::string e1 = error_of([&] { v.write(solid_frame(32, 32, 0)); });
-  EXPECT_NE(e1.find(path), std::string::npos) << e1;
-  EXPECT_NE(e1.find("32×32"), std::string::npos) << e1;
-  EXPECT_NE(e1.find("64×48"), std::string::npos) << e1;
-  const std::string e2 = error_of([&] { v.write(cv::Mat(48, 64, CV_8UC1, cv::Scalar(0))); });
-  EXPECT_NE(e2.find("CV_8UC3"), std::string::npos) << e2;
-  v.write(solid_frame(64, 48, 0));  // still usable
-  v.close();
-  const std::string e3 = error_of([&] { VideoWriter(dir / "odd.mp4", 63, 48, 10); });
-  EXPECT_NE(e3.find("even"), std::string::npos) << e3;
-  EXPECT_NE(e3.find("63×48"), std::string::npos) << e3;
-  EXPECT_THROW(v.write(solid_frame(64, 48, 0)), Error);  // closed
-}
-
-TEST(VideoWriter, NoFramesIsAnErrorAndLeavesNoFile) {
-  TempDir dir;
-  const std::string path = dir / "empty.mp4";
-  VideoWriter v(path, 64, 48, 10);
-  const std::string e = error_of([&] { v.close(); });
-  EXPECT_NE(e.find("no frames"), std::string::npos) << e;
-  EXPECT_FALSE(fs::exists(path));
-  { VideoWriter quiet(dir / "quiet.mp4", 64, 48, 10); }  // destroyed empty: removed without a fuss
-  EXPECT_FALSE(fs::exists(dir / "quiet.mp4"));
-}
-
-TEST(VideoWriter, AnEncoderThatDiesIsReportedWithItsMessage) {
-  TempDir dir;
-  // A stand-in for ffmpeg that fails at once, as it would on a full disk.
-  const std::string fake = dir / "fake-ffmpeg";
-  {
-    std::ofstream f(fake);
-    f << "#!/bin/sh\necho 'run.mp4: No space left on device' >&2\nexit 1\n";
-  }
-  fs::permissions(fake, fs::perms::owner_all);
-  VideoSettings s;
-  s.ffmpeg = fake;
-  const std::string path = dir / "run.mp4";
-  VideoWriter v(path, 64, 48, 10, s);
-  std::string e;
-  try {
-    for (int i = 0; i < 400; ++i) v.write(solid_frame(64, 48, i));  // 3.7 MB: more than a pipe holds
-    v.close();
-  } catch (const Error& ex) {
-    e = ex.what();
-  }
-  EXPECT_EQ(e.rfind(path + ":", 0), 0u) << e;
-  EXPECT_NE(e.find("No space left on device"), std::string::npos) << e;
-  EXPECT_FALSE(v.is_open());
-}
-
 // ---------------------------------------------------------------- image sequences
 
 TEST(ImageSequence, NumberedPngFiles) {
@@ -654,16 +406,77 @@ TEST(ImageSequence, NumberedPngFiles) {
   EXPECT_NE(e.find("frame_00004.png"), std::string::npos) << e;
 }
 
-TEST(RenderToVideo, RendererFramesGoStraightIntoAVideo) {
-  ASSERT_TRUE(have("ffprobe")) << "ffmpeg is a dependency: make deps installs it";
-  TempDir dir;
-  TopDownRenderer r(free_grid(), plain_style());
-  VideoWriter v(dir / "sim.mp4", r.size().width, r.size().height, 20);
-  for (int i = 0; i < 10; ++i) {
-    r.begin({.frame = i, .time = i * 0.05, .status = "moving"});
-    r.draw_robot({0.5 + 0.1 * i, 0.5, 0.0}, 0.15, 1);
-    v.write(r.image());
+// ---------------------------------------------------------------- the view's frame sink
+
+namespace {
+
+/// A sink that keeps what it is given (copies, as the interface asks) and counts close().
+class RecordingSink final : public FrameSink {
+ public:
+  void write(const cv::Mat& rgb) override { frames.push_back(rgb.clone()); }
+  void close() override { ++closed; }
+  std::vector<cv::Mat> frames;
+  int closed = 0;
+};
+
+std::shared_ptr<PhysicsWorld> one_robot_world() {
+  const std::vector<RobotSettings> robots{RobotSettings{.id = 1, .start = {0.5, 0.5, 0.0}}};
+  return std::make_shared<PhysicsWorld>(free_grid(), robots, PhysicsSettings{});
+}
+
+}  // namespace
+
+TEST(SimViewSink, EveryFrameThenTheFinalStateHeldThenOneClose) {
+  auto sink = std::make_shared<RecordingSink>();
+  SimView view(one_robot_world(), plain_style());
+  view.record_video(sink);
+  for (std::uint64_t t = 0; t < 4; ++t) {
+    view.begin_frame({.frame = t, .time = 0.1 * static_cast<double>(t)});
+    view.end_frame({.frame = t, .time = 0.1 * static_cast<double>(t)});
   }
-  v.close();
-  EXPECT_NE(probe(dir / "sim.mp4").find("nb_read_frames=10"), std::string::npos);
+  ASSERT_EQ(sink->frames.size(), 4u);
+  EXPECT_EQ(sink->closed, 0);
+  view.finish(3);  // the last frame drawn again, three times, then closed
+  ASSERT_EQ(sink->frames.size(), 7u);
+  EXPECT_EQ(sink->closed, 1);
+  const cv::Size size = view.renderer().size();
+  for (const cv::Mat& f : sink->frames) {
+    EXPECT_EQ(f.size(), size);
+    EXPECT_EQ(f.type(), CV_8UC3);
+  }
+  EXPECT_EQ(cv::norm(sink->frames[4], sink->frames[6], cv::NORM_INF), 0.0);  // the held frames are one picture
+  EXPECT_EQ(view.frames_written(), 5);  // four frames and the held one
+  // Finished: later frames reach no sink, and closing again does nothing.
+  view.begin_frame({.frame = 4, .time = 0.4});
+  view.end_frame({.frame = 4, .time = 0.4});
+  view.close();
+  EXPECT_EQ(sink->frames.size(), 7u);
+  EXPECT_EQ(sink->closed, 1);
+}
+
+TEST(SimViewSink, ASinkGivenNoFramesIsNotClosedAndNothingIsDrawnWithoutOne) {
+  auto sink = std::make_shared<RecordingSink>();
+  {
+    SimView view(one_robot_world(), plain_style());
+    view.record_video(sink);
+  }  // destroyed before any frame: nothing to finish
+  EXPECT_EQ(sink->closed, 0);
+  SimView view(one_robot_world(), plain_style());
+  view.begin_frame({.frame = 0});
+  view.end_frame({.frame = 0});
+  view.finish(5);
+  EXPECT_EQ(view.frames_written(), 0);
+  EXPECT_EQ(view.trajectories().at(1).size(), 1u);  // the trajectory is kept all the same
+}
+
+TEST(SimViewSink, DestroyingTheViewClosesItsSink) {
+  auto sink = std::make_shared<RecordingSink>();
+  {
+    SimView view(one_robot_world(), plain_style());
+    view.record_video(sink);
+    view.begin_frame({.frame = 0});
+    view.end_frame({.frame = 0});
+  }
+  EXPECT_EQ(sink->frames.size(), 1u);
+  EXPECT_EQ(sink->closed, 1);
 }

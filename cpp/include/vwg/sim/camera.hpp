@@ -26,6 +26,7 @@
 #include "vwg/perception/apriltag.hpp"
 #include "vwg/random.hpp"
 #include "vwg/sim/grid.hpp"
+#include "vwg/sim/view3d.hpp"
 
 namespace vwg::sim {
 
@@ -44,8 +45,8 @@ struct CameraSpec {
   double fx() const;
   double fy() const { return fx(); }
   /// Principal point, OpenCV convention (pixel centres at whole numbers).
-  double cx() const { return (width - 1) / 2.0; }
-  double cy() const { return (height - 1) / 2.0; }
+  double cx() const { return PinholeCamera::centre_of(width); }
+  double cy() const { return PinholeCamera::centre_of(height); }
 };
 
 /// Throws vwg::SchemaError naming `owner`.field for a size outside 1..8192, a field of view outside

@@ -4,13 +4,13 @@
 // GPU or display.
 #pragma once
 
-#include <array>
 #include <span>
 
 #include <opencv2/core.hpp>
 
 #include "vwg/sim/camera.hpp"
 #include "vwg/sim/grid.hpp"
+#include "vwg/sim/view3d.hpp"
 
 namespace vwg::sim {
 
@@ -38,23 +38,20 @@ struct OverviewView {
 };
 
 /// The projection of an overview: world points (metres, z up) to pixels (OpenCV convention: the
-/// centre of pixel (u, v) is at (u, v)).
-struct OverviewCamera {
+/// centre of pixel (u, v) is at (u, v)). The camera model is the renderers' shared PinholeCamera;
+/// an orthographic overview's eye is a point far behind the scene.
+struct OverviewCamera : PinholeCamera {
   int width = 0, height = 0;
-  bool orthographic = false;
-  std::array<double, 3> eye{};      ///< perspective: the eye; orthographic: a point far behind the scene
-  std::array<double, 3> right{};    ///< image x axis, world frame
-  std::array<double, 3> down{};     ///< image y axis
-  std::array<double, 3> forward{};  ///< line of sight
-  double focal = 1.0;  ///< perspective: pixels per unit of x/z; orthographic: pixels per metre
-  double cu = 0.0, cv = 0.0;  ///< where the line of sight through the eye meets the image
 
+  using PinholeCamera::project;
   /// Pixel coordinates of a world point, and its depth along the line of sight (metres from the
   /// eye). False (u, v unset) when the point is not in front of the eye.
-  bool project(double x, double y, double z, double& u, double& v, double& depth) const;
+  bool project(double x, double y, double z, double& u, double& v, double& depth) const {
+    return project(Vec3(x, y, z), u, v, depth);
+  }
   bool project(double x, double y, double z, double& u, double& v) const {
     double depth;
-    return project(x, y, z, u, v, depth);
+    return project(Vec3(x, y, z), u, v, depth);
   }
 };
 

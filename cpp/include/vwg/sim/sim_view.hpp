@@ -16,10 +16,11 @@
 #include "vwg/backend.hpp"
 #include "vwg/platform/motion.hpp"
 #include "vwg/sim/depth_camera.hpp"
+#include "vwg/sim/frame_sink.hpp"
+#include "vwg/sim/image_io.hpp"
 #include "vwg/sim/laser.hpp"
 #include "vwg/sim/physics.hpp"
 #include "vwg/sim/render2d.hpp"
-#include "vwg/sim/video.hpp"
 
 namespace vwg::sim {
 
@@ -33,10 +34,12 @@ class SimView final : public Backend {
   void add_marker(double x, double y, double facing, std::string label, int tag_id);
   /// A robot's belief grid (same geometry as the map), shown until replaced; empty removes it.
   void set_belief(int robot, std::vector<std::int8_t> cells);
-  /// Where frames go: an MP4/GIF video (opened at the first frame) and/or numbered PNG files.
-  void record_video(const std::string& path, double fps, VideoSettings settings = {});
+  /// Where frames go: a video (any FrameSink: the Python package's MP4/GIF writer) and/or numbered
+  /// PNG files. Without either, nothing is drawn and no sink is called.
+  void record_video(std::shared_ptr<FrameSink> sink);
   void record_images(const std::string& directory);
-  /// Finish the video (also done by the destructor).
+  /// Finish the video: the sink's close(), if it was given frames (also done by the destructor);
+  /// later frames are not recorded.
   void close();
   /// Draw the last frame again with what was set since (status, paths), write it `hold_frames`
   /// times to the video (once to the images), then close: a video's end shows the final state,
@@ -51,7 +54,7 @@ class SimView final : public Backend {
   void close(const NodeView& t) override { motion_.close(t); }
   void end_frame(const FrameInfo& frame) override;
   std::string name() const override { return "view"; }
-  ~SimView() override { close(); }
+  ~SimView() override;
 
   /// The last frame drawn (RGB).
   const cv::Mat& image() { return renderer_.image(); }
@@ -81,10 +84,8 @@ class SimView final : public Backend {
   std::map<int, std::vector<cv::Point2d>> trajectories_;
   std::map<int, std::vector<platform::MotionStep>> commanded_;  // robots displayed this frame, with their plan
   std::string status_line() const;  // "1: to kitchen   2: idle", markers by their rooms' names
-  std::optional<VideoWriter> video_;
-  std::string video_path_;
-  double video_fps_ = 10;
-  VideoSettings video_settings_;
+  std::shared_ptr<FrameSink> video_;
+  std::int64_t video_frames_ = 0;  // frames handed to video_
   std::optional<ImageSequence> images_;
   std::int64_t written_ = 0;
   std::optional<FrameInfo> last_frame_;  // the last frame drawn, for finish()
