@@ -5,7 +5,6 @@
 #include <cstring>
 #include <limits>
 
-#include "vwg/error.hpp"
 #include "vwg/geometry/inflate.hpp"
 
 namespace vwg::robot {
@@ -31,7 +30,8 @@ void PlanningMap::rebuild(std::span<const std::int16_t> cells, const geometry::M
     inflated_ = geometry::inflate(obstacles_, rc);
     return;
   }
-  const int reach = static_cast<int>(std::ceil(rc + 0.5));
+  int reach = 0;
+  for (const geometry::Cell& d : disc_) reach = std::max(reach, std::abs(d.row));
   std::vector<int> half(static_cast<std::size_t>(2 * reach + 1), -1);
   for (const geometry::Cell& d : disc_) {
     half[static_cast<std::size_t>(d.row + reach)] = std::max(half[static_cast<std::size_t>(d.row + reach)], std::abs(d.col));
@@ -74,9 +74,7 @@ void PlanningMap::set_obstacle(int row, int col, bool blocked) {
 }
 
 bool PlanningMap::update(const Blob& map, const geometry::MapGeometry& g, double radius) {
-  if (map.dtype() != DType::Int16 || map.size() != g.cells()) {
-    throw SchemaError("grid", "a robot map is an int16 array of the world map's shape");
-  }
+  check_robot_map(map, g);
   const auto cells = map.view<std::int16_t>();
   if (radius != radius_ || obstacles_.rows() != g.height || obstacles_.cols() != g.width) {
     rebuild(cells, g, radius);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "vwg/error.hpp"
 #include "vwg/geometry/clearance.hpp"
@@ -25,12 +26,52 @@ std::size_t index(const geometry::MapGeometry& g, int row, int col) { return sta
 std::int16_t cell(const Blob& map, const geometry::MapGeometry& g, int row, int col) {
   return map.view<std::int16_t>()[static_cast<std::size_t>(row) * g.width + col];
 }
-void check(const Blob& map, const geometry::MapGeometry& g) {
+void check(const Blob& map, const geometry::MapGeometry& g) { check_robot_map(map, g); }
+
+/// A cell walk (Amanatides-Woo) along the segment from (u0, v0) to (u1, v1) in cell units: the
+/// cells it crosses, from the start cell to the end cell, in order.
+struct CellWalk {
+  CellWalk(double u0, double v0, double u1, double v1)
+      : col(static_cast<int>(std::floor(u0))), end_col(static_cast<int>(std::floor(u1))),
+        row(static_cast<int>(std::floor(v0))), end_row(static_cast<int>(std::floor(v1))) {
+    const double du = u1 - u0, dv = v1 - v0;
+    const double inf = std::numeric_limits<double>::infinity();
+    step_u = du > 0 ? 1 : -1;
+    step_v = dv > 0 ? 1 : -1;
+    delta_u = du != 0 ? std::abs(1.0 / du) : inf;
+    delta_v = dv != 0 ? std::abs(1.0 / dv) : inf;
+    t_u = du != 0 ? ((du > 0 ? std::floor(u0) + 1 - u0 : u0 - std::floor(u0)) * delta_u) : inf;
+    t_v = dv != 0 ? ((dv > 0 ? std::floor(v0) + 1 - v0 : v0 - std::floor(v0)) * delta_v) : inf;
+  }
+  /// Cells from the start to the end cell, both counted, on a straight walk.
+  int length() const { return std::abs(end_col - col) + std::abs(end_row - row) + 1; }
+  bool at_end() const { return col == end_col && row == end_row; }
+  void advance() {
+    if (t_u < t_v) {
+      t_u += delta_u;
+      col += step_u;
+    } else {
+      t_v += delta_v;
+      row += step_v;
+    }
+  }
+
+  // Not {col, row} beside {end_col, end_row}: GCC then compares the pairs as one 8-byte word read
+  // back from the stack, a store-forwarding stall on every step (the walk ran at half speed).
+  int col;
+  const int end_col;
+  int row;
+  const int end_row;
+  int step_u, step_v;
+  double delta_u, delta_v, t_u, t_v;
+};
+}  // namespace
+
+void check_robot_map(const Blob& map, const geometry::MapGeometry& g) {
   if (map.dtype() != DType::Int16 || map.ndim() != 2 || map.shape()[0] != g.height || map.shape()[1] != g.width) {
     throw SchemaError("grid", "a robot map is an int16 array of the world map's shape");
   }
 }
-}  // namespace
 
 void SeenBlocks::sync(const Blob& map, const geometry::MapGeometry& g) {
   check(map, g);
@@ -52,30 +93,17 @@ void SeenBlocks::sync(const Blob& map, const geometry::MapGeometry& g) {
 
 bool SeenBlocks::along(double u0, double v0, double u1, double v1) const {
   const double size = 1 << kShift;
-  const double bu0 = u0 / size, bv0 = v0 / size, bu1 = u1 / size, bv1 = v1 / size;
-  int c = static_cast<int>(std::floor(bu0)), r = static_cast<int>(std::floor(bv0));
-  const int end_c = static_cast<int>(std::floor(bu1)), end_r = static_cast<int>(std::floor(bv1));
-  const double du = bu1 - bu0, dv = bv1 - bv0;
-  const int step_u = du > 0 ? 1 : -1, step_v = dv > 0 ? 1 : -1;
-  const double inf = std::numeric_limits<double>::infinity();
-  const double delta_u = du != 0 ? std::abs(1.0 / du) : inf, delta_v = dv != 0 ? std::abs(1.0 / dv) : inf;
-  double t_u = du != 0 ? ((du > 0 ? std::floor(bu0) + 1 - bu0 : bu0 - std::floor(bu0)) * delta_u) : inf;
-  double t_v = dv != 0 ? ((dv > 0 ? std::floor(bv0) + 1 - bv0 : bv0 - std::floor(bv0)) * delta_v) : inf;
+  CellWalk block(u0 / size, v0 / size, u1 / size, v1 / size);  // a walk over blocks
   auto holds = [&](int br, int bc) {
     return br >= 0 && bc >= 0 && br < rows_ && bc < columns_ &&
            counts_[static_cast<std::size_t>(br) * static_cast<std::size_t>(columns_) + static_cast<std::size_t>(bc)] != 0;
   };
-  const int limit = std::abs(end_c - c) + std::abs(end_r - r) + 1;
+  const int limit = block.length();
   for (int k = 0; k < limit; ++k) {
+    const int r = block.row, c = block.col;
     if (holds(r, c) || holds(r - 1, c) || holds(r + 1, c) || holds(r, c - 1) || holds(r, c + 1)) return true;
-    if (c == end_c && r == end_r) break;
-    if (t_u < t_v) {
-      t_u += delta_u;
-      c += step_u;
-    } else {
-      t_v += delta_v;
-      r += step_v;
-    }
+    if (block.at_end()) break;
+    block.advance();
   }
   return false;
 }
@@ -108,50 +136,35 @@ int carve_free(MapEdit& map, const geometry::MapGeometry& g, double x0, double y
   double u0, v0, u1, v1;
   f.world_to_grid(x0, y0, u0, v0);
   f.world_to_grid(x1, y1, u1, v1);
-  // A cell walk (Amanatides-Woo) from the start cell to the end cell, which is left alone.
-  int col = static_cast<int>(std::floor(u0)), row = static_cast<int>(std::floor(v0));
-  const int end_col = static_cast<int>(std::floor(u1)), end_row = static_cast<int>(std::floor(v1));
-  const double du = u1 - u0, dv = v1 - v0;
-  const int step_u = du > 0 ? 1 : -1, step_v = dv > 0 ? 1 : -1;
-  const double inf = std::numeric_limits<double>::infinity();
-  const double delta_u = du != 0 ? std::abs(1.0 / du) : inf, delta_v = dv != 0 ? std::abs(1.0 / dv) : inf;
-  double t_u = du != 0 ? ((du > 0 ? std::floor(u0) + 1 - u0 : u0 - std::floor(u0)) * delta_u) : inf;
-  double t_v = dv != 0 ? ((dv > 0 ? std::floor(v0) + 1 - v0 : v0 - std::floor(v0)) * delta_v) : inf;
-  int changed = 0;
-  const int limit = std::abs(end_col - col) + std::abs(end_row - row) + 2;
+  // The cells the beam crossed, from the start cell to the end cell, which is left alone.
+  CellWalk walk(u0, v0, u1, v1);
+  const int limit = walk.length() + 1;
   // No reported obstacle in the walk's box of cells: nothing to clear.
-  if (seen && (!seen->may_hold(std::min(row, end_row), std::min(col, end_col), std::max(row, end_row), std::max(col, end_col)) ||
+  if (seen && (!seen->may_hold(std::min(walk.row, walk.end_row), std::min(walk.col, walk.end_col),
+                               std::max(walk.row, walk.end_row), std::max(walk.col, walk.end_col)) ||
                !seen->along(u0, v0, u1, v1))) {
     return 0;
   }
   const std::int16_t* cells = map.view().data();
   const auto rows = static_cast<unsigned>(g.height), cols = static_cast<unsigned>(g.width);
+  int changed = 0;
   int k = 0;
-  auto advance = [&] {
-    if (t_u < t_v) {
-      t_u += delta_u;
-      col += step_u;
-    } else {
-      t_v += delta_v;
-      row += step_v;
-    }
-    ++k;
-  };
   while (true) {
     // To the next cell holding a reported obstacle, with no call in the loop (it stays in registers).
     bool found = false;
-    for (; k < limit && !(col == end_col && row == end_row); advance()) {
-      if (static_cast<unsigned>(row) < rows && static_cast<unsigned>(col) < cols && (!seen || seen->any(row, col)) &&
-          cells[index(g, row, col)] == kSeenCell) {
+    for (; k < limit && !walk.at_end(); walk.advance(), ++k) {
+      if (static_cast<unsigned>(walk.row) < rows && static_cast<unsigned>(walk.col) < cols &&
+          (!seen || seen->any(walk.row, walk.col)) && cells[index(g, walk.row, walk.col)] == kSeenCell) {
         found = true;
         break;
       }
     }
     if (!found) return changed;
-    map.set(index(g, row, col), kFreeCell);
-    if (seen) seen->removed(row, col);
+    map.set(index(g, walk.row, walk.col), kFreeCell);
+    if (seen) seen->removed(walk.row, walk.col);
     ++changed;
-    advance();
+    walk.advance();
+    ++k;
   }
 }
 

@@ -56,6 +56,12 @@ std::vector<std::string> arobot_events();
 /// The events' fields, as the alphabet must declare them.
 std::vector<std::pair<std::string, Schema>> arobot_event_types();
 
+/// Attribute indices of ARobot (the order of arobot_attributes()).
+enum ARobotAttr : std::size_t {
+  kId, kGrid, kRow, kColumn, kAngle, kObjective, kActing, kTurn, kMove, kX, kY, kPath, kSent, kAcked, kBusy, kReached, kReplans,
+  kCollisions, kStatus, kWait
+};
+
 class ARobot final : public ActorBehavior {
  public:
   /// `alphabet` must have the events of arobot_event_types() and the symbols Robot, Move, Rotate.
@@ -71,8 +77,16 @@ class ARobot final : public ActorBehavior {
   void decide(ActorState& self, const EvolutionContext& ctx);
   bool goal_of(const ActorState& self, int marker, double& x, double& y) const;
 
-  /// The robot's map, for writing, with its SeenBlocks made valid for it.
-  SeenBlocks& seen_blocks(const ActorState& self, const Blob& map);
+  /// Run `edit(map, seen)` on the robot's map (in place when the engine allows it) and its
+  /// SeenBlocks, made valid for the map before and kept valid after.
+  template <class Edit>
+  void edit_map(ActorState& self, Edit&& edit) {
+    MapEdit map = self.edit_blob<std::int16_t>(kGrid);
+    SeenBlocks& seen = seen_[self.get_int(kId)];
+    seen.sync(map.blob(), config_.map);
+    edit(map, seen);
+    seen.keep(map.blob());
+  }
 
   ARobotConfig config_;
   std::shared_ptr<Decider> decider_;
@@ -86,12 +100,6 @@ class ARobot final : public ActorBehavior {
     SymbolId robot, move, rotate;
     std::optional<SymbolId> path, status;  // shown with the action when the alphabet has them
   } sym_{};
-};
-
-/// Attribute indices of ARobot (the order of arobot_attributes()).
-enum ARobotAttr : std::size_t {
-  kId, kGrid, kRow, kColumn, kAngle, kObjective, kActing, kTurn, kMove, kX, kY, kPath, kSent, kAcked, kBusy, kReached, kReplans,
-  kCollisions, kStatus, kWait
 };
 
 }  // namespace vwg::robot

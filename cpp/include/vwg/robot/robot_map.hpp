@@ -25,6 +25,9 @@ enum RobotCell : std::int16_t {
 
 inline bool is_obstacle(std::int16_t v) { return v >= kWallCell; }
 
+/// Throws SchemaError("grid") unless `map` is an int16 array of the geometry's shape.
+void check_robot_map(const Blob& map, const geometry::MapGeometry& g);
+
 /// A robot map of the world's geometry: the known map (walls 100, free 0, unknown -1) when
 /// `knows_map`, else all free (the empty grid of eq. 13).
 std::shared_ptr<Blob> make_robot_map(const geometry::OccupancyGrid& world, bool knows_map, int threshold = 50);
