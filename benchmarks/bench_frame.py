@@ -44,7 +44,7 @@ def crowd(n: int, seed: int = 0) -> vwg.RobotWorld:
             starts.append((x, y))
             if len(starts) == n:
                 break
-    robots = [vwg.RobotSpec(i + 1, (x, y, float(rng.uniform(-math.pi, math.pi))), sensors=("laser",))
+    robots = [vwg.RobotSettings(id=i + 1, start=(x, y, float(rng.uniform(-math.pi, math.pi))), sensors=("laser",))
               for i, (x, y) in enumerate(starts)]
     return dataclasses.replace(world, robots=robots, laser=LASER, orders=[])
 

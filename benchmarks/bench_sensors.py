@@ -92,11 +92,11 @@ def bench_box2d(quick: bool) -> dict:
     print(f"\n  {'robots':>7} {'ms per step':>12} {'µs per robot-step':>18}")
     for n in counts:
         side = math.ceil(math.sqrt(n))
-        robots = [{"id": i + 1, "start": (1.0 + 1.6 * (i % side), 1.0 + 1.6 * (i // side), float(rng.uniform(-3, 3)))}
-                  for i in range(n)]
+        robots = [vwg.RobotSettings(id=i + 1, start=(1.0 + 1.6 * (i % side), 1.0 + 1.6 * (i // side),
+                                                     float(rng.uniform(-3, 3)))) for i in range(n)]
         physics = _core.PhysicsWorld(grid, robots)
         for r in robots:
-            physics.command(r["id"], [("turn", float(rng.uniform(-3, 3))), ("drive", float(rng.uniform(1, 5)))])
+            physics.command(r.id, [("turn", float(rng.uniform(-3, 3))), ("drive", float(rng.uniform(1, 5)))])
         physics.advance(0.5)  # get them moving and touching
         steps = 100 if n < 1000 else 30
         t = best(3, physics.advance, steps * 0.01) / steps

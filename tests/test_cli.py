@@ -101,8 +101,8 @@ def test_commands_refuse_the_wrong_kind_of_file(tmp_path, capsys):
         assert "found keys: colour" in err
     assert main(["run", str(FIREFLIES), "--goal", "kitchen"]) == 2
     assert "--goal is for robot worlds" in capsys.readouterr().err
-    assert main(["run", "office", "--backend", "trace"]) == 2
-    assert "--backend is for generic worlds" in capsys.readouterr().err
+    assert main(["run", str(FIREFLIES), "--planner", "astar"]) == 2
+    assert f"--planner is for robot worlds; {FIREFLIES} is a generic world" in capsys.readouterr().err
 
 
 def test_strict_json_replaces_what_json_cannot_hold():

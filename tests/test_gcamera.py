@@ -25,9 +25,9 @@ def test_a_robot_at_a_rooms_goal_sees_its_marker():
     room = world.rooms["kitchen"]
     gx, gy = room.goal
     facing_marker = room.facing + math.pi
-    robots = [{"id": 1, "start": (gx, gy, facing_marker)}]
+    robots = [vwg.RobotSettings(id=1, start=(gx, gy, facing_marker))]
     physics = _core.PhysicsWorld(world.grid, robots)
-    source = _core.SimulatedCamera(physics, 1, world.grid, world.rooms, wall_height=world.wall_height)
+    source = _core.SimulatedCamera(physics, 1, world.grid, world.rooms, vwg.CameraSpec(wall_height=world.wall_height))
     a = alphabet()
     camera = _core.CameraGenerator(source, 1, a, *source.apriltag_intrinsics(), tag_size=room.size)
     engine = vwg.Engine(vwg.World(a), "Robot<1>", [camera])

@@ -77,7 +77,7 @@ class Listener(vwg.Actor):
 
 def test_a_python_platform_runs_the_world_string_through_the_motion_backend():
     platform = Kinematic()
-    platform.add_robot(vwg.RobotSettings(1, (2.0, 3.0, 0.0)))
+    platform.add_robot(vwg.RobotSettings(id=1, start=(2.0, 3.0, 0.0)))
     world = vwg.World(**vwg.MOTION_SYMBOLS, events={"go": None, "eOdometry": vwg.SIM_EVENTS["eOdometry"]},
                       visual=["go"], actors=[Listener])
     engine = vwg.Engine(world, "Listener", [vwg.Schedule({0: ["go"]}), vwg.OdometryGenerator(platform, world.alphabet)],
@@ -92,13 +92,13 @@ def test_a_python_platform_runs_the_world_string_through_the_motion_backend():
 
 
 def test_the_simulator_adds_and_removes_robots_while_running():
-    physics = _core.PhysicsWorld(empty_map(), [{"id": 1, "start": (2.0, 2.5, 0.0)}])
+    physics = _core.PhysicsWorld(empty_map(), [vwg.RobotSettings(id=1, start=(2.0, 2.5, 0.0))])
     assert isinstance(physics, vwg.RobotPlatform) and physics.name() == "sim"
-    physics.add_robot(vwg.RobotSettings(7, (5.0, 2.5, math.pi), radius=0.2))
+    physics.add_robot(vwg.RobotSettings(id=7, start=(5.0, 2.5, math.pi), radius=0.2))
     with pytest.raises(vwg.SchemaError, match="used twice"):
-        physics.add_robot(vwg.RobotSettings(7, (8.0, 2.5, 0.0)))
+        physics.add_robot(vwg.RobotSettings(id=7, start=(8.0, 2.5, 0.0)))
     with pytest.raises(vwg.SchemaError, match="overlaps robot 7"):
-        physics.add_robot(vwg.RobotSettings(8, (5.1, 2.5, 0.0)))
+        physics.add_robot(vwg.RobotSettings(id=8, start=(5.1, 2.5, 0.0)))
     physics.command(7, [("drive", 1.0)])
     physics.advance(5.0)
     x, y, yaw = physics.robot(7).pose
@@ -115,7 +115,7 @@ def test_the_simulator_adds_and_removes_robots_while_running():
 
 def test_motion_backend_drives_the_simulator_as_before():
     world = case_study_world()
-    physics = _core.PhysicsWorld(empty_map(), [{"id": 1, "start": (2.0, 2.5, 0.0), "radius": 0.2}])
+    physics = _core.PhysicsWorld(empty_map(), [vwg.RobotSettings(id=1, start=(2.0, 2.5, 0.0), radius=0.2)])
     engine = vwg.Engine(world, 'Driver<order="Rotate<1.5707963267948966>(Move<1.0>(Robot<1>))">',
                         [vwg.Schedule({0: ["go"]})], vwg.MotionBackend(physics))
     engine.run(80)

@@ -10,9 +10,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from vwg import CameraSpec, DepthCameraSpec, LaserSpec, NoiseModel
 from vwg.errors import WorldFileError
 from vwg.maps import OccupancyGrid
-from vwg.robotworld import CameraSpec, KinectSpec, LaserSpec, RobotWorld, load_robot_world
+from vwg.robotworld import RobotWorld, load_robot_world
 
 ROOT = Path(__file__).resolve().parents[1]
 MAPS = ROOT / "maps"
@@ -164,10 +165,11 @@ def test_small_world_loads_with_defaults(world_dir: Path) -> None:
     assert (r1.radius, r1.max_speed, r1.max_turn_rate, r1.max_accel, r1.max_turn_accel) == (0.18, 0.5, 1.5, 1.0, 4.0)
     assert r1.sensors == ("laser", "camera") and r2.sensors == ("kinect", "camera") and r2.radius == 0.25
     assert world.laser == LaserSpec(beams=180, fov=2 * math.pi, max_range=8.0, noise=0.02)
-    assert world.noise.laser == 0.02 and world.noise.odometry == 0.0 and world.noise.motors == 0.0
-    assert world.kinect == KinectSpec()
+    assert world.noise == NoiseModel() and (world.noise.odometry, world.noise.motors) == (0.0, 0.0)
+    assert world.kinect == DepthCameraSpec(wall_height=2.5)
     assert world.kinect.hfov == pytest.approx(math.radians(58))
     assert world.camera == CameraSpec(width=320, height=240, mount_height=0.4)
+    assert LaserSpec().noise == 0.01 and world.laser.min_range == 0.05  # the C++ struct's defaults
     assert (world.frames, world.dt, world.seed, world.wall_height) == (100, 0.1, 0, 2.5)
     assert [(o.time, o.robot, o.room) for o in world.orders] == [(0.0, 1, "east"), (5.0, 2, "stub")]  # by time
     assert world.robot(2) is r2 and world.markers == {3: "east", 4: "stub"}
@@ -212,8 +214,9 @@ CASES = [
     ("frames: 100", "frames: -1", "frames", "frames: -1", ">= 0"),
     ("frames: 100", "frames: 100\nseed: 1.5", "seed", "seed: 1.5", "expected an integer"),
     ("wall_height: 2.5", "wall_height: 0", "wall_height", "wall_height: 0", "> 0"),
-    ("laser: {beams: 180, noise: 0.02}", "laser: {beams: 0}", "laser.beams", "laser:", ">= 1"),
-    ("laser: {beams: 180, noise: 0.02}", "laser: {fov: 7.0}", "laser.fov", "laser:", "<= 6.28"),
+    ("laser: {beams: 180, noise: 0.02}", "laser: {beams: 0}", "laser.beams", "laser:",
+     "expected 1 to 100000 beams, got 0"),
+    ("laser: {beams: 180, noise: 0.02}", "laser: {fov: 7.0}", "laser.fov", "laser:", "(0, 2π] radians, got 7.0"),
     ("laser: {beams: 180, noise: 0.02}", "laser: {noise: -0.01}", "laser.noise", "laser:", ">= 0"),
     ("    radius: 0.25", "    radius: 0.25\n    max_speed: .inf", "robots[1].max_speed", "max_speed", "finite"),
     ("frames: 100", "frames: 100\nkinect: {min_range: 5.0}", "kinect.min_range", "kinect:", "less than max_range"),
@@ -267,6 +270,22 @@ CASES = [
     # the map
     ("map: room/map.yaml", "map: room/nothere.yaml", "map", "map: room/nothere.yaml", "not found"),
     ("map: room/map.yaml", "map: {movingai: x.map, scale: 2}", "map.scale", "map: {", "unknown key"),
+    # settings read through the C++ structs: their types and ranges
+    ("laser: {beams: 180, noise: 0.02}", "laser: {beams: 1.0e+9}", "laser.beams", "laser:",
+     "expected an integer, got float 1000000000.0"),
+    ("laser: {beams: 180, noise: 0.02}", "laser: {beams: 1180591620717411303424}", "laser.beams", "laser:",
+     "expected an integer from -2147483648 to 2147483647"),
+    ("laser: {beams: 180, noise: 0.02}", "laser: {min_range: 9.0}", "laser.max_range", "laser:",
+     "expected a finite range > min_range (9.0)"),
+    ("frames: 100", "frames: 100\nkinect: {wall_height: 3.0}", "kinect.wall_height", "kinect:", "unknown key"),
+    ("frames: 100", "frames: 100\nkinect: {noise: 1}", "kinect.noise", "kinect:", "expected true or false, got int 1"),
+    ("frames: 100", "frames: 100\nkinect: {scan_rows: 500}", "kinect.scan_rows", "kinect:", "expected 1 to height rows"),
+    ("camera: {width: 320, height: 240, mount_height: 0.4}", "camera: {mount_height: 2.6}", "camera.wall_height",
+     "camera:", "expected a finite height above the camera's mount_height"),
+    ("    radius: 0.25", "    radius: 0.25\n    max_speed: fast", "robots[1].max_speed", "max_speed",
+     "expected a number, got str 'fast'"),
+    ("    start: [1.0, 3.0, 0.0]", "    start: [1.0, 3.0, .nan]", "robots[1].start", "start: [1.0, 3.0, .nan]",
+     "expected finite x, y, yaw"),
     # sensors' two heights
     ("camera: {width: 320, height: 240, mount_height: 0.4}", "camera: {width: 320, height: 240, height: 0.4}",
      "camera.height", "camera:", "duplicate key; the image size is width/height and the mounting height is"),
@@ -326,3 +345,48 @@ def test_unknown_space_start(tmp_path: Path) -> None:
     with pytest.raises(WorldFileError, match=r"is 0\.100 m from a wall"):  # unknown space counts as a wall
         load_robot_world(write(tmp_path, text))
     assert load_robot_world(write(tmp_path, text.replace("1.1", "2.0"))).robots[0].start == (2.0, 2.0, 0.0)
+
+
+def test_every_setting_of_the_structs_is_a_world_file_key(world_dir: Path) -> None:
+    # The sections take the C++ structs' fields (LaserSpec.fields() lists them), each set as written.
+    text = BASE.replace("laser: {beams: 180, noise: 0.02}",
+                        "laser: {beams: 90, fov: 3.0, min_range: 0.1, max_range: 5.0, noise: 0.0}\n"
+                        "kinect: {width: 320, height: 240, hfov: 1.0, min_range: 0.4, max_range: 3.0, mount_height: 0.2,"
+                        " robot_height: 0.5, noise: true, noise_a: 0.002, noise_b: 0.003, scan_rows: 3}")
+    world = load_robot_world(write(world_dir, text))
+    assert world.laser == LaserSpec(beams=90, fov=3.0, min_range=0.1, max_range=5.0, noise=0.0)
+    assert world.kinect == DepthCameraSpec(width=320, height=240, hfov=1.0, min_range=0.4, max_range=3.0,
+                                           mount_height=0.2, wall_height=2.5, robot_height=0.5, noise=True,
+                                           noise_a=0.002, noise_b=0.003, scan_rows=3)
+    assert [name for name, *_ in LaserSpec.fields()] == ["beams", "fov", "min_range", "max_range", "noise"]
+    assert [name for name, *_ in CameraSpec.fields()] == ["width", "height", "hfov", "mount_height", "wall_height",
+                                                          "robot_height", "noise", "blur"]
+
+
+def test_the_structs_defaults_are_the_documented_ones() -> None:
+    # The module docs and the README give these; the structs are the only place that holds them.
+    assert LaserSpec() == LaserSpec(beams=360, fov=2 * math.pi, min_range=0.05, max_range=8.0, noise=0.01)
+    assert (CameraSpec().width, CameraSpec().height, CameraSpec().hfov) == (640, 480, pytest.approx(math.pi / 3))
+    assert DepthCameraSpec().hfov == pytest.approx(math.radians(58)) and DepthCameraSpec().min_range == 0.5
+    assert NoiseModel() == NoiseModel(motors=0.0, odometry=0.0)
+
+
+def test_settings_copy_pickle_and_refuse_unknown_fields() -> None:
+    import copy
+    import pickle
+
+    from vwg import PhysicsSettings, RobotSettings, SchemaError
+
+    robot = RobotSettings(id=3, start=(1.0, 2.0, 0.5), sensors=["laser"])
+    assert robot.sensors == ("laser",) and robot.max_speed == 0.5
+    assert pickle.loads(pickle.dumps(robot)) == robot and copy.copy(robot) == robot
+    faster = robot.replace(max_speed=1.2)
+    assert faster.max_speed == 1.2 and robot.max_speed == 0.5 and faster != robot
+    physics = PhysicsSettings(noise={"motors": 0.1})
+    assert physics.noise == NoiseModel(motors=0.1) and physics.step == 0.01
+    with pytest.raises(SchemaError, match=r"LaserSpec\.beamz: unknown setting \(expected one of beams, fov"):
+        LaserSpec(beamz=3)
+    with pytest.raises(SchemaError, match=r"RobotSettings\.start: expected \[x, y, yaw\]"):
+        RobotSettings(start=(1.0, 2.0))
+    with pytest.raises(SchemaError, match=r"robot\.radius: expected a finite number > 0, got -1"):
+        RobotSettings(radius=-1.0).check("robot")

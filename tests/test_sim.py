@@ -42,8 +42,9 @@ def case_study_world():
 
 def run(order, grid, frames=60, seed=0, motor_noise=0.0, odometry_noise=0.0):
     world = case_study_world()
-    physics = _core.PhysicsWorld(grid, [{"id": 1, "start": (2.0, 2.5, 0.0), "radius": 0.2}],
-                                 motor_noise=motor_noise, odometry_noise=odometry_noise, seed=seed)
+    physics = _core.PhysicsWorld(grid, [vwg.RobotSettings(id=1, start=(2.0, 2.5, 0.0), radius=0.2)],
+                                 vwg.PhysicsSettings(noise=vwg.NoiseModel(motors=motor_noise, odometry=odometry_noise),
+                                                     seed=seed))
     gens = [vwg.Schedule({0: ["go"]}), _core.CollisionGenerator(physics, world.alphabet),
             _core.OdometryGenerator(physics, world.alphabet)]
     engine = vwg.Engine(world, f'Driver<order="{order}">', gens, _core.MotionBackend(physics), seed=seed)
@@ -75,7 +76,7 @@ def test_the_robot_stops_at_a_wall_and_hears_the_collision():
 
 def test_odometry_events_reach_the_robot_each_frame():
     world = case_study_world()
-    robots = [{"id": 1, "start": (2.0, 2.5, 0.0)}, {"id": 2, "start": (5.0, 2.5, 0.0)}]
+    robots = [vwg.RobotSettings(id=1, start=(2.0, 2.5, 0.0)), vwg.RobotSettings(id=2, start=(5.0, 2.5, 0.0))]
     physics = _core.PhysicsWorld(empty_map(), robots)
     engine = vwg.Engine(world, "Driver", [_core.OdometryGenerator(physics, world.alphabet)],
                         _core.MotionBackend(physics))
@@ -95,7 +96,7 @@ def test_same_seed_same_trace_with_noise():
 
 def test_bad_physics_settings_name_the_field():
     with pytest.raises(vwg.SchemaError, match="inside a wall"):
-        _core.PhysicsWorld(empty_map(wall_x=2.0), [{"id": 1, "start": (2.05, 2.5, 0.0)}])
+        _core.PhysicsWorld(empty_map(wall_x=2.0), [vwg.RobotSettings(id=1, start=(2.05, 2.5, 0.0))])
     with pytest.raises(vwg.SchemaError, match=r"grid\.data"):
         _core.PhysicsWorld(SimpleNamespace(data=np.zeros((3, 3)), resolution=0.1, origin=(0, 0, 0)), [])
     with pytest.raises(vwg.SchemaError, match=r"eOdometry: expected the fields \(x: real, y: real, "

@@ -198,25 +198,13 @@ Gaussian sigma in pixels (before the noise); seed: the noise sequence.
 
 markers: a list of dicts or objects (vwg.robotworld.Room) with id (or marker), at=(x, y) (or x and
 y), facing, and optionally size (0.3), height (0.6), label; or RobotWorld.rooms (a dict).)doc")
-      .def(py::init([](py::object grid, py::object markers, int width, int height, double hfov, double mount_height,
-                       double wall_height, double robot_height, double noise, double blur, std::uint64_t seed, int threshold) {
-             sim::CameraSpec spec;
-             spec.width = width;
-             spec.height = height;
-             spec.hfov = hfov;
-             spec.mount_height = mount_height;
-             spec.wall_height = wall_height;
-             spec.robot_height = robot_height;
-             spec.noise = noise;
-             spec.blur = blur;
+      .def(py::init([](py::object grid, py::object markers, const sim::CameraSpec& spec, std::uint64_t seed, int threshold) {
              sim::OccupancyGrid g = grid_from_python(grid);
              std::vector<sim::WallMarker> ms = markers_from_python(markers);
              py::gil_scoped_release release;  // the raycaster's tables and the normals take a while on big maps
              return std::make_shared<Camera>(std::move(g), std::move(ms), spec, threshold, seed);
            }),
-           py::arg("grid"), py::arg("markers") = py::list(), py::arg("width") = 640, py::arg("height") = 480,
-           py::arg("hfov") = sim::CameraSpec{}.hfov, py::arg("mount_height") = 0.5, py::arg("wall_height") = 2.5,
-           py::arg("robot_height") = 0.4, py::arg("noise") = 0.0, py::arg("blur") = 0.0, py::arg("seed") = 0,
+           py::arg("grid"), py::arg("markers") = py::list(), py::arg("spec") = sim::CameraSpec{}, py::arg("seed") = 0,
            py::arg("threshold") = 50)
       .def(
           "render",

@@ -21,24 +21,14 @@ void init_camera_generator(py::module_& m) {
       .def(py::init<int>(), py::arg("device"));
   py::class_<sim::SimulatedCamera, perception::ImageSource, std::shared_ptr<sim::SimulatedCamera>>(m, "SimulatedCamera",
       "The robot's view in the simulated world (see CameraRenderer), other robots included.")
-      .def(py::init([](std::shared_ptr<sim::PhysicsWorld> world, int robot, py::object grid, py::object markers, int width,
-                       int height, double hfov, double mount_height, double wall_height, double noise, double blur,
-                       std::uint64_t seed) {
-             sim::CameraSpec spec;
-             spec.width = width;
-             spec.height = height;
-             spec.hfov = hfov;
-             spec.mount_height = mount_height;
-             spec.wall_height = wall_height;
-             spec.noise = noise;
-             spec.blur = blur;
+      .def(py::init([](std::shared_ptr<sim::PhysicsWorld> world, int robot, py::object grid, py::object markers,
+                       const sim::CameraSpec& spec, std::uint64_t seed) {
              auto renderer = std::make_shared<sim::CameraRenderer>(grid_from_python(grid), wall_markers_from_python(markers),
                                                                   spec, 50, seed);
              return std::make_shared<sim::SimulatedCamera>(std::move(world), robot, std::move(renderer));
            }),
-           py::arg("world"), py::arg("robot"), py::arg("grid"), py::arg("markers"), py::arg("width") = 640,
-           py::arg("height") = 480, py::arg("hfov") = sim::CameraSpec{}.hfov, py::arg("mount_height") = 0.5,
-           py::arg("wall_height") = 2.5, py::arg("noise") = 0.0, py::arg("blur") = 0.0, py::arg("seed") = 0)
+           py::arg("world"), py::arg("robot"), py::arg("grid"), py::arg("markers"), py::arg("spec") = sim::CameraSpec{},
+           py::arg("seed") = 0)
       .def("apriltag_intrinsics", [](const sim::SimulatedCamera& c) {
         const auto i = c.renderer().apriltag_intrinsics();
         return py::make_tuple(i.fx, i.fy, i.cx, i.cy);

@@ -35,61 +35,15 @@ sim::Pose2 pose_from_python(py::handle pose, const std::string& field) {
 
 py::tuple pose_to_python(const sim::Pose2& p) { return py::make_tuple(p.x, p.y, p.theta); }
 
-namespace {
-
-/// A field of a robot description: a dict key or an attribute (vwg.robotworld.RobotSpec).
-py::object field_of(py::handle robot, const char* name) {
-  if (py::isinstance<py::dict>(robot)) {
-    py::dict d = py::reinterpret_borrow<py::dict>(robot);
-    return d.contains(name) ? py::object(d[name]) : py::object(py::none());
-  }
-  return py::hasattr(robot, name) ? py::object(robot.attr(name)) : py::object(py::none());
-}
-
-sim::RobotSettings robot_from_python(py::handle robot, std::size_t index) {
-  sim::RobotSettings r;
-  const std::string where = "robots[" + std::to_string(index) + "]";
-  py::object id = field_of(robot, "id");
-  if (id.is_none()) throw SchemaError(where + ".id", "missing");
-  r.id = id.cast<int>();
-  py::object start = field_of(robot, "start");
-  if (start.is_none()) throw SchemaError(where + ".start", "missing");
-  r.start = pose_from_python(start, where + ".start");
-  auto number = [&](const char* name, double& into) {
-    py::object v = field_of(robot, name);
-    if (!v.is_none()) into = v.cast<double>();
-  };
-  number("radius", r.radius);
-  number("max_speed", r.limits.max_speed);
-  number("max_turn_rate", r.limits.max_turn_rate);
-  number("max_accel", r.limits.max_accel);
-  number("max_turn_accel", r.limits.max_turn_accel);
-  return r;
-}
-
-}  // namespace
-
 void init_physics(py::module_& m) {
   py::class_<sim::PhysicsWorld, platform::RobotPlatform, std::shared_ptr<sim::PhysicsWorld>>(m, "PhysicsWorld", R"doc(
 The Box2D world of the simulator: walls from an occupancy grid (merged into few rectangles) and
-differential-drive robots that execute motion plans under speed and acceleration limits, stepped at
-a fixed time step. Robots are dicts or objects with id, start (x, y, yaw), and optionally radius,
-max_speed, max_turn_rate, max_accel, max_turn_accel.)doc")
-      .def(py::init([](py::object grid, py::list robots, double step, double motor_noise, double odometry_noise,
-                       std::uint64_t seed, int obstacle_threshold, bool walls_at_border) {
-             std::vector<sim::RobotSettings> settings;
-             for (std::size_t i = 0; i < robots.size(); ++i) settings.push_back(robot_from_python(robots[i], i));
-             sim::PhysicsSettings ps;
-             ps.step = step;
-             ps.noise = sim::NoiseModel{motor_noise, odometry_noise};
-             ps.seed = seed;
-             ps.obstacle_threshold = obstacle_threshold;
-             ps.walls_at_border = walls_at_border;
-             return std::make_shared<sim::PhysicsWorld>(grid_from_python(grid), settings, ps);
+differential-drive robots (vwg.RobotSettings) that execute motion plans under speed and acceleration
+limits, stepped at the fixed time step of `settings`.)doc")
+      .def(py::init([](py::object grid, const std::vector<sim::RobotSettings>& robots, const sim::PhysicsSettings& settings) {
+             return std::make_shared<sim::PhysicsWorld>(grid_from_python(grid), robots, settings);
            }),
-           py::arg("grid"), py::arg("robots"), py::arg("step") = 0.01, py::arg("motor_noise") = 0.0,
-           py::arg("odometry_noise") = 0.0, py::arg("seed") = 0, py::arg("obstacle_threshold") = 50,
-           py::arg("walls_at_border") = true)
+           py::arg("grid"), py::arg("robots"), py::arg("settings") = sim::PhysicsSettings{})
       .def_property_readonly("wall_shapes", &sim::PhysicsWorld::wall_shapes, "Rectangles the walls were merged into.");
 
   py::class_<BackendGroup, Backend, std::shared_ptr<BackendGroup>>(m, "BackendGroup",

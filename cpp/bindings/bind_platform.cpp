@@ -70,22 +70,6 @@ std::vector<MotionStep> steps_from_python(py::handle steps) {
 }
 
 void init_platform(py::module_& m) {
-  py::class_<RobotSettings>(m, "RobotSettings", "A robot as the world file describes it: id, start, radius, limits.")
-      .def(py::init([](int id, py::object start, double radius, double max_speed, double max_turn_rate, double max_accel,
-                       double max_turn_accel) {
-             return RobotSettings{id, pose_from_python(start, "start"), radius,
-                                  platform::RobotLimits{max_speed, max_turn_rate, max_accel, max_turn_accel}};
-           }),
-           py::arg("id"), py::arg("start"), py::arg("radius") = 0.18, py::arg("max_speed") = 0.5,
-           py::arg("max_turn_rate") = 1.5, py::arg("max_accel") = 1.0, py::arg("max_turn_accel") = 4.0)
-      .def_readonly("id", &RobotSettings::id)
-      .def_property_readonly("start", [](const RobotSettings& r) { return pose_to_python(r.start); })
-      .def_readonly("radius", &RobotSettings::radius)
-      .def_property_readonly("max_speed", [](const RobotSettings& r) { return r.limits.max_speed; })
-      .def_property_readonly("max_turn_rate", [](const RobotSettings& r) { return r.limits.max_turn_rate; })
-      .def_property_readonly("max_accel", [](const RobotSettings& r) { return r.limits.max_accel; })
-      .def_property_readonly("max_turn_accel", [](const RobotSettings& r) { return r.limits.max_turn_accel; });
-
   py::class_<RobotState>(m, "RobotState", "A robot as a platform knows it after its last step.")
       .def(py::init([](int id, py::object pose, py::object odometry, double radius, bool busy, std::uint64_t commands,
                        std::uint64_t collisions, double travelled, double speed, double turn_rate) {

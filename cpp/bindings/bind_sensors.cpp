@@ -92,13 +92,8 @@ simulated laser. ``cast`` gives the hit cell, face and entry point; ``scan`` man
   py::class_<sim::LaserGenerator, Generator, std::shared_ptr<sim::LaserGenerator>>(m, "LaserGenerator", R"doc(
 gLaser: each frame a scan from the robot's true pose; eLaser<to=robot, dist, angle> for each beam
 that hit something. ``ranges`` and ``angles`` are numpy views of the last scan (no copy).)doc")
-      .def(py::init([](std::shared_ptr<const sim::RangeScanner> scanner, int robot, const Alphabet& alphabet, int beams,
-                       double fov, double min_range, double max_range, double noise, const std::string& event) {
-             return std::make_shared<sim::LaserGenerator>(scanner, robot, sim::LaserSpec{beams, fov, min_range, max_range, noise},
-                                                         alphabet, event);
-           }),
-           py::arg("scanner"), py::arg("robot"), py::arg("alphabet"), py::arg("beams") = 360, py::arg("fov") = 2 * M_PI,
-           py::arg("min_range") = 0.05, py::arg("max_range") = 8.0, py::arg("noise") = 0.0, py::arg("event") = "eLaser")
+      .def(py::init<std::shared_ptr<const sim::RangeScanner>, int, sim::LaserSpec, const Alphabet&, const std::string&>(),
+           py::arg("scanner"), py::arg("robot"), py::arg("spec"), py::arg("alphabet"), py::arg("event") = "eLaser")
       .def_property_readonly("ranges", [](py::object self) {
         const auto& g = self.cast<const sim::LaserGenerator&>();
         return copy_of(g.ranges().data(), {static_cast<py::ssize_t>(g.ranges().size())});
@@ -108,6 +103,7 @@ that hit something. ``ranges`` and ``angles`` are numpy views of the last scan (
         return copy_of(g.angles().data(), {static_cast<py::ssize_t>(g.angles().size())});
       }, "The beam angles from the heading (radians).")
       .def_property_readonly("robot", &sim::LaserGenerator::robot)
+      .def_property_readonly("spec", &sim::LaserGenerator::spec)
       .def_property_readonly("max_range", [](const sim::LaserGenerator& g) { return g.spec().max_range; });
 
   py::class_<sim::KinectGenerator, Generator, std::shared_ptr<sim::KinectGenerator>>(m, "KinectGenerator", R"doc(
@@ -115,25 +111,8 @@ gKinect: each frame a depth image from the robot's true pose (walls extruded to 
 ceiling there, other robots as cylinders), turned into a scan as depthimage_to_laserscan does;
 eLaser<to=robot, dist, angle> for each column with a valid range. ``depth`` (H×W float32, metres
 along the optical axis, NaN = invalid), ``ranges`` and ``angles`` are copies of the last frame's.)doc")
-      .def(py::init([](std::shared_ptr<const sim::RangeScanner> scanner, int robot, const Alphabet& alphabet, int width,
-                       int height, double hfov, double min_range, double max_range, double mount_height, double wall_height,
-                       bool noise, int scan_rows, const std::string& event) {
-             sim::DepthCameraSpec spec;
-             spec.width = width;
-             spec.height = height;
-             spec.hfov = hfov;
-             spec.min_range = min_range;
-             spec.max_range = max_range;
-             spec.mount_height = mount_height;
-             spec.wall_height = wall_height;
-             spec.noise = noise;
-             spec.scan_rows = scan_rows;
-             return std::make_shared<sim::KinectGenerator>(scanner, robot, spec, alphabet, event);
-           }),
-           py::arg("scanner"), py::arg("robot"), py::arg("alphabet"), py::arg("width") = 640, py::arg("height") = 480,
-           py::arg("hfov") = 1.0122909661567112, py::arg("min_range") = 0.5, py::arg("max_range") = 4.5,
-           py::arg("mount_height") = 0.3, py::arg("wall_height") = 2.5, py::arg("noise") = false, py::arg("scan_rows") = 1,
-           py::arg("event") = "eLaser")
+      .def(py::init<std::shared_ptr<const sim::RangeScanner>, int, sim::DepthCameraSpec, const Alphabet&, const std::string&>(),
+           py::arg("scanner"), py::arg("robot"), py::arg("spec"), py::arg("alphabet"), py::arg("event") = "eLaser")
       .def_property_readonly("depth", [](py::object self) {
         const auto& g = self.cast<const sim::KinectGenerator&>();
         const auto& s = g.camera().spec();
@@ -147,7 +126,8 @@ along the optical axis, NaN = invalid), ``ranges`` and ``angles`` are copies of 
         const auto& g = self.cast<const sim::KinectGenerator&>();
         return copy_of(g.angles().data(), {static_cast<py::ssize_t>(g.angles().size())});
       })
-      .def_property_readonly("robot", &sim::KinectGenerator::robot);
+      .def_property_readonly("robot", &sim::KinectGenerator::robot)
+      .def_property_readonly("spec", [](const sim::KinectGenerator& g) { return g.camera().spec(); });
 }
 
 }  // namespace vwg::bindings

@@ -27,6 +27,7 @@ void init_backends(py::module_& m);
 void init_engine(py::module_& m);
 void init_bench_actors(py::module_& m);
 void init_sim(py::module_& m);
+void init_settings(py::module_& m);
 void init_platform(py::module_& m);
 void init_physics(py::module_& m);
 void init_render(py::module_& m);

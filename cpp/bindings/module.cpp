@@ -20,6 +20,7 @@ PYBIND11_MODULE(_core, m) {
   init_actors(m);
   init_strings(m);
   init_alphabet(m);
+  init_settings(m);
   init_platform(m);  // before the engine, whose keep_robots_in_step takes a RobotPlatform
   init_engine(m);
   init_bench_actors(m);

@@ -1,8 +1,34 @@
 #include "vwg/platform/platform.hpp"
 
+#include <cmath>
+#include <string>
+
 #include "vwg/error.hpp"
+#include "vwg/text.hpp"
 
 namespace vwg::platform {
+
+void check_settings(const RobotSettings& r, const std::string& owner) {
+  if (r.id < 1) throw SchemaError(owner + ".id", "expected an id >= 1, got " + std::to_string(r.id));
+  if (!std::isfinite(r.start.x) || !std::isfinite(r.start.y) || !std::isfinite(r.start.theta)) {
+    throw SchemaError(owner + ".start", "expected finite x, y, yaw");
+  }
+  auto positive = [&](double v, const char* field) {
+    if (!std::isfinite(v) || v <= 0.0) throw SchemaError(owner + "." + field, "expected a finite number > 0, got " + format_real(v));
+  };
+  positive(r.radius, "radius");
+  positive(r.limits.max_speed, "max_speed");
+  positive(r.limits.max_turn_rate, "max_turn_rate");
+  positive(r.limits.max_accel, "max_accel");
+  positive(r.limits.max_turn_accel, "max_turn_accel");
+  for (std::size_t i = 0; i < r.sensors.size(); ++i) {
+    const std::string where = owner + ".sensors[" + std::to_string(i) + "]";
+    if (r.sensors[i].empty()) throw SchemaError(where, "expected a sensor's name");
+    for (std::size_t j = 0; j < i; ++j) {
+      if (r.sensors[j] == r.sensors[i]) throw SchemaError(where, "sensor '" + r.sensors[i] + "' listed twice");
+    }
+  }
+}
 
 const RobotState& RobotPlatform::robot(int id) const {
   for (const RobotState& s : robots()) {

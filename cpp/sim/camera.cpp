@@ -96,7 +96,7 @@ double coverage(int v, double top, double bottom) {
 
 double CameraSpec::fx() const { return PinholeCamera::focal_for(width, hfov); }
 
-void check_camera_spec(const CameraSpec& s, const std::string& owner) {
+void check_settings(const CameraSpec& s, const std::string& owner) {
   if (s.width < 1 || s.width > 8192) throw SchemaError(owner + ".width", "expected 1 to 8192 pixels, got " + std::to_string(s.width));
   if (s.height < 1 || s.height > 8192) throw SchemaError(owner + ".height", "expected 1 to 8192 pixels, got " + std::to_string(s.height));
   if (!std::isfinite(s.hfov) || s.hfov <= 0 || s.hfov >= std::numbers::pi) throw SchemaError(owner + ".hfov", "expected a field of view in (0, π) radians");
@@ -276,7 +276,7 @@ struct CameraRenderer::Scene {
 CameraRenderer::CameraRenderer(const OccupancyGrid& grid, std::vector<WallMarker> markers, CameraSpec spec,
                                int threshold, std::uint64_t seed)
     : spec_(spec), markers_(std::move(markers)), rng_(seed) {
-  check_camera_spec(spec_);
+  check_settings(spec_, "camera");
   check_markers(markers_, spec_.wall_height);
   if (grid.width <= 0 || grid.height <= 0 || grid.data.size() != static_cast<std::size_t>(grid.width) * grid.height) {
     throw SchemaError("grid", "expected width × height cells");

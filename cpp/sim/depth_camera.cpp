@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "vwg/error.hpp"
+#include "vwg/text.hpp"
 #include "vwg/sim/view3d.hpp"
 
 namespace vwg::sim {
@@ -13,24 +14,27 @@ namespace {
 constexpr float kInvalid = std::numeric_limits<float>::quiet_NaN();
 }
 
-void check_depth_spec(const DepthCameraSpec& s, const std::string& owner) {
-  if (s.width < 1 || s.height < 1 || s.width > 8192 || s.height > 8192) throw SchemaError(owner + ".width", "expected an image size of 1 to 8192 pixels");
+void check_settings(const DepthCameraSpec& s, const std::string& owner) {
+  if (s.width < 1 || s.width > 8192) throw SchemaError(owner + ".width", "expected 1 to 8192 pixels, got " + std::to_string(s.width));
+  if (s.height < 1 || s.height > 8192) throw SchemaError(owner + ".height", "expected 1 to 8192 pixels, got " + std::to_string(s.height));
   if (!std::isfinite(s.hfov) || s.hfov <= 0 || s.hfov >= M_PI) throw SchemaError(owner + ".hfov", "expected a field of view in (0, π)");
-  if (!std::isfinite(s.min_range) || !std::isfinite(s.max_range) || s.min_range < 0 || s.max_range <= s.min_range) {
-    throw SchemaError(owner + ".max_range", "expected 0 <= min_range < max_range, finite");
+  if (!std::isfinite(s.min_range) || s.min_range < 0) throw SchemaError(owner + ".min_range", "expected a finite range >= 0, metres");
+  if (!std::isfinite(s.max_range) || s.max_range <= s.min_range) {
+    throw SchemaError(owner + ".min_range", "must be less than max_range (" + format_real(s.max_range) + ")");
   }
-  if (!std::isfinite(s.mount_height) || !std::isfinite(s.wall_height) || s.mount_height <= 0 || s.wall_height <= s.mount_height) {
-    throw SchemaError(owner + ".height", "expected 0 < mounting height < wall height");
+  if (!std::isfinite(s.mount_height) || s.mount_height <= 0) throw SchemaError(owner + ".mount_height", "expected a finite height > 0, metres");
+  if (!std::isfinite(s.wall_height) || s.wall_height <= s.mount_height) {
+    throw SchemaError(owner + ".wall_height", "expected a finite height above the camera's mount_height");
   }
-  if (!std::isfinite(s.noise_a) || !std::isfinite(s.noise_b) || s.noise_a < 0 || s.noise_b < 0) {
-    throw SchemaError(owner + ".noise", "expected finite noise coefficients >= 0");
-  }
+  if (!std::isfinite(s.robot_height) || s.robot_height <= 0) throw SchemaError(owner + ".robot_height", "expected a finite height > 0, metres");
+  if (!std::isfinite(s.noise_a) || s.noise_a < 0) throw SchemaError(owner + ".noise_a", "expected a finite coefficient >= 0");
+  if (!std::isfinite(s.noise_b) || s.noise_b < 0) throw SchemaError(owner + ".noise_b", "expected a finite coefficient >= 0");
   if (s.scan_rows < 1 || s.scan_rows > s.height) throw SchemaError(owner + ".scan_rows", "expected 1 to height rows");
 }
 
 DepthCamera::DepthCamera(std::shared_ptr<const RangeScanner> scanner, DepthCameraSpec spec)
     : scanner_(std::move(scanner)), spec_(spec) {
-  check_depth_spec(spec_, "kinect");
+  check_settings(spec_, "kinect");
   fx_ = PinholeCamera::focal_for(spec_.width, spec_.hfov);
   cx_ = PinholeCamera::centre_of(spec_.width);
   cy_ = PinholeCamera::centre_of(spec_.height);

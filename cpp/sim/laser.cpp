@@ -5,6 +5,7 @@
 #include <string>
 
 #include "vwg/error.hpp"
+#include "vwg/text.hpp"
 #include "vwg/geometry/pose.hpp"
 
 namespace vwg::sim {
@@ -22,15 +23,18 @@ std::vector<double> beam_angles(const LaserSpec& spec) {
   return angles;
 }
 
-void check_laser_spec(const LaserSpec& spec, const std::string& owner) {
-  if (spec.beams < 1 || spec.beams > 100000) throw SchemaError(owner + ".beams", "expected 1 to 100000 beams");
+void check_settings(const LaserSpec& spec, const std::string& owner) {
+  if (spec.beams < 1 || spec.beams > 100000) throw SchemaError(owner + ".beams", "expected 1 to 100000 beams, got " + std::to_string(spec.beams));
   if (!std::isfinite(spec.fov) || spec.fov <= 0 || spec.fov > 2 * M_PI + 1e-9) {
-    throw SchemaError(owner + ".fov", "expected a field of view in (0, 2π] radians");
+    throw SchemaError(owner + ".fov", "expected a field of view in (0, 2π] radians, got " + format_real(spec.fov));
   }
-  if (!std::isfinite(spec.min_range) || !std::isfinite(spec.max_range) || spec.min_range < 0 || spec.max_range <= spec.min_range) {
-    throw SchemaError(owner + ".max_range", "expected 0 <= min_range < max_range, finite");
+  if (!std::isfinite(spec.min_range) || spec.min_range < 0) throw SchemaError(owner + ".min_range", "expected a finite range >= 0, metres");
+  if (!std::isfinite(spec.max_range) || spec.max_range <= spec.min_range) {
+    throw SchemaError(owner + ".max_range", "expected a finite range > min_range (" + format_real(spec.min_range) + "), metres");
   }
-  if (!std::isfinite(spec.noise) || spec.noise < 0) throw SchemaError(owner + ".noise", "expected a finite std dev >= 0");
+  if (!std::isfinite(spec.noise) || spec.noise < 0) {
+    throw SchemaError(owner + ".noise", "expected a finite standard deviation >= 0, metres, got " + format_real(spec.noise));
+  }
 }
 
 RangeScanner::RangeScanner(std::shared_ptr<const GridRaycaster> raycaster, std::shared_ptr<const PhysicsWorld> world)
@@ -83,7 +87,7 @@ LaserGenerator::LaserGenerator(std::shared_ptr<const RangeScanner> scanner, int 
                                const Alphabet& alphabet, const std::string& event)
     : scanner_(std::move(scanner)), robot_(robot), spec_(spec), event_(alphabet.event_type_id(event)),
       angles_(beam_angles(spec_)), ranges_(angles_.size(), static_cast<float>(spec_.max_range)) {
-  check_laser_spec(spec_, "laser");
+  check_settings(spec_, "laser");
   require_fields(alphabet, event_, {{"dist", ValueKind::Real}, {"angle", ValueKind::Real}});
   (void)scanner_->world().robot(robot_);  // throws if there is no such robot
 }

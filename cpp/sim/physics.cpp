@@ -9,6 +9,7 @@
 #include <box2d/box2d.h>
 
 #include "vwg/error.hpp"
+#include "vwg/text.hpp"
 #include "vwg/geometry/pose.hpp"
 
 namespace vwg::sim {
@@ -33,6 +34,28 @@ double profile_speed(double remaining, double current, double max_speed, double 
   if (lands) speed = remaining / dt;
   return speed;
 }
+
+}  // namespace
+
+void check_settings(const NoiseModel& noise, const std::string& owner) {
+  for (const auto& [field, value] : {std::pair{"motors", noise.motors}, std::pair{"odometry", noise.odometry}}) {
+    if (!std::isfinite(value) || value < 0.0) {
+      throw SchemaError(owner + "." + field, "expected a finite standard deviation >= 0, got " + format_real(value));
+    }
+  }
+}
+
+void check_settings(const PhysicsSettings& s, const std::string& owner) {
+  if (!std::isfinite(s.step) || s.step <= 0.0 || s.step > 1.0) {
+    throw SchemaError(owner + ".step", "expected a time step in (0, 1] seconds, got " + format_real(s.step));
+  }
+  if (s.velocity_iterations < 1 || s.velocity_iterations > 1000) throw SchemaError(owner + ".velocity_iterations", "expected 1 to 1000");
+  if (s.position_iterations < 1 || s.position_iterations > 1000) throw SchemaError(owner + ".position_iterations", "expected 1 to 1000");
+  if (s.obstacle_threshold < 1 || s.obstacle_threshold > 100) throw SchemaError(owner + ".obstacle_threshold", "expected 1 to 100");
+  check_settings(s.noise, owner + ".noise");
+}
+
+namespace {
 
 void check_finite_positive(double v, const std::string& field) {
   if (!std::isfinite(v) || v <= 0.0) throw SchemaError(field, "expected a finite value > 0, got " + std::to_string(v));
@@ -124,10 +147,7 @@ PhysicsWorld::PhysicsWorld(const OccupancyGrid& grid, std::span<const RobotSetti
     throw SchemaError("grid", "expected width × height cells");
   }
   check_finite_positive(grid_.resolution, "grid.resolution");
-  check_finite_positive(settings_.step, "physics.step");
-  for (double n : {settings_.noise.motors, settings_.noise.odometry}) {
-    if (!std::isfinite(n) || n < 0.0) throw SchemaError("noise", "expected finite standard deviations >= 0");
-  }
+  check_settings(settings_, "physics");
 
   // Walls: one static body, one box fixture per merged rectangle.
   b2BodyDef wall_def;
@@ -164,15 +184,7 @@ PhysicsWorld::PhysicsWorld(const OccupancyGrid& grid, std::span<const RobotSetti
 
 void PhysicsWorld::add_robot(const RobotSettings& rs) {
   const std::string who = "robot " + std::to_string(rs.id);
-  if (rs.id < 1) throw SchemaError(who + ".id", "expected an id >= 1");
-  check_finite_positive(rs.radius, who + ".radius");
-  check_finite_positive(rs.limits.max_speed, who + ".max_speed");
-  check_finite_positive(rs.limits.max_turn_rate, who + ".max_turn_rate");
-  check_finite_positive(rs.limits.max_accel, who + ".max_accel");
-  check_finite_positive(rs.limits.max_turn_accel, who + ".max_turn_accel");
-  if (!std::isfinite(rs.start.x) || !std::isfinite(rs.start.y) || !std::isfinite(rs.start.theta)) {
-    throw SchemaError(who + ".start", "expected finite x, y, yaw");
-  }
+  check_settings(rs, who);
   for (std::size_t k = 0; k < robots_.size(); ++k) {
     const Robot& other = robots_[k];
     if (other.settings.id == rs.id) throw SchemaError(who, "the id is used twice");

@@ -34,9 +34,11 @@ from ._core import (
     Blob,
     CameraGenerator,
     CameraRenderer,
+    CameraSpec,
     Collision,
     CollisionGenerator,
     Decider,
+    DepthCameraSpec,
     DStarLite,
     Event,
     EveryFrame,
@@ -49,13 +51,16 @@ from ._core import (
     ImageFiles,
     KinectGenerator,
     LaserGenerator,
+    LaserSpec,
     MotionBackend,
     Node,
+    NoiseModel,
     NullBackend,
     OdometryGenerator,
     OmplDecider,
     OmplPlan,
     OmplPlanner,
+    PhysicsSettings,
     PhysicsWorld,
     PythonActor,
     RandomDecider,
@@ -86,19 +91,10 @@ from .actor import Actor, Context, Sym
 from .engine import Engine
 from .errors import Error, FrameError, ParseError, ReplayError, SchemaError, WorldFileError
 from .generators import GeneratorSpec, Schedule, every_frame
+from .launch import RunOptions, load, start
 from .maps import OccupancyGrid, load_map, load_map_server, load_movingai, movingai_cell
 from .record import Recorder, read_record, replay
-from .robotworld import (
-    CameraSpec,
-    KinectSpec,
-    LaserSpec,
-    NoiseSpec,
-    Order,
-    RobotSpec,
-    RobotWorld,
-    Room,
-    load_robot_world,
-)
+from .robotworld import Order, RobotWorld, Room, load_robot_world
 from .sim import MOTION_SYMBOLS, SIM_EVENTS, Simulation
 from .video import VideoWriter
 from .world import Alphabet, World
@@ -124,6 +120,7 @@ __all__ = [
     "Context",
     "DStarLite",
     "Decider",
+    "DepthCameraSpec",
     "Engine",
     "Error",
     "Event",
@@ -138,12 +135,11 @@ __all__ = [
     "GridRaycaster",
     "ImageFiles",
     "KinectGenerator",
-    "KinectSpec",
     "LaserGenerator",
     "LaserSpec",
     "MotionBackend",
     "Node",
-    "NoiseSpec",
+    "NoiseModel",
     "NullBackend",
     "OccupancyGrid",
     "OdometryGenerator",
@@ -152,6 +148,7 @@ __all__ = [
     "OmplPlanner",
     "Order",
     "ParseError",
+    "PhysicsSettings",
     "PhysicsWorld",
     "PythonActor",
     "RandomDecider",
@@ -159,9 +156,9 @@ __all__ = [
     "ReplayError",
     "RobotPlatform",
     "RobotSettings",
-    "RobotSpec",
     "RobotState",
     "RobotWorld",
+    "RunOptions",
     "Room",
     "Schedule",
     "SchemaError",
@@ -186,6 +183,7 @@ __all__ = [
     "estimate_tag_pose",
     "every_frame",
     "evolve",
+    "load",
     "load_map",
     "load_map_server",
     "load_movingai",
@@ -194,6 +192,7 @@ __all__ = [
     "plan_ompl",
     "read_record",
     "render_overview",
+    "start",
     "replay",
     "visualize",
     "walker_behavior",

@@ -8,7 +8,7 @@ import numpy
 import numpy.typing
 import os
 import typing
-__all__: list[str] = ['ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'ArrivalCondition', 'Backend', 'BackendGroup', 'Blob', 'CameraGenerator', 'CameraRenderer', 'Collision', 'CollisionGenerator', 'DStarLite', 'Decider', 'DecisionInput', 'Engine', 'Event', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'FrameSink', 'Generator', 'GridDecider', 'GridRaycaster', 'ImageFiles', 'ImageSequence', 'ImageSource', 'KinectGenerator', 'LaserGenerator', 'MotionBackend', 'Node', 'NullBackend', 'OdometryGenerator', 'OmplDecider', 'OmplPlan', 'OmplPlanner', 'OrderGenerator', 'OverviewCamera', 'PhysicsWorld', 'PythonActor', 'RandomDecider', 'RangeScanner', 'RenderStyle', 'RobotPlatform', 'RobotSettings', 'RobotState', 'SimView', 'SimulatedCamera', 'StopCondition', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoSource', 'add_arobot', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'arobot_event_types', 'astar', 'build_string', 'detect_apriltags', 'display', 'estimate_tag_pose', 'evolve', 'grid_clearance', 'grid_inflate', 'overview_camera', 'plan_ompl', 'read_image', 'render_overview', 'robot_map', 'set_log_sink', 'visualize', 'walker_behavior', 'write_image']
+__all__: list[str] = ['ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'ArrivalCondition', 'Backend', 'BackendGroup', 'Blob', 'CameraGenerator', 'CameraRenderer', 'CameraSpec', 'Collision', 'CollisionGenerator', 'DStarLite', 'Decider', 'DecisionInput', 'DepthCameraSpec', 'Engine', 'Event', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'FrameSink', 'Generator', 'GridDecider', 'GridRaycaster', 'ImageFiles', 'ImageSequence', 'ImageSource', 'KinectGenerator', 'LaserGenerator', 'LaserSpec', 'MotionBackend', 'Node', 'NoiseModel', 'NullBackend', 'OdometryGenerator', 'OmplDecider', 'OmplPlan', 'OmplPlanner', 'OrderGenerator', 'OverviewCamera', 'PhysicsSettings', 'PhysicsWorld', 'PythonActor', 'RandomDecider', 'RangeScanner', 'RenderStyle', 'RobotPlatform', 'RobotSettings', 'RobotState', 'SimView', 'SimulatedCamera', 'StopCondition', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoSource', 'add_arobot', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'arobot_event_types', 'astar', 'build_string', 'detect_apriltags', 'display', 'estimate_tag_pose', 'evolve', 'grid_clearance', 'grid_inflate', 'overview_camera', 'plan_ompl', 'read_image', 'render_overview', 'robot_map', 'set_log_sink', 'visualize', 'walker_behavior', 'write_image']
 class Blob:
     """
     A large attribute value held by reference from world strings (an occupancy grid, an image, a path).
@@ -343,32 +343,635 @@ class Node:
         """
         Canonical text of the symbol alone, e.g. 'Move<0.5>'.
         """
+class LaserSpec:
+    """
+    A planar laser range finder (gLaser).
+    
+    Fields (defaults from the C++ struct):
+      beams = 360: rays per scan
+      fov = 6.283185307179586: field of view, radians, centred ahead (2π: a full circle)
+      min_range = 0.05: nearer returns are dropped, metres
+      max_range = 8.0: metres
+      noise = 0.01: standard deviation of each range, metres
+    """
+    __hash__: typing.ClassVar[None] = None
+    @staticmethod
+    def fields() -> list:
+        """
+        [(name, type, default, meaning)] of every field, in order.
+        """
+    def __copy__(self) -> LaserSpec:
+        ...
+    def __deepcopy__(self, memo: typing.Any) -> LaserSpec:
+        ...
+    def __eq__(self, arg0: typing.Any) -> bool:
+        ...
+    def __getstate__(self) -> dict:
+        ...
+    def __init__(self, *, beams: int = 360, fov: float = 6.283185307179586, min_range: float = 0.05, max_range: float = 8.0, noise: float = 0.01) -> None:
+        """
+        The settings, each keyword replacing its default.
+        """
+    def __ne__(self, arg0: typing.Any) -> bool:
+        ...
+    def __repr__(self) -> str:
+        ...
+    def __setstate__(self, arg0: dict) -> None:
+        ...
+    def check(self, owner: str) -> None:
+        """
+        Raise vwg.SchemaError naming `owner.field` for a value out of range (what the C++ side would refuse).
+        """
+    def replace(self, **kwargs) -> LaserSpec:
+        """
+        A copy with these fields changed: spec.replace(beams=180).
+        """
+    def to_dict(self) -> dict:
+        """
+        {field: value}, as a world file writes them.
+        """
+    @property
+    def beams(self) -> typing.Any:
+        """
+        rays per scan (int)
+        """
+    @beams.setter
+    def beams(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def fov(self) -> typing.Any:
+        """
+        field of view, radians, centred ahead (2π: a full circle) (float)
+        """
+    @fov.setter
+    def fov(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def max_range(self) -> typing.Any:
+        """
+        metres (float)
+        """
+    @max_range.setter
+    def max_range(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def min_range(self) -> typing.Any:
+        """
+        nearer returns are dropped, metres (float)
+        """
+    @min_range.setter
+    def min_range(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def noise(self) -> typing.Any:
+        """
+        standard deviation of each range, metres (float)
+        """
+    @noise.setter
+    def noise(self, arg1: typing.Any) -> None:
+        ...
+class DepthCameraSpec:
+    """
+    A depth camera such as the Kinect (gKinect): its image, optics and noise.
+    
+    Fields (defaults from the C++ struct):
+      width = 640: image width, pixels
+      height = 480: image height, pixels
+      hfov = 1.0122909661567112: horizontal field of view, radians
+      min_range = 0.5: nearer depths are invalid (the blind zone), metres
+      max_range = 4.5: metres
+      mount_height = 0.3: optical centre above the floor, metres
+      wall_height = 2.5: walls and ceiling, metres
+      robot_height = 0.4: other robots are cylinders this tall, metres
+      noise = False: axial noise noise_a + noise_b·(z - 0.4)² on or off
+      noise_a = 0.0012: metres
+      noise_b = 0.0019: metres per square metre
+      scan_rows = 1: rows around the centre turned into the scan
+    """
+    __hash__: typing.ClassVar[None] = None
+    @staticmethod
+    def fields() -> list:
+        """
+        [(name, type, default, meaning)] of every field, in order.
+        """
+    def __copy__(self) -> DepthCameraSpec:
+        ...
+    def __deepcopy__(self, memo: typing.Any) -> DepthCameraSpec:
+        ...
+    def __eq__(self, arg0: typing.Any) -> bool:
+        ...
+    def __getstate__(self) -> dict:
+        ...
+    def __init__(self, *, width: int = 640, height: int = 480, hfov: float = 1.0122909661567112, min_range: float = 0.5, max_range: float = 4.5, mount_height: float = 0.3, wall_height: float = 2.5, robot_height: float = 0.4, noise: bool = False, noise_a: float = 0.0012, noise_b: float = 0.0019, scan_rows: int = 1) -> None:
+        """
+        The settings, each keyword replacing its default.
+        """
+    def __ne__(self, arg0: typing.Any) -> bool:
+        ...
+    def __repr__(self) -> str:
+        ...
+    def __setstate__(self, arg0: dict) -> None:
+        ...
+    def check(self, owner: str) -> None:
+        """
+        Raise vwg.SchemaError naming `owner.field` for a value out of range (what the C++ side would refuse).
+        """
+    def replace(self, **kwargs) -> DepthCameraSpec:
+        """
+        A copy with these fields changed: spec.replace(beams=180).
+        """
+    def to_dict(self) -> dict:
+        """
+        {field: value}, as a world file writes them.
+        """
+    @property
+    def height(self) -> typing.Any:
+        """
+        image height, pixels (int)
+        """
+    @height.setter
+    def height(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def hfov(self) -> typing.Any:
+        """
+        horizontal field of view, radians (float)
+        """
+    @hfov.setter
+    def hfov(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def max_range(self) -> typing.Any:
+        """
+        metres (float)
+        """
+    @max_range.setter
+    def max_range(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def min_range(self) -> typing.Any:
+        """
+        nearer depths are invalid (the blind zone), metres (float)
+        """
+    @min_range.setter
+    def min_range(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def mount_height(self) -> typing.Any:
+        """
+        optical centre above the floor, metres (float)
+        """
+    @mount_height.setter
+    def mount_height(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def noise(self) -> typing.Any:
+        """
+        axial noise noise_a + noise_b·(z - 0.4)² on or off (bool)
+        """
+    @noise.setter
+    def noise(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def noise_a(self) -> typing.Any:
+        """
+        metres (float)
+        """
+    @noise_a.setter
+    def noise_a(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def noise_b(self) -> typing.Any:
+        """
+        metres per square metre (float)
+        """
+    @noise_b.setter
+    def noise_b(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def robot_height(self) -> typing.Any:
+        """
+        other robots are cylinders this tall, metres (float)
+        """
+    @robot_height.setter
+    def robot_height(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def scan_rows(self) -> typing.Any:
+        """
+        rows around the centre turned into the scan (int)
+        """
+    @scan_rows.setter
+    def scan_rows(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def wall_height(self) -> typing.Any:
+        """
+        walls and ceiling, metres (float)
+        """
+    @wall_height.setter
+    def wall_height(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def width(self) -> typing.Any:
+        """
+        image width, pixels (int)
+        """
+    @width.setter
+    def width(self, arg1: typing.Any) -> None:
+        ...
+class CameraSpec:
+    """
+    The colour camera that sees the AprilTag markers (gCamera).
+    
+    Fields (defaults from the C++ struct):
+      width = 640: image width, pixels
+      height = 480: image height, pixels
+      hfov = 1.0471975511965976: horizontal field of view, radians
+      mount_height = 0.5: optical centre above the floor, metres
+      wall_height = 2.5: walls and ceiling, metres
+      robot_height = 0.4: other robots are cylinders this tall, metres
+      noise = 0.0: standard deviation of the added pixel noise, grey levels (0..255)
+      blur = 0.0: Gaussian blur sigma, pixels
+    """
+    __hash__: typing.ClassVar[None] = None
+    @staticmethod
+    def fields() -> list:
+        """
+        [(name, type, default, meaning)] of every field, in order.
+        """
+    def __copy__(self) -> CameraSpec:
+        ...
+    def __deepcopy__(self, memo: typing.Any) -> CameraSpec:
+        ...
+    def __eq__(self, arg0: typing.Any) -> bool:
+        ...
+    def __getstate__(self) -> dict:
+        ...
+    def __init__(self, *, width: int = 640, height: int = 480, hfov: float = 1.0471975511965976, mount_height: float = 0.5, wall_height: float = 2.5, robot_height: float = 0.4, noise: float = 0.0, blur: float = 0.0) -> None:
+        """
+        The settings, each keyword replacing its default.
+        """
+    def __ne__(self, arg0: typing.Any) -> bool:
+        ...
+    def __repr__(self) -> str:
+        ...
+    def __setstate__(self, arg0: dict) -> None:
+        ...
+    def check(self, owner: str) -> None:
+        """
+        Raise vwg.SchemaError naming `owner.field` for a value out of range (what the C++ side would refuse).
+        """
+    def replace(self, **kwargs) -> CameraSpec:
+        """
+        A copy with these fields changed: spec.replace(beams=180).
+        """
+    def to_dict(self) -> dict:
+        """
+        {field: value}, as a world file writes them.
+        """
+    @property
+    def blur(self) -> typing.Any:
+        """
+        Gaussian blur sigma, pixels (float)
+        """
+    @blur.setter
+    def blur(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def height(self) -> typing.Any:
+        """
+        image height, pixels (int)
+        """
+    @height.setter
+    def height(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def hfov(self) -> typing.Any:
+        """
+        horizontal field of view, radians (float)
+        """
+    @hfov.setter
+    def hfov(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def mount_height(self) -> typing.Any:
+        """
+        optical centre above the floor, metres (float)
+        """
+    @mount_height.setter
+    def mount_height(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def noise(self) -> typing.Any:
+        """
+        standard deviation of the added pixel noise, grey levels (0..255) (float)
+        """
+    @noise.setter
+    def noise(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def robot_height(self) -> typing.Any:
+        """
+        other robots are cylinders this tall, metres (float)
+        """
+    @robot_height.setter
+    def robot_height(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def wall_height(self) -> typing.Any:
+        """
+        walls and ceiling, metres (float)
+        """
+    @wall_height.setter
+    def wall_height(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def width(self) -> typing.Any:
+        """
+        image width, pixels (int)
+        """
+    @width.setter
+    def width(self, arg1: typing.Any) -> None:
+        ...
 class RobotSettings:
     """
-    A robot as the world file describes it: id, start, radius, limits.
+    A robot as the world file describes it: id, start, size, limits, sensors.
+    
+    Fields (defaults from the C++ struct):
+      id = 1: the robot's id, >= 1: events are addressed to it
+      start = (0.0, 0.0, 0.0): start pose (x, y, yaw): metres, metres, radians
+      radius = 0.18: metres
+      max_speed = 0.5: m/s
+      max_turn_rate = 1.5: rad/s
+      max_accel = 1.0: m/s²
+      max_turn_accel = 4.0: rad/s²
+      sensors = ('laser', 'camera'): the sensors it carries, by registered name (laser, kinect, camera, ...)
     """
-    def __init__(self, id: typing.SupportsInt | typing.SupportsIndex, start: typing.Any, radius: typing.SupportsFloat | typing.SupportsIndex = 0.18, max_speed: typing.SupportsFloat | typing.SupportsIndex = 0.5, max_turn_rate: typing.SupportsFloat | typing.SupportsIndex = 1.5, max_accel: typing.SupportsFloat | typing.SupportsIndex = 1.0, max_turn_accel: typing.SupportsFloat | typing.SupportsIndex = 4.0) -> None:
+    __hash__: typing.ClassVar[None] = None
+    @staticmethod
+    def fields() -> list:
+        """
+        [(name, type, default, meaning)] of every field, in order.
+        """
+    def __copy__(self) -> RobotSettings:
+        ...
+    def __deepcopy__(self, memo: typing.Any) -> RobotSettings:
+        ...
+    def __eq__(self, arg0: typing.Any) -> bool:
+        ...
+    def __getstate__(self) -> dict:
+        ...
+    def __init__(self, *, id: int = 1, start: tuple[float, float, float] = (0.0, 0.0, 0.0), radius: float = 0.18, max_speed: float = 0.5, max_turn_rate: float = 1.5, max_accel: float = 1.0, max_turn_accel: float = 4.0, sensors: tuple[str, ...] = ('laser', 'camera')) -> None:
+        """
+        The settings, each keyword replacing its default.
+        """
+    def __ne__(self, arg0: typing.Any) -> bool:
+        ...
+    def __repr__(self) -> str:
+        ...
+    def __setstate__(self, arg0: dict) -> None:
+        ...
+    def check(self, owner: str) -> None:
+        """
+        Raise vwg.SchemaError naming `owner.field` for a value out of range (what the C++ side would refuse).
+        """
+    def replace(self, **kwargs) -> RobotSettings:
+        """
+        A copy with these fields changed: spec.replace(beams=180).
+        """
+    def to_dict(self) -> dict:
+        """
+        {field: value}, as a world file writes them.
+        """
+    @property
+    def id(self) -> typing.Any:
+        """
+        the robot's id, >= 1: events are addressed to it (int)
+        """
+    @id.setter
+    def id(self, arg1: typing.Any) -> None:
         ...
     @property
-    def id(self) -> int:
+    def max_accel(self) -> typing.Any:
+        """
+        m/s² (float)
+        """
+    @max_accel.setter
+    def max_accel(self, arg1: typing.Any) -> None:
         ...
     @property
-    def max_accel(self) -> float:
+    def max_speed(self) -> typing.Any:
+        """
+        m/s (float)
+        """
+    @max_speed.setter
+    def max_speed(self, arg1: typing.Any) -> None:
         ...
     @property
-    def max_speed(self) -> float:
+    def max_turn_accel(self) -> typing.Any:
+        """
+        rad/s² (float)
+        """
+    @max_turn_accel.setter
+    def max_turn_accel(self, arg1: typing.Any) -> None:
         ...
     @property
-    def max_turn_accel(self) -> float:
+    def max_turn_rate(self) -> typing.Any:
+        """
+        rad/s (float)
+        """
+    @max_turn_rate.setter
+    def max_turn_rate(self, arg1: typing.Any) -> None:
         ...
     @property
-    def max_turn_rate(self) -> float:
+    def radius(self) -> typing.Any:
+        """
+        metres (float)
+        """
+    @radius.setter
+    def radius(self, arg1: typing.Any) -> None:
         ...
     @property
-    def radius(self) -> float:
+    def sensors(self) -> typing.Any:
+        """
+        the sensors it carries, by registered name (laser, kinect, camera, ...) (tuple[str, ...])
+        """
+    @sensors.setter
+    def sensors(self, arg1: typing.Any) -> None:
         ...
     @property
-    def start(self) -> tuple:
+    def start(self) -> typing.Any:
+        """
+        start pose (x, y, yaw): metres, metres, radians (tuple[float, float, float])
+        """
+    @start.setter
+    def start(self, arg1: typing.Any) -> None:
+        ...
+class NoiseModel:
+    """
+    The simulator's motor and odometry noise (0 = exact).
+    
+    Fields (defaults from the C++ struct):
+      motors = 0.0: relative standard deviation of each commanded turn and drive
+      odometry = 0.0: standard deviation of the odometry's drift, per metre and per radian
+    """
+    __hash__: typing.ClassVar[None] = None
+    @staticmethod
+    def fields() -> list:
+        """
+        [(name, type, default, meaning)] of every field, in order.
+        """
+    def __copy__(self) -> NoiseModel:
+        ...
+    def __deepcopy__(self, memo: typing.Any) -> NoiseModel:
+        ...
+    def __eq__(self, arg0: typing.Any) -> bool:
+        ...
+    def __getstate__(self) -> dict:
+        ...
+    def __init__(self, *, motors: float = 0.0, odometry: float = 0.0) -> None:
+        """
+        The settings, each keyword replacing its default.
+        """
+    def __ne__(self, arg0: typing.Any) -> bool:
+        ...
+    def __repr__(self) -> str:
+        ...
+    def __setstate__(self, arg0: dict) -> None:
+        ...
+    def check(self, owner: str) -> None:
+        """
+        Raise vwg.SchemaError naming `owner.field` for a value out of range (what the C++ side would refuse).
+        """
+    def replace(self, **kwargs) -> NoiseModel:
+        """
+        A copy with these fields changed: spec.replace(beams=180).
+        """
+    def to_dict(self) -> dict:
+        """
+        {field: value}, as a world file writes them.
+        """
+    @property
+    def motors(self) -> typing.Any:
+        """
+        relative standard deviation of each commanded turn and drive (float)
+        """
+    @motors.setter
+    def motors(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def odometry(self) -> typing.Any:
+        """
+        standard deviation of the odometry's drift, per metre and per radian (float)
+        """
+    @odometry.setter
+    def odometry(self, arg1: typing.Any) -> None:
+        ...
+class PhysicsSettings:
+    """
+    The Box2D simulator's settings.
+    
+    Fields (defaults from the C++ struct):
+      step = 0.01: fixed time step of Box2D, seconds
+      velocity_iterations = 8: Box2D's velocity iterations per step
+      position_iterations = 3: Box2D's position iterations per step
+      obstacle_threshold = 50: grid values >= this are walls
+      walls_at_border = True: a wall around the map, so robots cannot leave it
+      noise = vwg.NoiseModel(motors=0.0, odometry=0.0): motor and odometry noise
+      seed = 0: seed of the noise
+    """
+    __hash__: typing.ClassVar[None] = None
+    @staticmethod
+    def fields() -> list:
+        """
+        [(name, type, default, meaning)] of every field, in order.
+        """
+    def __copy__(self) -> PhysicsSettings:
+        ...
+    def __deepcopy__(self, memo: typing.Any) -> PhysicsSettings:
+        ...
+    def __eq__(self, arg0: typing.Any) -> bool:
+        ...
+    def __getstate__(self) -> dict:
+        ...
+    def __init__(self, *, step: float = 0.01, velocity_iterations: int = 8, position_iterations: int = 3, obstacle_threshold: int = 50, walls_at_border: bool = True, noise: NoiseModel = ..., seed: int = 0) -> None:
+        """
+        The settings, each keyword replacing its default.
+        """
+    def __ne__(self, arg0: typing.Any) -> bool:
+        ...
+    def __repr__(self) -> str:
+        ...
+    def __setstate__(self, arg0: dict) -> None:
+        ...
+    def check(self, owner: str) -> None:
+        """
+        Raise vwg.SchemaError naming `owner.field` for a value out of range (what the C++ side would refuse).
+        """
+    def replace(self, **kwargs) -> PhysicsSettings:
+        """
+        A copy with these fields changed: spec.replace(beams=180).
+        """
+    def to_dict(self) -> dict:
+        """
+        {field: value}, as a world file writes them.
+        """
+    @property
+    def noise(self) -> typing.Any:
+        """
+        motor and odometry noise (NoiseModel)
+        """
+    @noise.setter
+    def noise(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def obstacle_threshold(self) -> typing.Any:
+        """
+        grid values >= this are walls (int)
+        """
+    @obstacle_threshold.setter
+    def obstacle_threshold(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def position_iterations(self) -> typing.Any:
+        """
+        Box2D's position iterations per step (int)
+        """
+    @position_iterations.setter
+    def position_iterations(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def seed(self) -> typing.Any:
+        """
+        seed of the noise (int)
+        """
+    @seed.setter
+    def seed(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def step(self) -> typing.Any:
+        """
+        fixed time step of Box2D, seconds (float)
+        """
+    @step.setter
+    def step(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def velocity_iterations(self) -> typing.Any:
+        """
+        Box2D's velocity iterations per step (int)
+        """
+    @velocity_iterations.setter
+    def velocity_iterations(self, arg1: typing.Any) -> None:
+        ...
+    @property
+    def walls_at_border(self) -> typing.Any:
+        """
+        a wall around the map, so robots cannot leave it (bool)
+        """
+    @walls_at_border.setter
+    def walls_at_border(self, arg1: typing.Any) -> None:
         ...
 class RobotState:
     """
@@ -617,11 +1220,10 @@ class Engine:
 class PhysicsWorld(RobotPlatform):
     """
     The Box2D world of the simulator: walls from an occupancy grid (merged into few rectangles) and
-    differential-drive robots that execute motion plans under speed and acceleration limits, stepped at
-    a fixed time step. Robots are dicts or objects with id, start (x, y, yaw), and optionally radius,
-    max_speed, max_turn_rate, max_accel, max_turn_accel.
+    differential-drive robots (vwg.RobotSettings) that execute motion plans under speed and acceleration
+    limits, stepped at the fixed time step of `settings`.
     """
-    def __init__(self, grid: typing.Any, robots: list, step: typing.SupportsFloat | typing.SupportsIndex = 0.01, motor_noise: typing.SupportsFloat | typing.SupportsIndex = 0.0, odometry_noise: typing.SupportsFloat | typing.SupportsIndex = 0.0, seed: typing.SupportsInt | typing.SupportsIndex = 0, obstacle_threshold: typing.SupportsInt | typing.SupportsIndex = 50, walls_at_border: bool = True) -> None:
+    def __init__(self, grid: typing.Any, robots: collections.abc.Sequence[RobotSettings], settings: PhysicsSettings = ...) -> None:
         ...
     @property
     def wall_shapes(self) -> int:
@@ -1199,7 +1801,7 @@ class LaserGenerator(Generator):
     gLaser: each frame a scan from the robot's true pose; eLaser<to=robot, dist, angle> for each beam
     that hit something. ``ranges`` and ``angles`` are numpy views of the last scan (no copy).
     """
-    def __init__(self, scanner: RangeScanner, robot: typing.SupportsInt | typing.SupportsIndex, alphabet: Alphabet, beams: typing.SupportsInt | typing.SupportsIndex = 360, fov: typing.SupportsFloat | typing.SupportsIndex = 6.283185307179586, min_range: typing.SupportsFloat | typing.SupportsIndex = 0.05, max_range: typing.SupportsFloat | typing.SupportsIndex = 8.0, noise: typing.SupportsFloat | typing.SupportsIndex = 0.0, event: str = 'eLaser') -> None:
+    def __init__(self, scanner: RangeScanner, robot: typing.SupportsInt | typing.SupportsIndex, spec: LaserSpec, alphabet: Alphabet, event: str = 'eLaser') -> None:
         ...
     @property
     def angles(self) -> numpy.ndarray[typing.Any, numpy.dtype[typing.Any]]:
@@ -1217,6 +1819,9 @@ class LaserGenerator(Generator):
     @property
     def robot(self) -> int:
         ...
+    @property
+    def spec(self) -> LaserSpec:
+        ...
 class KinectGenerator(Generator):
     """
     gKinect: each frame a depth image from the robot's true pose (walls extruded to wall_height, a
@@ -1224,7 +1829,7 @@ class KinectGenerator(Generator):
     eLaser<to=robot, dist, angle> for each column with a valid range. ``depth`` (H×W float32, metres
     along the optical axis, NaN = invalid), ``ranges`` and ``angles`` are copies of the last frame's.
     """
-    def __init__(self, scanner: RangeScanner, robot: typing.SupportsInt | typing.SupportsIndex, alphabet: Alphabet, width: typing.SupportsInt | typing.SupportsIndex = 640, height: typing.SupportsInt | typing.SupportsIndex = 480, hfov: typing.SupportsFloat | typing.SupportsIndex = 1.0122909661567112, min_range: typing.SupportsFloat | typing.SupportsIndex = 0.5, max_range: typing.SupportsFloat | typing.SupportsIndex = 4.5, mount_height: typing.SupportsFloat | typing.SupportsIndex = 0.3, wall_height: typing.SupportsFloat | typing.SupportsIndex = 2.5, noise: bool = False, scan_rows: typing.SupportsInt | typing.SupportsIndex = 1, event: str = 'eLaser') -> None:
+    def __init__(self, scanner: RangeScanner, robot: typing.SupportsInt | typing.SupportsIndex, spec: DepthCameraSpec, alphabet: Alphabet, event: str = 'eLaser') -> None:
         ...
     @property
     def angles(self) -> numpy.ndarray[typing.Any, numpy.dtype[typing.Any]]:
@@ -1237,6 +1842,9 @@ class KinectGenerator(Generator):
         ...
     @property
     def robot(self) -> int:
+        ...
+    @property
+    def spec(self) -> DepthCameraSpec:
         ...
 class FrameSink:
     """
@@ -1568,7 +2176,7 @@ class CameraRenderer:
     markers: a list of dicts or objects (vwg.robotworld.Room) with id (or marker), at=(x, y) (or x and
     y), facing, and optionally size (0.3), height (0.6), label; or RobotWorld.rooms (a dict).
     """
-    def __init__(self, grid: typing.Any, markers: typing.Any = [], width: typing.SupportsInt | typing.SupportsIndex = 640, height: typing.SupportsInt | typing.SupportsIndex = 480, hfov: typing.SupportsFloat | typing.SupportsIndex = 1.0471975511965976, mount_height: typing.SupportsFloat | typing.SupportsIndex = 0.5, wall_height: typing.SupportsFloat | typing.SupportsIndex = 2.5, robot_height: typing.SupportsFloat | typing.SupportsIndex = 0.4, noise: typing.SupportsFloat | typing.SupportsIndex = 0.0, blur: typing.SupportsFloat | typing.SupportsIndex = 0.0, seed: typing.SupportsInt | typing.SupportsIndex = 0, threshold: typing.SupportsInt | typing.SupportsIndex = 50) -> None:
+    def __init__(self, grid: typing.Any, markers: typing.Any = [], spec: CameraSpec = ..., seed: typing.SupportsInt | typing.SupportsIndex = 0, threshold: typing.SupportsInt | typing.SupportsIndex = 50) -> None:
         ...
     def __repr__(self) -> str:
         ...
@@ -1707,7 +2315,7 @@ class SimulatedCamera(ImageSource):
     """
     The robot's view in the simulated world (see CameraRenderer), other robots included.
     """
-    def __init__(self, world: PhysicsWorld, robot: typing.SupportsInt | typing.SupportsIndex, grid: typing.Any, markers: typing.Any, width: typing.SupportsInt | typing.SupportsIndex = 640, height: typing.SupportsInt | typing.SupportsIndex = 480, hfov: typing.SupportsFloat | typing.SupportsIndex = 1.0471975511965976, mount_height: typing.SupportsFloat | typing.SupportsIndex = 0.5, wall_height: typing.SupportsFloat | typing.SupportsIndex = 2.5, noise: typing.SupportsFloat | typing.SupportsIndex = 0.0, blur: typing.SupportsFloat | typing.SupportsIndex = 0.0, seed: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
+    def __init__(self, world: PhysicsWorld, robot: typing.SupportsInt | typing.SupportsIndex, grid: typing.Any, markers: typing.Any, spec: CameraSpec = ..., seed: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
         ...
     def apriltag_intrinsics(self) -> tuple[float, float, float, float]:
         """

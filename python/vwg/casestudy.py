@@ -321,3 +321,143 @@ class CaseStudy:
 
 def _stderr(message: str) -> None:
     print(f"vwg: {message}", file=sys.stderr)
+
+
+# ---- the robot kind of world file (vwg.launch) -----------------------------------------------------------
+def _goals(values: list[str] | None, robots: list[int]) -> dict[int, str]:
+    goals: dict[int, str] = {}
+    for value in values or []:
+        robot, _, room = value.rpartition(":")
+        try:
+            goals[int(robot) if robot else robots[0]] = room
+        except ValueError:
+            raise SchemaError(f"--goal: expected ROOM or ROBOT:ROOM, got '{value}'") from None
+    return goals
+
+
+class RobotRun:
+    """A robot world started from run options (vwg.launch): the CaseStudy, and what the outcome says."""
+
+    def __init__(self, world: RobotWorld, options: Any) -> None:
+        import dataclasses
+
+        from .registry import backends as backend_registry
+
+        if options.dt is not None:
+            world = dataclasses.replace(world, dt=options.dt)
+        self.world = world
+        self.options = options
+        extra = [lambda sim: backend_registry.create(options.backend, world=None)] if options.backend else []
+        goals = _goals(options.goals, [r.id for r in world.robots])
+        self.case = CaseStudy(world, options.planner or "astar", goals=goals,
+                              platform=options.platform, seed=options.seed, frames=options.frames, video=options.video,
+                              images=options.images, max_symbols=options.max_symbols, backends=extra,
+                              world_orders=False if options.no_world_orders else None)
+        self.engine = self.case.engine
+        self.record_data: dict[str, Any] = {"robot_world": str(Path(world.path).resolve()),
+                                            "planner": self.case.planner}
+        if options.stdin_orders:
+            self.case.orders.read_lines(sys.stdin, _stderr)
+
+    kind = "robot"
+
+    def execute(self, progress: bool | None = False) -> Any:
+        from .launch import EXIT_UNREACHED, Outcome
+
+        summary = self.case.run(progress=progress)
+        options = self.options
+        trajectory = options.trajectory or (Path(options.video).with_suffix(".png") if options.video else None)
+        if trajectory:
+            self.case.save_trajectory(trajectory)
+            summary.outputs["trajectory"] = str(trajectory)
+        ordered = [r for r in summary.robots if r.room is not None]
+        rows = [
+            ("reached", ("yes" if summary.reached else "no") if ordered else "- (no robot had an order)"),
+            ("frames", f"{summary.frames} ({summary.simulated_time_s:.1f} s simulated, "
+                       f"{summary.wall_time_s:.1f} s wall)"),
+            ("path length", f"{summary.path_length_m:.2f} m"),
+            ("collisions", str(summary.collisions)),
+            ("replans", str(summary.replans)),
+        ]
+        for r in summary.robots:
+            if r.room is None:
+                where = "no order"
+            elif r.reached:
+                where = f"{r.room}: reached"
+            else:
+                where = f"{r.room}: {r.distance_to_goal_m:.2f} m away ({r.status})"
+            rows.append((f"robot {r.id}", f"{where}, {r.path_length_m:.2f} m, {r.collisions} collisions, "
+                                           f"{r.replans} replans"))
+        status, message = 0, ""
+        if not summary.reached and not options.allow_unreached:
+            missed = ", ".join(f"robot {r.id} ({r.room})" for r in summary.robots if r.room and not r.reached)
+            status = EXIT_UNREACHED
+            message = (f"not every order was reached: {missed}; exit status {EXIT_UNREACHED} "
+                       "(--allow-unreached exits 0)")
+        title = f"{self.world.name}, planner {summary.planner}, seed {summary.seed}"
+        return Outcome(title, rows, summary.to_json(), status, message, summary.outputs)
+
+    def close(self) -> None:
+        self.case.close()
+
+    def __enter__(self) -> RobotRun:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
+class RobotKind:
+    """World files of the case study: a map, rooms named by markers, robots, sensors, orders."""
+
+    name = "robot"
+    shape = "a mapping with map:, rooms: and robots:"
+    options = frozenset({"platform", "planner", "goals", "no_world_orders", "stdin_orders", "video", "images",
+                         "trajectory", "allow_unreached"})
+
+    def matches(self, data: dict[str, Any]) -> bool:
+        return "map" in data
+
+    def matches_loaded(self, world: Any) -> bool:
+        return isinstance(world, RobotWorld)
+
+    def load(self, path: Path) -> RobotWorld:
+        from .robotworld import load_robot_world
+
+        return load_robot_world(path)
+
+    def start(self, world: RobotWorld, options: Any) -> RobotRun:
+        return RobotRun(world, options)
+
+    def replay_world(self, header: dict[str, Any], path: Path | None, record_path: Path) -> World:
+        from .robotworld import load_robot_world
+
+        data = header.get("world") or {}
+        return case_study_world(load_robot_world(path or data["robot_world"]), make_decider(data["planner"]))
+
+    def describe(self, w: RobotWorld) -> tuple[str, list[tuple[str, str]]]:
+        g = w.grid
+        rows = [
+            ("map", f"{w.map_path.name}: {g.width}×{g.height} cells of {g.resolution:g} m "
+                    f"({g.width_m:g} × {g.height_m:g} m), walls {w.wall_height:g} m high"),
+            ("rooms", f"{len(w.rooms)}"),
+        ]
+        for name, room in w.rooms.items():
+            rows.append((f"  {name}", f"marker {room.marker} at ({room.at[0]:g}, {room.at[1]:g}), "
+                                      f"goal ({room.goal[0]:.2f}, {room.goal[1]:.2f})"))
+        rows.append(("robots", f"{len(w.robots)}"))
+        for r in w.robots:
+            rows.append((f"  robot {r.id}", f"start ({r.start[0]:g}, {r.start[1]:g}, {r.start[2]:.3g} rad), radius "
+                                            f"{r.radius:g} m, {r.max_speed:g} m/s, sensors: {', '.join(r.sensors)}"))
+        rows += [
+            ("laser", f"{w.laser.beams} beams over {math.degrees(w.laser.fov):.0f}°, {w.laser.max_range:g} m, "
+                      f"noise {w.laser.noise:g} m"),
+            ("kinect", f"{w.kinect.width}×{w.kinect.height}, {math.degrees(w.kinect.hfov):.0f}°, "
+                       f"{w.kinect.min_range:g}-{w.kinect.max_range:g} m"),
+            ("camera", f"{w.camera.width}×{w.camera.height}, {math.degrees(w.camera.hfov):.0f}°"),
+            ("noise", f"odometry {w.noise.odometry:g}, motors {w.noise.motors:g}"),
+            ("orders", "; ".join(f"{o.time:g} s: robot {o.robot} to {o.room}" for o in w.orders) or "none"),
+            ("frames", f"{w.frames} (dt {w.dt:g} s, seed {w.seed})"),
+        ]
+        title = f"a robot world ({w.name})" + (f"\n  {w.description}" if w.description else "")
+        return title, rows

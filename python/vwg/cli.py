@@ -8,8 +8,6 @@ its room (``--allow-unreached`` makes that 0); 130 when interrupted."""
 from __future__ import annotations
 
 import argparse
-import json
-import math
 import sys
 import time
 import traceback
@@ -19,8 +17,9 @@ from typing import Any
 
 from . import _core
 from .errors import Error, FrameError
+from .launch import EXIT_UNREACHED, strict_json
 
-__all__ = ["main"]
+__all__ = ["EXIT_UNREACHED", "main", "strict_json"]
 
 
 def _clip(text: str, n: int = 200) -> str:
@@ -33,189 +32,66 @@ def _print_summary(rows: list[tuple[str, str]]) -> None:
         print(f"  {k:<{width}}  {v}")
 
 
-def _world_file(arg: Path, command: str, expected: str | None = None) -> tuple[Path, str]:
-    """The world file an argument names (a file, or a shipped world's name) and its kind, "robot" or
-    "generic"; with `expected`, another kind is refused with a sentence saying what `command` takes."""
-    from .worlds import kind_of_world, resolve_world
+def _world_file(arg: Path, command: str, expected: str) -> Path:
+    """The world file an argument names (a file, or a shipped world's name), refused with a sentence
+    saying what `command` takes when it is not of the `expected` kind."""
+    from .launch import kind_of
+    from .worlds import resolve_world
     from .yamldoc import YamlDoc
 
     path = resolve_world(arg)
-    kind = kind_of_world(path, YamlDoc(path).data)
-    if expected and kind != expected:
-        what = {"robot": "a robot world (a file that names a map:, such as `vwg worlds` lists)",
-                "generic": "a generic world (a file that declares an alphabet:)"}
-        raise Error(f"{path}: vwg {command} takes {what[expected]}; this is {what[kind].split(' (')[0]}")
-    return path, kind
+    kind = kind_of(path, YamlDoc(path).data)
+    if kind.name != expected:
+        raise Error(f"{path}: vwg {command} takes a {expected} world; this is a {kind.name} world")
+    return path
 
 
-def strict_json(value: Any) -> Any:
-    """`value` with every float that is not finite replaced by None, so json.dumps(allow_nan=False)
-    writes JSON that any parser reads (Python's default would write Infinity and NaN)."""
-    if isinstance(value, float):
-        return value if math.isfinite(value) else None
-    if isinstance(value, dict):
-        return {k: strict_json(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [strict_json(v) for v in value]
-    return value
+def _options(args: argparse.Namespace) -> Any:
+    from .launch import RunOptions
 
-
-def _goals(values: list[str] | None, robots: list[int]) -> dict[int, str]:
-    goals: dict[int, str] = {}
-    for value in values or []:
-        robot, _, room = value.rpartition(":")
-        try:
-            goals[int(robot) if robot else robots[0]] = room
-        except ValueError:
-            raise Error(f"--goal: expected ROOM or ROBOT:ROOM, got '{value}'") from None
-    return goals
-
-
-#: Exit status of `vwg run` when the run finished but a robot with an order did not reach its room.
-EXIT_UNREACHED = 3
-
-
-def _run_robot(args: argparse.Namespace, path: Path) -> int:
-    import dataclasses
-
-    from .casestudy import CaseStudy
-    from .record import Recorder
-    from .robotworld import load_robot_world
-
-    if args.backend:
-        raise Error("--backend is for generic worlds; a robot world runs on its simulator "
-                    "(show it with --video, --images or --trajectory)")
-    world = load_robot_world(path)
-    if args.dt is not None:
-        if not (math.isfinite(args.dt) and args.dt > 0):
-            raise Error(f"--dt: expected a number of seconds > 0, got {args.dt}")
-        world = dataclasses.replace(world, dt=args.dt)
-    goals = _goals(args.goal, [r.id for r in world.robots])
-    # Orders on the command line replace the world file's timed orders.
-    case = CaseStudy(world, args.planner or "astar", goals=goals, platform=args.platform, seed=args.seed,
-                     frames=args.frames, video=args.video,
-                     images=args.images, max_symbols=args.max_symbols,
-                     world_orders=False if args.no_world_orders else None)
-    if args.stdin_orders:
-        case.orders.read_lines(sys.stdin, lambda message: print(f"vwg: {message}", file=sys.stderr))
-    recorder = None
-    if args.record:
-        recorder = Recorder(args.record, case.engine, world_file=world.path,
-                            world_data={"robot_world": str(Path(world.path).resolve()), "planner": case.planner})
-    try:
-        with case:
-            summary = case.run(progress=args.progress)
-    finally:
-        if recorder:
-            recorder.close()
-    trajectory = args.trajectory or (Path(args.video).with_suffix(".png") if args.video else None)
-    if trajectory:
-        case.save_trajectory(trajectory)
-        summary.outputs["trajectory"] = str(trajectory)
-    if args.record:
-        summary.outputs["record"] = str(args.record)
-    if args.summary_json:
-        Path(args.summary_json).parent.mkdir(parents=True, exist_ok=True)
-        summary.outputs["summary"] = str(args.summary_json)
-        text = json.dumps(strict_json(summary.to_json()), indent=2, allow_nan=False)
-        Path(args.summary_json).write_text(text + "\n", encoding="utf-8")
-    if not args.quiet:
-        print(f"vwg run {args.world} — {world.name}, planner {summary.planner}, seed {summary.seed}")
-        ordered = [r for r in summary.robots if r.room is not None]
-        rows = [
-            ("reached", ("yes" if summary.reached else "no") if ordered else "- (no robot had an order)"),
-            ("frames", f"{summary.frames} ({summary.simulated_time_s:.1f} s simulated, "
-                       f"{summary.wall_time_s:.1f} s wall)"),
-            ("path length", f"{summary.path_length_m:.2f} m"),
-            ("collisions", str(summary.collisions)),
-            ("replans", str(summary.replans)),
-        ]
-        for r in summary.robots:
-            if r.room is None:
-                where = "no order"
-            elif r.reached:
-                where = f"{r.room}: reached"
-            else:
-                where = f"{r.room}: {r.distance_to_goal_m:.2f} m away ({r.status})"
-            rows.append((f"robot {r.id}", f"{where}, {r.path_length_m:.2f} m, {r.collisions} collisions, "
-                                           f"{r.replans} replans"))
-        for name, out in summary.outputs.items():
-            rows.append((name, out))
-        _print_summary(rows)
-    if not summary.reached and not args.allow_unreached:
-        missed = ", ".join(f"robot {r.id} ({r.room})" for r in summary.robots if r.room and not r.reached)
-        print(f"vwg: not every order was reached: {missed}; exit status {EXIT_UNREACHED} "
-              "(--allow-unreached exits 0)", file=sys.stderr)
-        return EXIT_UNREACHED
-    return 0
+    return RunOptions(frames=args.frames, seed=args.seed, dt=args.dt, max_symbols=args.max_symbols,
+                      backend=args.backend, record=args.record, summary_json=args.summary_json,
+                      progress=args.progress, platform=args.platform, planner=args.planner, goals=args.goal,
+                      no_world_orders=args.no_world_orders, stdin_orders=args.stdin_orders, video=args.video,
+                      images=args.images, trajectory=args.trajectory, allow_unreached=args.allow_unreached)
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
-    from .engine import Engine
+    from .launch import load, start, write_summary
     from .record import Recorder
-    from .worldfile import load_world
 
-    path, kind = _world_file(args.world, "run")
-    if kind == "robot":
-        return _run_robot(args, path)
-    robot_options = ("planner", "goal", "video", "images", "summary_json", "trajectory", "no_world_orders",
-                     "stdin_orders", "allow_unreached", "platform")
-    for option in robot_options:
-        if getattr(args, option) not in (None, False):
-            raise Error(f"--{option.replace('_', '-')} is for robot worlds (world files that name a map); "
-                        f"{path} is a generic world")
-    spec = load_world(path, seed=args.seed, frames=args.frames, dt=args.dt, backend=args.backend)
-    engine = Engine(spec.world, spec.initial, spec.generators, spec.backend, dt=spec.dt, seed=spec.seed,
-                    max_symbols=args.max_symbols)
-    recorder = Recorder(args.record, engine, world_file=spec.path, world_data=spec.data) if args.record else None
-    start = time.perf_counter()
+    world = load(args.world)
+    options = _options(args)
+    run = start(world, options)
+    recorder = (Recorder(options.record, run.engine, world_file=world.path, world_data=run.record_data,
+                         world_kind=run.kind) if options.record else None)
     try:
-        reason = engine.run(spec.frames, progress=None if args.progress is None else args.progress)
+        outcome = run.execute(progress=options.progress)
     finally:
         if recorder:
             recorder.close()
-        # A backend that writes files (a video) finishes them in its finish(), if it has one
-        # (close() is δ, the end of a transformation's scope).
-        finish = getattr(spec.backend, "finish", None)
-        if callable(finish):
-            finish()
-    wall = time.perf_counter() - start
-    w = engine.string
+        run.close()
+    if recorder:
+        frames = "" if run.kind == "robot" else f" ({recorder.frames} frames)"
+        outcome.outputs["record"] = f"{options.record}{frames}"
+    if options.summary_json:
+        outcome.outputs["summary"] = str(options.summary_json)
+        write_summary(options.summary_json, {**outcome.summary, "outputs": dict(outcome.outputs)})
     if not args.quiet:
-        print(f"vwg run {spec.path} — {spec.name}")
-        why = {"empty": "the world became empty", "stopped": "stopped", "done": "done"}.get(reason, "frame limit")
-        rows = [
-            ("frames", f"{engine.frame} ({why})"),
-            ("simulated time", f"{engine.time:.3f} s (dt {spec.dt} s)"),
-            ("seed", str(spec.seed)),
-            ("final string", f"{len(w)} symbols, {w.actor_count} actors"),
-            ("", _clip(str(w)) or "ε"),
-            ("wall time", f"{wall:.3f} s ({engine.frame / wall:.0f} frames/s)" if wall > 0 else "0 s"),
-        ]
-        if isinstance(spec.backend, _core.TraceBackend):
-            rows.append(("backend calls", f"{len(spec.backend.calls)} (trace)"))
-        if recorder:
-            rows.append(("record", f"{args.record} ({recorder.frames} frames)"))
-        _print_summary(rows)
-    return 0
+        print(f"vwg run {args.world} — {outcome.title}")
+        _print_summary(outcome.rows + list(outcome.outputs.items()))
+    if outcome.exit_status:
+        print(f"vwg: {outcome.message}", file=sys.stderr)
+    return outcome.exit_status
 
 
 def _cmd_replay(args: argparse.Namespace) -> int:
+    from .launch import replay_world
     from .record import read_record, replay
     from .registry import backends
-    from .worldfile import load_world
 
     record = read_record(args.record)  # read once: decoding a long record is most of a replay's reading
-    header = record.header
-    robot = (header.get("world") or {}).get("robot_world")
-    if robot:
-        from .casestudy import case_study_world, make_decider
-        from .robotworld import load_robot_world
-
-        path = _world_file(args.world, "replay", expected="robot")[0] if args.world else robot
-        world = case_study_world(load_robot_world(path), make_decider(header["world"]["planner"]))
-    else:
-        world = load_world(_world_file(args.world, "replay", expected="generic")[0]).world if args.world else None
+    world = replay_world(record.header, args.world, Path(args.record))
     backend = backends.create(args.backend, world=world) if args.backend else None
     start = time.perf_counter()
     engine = replay(args.record, world=world, backend=backend, record=record)
@@ -227,57 +103,11 @@ def _cmd_replay(args: argparse.Namespace) -> int:
 
 
 def _cmd_check(args: argparse.Namespace) -> int:
-    path, kind = _world_file(args.world, "check")
-    if kind == "robot":
-        return _check_robot(path, args.world)
-    from .worldfile import load_world
+    from .launch import describe, load
 
-    spec = load_world(path)
-    a = spec.world.alphabet
-    print(f"{args.world}: ok, a generic world ({spec.name})")
-    _print_summary([
-        ("primitives", ", ".join(a.primitives) or "-"),
-        ("transformations", ", ".join(a.transformations) or "-"),
-        ("actors", ", ".join(f"{n} {a.responds_to(n)}" for n in a.actors) or "-"),
-        ("events", ", ".join(a.event_types) or "-"),
-        ("visual events", ", ".join(a.visual_event_types) or "-"),
-        ("generators", ", ".join(g.name for g in spec.generators) or "-"),
-        ("initial string", _clip(str(spec.initial)) or "ε"),
-        ("frames", f"{spec.frames} (dt {spec.dt} s, seed {spec.seed})"),
-    ])
-    return 0
-
-
-def _check_robot(path: Path, arg: Path) -> int:
-    from .robotworld import load_robot_world
-
-    w = load_robot_world(path)
-    g = w.grid
-    print(f"{arg}: ok, a robot world ({w.name})")
-    if w.description:
-        print(f"  {w.description}")
-    rows = [
-        ("map", f"{w.map_path.name}: {g.width}×{g.height} cells of {g.resolution:g} m "
-                f"({g.width_m:g} × {g.height_m:g} m), walls {w.wall_height:g} m high"),
-        ("rooms", f"{len(w.rooms)}"),
-    ]
-    for name, room in w.rooms.items():
-        rows.append((f"  {name}", f"marker {room.marker} at ({room.at[0]:g}, {room.at[1]:g}), "
-                                  f"goal ({room.goal[0]:.2f}, {room.goal[1]:.2f})"))
-    rows.append(("robots", f"{len(w.robots)}"))
-    for r in w.robots:
-        rows.append((f"  robot {r.id}", f"start ({r.start[0]:g}, {r.start[1]:g}, {r.start[2]:.3g} rad), radius "
-                                        f"{r.radius:g} m, {r.max_speed:g} m/s, sensors: {', '.join(r.sensors)}"))
-    rows += [
-        ("laser", f"{w.laser.beams} beams over {math.degrees(w.laser.fov):.0f}°, {w.laser.max_range:g} m, "
-                  f"noise {w.laser.noise:g} m"),
-        ("kinect", f"{w.kinect.width}×{w.kinect.height}, {math.degrees(w.kinect.hfov):.0f}°, "
-                   f"{w.kinect.min_range:g}-{w.kinect.max_range:g} m"),
-        ("camera", f"{w.camera.width}×{w.camera.height}, {math.degrees(w.camera.hfov):.0f}°"),
-        ("noise", f"odometry {w.noise.odometry:g}, motors {w.noise.motors:g}"),
-        ("orders", "; ".join(f"{o.time:g} s: robot {o.robot} to {o.room}" for o in w.orders) or "none"),
-        ("frames", f"{w.frames} (dt {w.dt:g} s, seed {w.seed})"),
-    ]
+    world = load(args.world)
+    title, rows = describe(world)
+    print(f"{args.world}: ok, {title}")
     _print_summary(rows)
     return 0
 
@@ -286,7 +116,7 @@ def _cmd_overview(args: argparse.Namespace) -> int:
     from .overview import render_world_overview
     from .robotworld import load_robot_world
 
-    path, _ = _world_file(args.world, "overview", expected="robot")
+    path = _world_file(args.world, "overview", expected="robot")
     world = load_robot_world(path)
     image = render_world_overview(world, width=args.width, height=args.height)
     out = args.output or Path(f"{world.name}_3d.png")
@@ -321,8 +151,9 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("world", type=Path, help="a world file (YAML), or the name of a shipped world (vwg worlds)")
     run.add_argument("--frames", type=int, help="number of frames (default: the file's, else 100)")
     run.add_argument("--seed", type=int, help="random seed (default: the file's, else 0)")
-    run.add_argument("--dt", type=float, help="seconds per frame (default: the file's, else 0.1)")
-    run.add_argument("--backend", help="backend by name, instead of the file's (trace, null, ...)")
+    run.add_argument("--dt", type=float, help="seconds per frame, for both kinds of world (default: the file's, else 0.1)")
+    run.add_argument("--backend", help="a registered backend by name (trace, null, ...): instead of the file's in a "
+                                       "generic world, beside the simulator and its view in a robot world")
     run.add_argument("--max-symbols", type=int, default=10_000_000,
                      help="fail if the string grows past this many symbols (default 10 000 000; 0: no limit)")
     robot = run.add_argument_group("robot worlds (the case study: world files that name a map)")

@@ -408,7 +408,7 @@ class Recorder:
     nothing that completed). Use as a context manager, or call close() to write the end line."""
 
     def __init__(self, path: str | Path, engine: _core.Engine, *, world_file: str | Path | None = None,
-                 world_data: dict[str, Any] | None = None) -> None:
+                 world_data: dict[str, Any] | None = None, world_kind: str | None = None) -> None:
         self.path = Path(path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self._file: IO[str] | None = self.path.open("w", encoding="utf-8")
@@ -425,6 +425,7 @@ class Recorder:
             "version": _core.__version__,
             "world_file": str(Path(world_file).resolve()) if world_file else None,
             "world": world_data,
+            "world_kind": world_kind,
             "seed": engine.seed,
             "dt": engine.dt,
             "frame": engine.frame,
@@ -556,13 +557,13 @@ def read_record(path: str | Path) -> Record:
     return Record(header, frames, end, blobs)
 
 
-def world_of_record(record: Record, path: Path) -> World:
-    """Rebuild the world (alphabet and actor classes) a record was made with."""
+def world_of_record(header: dict[str, Any], path: Path) -> World:
+    """Rebuild the world (alphabet and actor classes) a generic world's record was made with."""
     from .worldfile import build_world
     from .yamldoc import YamlDoc
 
-    data = record.header.get("world")
-    world_file = record.header.get("world_file")
+    data = header.get("world")
+    world_file = header.get("world_file")
     if data is None:
         raise WorldFileError(str(path), "world", "the record does not say which world it ran; pass the world")
     base = Path(world_file) if world_file else path
@@ -581,7 +582,7 @@ def replay(path: str | Path, *, world: World | None = None, backend: _core.Backe
     if record is None:
         record = read_record(path)
     if world is None:
-        world = world_of_record(record, path)
+        world = world_of_record(record.header, path)
     initial = world.parse(record.header["initial"], f"{path}:initial", record.blobs)
     engine = Engine(world, initial, [], backend, dt=record.header["dt"], seed=record.header["seed"],
                     first_frame=record.header.get("frame", 0))

@@ -9,7 +9,7 @@ from typing import Any, Generic, TypeVar
 
 from .errors import SchemaError
 
-__all__ = ["Registry", "Sensor", "backends", "deciders", "generators", "platforms", "sensors"]
+__all__ = ["Registry", "Sensor", "backends", "deciders", "generators", "platforms", "sensors", "world_kinds"]
 
 T = TypeVar("T")
 
@@ -27,6 +27,10 @@ class Registry(Generic[T]):
         self._factories[name] = factory
         return factory
 
+    def unregister(self, name: str) -> None:
+        """Remove a registration (a plugin unloading, a test cleaning up); KeyError if none."""
+        del self._factories[name]
+
     def create(self, name: str, *args: Any, **kwargs: Any) -> T:
         return self.get(name)(*args, **kwargs)
 
@@ -42,6 +46,10 @@ class Registry(Generic[T]):
 
     def __iter__(self) -> Iterator[str]:
         return iter(sorted(self._factories))
+
+    def in_order(self) -> list[str]:
+        """The names in the order they were registered."""
+        return list(self._factories)
 
 
 @dataclass(frozen=True)
@@ -66,11 +74,25 @@ platforms: Registry[Any] = Registry("platform")
 #: Sensors by name, as world files list them (``robots[i].sensors``): a factory with no arguments ->
 #: a Sensor. ``sensors.register("sonar", lambda: Sensor(make_sonar))`` lets a world list ``sonar``.
 sensors: Registry[Sensor] = Registry("sensor")
+#: Kinds of world file (vwg.launch.WorldKind), tried in registration order: a factory with no arguments.
+world_kinds: Registry[Any] = Registry("world kind")
 
 
 def _register_builtins() -> None:
     from . import _core
 
+    def robot_kind() -> Any:
+        from .casestudy import RobotKind
+
+        return RobotKind()
+
+    def generic_kind() -> Any:
+        from .worldfile import GenericKind
+
+        return GenericKind()
+
+    world_kinds.register("robot", robot_kind)
+    world_kinds.register("generic", generic_kind)
     backends.register("trace", lambda **_: _core.TraceBackend())
     backends.register("null", lambda **_: _core.NullBackend())
 

@@ -23,10 +23,10 @@ their sensors, noise, and a timed script of user orders.
         max_accel: 1.0                 # [1.0] m/s²
         max_turn_accel: 4.0            # [4.0] rad/s²
         sensors: [laser, camera]       # [[laser, camera]]; laser, kinect, camera or a registered sensor
-    laser: {beams: 360, fov: 6.283185307179586, max_range: 8.0, noise: 0.01}
+    laser: {beams: 360, fov: 6.283185307179586, min_range: 0.05, max_range: 8.0, noise: 0.01}
     kinect: {width: 640, height: 480, hfov: 1.0122909661567112, max_range: 4.5, min_range: 0.5, mount_height: 0.3}
     camera: {width: 640, height: 480, hfov: 1.0471975511965976, mount_height: 0.5, noise: 0.0, blur: 0.0}
-    noise: {odometry: 0.0, motors: 0.0, laser: 0.01}   # laser defaults to laser.noise
+    noise: {odometry: 0.0, motors: 0.0, laser: 0.01}   # laser is laser.noise, given here instead
     frames: 3000                       # [3000]
     dt: 0.1                            # [0.1] seconds per frame
     goal_tolerance: 0.25               # [0.25] m: a robot whose pose is this near its room's goal has reached it
@@ -34,6 +34,13 @@ their sensors, noise, and a timed script of user orders.
     platform: sim                      # [sim] where the robots run: a name, or {kind: NAME, ...options}
     orders:                            # [[]] the user's orders (gObjective), sorted by time when loaded
       - {time: 0.0, robot: 1, room: kitchen}
+
+A robot entry and the ``laser``, ``kinect``, ``camera`` and ``noise`` sections take the fields of
+vwg.RobotSettings, vwg.LaserSpec, vwg.DepthCameraSpec, vwg.CameraSpec and vwg.NoiseModel (the C++
+structs, which hold the one copy of every default; ``vwg.LaserSpec.fields()`` lists names, types,
+defaults and meanings), except ``wall_height``, which is the world's. The Kinect also takes
+``robot_height``, ``noise`` (true: axial noise ``noise_a + noise_b·(z - 0.4)²`` metres), ``noise_a``,
+``noise_b`` and ``scan_rows``; the camera ``robot_height``.
 
 Sensors' image size is ``width``/``height`` (pixels) and their mounting height above the floor ``mount_height``
 (metres): one mapping cannot hold two ``height`` keys. Camera ``noise`` is the standard deviation of added grey
@@ -52,25 +59,25 @@ from __future__ import annotations
 
 import difflib
 import math
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import yaml
 
-from .errors import WorldFileError
+from ._core import CameraSpec, DepthCameraSpec, LaserSpec, NoiseModel, RobotSettings
+from .errors import SchemaError, WorldFileError
 from .maps import OccupancyGrid, _movingai_spec, load_map
 from .worlds import shipped_world
 from .yamldoc import YamlDoc
 
-__all__ = ["CameraSpec", "KinectSpec", "LaserSpec", "NoiseSpec", "Order", "PlatformSpec", "RobotSpec", "RobotWorld",
-           "Room", "load_robot_world"]
+__all__ = ["Order", "PlatformSpec", "RobotWorld", "Room", "load_robot_world"]
 
 MAX_MARKER = 586  # tag36h11 has 587 codes
 _TOP_KEYS = ("name", "description", "map", "wall_height", "rooms", "robots", "laser", "kinect", "camera", "noise",
              "frames", "dt", "seed", "orders", "platform", "goal_tolerance")
 _ROOM_KEYS = ("marker", "at", "facing", "size", "height", "goal")
-_ROBOT_KEYS = ("id", "start", "radius", "max_speed", "max_turn_rate", "max_accel", "max_turn_accel", "sensors")
 _ORDER_KEYS = ("time", "robot", "room")
 _GOAL_DISTANCE = 1.0  # default goal: this far in front of the marker, metres
 
@@ -91,63 +98,6 @@ class Room:
     def normal(self) -> tuple[float, float]:
         """Unit vector the marker faces (out of the wall)."""
         return math.cos(self.facing), math.sin(self.facing)
-
-
-@dataclass(frozen=True)
-class RobotSpec:
-    """One robot: its id (the ``id`` attribute events are addressed to), start pose, size, limits, sensors."""
-
-    id: int
-    start: tuple[float, float, float]
-    radius: float = 0.18
-    max_speed: float = 0.5
-    max_turn_rate: float = 1.5
-    max_accel: float = 1.0
-    max_turn_accel: float = 4.0
-    sensors: tuple[str, ...] = ("laser", "camera")
-
-
-@dataclass(frozen=True)
-class LaserSpec:
-    """A planar range finder: ``beams`` rays over ``fov`` radians centred ahead, range noise std dev (m)."""
-
-    beams: int = 360
-    fov: float = 2 * math.pi
-    max_range: float = 8.0
-    noise: float = 0.01
-
-
-@dataclass(frozen=True)
-class KinectSpec:
-    """A depth camera: image size (pixels), horizontal field of view, range limits (m), mounting height (m)."""
-
-    width: int = 640
-    height: int = 480
-    hfov: float = math.radians(58.0)
-    max_range: float = 4.5
-    min_range: float = 0.5
-    mount_height: float = 0.3
-
-
-@dataclass(frozen=True)
-class CameraSpec:
-    """A colour camera for the markers: image size, horizontal field of view, mounting height, pixel noise, blur."""
-
-    width: int = 640
-    height: int = 480
-    hfov: float = math.pi / 3
-    mount_height: float = 0.5
-    noise: float = 0.0
-    blur: float = 0.0
-
-
-@dataclass(frozen=True)
-class NoiseSpec:
-    """Noise models: odometry and motors as relative std dev per metre/radian, laser range std dev (m)."""
-
-    odometry: float = 0.0
-    motors: float = 0.0
-    laser: float = 0.01
 
 
 @dataclass(frozen=True)
@@ -178,11 +128,11 @@ class RobotWorld:
     grid: OccupancyGrid
     wall_height: float
     rooms: dict[str, Room]
-    robots: list[RobotSpec]
+    robots: list[RobotSettings]
     laser: LaserSpec
-    kinect: KinectSpec
+    kinect: DepthCameraSpec
     camera: CameraSpec
-    noise: NoiseSpec
+    noise: NoiseModel
     frames: int
     dt: float
     seed: int
@@ -191,7 +141,7 @@ class RobotWorld:
     platform: PlatformSpec = field(default_factory=PlatformSpec)
     data: dict[str, Any] = field(default_factory=dict)  # the YAML as read
 
-    def robot(self, robot_id: int) -> RobotSpec:
+    def robot(self, robot_id: int) -> RobotSettings:
         """The robot with this id (KeyError if none)."""
         for r in self.robots:
             if r.id == robot_id:
@@ -307,39 +257,33 @@ def _load_grid(doc: YamlDoc, base: Path) -> tuple[OccupancyGrid, Path]:
     return load_map(file), file
 
 
-def _robots(doc: YamlDoc, grid: OccupancyGrid) -> list[RobotSpec]:
+def _robots(doc: YamlDoc, grid: OccupancyGrid) -> list[RobotSettings]:
     from .registry import sensors as sensor_registry
 
     entries = doc.get(("robots",), list)
     if not entries:
         raise doc.error(("robots",), "expected at least one robot")
-    robots: list[RobotSpec] = []
+    robots: list[RobotSettings] = []
     seen: dict[int, int] = {}
     for i, entry in enumerate(entries):
         path: tuple[Any, ...] = ("robots", i)
         if not isinstance(entry, dict):
             raise doc.error(path, f"expected a mapping with id and start, got {entry!r}")
-        _check_keys(doc, path, entry, _ROBOT_KEYS)
-        rid = int(doc.number((*path, "id"), minimum=1, integer=True))
-        if rid in seen:
-            raise doc.error((*path, "id"), f"robot id {rid} is already used by robots[{seen[rid]}]")
-        seen[rid] = i
-        x, y, yaw = _point(doc, (*path, "start"), 3, "[x, y, yaw]")
-        radius = float(doc.number((*path, "radius"), 0.18, minimum=0.0, exclusive_minimum=True))
-        limits = {key: float(doc.number((*path, key), default, minimum=0.0, exclusive_minimum=True))
-                  for key, default in (("max_speed", 0.5), ("max_turn_rate", 1.5), ("max_accel", 1.0),
-                                       ("max_turn_accel", 4.0))}
-        sensors = doc.get((*path, "sensors"), list, default=["laser", "camera"])
-        for j, s in enumerate(sensors):
-            if not isinstance(s, str) or s not in sensor_registry:
+        doc.get((*path, "id"))  # required: "missing" names the robot's line
+        doc.get((*path, "start"))
+        robot = _settings(doc, path, RobotSettings())
+        if robot.id in seen:
+            raise doc.error((*path, "id"), f"robot id {robot.id} is already used by robots[{seen[robot.id]}]")
+        seen[robot.id] = i
+        for j, name in enumerate(robot.sensors):
+            if name not in sensor_registry:
                 raise doc.error((*path, "sensors", j),
-                                f"unknown sensor {s!r} (registered: {', '.join(sensor_registry)})")
-            if s in sensors[:j]:
-                raise doc.error((*path, "sensors", j), f"sensor {s!r} listed twice")
-        problem = _place_problem(grid, x, y, radius)
+                                f"unknown sensor {name!r} (registered: {', '.join(sensor_registry)})")
+        x, y, _ = robot.start
+        problem = _place_problem(grid, x, y, robot.radius)
         if problem:
-            raise doc.error((*path, "start"), f"robot {rid} at ({_p(x)}, {_p(y)}) {problem}")
-        robots.append(RobotSpec(rid, (x, y, yaw), radius, sensors=tuple(sensors), **limits))
+            raise doc.error((*path, "start"), f"robot {robot.id} at ({_p(x)}, {_p(y)}) {problem}")
+        robots.append(robot)
     for i, a in enumerate(robots):
         for j in range(i):
             b = robots[j]
@@ -389,46 +333,60 @@ def _rooms(doc: YamlDoc, grid: OccupancyGrid, wall_height: float, radius: float)
     return rooms
 
 
-def _sensors(doc: YamlDoc) -> tuple[LaserSpec, KinectSpec, CameraSpec, NoiseSpec]:
-    for key, allowed in (("laser", ("beams", "fov", "max_range", "noise")),
-                         ("kinect", ("width", "height", "hfov", "max_range", "min_range", "mount_height")),
-                         ("camera", ("width", "height", "hfov", "mount_height", "noise", "blur")),
-                         ("noise", ("odometry", "motors", "laser"))):
-        _check_keys(doc, (key,), doc.get((key,), dict, default={}), allowed)
+def _settings_path(owner: str, field: str) -> tuple[Any, ...]:
+    """The key path of a SchemaError's field below `owner` ("laser.beams" below "laser" -> ("beams",))."""
+    rest = field[len(owner):].lstrip(".") if field.startswith(owner) else field.partition(".")[2]
+    return tuple(int(p[1:-1]) if p.startswith("[") else p for p in re.findall(r"\[\d+\]|[^.\[\]]+", rest))
 
-    def num(path: tuple[Any, ...], default: float, **kw: Any) -> float:
-        return float(doc.number(path, default, **kw))
 
-    def whole(path: tuple[Any, ...], default: int) -> int:
-        return int(doc.number(path, default, minimum=1, integer=True))
+def _settings(doc: YamlDoc, path: tuple[Any, ...], spec: Any, *, fixed: dict[str, Any] | None = None,
+              skip: tuple[str, ...] = ()) -> Any:
+    """`spec` (a settings struct of vwg._core) with the fields the mapping at `path` gives, then
+    `fixed` (values the world sets, which the section may not), checked by the C++ side. The keys,
+    types and defaults are the struct's: nothing here repeats them. Errors name file, line and field."""
+    fixed = fixed or {}
+    section = doc.get(path, dict, default={})
+    names = tuple(name for name, *_ in type(spec).fields() if name not in fixed)
+    _check_keys(doc, path, {k: v for k, v in section.items() if k not in skip}, (*names, *skip))
+    owner = type(spec).__name__
+    try:
+        for key, value in section.items():
+            if key not in skip:
+                setattr(spec, key, value)
+        for key, value in fixed.items():
+            setattr(spec, key, value)
+        owner = _field_text(path)
+        spec.check(owner)
+    except SchemaError as e:
+        field = getattr(e, "field", "")
+        message = str(e)[len(field) + 2:] if field and str(e).startswith(field) else str(e)
+        raise doc.error((*path, *_settings_path(owner, field)), message) from None
+    return spec
 
-    positive = {"minimum": 0.0, "exclusive_minimum": True}
-    laser_noise = num(("laser", "noise"), 0.01, minimum=0.0)
-    laser = LaserSpec(whole(("laser", "beams"), 360), num(("laser", "fov"), 2 * math.pi, maximum=2 * math.pi + 1e-9,
-                                                          **positive),
-                      num(("laser", "max_range"), 8.0, **positive), laser_noise)
-    kinect = KinectSpec(whole(("kinect", "width"), 640), whole(("kinect", "height"), 480),
-                        num(("kinect", "hfov"), math.radians(58.0), maximum=math.pi, **positive),
-                        num(("kinect", "max_range"), 4.5, **positive), num(("kinect", "min_range"), 0.5, minimum=0.0),
-                        num(("kinect", "mount_height"), 0.3, minimum=0.0))
-    if kinect.min_range >= kinect.max_range:
-        raise doc.error(("kinect", "min_range"), f"must be less than max_range ({_p(kinect.max_range)})")
-    camera = CameraSpec(whole(("camera", "width"), 640), whole(("camera", "height"), 480),
-                        num(("camera", "hfov"), math.pi / 3, maximum=math.pi, **positive),
-                        num(("camera", "mount_height"), 0.5, minimum=0.0), num(("camera", "noise"), 0.0, minimum=0.0),
-                        num(("camera", "blur"), 0.0, minimum=0.0))
-    noise = NoiseSpec(num(("noise", "odometry"), 0.0, minimum=0.0), num(("noise", "motors"), 0.0, minimum=0.0),
-                      num(("noise", "laser"), laser_noise, minimum=0.0))
-    given_twice = doc.get(("laser", "noise"), default=None) is not None and \
-        doc.get(("noise", "laser"), default=None) is not None
-    if given_twice and noise.laser != laser.noise:
-        raise doc.error(("noise", "laser"), f"{_p(noise.laser)} conflicts with laser.noise ({_p(laser.noise)}); "
-                                            "give one of them")
-    laser = LaserSpec(laser.beams, laser.fov, laser.max_range, noise.laser)
+
+def _field_text(path: tuple[Any, ...]) -> str:
+    out = ""
+    for p in path:
+        out += f"[{p}]" if isinstance(p, int) else (f".{p}" if out else str(p))
+    return out
+
+
+def _sensors(doc: YamlDoc, wall_height: float) -> tuple[LaserSpec, DepthCameraSpec, CameraSpec, NoiseModel]:
+    laser = _settings(doc, ("laser",), LaserSpec())
+    kinect = _settings(doc, ("kinect",), DepthCameraSpec(), fixed={"wall_height": wall_height})
+    camera = _settings(doc, ("camera",), CameraSpec(), fixed={"wall_height": wall_height})
+    # noise.laser is the laser's noise given with the others (laser.noise, the one setting).
+    noise = _settings(doc, ("noise",), NoiseModel(), skip=("laser",))
+    if doc.get(("noise", "laser"), default=None) is not None:
+        laser_noise = float(doc.number(("noise", "laser"), minimum=0.0))
+        if doc.get(("laser", "noise"), default=None) is not None and laser_noise != laser.noise:
+            raise doc.error(("noise", "laser"), f"{_p(laser_noise)} conflicts with laser.noise ({_p(laser.noise)}); "
+                                                "give one of them")
+        laser = laser.replace(noise=laser_noise)
     return laser, kinect, camera, noise
 
 
-def _orders(doc: YamlDoc, rooms: dict[str, Room], robots: list[RobotSpec]) -> list[Order]:
+def _orders(doc: YamlDoc, rooms: dict[str, Room], robots: list[RobotSettings]) -> list[Order]:
     ids = {r.id for r in robots}
     orders: list[Order] = []
     for i, entry in enumerate(doc.get(("orders",), list, default=[])):
@@ -486,7 +444,7 @@ def load_robot_world(path: str | Path) -> RobotWorld:
     wall_height = float(doc.number(("wall_height",), 2.5, minimum=0.0, exclusive_minimum=True))
     robots = _robots(doc, grid)
     rooms = _rooms(doc, grid, wall_height, max(r.radius for r in robots))
-    laser, kinect, camera, noise = _sensors(doc)
+    laser, kinect, camera, noise = _sensors(doc, wall_height)
     frames = int(doc.number(("frames",), 3000, minimum=0, integer=True))
     dt = float(doc.number(("dt",), 0.1, minimum=0.0, exclusive_minimum=True))
     seed = int(doc.number(("seed",), 0, minimum=0, integer=True))

@@ -16,12 +16,11 @@ per frame, ``eCollision<other>`` per contact; all addressed to the robot (``to=i
 
 from __future__ import annotations
 
-import dataclasses
 import os
 from typing import Any
 
 from . import _core
-from .robotworld import NoiseSpec, RobotWorld
+from .robotworld import RobotWorld
 from .video import VideoWriter
 
 __all__ = ["MOTION_SYMBOLS", "SIM_EVENTS", "Simulation"]
@@ -47,13 +46,13 @@ class Simulation:
     Move, Rotate on that platform),
     ``raycaster`` and ``scanner`` (walls and other robots), and factories for the generators."""
 
-    def __init__(self, world: RobotWorld, *, seed: int | None = None, noise: NoiseSpec | None = None,
-                 step: float = 0.01) -> None:
+    def __init__(self, world: RobotWorld, *, seed: int | None = None, step: float | None = None) -> None:
         self.world = world
-        self.noise = noise if noise is not None else world.noise
         self.seed = world.seed if seed is None else seed
-        self.physics = _core.PhysicsWorld(world.grid, list(world.robots), step=step, motor_noise=self.noise.motors,
-                                          odometry_noise=self.noise.odometry, seed=self.seed)
+        settings = _core.PhysicsSettings(noise=world.noise, seed=self.seed)
+        if step is not None:
+            settings.step = step
+        self.physics = _core.PhysicsWorld(world.grid, list(world.robots), settings)
         self.raycaster = _core.GridRaycaster(world.grid)
         self.scanner = _core.RangeScanner(self.raycaster, self.physics)
         self.platform: _core.RobotPlatform = self.physics
@@ -63,31 +62,22 @@ class Simulation:
         self.cameras: list[_core.CameraGenerator] = []
 
     def laser(self, alphabet: _core.Alphabet, robot: int, **overrides: Any) -> _core.LaserGenerator:
-        """gLaser for one robot, with the world's laser settings (and these overrides)."""
-        spec = dataclasses.replace(self.world.laser, **overrides)
-        noise = overrides.get("noise", self.noise.laser)
-        gen = _core.LaserGenerator(self.scanner, robot, alphabet, beams=spec.beams, fov=spec.fov,
-                                   max_range=spec.max_range, noise=noise)
+        """gLaser for one robot, with the world's laser settings (and these overrides of vwg.LaserSpec's fields)."""
+        gen = _core.LaserGenerator(self.scanner, robot, self.world.laser.replace(**overrides), alphabet)
         self.lasers.append(gen)
         return gen
 
     def kinect(self, alphabet: _core.Alphabet, robot: int, **overrides: Any) -> _core.KinectGenerator:
-        """gKinect for one robot, with the world's Kinect settings (and these overrides)."""
-        spec = dataclasses.replace(self.world.kinect, **{k: v for k, v in overrides.items() if k != "noise"})
-        gen = _core.KinectGenerator(self.scanner, robot, alphabet, width=spec.width, height=spec.height,
-                                    hfov=spec.hfov, min_range=spec.min_range, max_range=spec.max_range,
-                                    mount_height=spec.mount_height, wall_height=self.world.wall_height,
-                                    noise=bool(overrides.get("noise", False)))
+        """gKinect for one robot, with the world's Kinect settings (and these overrides of vwg.DepthCameraSpec's)."""
+        gen = _core.KinectGenerator(self.scanner, robot, self.world.kinect.replace(**overrides), alphabet)
         self.kinects.append(gen)
         return gen
 
     def camera(self, alphabet: _core.Alphabet, robot: int, period: int = 3, **overrides: Any) -> _core.CameraGenerator:
-        """gCamera for one robot: its simulated camera, AprilTag detection every `period` frames."""
-        spec = dataclasses.replace(self.world.camera, **overrides)
-        source = _core.SimulatedCamera(self.physics, robot, self.world.grid, self.world.rooms, width=spec.width,
-                                       height=spec.height, hfov=spec.hfov, mount_height=spec.mount_height,
-                                       wall_height=self.world.wall_height, noise=spec.noise, blur=spec.blur,
-                                       seed=self.seed * 1009 + robot)
+        """gCamera for one robot: its simulated camera (the world's settings and these overrides of
+        vwg.CameraSpec's fields), AprilTag detection every `period` frames."""
+        source = _core.SimulatedCamera(self.physics, robot, self.world.grid, self.world.rooms,
+                                       self.world.camera.replace(**overrides), seed=self.seed * 1009 + robot)
         fx, fy, cx, cy = source.apriltag_intrinsics()
         sizes = {room.marker: room.size for room in self.world.rooms.values()}
         gen = _core.CameraGenerator(source, robot, alphabet, fx, fy, cx, cy, tag_sizes=sizes, period=period)

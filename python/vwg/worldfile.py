@@ -207,3 +207,105 @@ def load_world(path: str | Path, *, seed: int | None = None, frames: int | None 
         dt=dt_value,
         data=doc.data,
     )
+
+
+# ---- the generic kind of world file (vwg.launch) ---------------------------------------------------------
+class GenericRun:
+    """A generic world started: its engine, recorded with the world file's YAML (replay rebuilds the
+    alphabet from it)."""
+
+    def __init__(self, spec: WorldSpec, max_symbols: int) -> None:
+        from .engine import Engine
+
+        self.spec = spec
+        self.engine = Engine(spec.world, spec.initial, spec.generators, spec.backend, dt=spec.dt, seed=spec.seed,
+                             max_symbols=max_symbols)
+        self.record_data: dict[str, Any] = spec.data
+
+    kind = "generic"
+
+    def execute(self, progress: bool | None = False) -> Any:
+        import time
+
+        from .launch import Outcome
+
+        start = time.perf_counter()
+        reason = self.engine.run(self.spec.frames, progress=progress)
+        wall = time.perf_counter() - start
+        w = self.engine.string
+        why = {"empty": "the world became empty", "stopped": "stopped", "done": "done"}.get(reason, "frame limit")
+        rows = [
+            ("frames", f"{self.engine.frame} ({why})"),
+            ("simulated time", f"{self.engine.time:.3f} s (dt {self.spec.dt} s)"),
+            ("seed", str(self.spec.seed)),
+            ("final string", f"{len(w)} symbols, {w.actor_count} actors"),
+            ("", _clip(str(w)) or "ε"),
+            ("wall time", f"{wall:.3f} s ({self.engine.frame / wall:.0f} frames/s)" if wall > 0 else "0 s"),
+        ]
+        if isinstance(self.spec.backend, _core.TraceBackend):
+            rows.append(("backend calls", f"{len(self.spec.backend.calls)} (trace)"))
+        summary = {"world": self.spec.name, "kind": "generic", "frames": self.engine.frame, "end": reason,
+                   "simulated_time_s": self.engine.time, "wall_time_s": wall, "seed": self.spec.seed,
+                   "symbols": len(w), "actors": w.actor_count}
+        return Outcome(self.spec.name, rows, summary)
+
+    def close(self) -> None:
+        # A backend that writes files (a video) finishes them in its finish(), if it has one
+        # (close() is δ, the end of a transformation's scope).
+        finish = getattr(self.spec.backend, "finish", None)
+        if callable(finish):
+            finish()
+
+    def __enter__(self) -> GenericRun:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
+def _clip(text: str, n: int = 200) -> str:
+    return text if len(text) <= n else text[: n - 3] + "..."
+
+
+class GenericKind:
+    """World files that declare an alphabet: their own actors, generators and backend."""
+
+    name = "generic"
+    shape = "a mapping with alphabet: and initial:"
+    options: frozenset[str] = frozenset()
+
+    def matches(self, data: dict[str, Any]) -> bool:
+        return "alphabet" in data
+
+    def matches_loaded(self, world: Any) -> bool:
+        return isinstance(world, WorldSpec)
+
+    def load(self, path: Path) -> WorldSpec:
+        return load_world(path)
+
+    def start(self, spec: WorldSpec, options: Any) -> GenericRun:
+        if any(v is not None for v in (options.seed, options.frames, options.dt, options.backend)):
+            # dt shapes the generators (schedule_times), so the file is read again with the overrides.
+            spec = load_world(spec.path, seed=options.seed, frames=options.frames, dt=options.dt,
+                              backend=options.backend)
+        return GenericRun(spec, options.max_symbols)
+
+    def replay_world(self, header: dict[str, Any], path: Path | None, record_path: Path) -> World:
+        if path is not None:
+            return load_world(path).world
+        from .record import world_of_record
+
+        return world_of_record(header, record_path)
+
+    def describe(self, spec: WorldSpec) -> tuple[str, list[tuple[str, str]]]:
+        a = spec.world.alphabet
+        return f"a generic world ({spec.name})", [
+            ("primitives", ", ".join(a.primitives) or "-"),
+            ("transformations", ", ".join(a.transformations) or "-"),
+            ("actors", ", ".join(f"{n} {a.responds_to(n)}" for n in a.actors) or "-"),
+            ("events", ", ".join(a.event_types) or "-"),
+            ("visual events", ", ".join(a.visual_event_types) or "-"),
+            ("generators", ", ".join(g.name for g in spec.generators) or "-"),
+            ("initial string", _clip(str(spec.initial)) or "ε"),
+            ("frames", f"{spec.frames} (dt {spec.dt} s, seed {spec.seed})"),
+        ]

@@ -16,7 +16,7 @@ from pathlib import Path
 
 from .errors import Error
 
-__all__ = ["kind_of_world", "resolve_world", "shipped_world", "shipped_worlds", "worlds_dir"]
+__all__ = ["resolve_world", "shipped_world", "shipped_worlds", "worlds_dir"]
 
 
 def worlds_dir() -> Path:
@@ -60,18 +60,3 @@ def resolve_world(arg: str | Path) -> Path:
         raise Error(f"{arg}: no such file, and no shipped world of that name (shipped: "
                     f"{', '.join(shipped_worlds())}; `vwg worlds` lists them)")
     raise Error(f"{arg}: file not found")
-
-
-def kind_of_world(path: Path, data: object) -> str:
-    """``"robot"`` for a robot world file (it names a ``map``), ``"generic"`` for one that declares an
-    ``alphabet``; Error with what was expected otherwise."""
-    if isinstance(data, dict):
-        if "map" in data:
-            return "robot"
-        if "alphabet" in data:
-            return "generic"
-        keys = ", ".join(str(k) for k in list(data)[:8]) or "none"
-    else:
-        keys = f"a {type(data).__name__}, not a mapping"
-    raise Error(f"{path}: not a world file: expected a robot world (a mapping with map:, rooms: and robots:) or "
-                f"a generic world (a mapping with alphabet: and initial:); found keys: {keys}")

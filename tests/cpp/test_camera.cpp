@@ -113,7 +113,7 @@ TEST(CameraSpec, IntrinsicsFollowTheFieldOfView) {
 TEST(CameraSpec, BadValuesNameTheField) {
   auto field_of = [](CameraSpec s) {
     try {
-      check_camera_spec(s, "camera");
+      check_settings(s, "camera");
     } catch (const SchemaError& e) {
       return e.field();
     }

@@ -5,8 +5,10 @@
 // world string does not change (paper §III.F, test 3).
 #pragma once
 
+#include <concepts>
 #include <cstdint>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "vwg/geometry/pose.hpp"
@@ -23,13 +25,33 @@ struct RobotLimits {
   double max_turn_accel = 4.0;  ///< rad/s²
 };
 
-/// A robot as the world file describes it: id, start pose, size and limits.
+/// A robot as the world file describes it: id, start pose, size, limits and the sensors it carries
+/// (by registered name). The defaults here are the only ones (bindings and loaders take them).
 struct RobotSettings {
   int id = 1;
   Pose2 start{};
   double radius = 0.18;  ///< m
   RobotLimits limits{};
+  std::vector<std::string> sensors{"laser", "camera"};
 };
+
+/// Each field with its name and meaning (the limits flat, as world files write them).
+template <class S, class F>
+  requires std::same_as<std::remove_const_t<S>, RobotSettings>
+void visit_settings(S& s, F&& field) {
+  field("id", s.id, "the robot's id, >= 1: events are addressed to it");
+  field("start", s.start, "start pose (x, y, yaw): metres, metres, radians");
+  field("radius", s.radius, "metres");
+  field("max_speed", s.limits.max_speed, "m/s");
+  field("max_turn_rate", s.limits.max_turn_rate, "rad/s");
+  field("max_accel", s.limits.max_accel, "m/s²");
+  field("max_turn_accel", s.limits.max_turn_accel, "rad/s²");
+  field("sensors", s.sensors, "the sensors it carries, by registered name (laser, kinect, camera, ...)");
+}
+
+/// Throws SchemaError naming `owner.field` for an id < 1, a start that is not finite, a radius or
+/// limit that is not finite and > 0, or a sensor named twice or empty.
+void check_settings(const RobotSettings& robot, const std::string& owner);
 
 /// One step of a motion command, in the robot's own frame.
 struct MotionStep {

@@ -15,10 +15,12 @@
 // the white quiet zone it needs even on a dark wall.
 #pragma once
 
+#include <concepts>
 #include <cstdint>
 #include <memory>
 #include <span>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -49,10 +51,23 @@ struct CameraSpec {
   double cy() const { return PinholeCamera::centre_of(height); }
 };
 
+template <class S, class F>
+  requires std::same_as<std::remove_const_t<S>, CameraSpec>
+void visit_settings(S& s, F&& field) {
+  field("width", s.width, "image width, pixels");
+  field("height", s.height, "image height, pixels");
+  field("hfov", s.hfov, "horizontal field of view, radians");
+  field("mount_height", s.mount_height, "optical centre above the floor, metres");
+  field("wall_height", s.wall_height, "walls and ceiling, metres");
+  field("robot_height", s.robot_height, "other robots are cylinders this tall, metres");
+  field("noise", s.noise, "standard deviation of the added pixel noise, grey levels (0..255)");
+  field("blur", s.blur, "Gaussian blur sigma, pixels");
+}
+
 /// Throws vwg::SchemaError naming `owner`.field for a size outside 1..8192, a field of view outside
 /// (0, π), heights that are not 0 < mount_height < wall_height and 0 < robot_height, or negative or
 /// non-finite noise or blur.
-void check_camera_spec(const CameraSpec& spec, const std::string& owner = "camera");
+void check_settings(const CameraSpec& spec, const std::string& owner = "camera");
 
 /// The intrinsics to give vwg::perception::estimate_pose for images of this camera: the library
 /// puts pixel centres at +0.5, so its principal point is OpenCV's + 0.5.

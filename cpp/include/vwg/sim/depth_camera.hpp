@@ -4,9 +4,11 @@
 // depthimage_to_laserscan does, making the same eLaser<dist, angle> events as gLaser.
 #pragma once
 
+#include <concepts>
 #include <memory>
 #include <span>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "vwg/alphabet.hpp"
@@ -33,7 +35,27 @@ struct DepthCameraSpec {
   int scan_rows = 1;  ///< rows around the centre used for the scan (depthimage_to_laserscan's scan_height)
 };
 
-void check_depth_spec(const DepthCameraSpec& spec, const std::string& owner);
+template <class S, class F>
+  requires std::same_as<std::remove_const_t<S>, DepthCameraSpec>
+void visit_settings(S& s, F&& field) {
+  field("width", s.width, "image width, pixels");
+  field("height", s.height, "image height, pixels");
+  field("hfov", s.hfov, "horizontal field of view, radians");
+  field("min_range", s.min_range, "nearer depths are invalid (the blind zone), metres");
+  field("max_range", s.max_range, "metres");
+  field("mount_height", s.mount_height, "optical centre above the floor, metres");
+  field("wall_height", s.wall_height, "walls and ceiling, metres");
+  field("robot_height", s.robot_height, "other robots are cylinders this tall, metres");
+  field("noise", s.noise, "axial noise noise_a + noise_b·(z - 0.4)² on or off");
+  field("noise_a", s.noise_a, "metres");
+  field("noise_b", s.noise_b, "metres per square metre");
+  field("scan_rows", s.scan_rows, "rows around the centre turned into the scan");
+}
+
+/// Throws SchemaError naming `owner.field` for a size outside 1..8192, a field of view outside
+/// (0, π), ranges that are not 0 <= min_range < max_range, heights that are not 0 < mount_height <
+/// wall_height and 0 < robot_height, negative noise, or scan rows outside 1..height.
+void check_settings(const DepthCameraSpec& spec, const std::string& owner);
 
 /// Renders depth images (metres along the optical axis, NaN where invalid), row-major, row 0 at
 /// the top, for a camera looking along the robot's heading, level with the floor.

@@ -5,6 +5,8 @@
 #pragma once
 
 #include <cmath>
+#include <concepts>
+#include <type_traits>
 #include <memory>
 #include <span>
 #include <string>
@@ -18,13 +20,26 @@
 
 namespace vwg::sim {
 
+/// A planar range finder. The defaults here are the only ones: the bindings and the world files
+/// take them from this struct (visit_settings lists its fields).
 struct LaserSpec {
   int beams = 360;
   double fov = 2 * M_PI;  ///< radians; a full circle has no duplicate beam at ±π
   double min_range = 0.05;
   double max_range = 8.0;
-  double noise = 0.0;  ///< standard deviation of each range, metres
+  double noise = 0.01;  ///< standard deviation of each range, metres
 };
+
+/// Each field with its name and meaning, for bindings and file loaders.
+template <class S, class F>
+  requires std::same_as<std::remove_const_t<S>, LaserSpec>
+void visit_settings(S& s, F&& field) {
+  field("beams", s.beams, "rays per scan");
+  field("fov", s.fov, "field of view, radians, centred ahead (2π: a full circle)");
+  field("min_range", s.min_range, "nearer returns are dropped, metres");
+  field("max_range", s.max_range, "metres");
+  field("noise", s.noise, "standard deviation of each range, metres");
+}
 
 /// The beam angles from the heading: a full circle is [-π, π) in `beams` steps, a smaller field
 /// of view runs from -fov/2 to +fov/2 inclusive.
@@ -45,9 +60,9 @@ class RangeScanner {
   std::shared_ptr<const PhysicsWorld> world_;
 };
 
-/// Checks the spec (beams >= 1, 0 < fov <= 2π, 0 <= min_range < max_range, finite noise >= 0);
-/// throws SchemaError naming `owner.field`.
-void check_laser_spec(const LaserSpec& spec, const std::string& owner);
+/// Checks the spec (1 <= beams <= 100000, 0 < fov <= 2π, 0 <= min_range < max_range, finite noise
+/// >= 0); throws SchemaError naming `owner.field`.
+void check_settings(const LaserSpec& spec, const std::string& owner);
 
 /// gLaser: each frame, a scan from the robot's true pose with range noise; an event
 /// `<event><to=robot, dist, angle>` for each beam that hit something within range.

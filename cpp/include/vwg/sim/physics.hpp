@@ -3,10 +3,12 @@
 // under speed and acceleration limits; a seeded noise model perturbs motors and odometry.
 #pragma once
 
+#include <concepts>
 #include <cstdint>
 #include <memory>
 #include <span>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "vwg/random.hpp"
@@ -32,6 +34,16 @@ struct NoiseModel {
   double odometry = 0.0;
 };
 
+template <class S, class F>
+  requires std::same_as<std::remove_const_t<S>, NoiseModel>
+void visit_settings(S& s, F&& field) {
+  field("motors", s.motors, "relative standard deviation of each commanded turn and drive");
+  field("odometry", s.odometry, "standard deviation of the odometry's drift, per metre and per radian");
+}
+
+/// Throws SchemaError naming `owner.field` for a standard deviation that is not finite and >= 0.
+void check_settings(const NoiseModel& noise, const std::string& owner);
+
 struct PhysicsSettings {
   double step = 0.01;  ///< fixed time step of Box2D, seconds
   int velocity_iterations = 8;
@@ -41,6 +53,22 @@ struct PhysicsSettings {
   NoiseModel noise{};
   std::uint64_t seed = 0;
 };
+
+template <class S, class F>
+  requires std::same_as<std::remove_const_t<S>, PhysicsSettings>
+void visit_settings(S& s, F&& field) {
+  field("step", s.step, "fixed time step of Box2D, seconds");
+  field("velocity_iterations", s.velocity_iterations, "Box2D's velocity iterations per step");
+  field("position_iterations", s.position_iterations, "Box2D's position iterations per step");
+  field("obstacle_threshold", s.obstacle_threshold, "grid values >= this are walls");
+  field("walls_at_border", s.walls_at_border, "a wall around the map, so robots cannot leave it");
+  field("noise", s.noise, "motor and odometry noise");
+  field("seed", s.seed, "seed of the noise");
+}
+
+/// Throws SchemaError naming `owner.field` for a step that is not finite and > 0 (at most 1 s),
+/// iterations outside 1..1000, a threshold outside 1..100, or bad noise.
+void check_settings(const PhysicsSettings& settings, const std::string& owner);
 
 /// The Box2D simulator as a RobotPlatform.
 class PhysicsWorld final : public platform::RobotPlatform {

@@ -1,0 +1,213 @@
+"""One loader, one run path and one replay path for every kind of world file.
+
+A world file is of one of the kinds registered in ``vwg.registry.world_kinds``: ``robot`` (the case
+study: a map, rooms, robots; vwg.RobotWorld) and ``generic`` (an alphabet, an initial string,
+generators, a backend; vwg.worldfile.WorldSpec). A kind recognises its files, loads them, says which
+run options apply to it, starts a run and rebuilds the world a record of it was made with.
+``vwg run``, ``vwg replay`` and ``vwg check`` go through here and nowhere else, so an option that
+does not apply to a world is refused by name rather than ignored.
+
+    world = vwg.load("office")                                   # a shipped world, or a file
+    with vwg.start(world, vwg.RunOptions(goals=["kitchen"])) as run:
+        outcome = run.execute()
+    print(outcome.exit_status, outcome.summary["reached"])
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Protocol
+
+from . import _core
+from .errors import Error
+
+__all__ = ["COMMON_OPTIONS", "EXIT_UNREACHED", "Outcome", "Run", "RunOptions", "WorldKind", "describe", "kind_of",
+           "load", "replay_world", "start", "strict_json"]
+
+#: Exit status of a run that finished with a robot short of the room it was sent to.
+EXIT_UNREACHED = 3
+
+
+@dataclass
+class RunOptions:
+    """What a run may be told besides its world file; None (or False) leaves the file's choice.
+    Which options a world takes is its kind's ``options``; giving another is an error."""
+
+    frames: int | None = None
+    seed: int | None = None
+    dt: float | None = None
+    max_symbols: int = 10_000_000
+    backend: str | None = None        # a registered backend, shown on beside the world's own
+    record: Path | None = None        # JSON Lines record of every frame (vwg replay reads it)
+    summary_json: Path | None = None  # the outcome's summary as JSON
+    progress: bool | None = False
+    # the robot case study
+    platform: str | None = None
+    planner: str | None = None
+    goals: list[str] | None = None    # "ROOM" (the first robot) or "ROBOT:ROOM"; replace the file's orders
+    no_world_orders: bool = False
+    stdin_orders: bool = False
+    video: Path | None = None
+    images: Path | None = None
+    trajectory: Path | None = None
+    allow_unreached: bool = False
+
+    def given(self) -> list[str]:
+        """The options set to something other than their default, in declaration order."""
+        defaults = RunOptions()
+        return [f.name for f in dataclasses.fields(self) if getattr(self, f.name) != getattr(defaults, f.name)]
+
+    def check(self) -> None:
+        """Values no world could take: named by their command-line spelling."""
+        if self.frames is not None and self.frames < 0:
+            raise Error(f"--frames: expected a number of frames >= 0, got {self.frames}")
+        if self.seed is not None and not 0 <= self.seed < 2**64:
+            raise Error(f"--seed: expected an integer from 0 to 2**64 - 1, got {self.seed}")
+        if self.dt is not None and not (math.isfinite(self.dt) and 0 < self.dt <= 3600):
+            raise Error(f"--dt: expected a number of seconds in (0, 3600], got {self.dt}")
+        if self.max_symbols < 0:
+            raise Error(f"--max-symbols: expected a count >= 0 (0: no limit), got {self.max_symbols}")
+
+
+#: How the command line spells an option whose name differs.
+_FLAGS = {"goals": "--goal"}
+
+#: Options every kind of world takes.
+COMMON_OPTIONS = frozenset({"frames", "seed", "dt", "max_symbols", "backend", "record", "summary_json", "progress"})
+
+
+@dataclass
+class Outcome:
+    """How a run ended: a title and rows to print, the summary (JSON-ready), the exit status
+    (0, or 3 when a robot did not reach its room) and what to say on standard error."""
+
+    title: str
+    rows: list[tuple[str, str]]
+    summary: dict[str, Any]
+    exit_status: int = 0
+    message: str = ""
+    outputs: dict[str, str] = field(default_factory=dict)
+
+
+class Run(Protocol):
+    """A world started with its options: ``engine`` runs it, ``execute()`` runs it to its end."""
+
+    engine: _core.Engine
+    #: The name of its world's kind ("robot", "generic"), kept in records.
+    kind: str
+    #: What the record's header keeps of the world, so ``vwg replay`` can rebuild it.
+    record_data: dict[str, Any]
+
+    def execute(self, progress: bool | None = False) -> Outcome: ...
+    def close(self) -> None: ...
+
+
+class WorldKind(Protocol):
+    """A kind of world file (register one in vwg.registry.world_kinds)."""
+
+    name: str
+    #: The run options that apply beyond COMMON_OPTIONS.
+    options: frozenset[str]
+    #: How a file of this kind is told apart, for errors ("a mapping with map:, rooms: and robots:").
+    shape: str
+
+    def matches(self, data: dict[str, Any]) -> bool: ...
+    def matches_loaded(self, world: Any) -> bool: ...
+    def load(self, path: Path) -> Any: ...
+    def start(self, world: Any, options: RunOptions) -> Run: ...
+    def replay_world(self, header: dict[str, Any], path: Path | None, record_path: Path) -> Any: ...
+    def describe(self, world: Any) -> tuple[str, list[tuple[str, str]]]: ...
+
+
+def _kinds() -> list[WorldKind]:
+    from .registry import world_kinds
+
+    return [world_kinds.create(name) for name in world_kinds.in_order()]
+
+
+def kind_of(path: Path, data: Any) -> WorldKind:
+    """The kind of a world file's content; Error naming what each kind expects otherwise."""
+    kinds = _kinds()
+    if isinstance(data, dict):
+        for kind in kinds:
+            if kind.matches(data):
+                return kind
+        found = f"found keys: {', '.join(str(k) for k in list(data)[:8]) or 'none'}"
+    else:
+        found = f"found a {type(data).__name__}, not a mapping"
+    expected = " or ".join(f"a {k.name} world ({k.shape})" for k in kinds)
+    raise Error(f"{path}: not a world file: expected {expected}; {found}")
+
+
+def load(world: str | Path) -> Any:
+    """Load a world file of any kind, or a shipped world by name: a vwg.RobotWorld or a WorldSpec."""
+    from .worlds import resolve_world
+    from .yamldoc import YamlDoc
+
+    path = resolve_world(world)
+    return kind_of(path, YamlDoc(path).data).load(path)
+
+
+def _kind_of_loaded(world: Any) -> WorldKind:
+    for kind in _kinds():
+        if kind.matches_loaded(world):
+            return kind
+    raise Error(f"not a loaded world: {type(world).__name__} (vwg.load gives one)")
+
+
+def start(world: Any, options: RunOptions | None = None) -> Run:
+    """Start a loaded world (vwg.load) with `options`; an option its kind does not take is an error."""
+    options = options or RunOptions()
+    options.check()
+    kind = _kind_of_loaded(world)
+    for name in options.given():
+        if name not in COMMON_OPTIONS and name not in kind.options:
+            takers = [k.name for k in _kinds() if name in k.options]
+            where = f"is for {' and '.join(takers)} worlds" if takers else "does not apply"
+            flag = _FLAGS.get(name, "--" + name.replace("_", "-"))
+            raise Error(f"{flag} {where}; {world.path} is a {kind.name} world")
+    return kind.start(world, options)
+
+
+def describe(world: Any) -> tuple[str, list[tuple[str, str]]]:
+    """What a loaded world declares: a title ("a robot world (office)") and rows to print."""
+    return _kind_of_loaded(world).describe(world)
+
+
+def replay_world(header: dict[str, Any], world_file: str | Path | None, record_path: Path) -> Any:
+    """The world (vwg.World) a record's header was made with: from `world_file` when given (a file
+    or a shipped world's name, which must be of the record's kind), else from what the header keeps."""
+    from .registry import world_kinds
+    from .worlds import resolve_world
+    from .yamldoc import YamlDoc
+
+    name = header.get("world_kind") or ("robot" if "robot_world" in (header.get("world") or {}) else "generic")
+    kind = world_kinds.create(name)
+    path = None
+    if world_file is not None:
+        path = resolve_world(world_file)
+        other = kind_of(path, YamlDoc(path).data)
+        if other.name != kind.name:
+            raise Error(f"{path}: the record was made by a {kind.name} world; this is a {other.name} world")
+    return kind.replay_world(header, path, record_path)
+
+
+def strict_json(value: Any) -> Any:
+    """`value` with every float that is not finite replaced by None, so json.dumps(allow_nan=False)
+    writes JSON that any parser reads (Python's default would write Infinity and NaN)."""
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, dict):
+        return {k: strict_json(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [strict_json(v) for v in value]
+    return value
+
+
+def write_summary(path: Path, summary: dict[str, Any]) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(json.dumps(strict_json(summary), indent=2, allow_nan=False) + "\n", encoding="utf-8")
