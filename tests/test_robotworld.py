@@ -278,8 +278,10 @@ CASES = [
     ("laser: {beams: 180, noise: 0.02}", "laser: {min_range: 9.0}", "laser.max_range", "laser:",
      "expected a finite range > min_range (9.0)"),
     ("frames: 100", "frames: 100\nkinect: {wall_height: 3.0}", "kinect.wall_height", "kinect:", "unknown key"),
-    ("frames: 100", "frames: 100\nkinect: {noise: 1}", "kinect.noise", "kinect:", "expected true or false, got int 1"),
-    ("frames: 100", "frames: 100\nkinect: {scan_rows: 500}", "kinect.scan_rows", "kinect:", "expected 1 to height rows"),
+    ("frames: 100", "frames: 100\nkinect: {noise: 1}", "kinect.noise", "kinect:",
+     "expected true or false, got int 1"),
+    ("frames: 100", "frames: 100\nkinect: {scan_rows: 500}", "kinect.scan_rows", "kinect:",
+     "expected 1 to height rows"),
     ("camera: {width: 320, height: 240, mount_height: 0.4}", "camera: {mount_height: 2.6}", "camera.wall_height",
      "camera:", "expected a finite height above the camera's mount_height"),
     ("    radius: 0.25", "    radius: 0.25\n    max_speed: fast", "robots[1].max_speed", "max_speed",
@@ -351,8 +353,9 @@ def test_every_setting_of_the_structs_is_a_world_file_key(world_dir: Path) -> No
     # The sections take the C++ structs' fields (LaserSpec.fields() lists them), each set as written.
     text = BASE.replace("laser: {beams: 180, noise: 0.02}",
                         "laser: {beams: 90, fov: 3.0, min_range: 0.1, max_range: 5.0, noise: 0.0}\n"
-                        "kinect: {width: 320, height: 240, hfov: 1.0, min_range: 0.4, max_range: 3.0, mount_height: 0.2,"
-                        " robot_height: 0.5, noise: true, noise_a: 0.002, noise_b: 0.003, scan_rows: 3}")
+                        "kinect: {width: 320, height: 240, hfov: 1.0, min_range: 0.4, max_range: 3.0,"
+                        " mount_height: 0.2, robot_height: 0.5, noise: true, noise_a: 0.002, noise_b: 0.003,"
+                        " scan_rows: 3}")
     world = load_robot_world(write(world_dir, text))
     assert world.laser == LaserSpec(beams=90, fov=3.0, min_range=0.1, max_range=5.0, noise=0.0)
     assert world.kinect == DepthCameraSpec(width=320, height=240, hfov=1.0, min_range=0.4, max_range=3.0,
