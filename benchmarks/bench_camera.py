@@ -39,19 +39,19 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true")
     args = parser.parse_args()
-    world = vwg.load_robot_world(ROOT / "maps" / "office.yaml")
-    camera = _core.CameraRenderer(world.grid, world.rooms, vwg.CameraSpec(wall_height=world.wall_height))
+    world = vwg.robot.load_robot_world(ROOT / "maps" / "office.yaml")
+    camera = _core.CameraRenderer(world.grid, world.rooms, vwg.sim.CameraSpec(wall_height=world.wall_height))
     poses = poses_in_front_of_markers(world, 60 if args.quick else 300)
     images = [camera.render(p, grey=True) for p in poses[:20]]  # warm up
     t0 = time.perf_counter()
     images = [camera.render(p, grey=True) for p in poses]
     render = time.perf_counter() - t0
     t0 = time.perf_counter()
-    found = [vwg.detect_apriltags(im) for im in images]
+    found = [vwg.perception.detect_apriltags(im) for im in images]
     detect = time.perf_counter() - t0
     t0 = time.perf_counter()
     for p in poses:
-        vwg.detect_apriltags(camera.render(p, grey=True))
+        vwg.perception.detect_apriltags(camera.render(p, grey=True))
     both = time.perf_counter() - t0
     n = len(poses)
     seen = sum(1 for f in found if f) / n

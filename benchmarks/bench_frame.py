@@ -28,12 +28,12 @@ from vwg import _core
 from vwg.casestudy import CaseStudy
 
 RESULTS = Path(__file__).resolve().parent / "results" / "bench_frame.json"
-LASER = vwg.LaserSpec(beams=180, fov=math.pi, max_range=10.0, noise=0.01)
+LASER = vwg.sim.LaserSpec(beams=180, fov=math.pi, max_range=10.0, noise=0.01)
 
 
-def crowd(n: int, seed: int = 0) -> vwg.RobotWorld:
+def crowd(n: int, seed: int = 0) -> vwg.robot.RobotWorld:
     """The warehouse with `n` robots at seeded free places (0.6 m apart), each with a laser."""
-    world = vwg.load_robot_world("warehouse")
+    world = vwg.robot.load_robot_world("warehouse")
     grid = world.grid
     free = np.argwhere(~grid.inflate(0.35))
     rng = np.random.default_rng(seed)
@@ -44,12 +44,12 @@ def crowd(n: int, seed: int = 0) -> vwg.RobotWorld:
             starts.append((x, y))
             if len(starts) == n:
                 break
-    robots = [vwg.RobotSettings(id=i + 1, start=(x, y, float(rng.uniform(-math.pi, math.pi))), sensors=("laser",))
+    robots = [vwg.robot.RobotSettings(id=i + 1, start=(x, y, float(rng.uniform(-math.pi, math.pi))), sensors=("laser",))
               for i, (x, y) in enumerate(starts)]
     return dataclasses.replace(world, robots=robots, laser=LASER, orders=[])
 
 
-def vwg_rate(world: vwg.RobotWorld, planner: str, frames: int) -> float:
+def vwg_rate(world: vwg.robot.RobotWorld, planner: str, frames: int) -> float:
     rooms = list(world.rooms)
     goals = {r.id: rooms[k % len(rooms)] for k, r in enumerate(world.robots)}
     run = CaseStudy(world, planner, goals=goals, sensors=("laser",))
@@ -59,7 +59,7 @@ def vwg_rate(world: vwg.RobotWorld, planner: str, frames: int) -> float:
     return len(world.robots) * done / (time.perf_counter() - t0)
 
 
-def plain_rate(world: vwg.RobotWorld, frames: int) -> float:
+def plain_rate(world: vwg.robot.RobotWorld, frames: int) -> float:
     physics = _core.PhysicsWorld(world.grid, list(world.robots))
     raycaster = _core.GridRaycaster(world.grid)
     angles = np.linspace(-LASER.fov / 2, LASER.fov / 2, LASER.beams)

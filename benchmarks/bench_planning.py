@@ -29,20 +29,20 @@ RESULTS = Path(__file__).resolve().parent / "results" / "bench_planning.json"
 
 
 def movingai_blocked(name: str) -> np.ndarray:
-    grid = vwg.load_movingai(DATA / name)
+    grid = vwg.maps.load_movingai(DATA / name)
     return grid.data != 0  # rows flipped to map order; the planners do not mind
 
 
 def scenarios(name: str) -> list[tuple[tuple[int, int], tuple[int, int], float]]:
     rows = []
     lines = (DATA / f"{name}.scen").read_text().splitlines()[1:]
-    height = vwg.load_movingai(DATA / name).height
+    height = vwg.maps.load_movingai(DATA / name).height
     for line in lines:
         f = line.split("\t")
         if len(f) < 9:
             continue
         sx, sy, gx, gy = (int(v) for v in f[4:8])
-        rows.append((vwg.movingai_cell(sx, sy, height), vwg.movingai_cell(gx, gy, height), float(f[8])))
+        rows.append((vwg.maps.movingai_cell(sx, sy, height), vwg.maps.movingai_cell(gx, gy, height), float(f[8])))
     return rows
 
 
@@ -51,12 +51,12 @@ def walk(name: str, events: int) -> dict:
     blocked = movingai_blocked(name)
     scen = scenarios(name)
     start, goal, _ = max(scen, key=lambda s: s[2])  # the longest scenario
-    dstar = vwg.DStarLite(blocked, start, goal)
+    dstar = vwg.plan.DStarLite(blocked, start, goal)
     t0 = time.perf_counter()
     path, _ = dstar.path()
     first_dstar = time.perf_counter() - t0
     t0 = time.perf_counter()
-    vwg.astar(blocked, start, goal)
+    vwg.plan.astar(blocked, start, goal)
     first_astar = time.perf_counter() - t0
     t_dstar = t_astar = 0.0
     replans = 0
@@ -77,7 +77,7 @@ def walk(name: str, events: int) -> dict:
         path, length_d = dstar.path()
         t_dstar += time.perf_counter() - t0
         t0 = time.perf_counter()
-        _, length_a = vwg.astar(blocked, here, goal)
+        _, length_a = vwg.plan.astar(blocked, here, goal)
         t_astar += time.perf_counter() - t0
         assert math.isclose(length_d, length_a, rel_tol=1e-9), (length_d, length_a)
         replans += 1
@@ -93,7 +93,7 @@ def astar_speed(name: str, limit: int | None) -> dict:
     for heuristic in ("octile", "euclidean"):
         t0 = time.perf_counter()
         for start, goal, optimal in scen:
-            _, length = vwg.astar(blocked, start, goal, heuristic=heuristic)
+            _, length = vwg.plan.astar(blocked, start, goal, heuristic=heuristic)
             assert math.isclose(length, optimal, rel_tol=1e-4), (start, goal, length, optimal)
         out[heuristic] = (time.perf_counter() - t0) / len(scen)
     return {"map": name, "scenarios": len(scen), "ms_per_search": {k: v * 1e3 for k, v in out.items()}}

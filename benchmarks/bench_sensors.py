@@ -30,14 +30,14 @@ RESULTS = Path(__file__).resolve().parent / "results" / "bench_sensors.json"
 
 def office_1000() -> SimpleNamespace:
     """The shipped office floor tiled 2×3 and cut to 1000×1000 cells (50 × 50 m)."""
-    office = vwg.load_map(ROOT / "maps" / "office" / "map.yaml").data
+    office = vwg.maps.load_map(ROOT / "maps" / "office" / "map.yaml").data
     tiled = np.tile(office, (3, 2))[:1000, :1000]
     return SimpleNamespace(data=np.ascontiguousarray(tiled), resolution=0.05, origin=(0.0, 0.0, 0.0))
 
 
 def willow_1000() -> SimpleNamespace:
     """The real Willow Garage map cut to 1000×1000 cells."""
-    willow = vwg.load_map(ROOT / "maps" / "willow" / "map.yaml").data
+    willow = vwg.maps.load_map(ROOT / "maps" / "willow" / "map.yaml").data
     return SimpleNamespace(data=np.ascontiguousarray(willow[100:1100, 66:1066]), resolution=0.05,
                            origin=(0.0, 0.0, 0.0))
 
@@ -92,7 +92,7 @@ def bench_box2d(quick: bool) -> dict:
     print(f"\n  {'robots':>7} {'ms per step':>12} {'µs per robot-step':>18}")
     for n in counts:
         side = math.ceil(math.sqrt(n))
-        robots = [vwg.RobotSettings(id=i + 1, start=(1.0 + 1.6 * (i % side), 1.0 + 1.6 * (i // side),
+        robots = [vwg.robot.RobotSettings(id=i + 1, start=(1.0 + 1.6 * (i % side), 1.0 + 1.6 * (i // side),
                                                      float(rng.uniform(-3, 3)))) for i in range(n)]
         physics = _core.PhysicsWorld(grid, robots)
         for r in robots:

@@ -19,7 +19,7 @@ WORLDS = ["office", "maze", "warehouse", "field", "willow"]
 
 
 def world(name):
-    return vwg.load_robot_world(ROOT / "maps" / f"{name}.yaml")
+    return vwg.robot.load_robot_world(ROOT / "maps" / f"{name}.yaml")
 
 
 def frame_bound(w, robot, room):
@@ -28,7 +28,7 @@ def frame_bound(w, robot, room):
     blocked = grid.inflate(robot.radius)
     start = grid.world_to_cell(*robot.start[:2])
     goal = grid.world_to_cell(*w.rooms[room].goal)
-    path, length = vwg.astar(blocked, start, goal)
+    path, length = vwg.plan.astar(blocked, start, goal)
     assert path is not None, f"{w.name}: no path from robot {robot.id} to {room}"
     return int((length * grid.resolution / 0.15 + 30.0) / w.dt)
 
@@ -241,7 +241,7 @@ def test_the_3d_overview_is_taken_from_where_the_robots_are_seen():
         green = (g > 110) & (r < 110) & (b < 110) & (g - r > 40) & (g - b > 40)
         return int(orange.sum()), int(green.sum())
 
-    default = vwg.render_overview(office.grid, markers=office.rooms, robots=office.robots,
+    default = vwg.sim.render_overview(office.grid, markers=office.rooms, robots=office.robots,
                                   wall_height=office.wall_height, labels=False)
     chosen = render_world_overview(office, labels=False)
     assert all(c > d for c, d in zip(robot_pixels(chosen), robot_pixels(default), strict=True))
@@ -270,7 +270,7 @@ def test_a_third_party_sensor_registers_by_name_and_a_world_file_lists_it(tmp_pa
     text = field.read_text().replace("map: field/map.yaml", f"map: {field.parent / 'field' / 'map.yaml'}")
     text = text.replace("sensors: [kinect, camera]", "sensors: [sonar-test]", 1)
     (tmp_path / "sonar.yaml").write_text(text)
-    world = vwg.load_robot_world(tmp_path / "sonar.yaml")
+    world = vwg.robot.load_robot_world(tmp_path / "sonar.yaml")
     assert world.robot(1).sensors == ("sonar-test",)
     with CaseStudy(world, "astar", goals={1: "shed"}) as run:
         run.run(frames=1)
@@ -283,4 +283,4 @@ def test_a_third_party_sensor_registers_by_name_and_a_world_file_lists_it(tmp_pa
     (tmp_path / "radar.yaml").write_text(text.replace("sonar-test", "radar"))
     with pytest.raises(vwg.WorldFileError, match=r"robots\[0\]\.sensors\[0\]: unknown sensor 'radar' \(registered: "
                                                  r"camera, kinect, laser, sonar-test\)"):
-        vwg.load_robot_world(tmp_path / "radar.yaml")
+        vwg.robot.load_robot_world(tmp_path / "radar.yaml")

@@ -177,7 +177,7 @@ def test_a_third_party_decider_registers_by_name(tmp_path, capsys):
     import vwg
     from vwg.registry import deciders
 
-    class Straight(vwg.Decider):
+    class Straight(vwg.robot.Decider):
         """Face the goal, drive up to a metre: enough in the open field."""
 
         name = "straight"

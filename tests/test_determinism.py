@@ -48,7 +48,7 @@ def test_pinned_hash_of_the_string_and_the_platform_after_150_frames():
     import vwg
     from vwg.casestudy import CaseStudy
 
-    run = CaseStudy(vwg.load_robot_world("office"), "astar", goals={1: "kitchen", 2: "lounge"},
+    run = CaseStudy(vwg.robot.load_robot_world("office"), "astar", goals={1: "kitchen", 2: "lounge"},
                     sensors=("laser", "camera"))
     run.run(frames=150)
     assert run.engine.frame == 150

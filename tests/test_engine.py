@@ -203,7 +203,7 @@ def test_python_subclasses_are_named_by_their_class():
         def generate(self, frame):
             return []
 
-    class Plain(vwg.Decider):
+    class Plain(vwg.robot.Decider):
         def decide(self, robot):
             return None
 

@@ -12,22 +12,24 @@ import vwg
 from conftest import ROOT
 from vwg import _core
 from vwg.casestudy import CaseStudy
+from vwg.robot import RobotSettings
+from vwg.sim import CameraSpec
 
 DATA = ROOT / "tests" / "data" / "apriltag" / "test_data"
 
 
 def alphabet():
-    return vwg.Alphabet(events=vwg.SIM_EVENTS, **vwg.MOTION_SYMBOLS)
+    return vwg.Alphabet(events=vwg.sim.SIM_EVENTS, **vwg.sim.MOTION_SYMBOLS)
 
 
 def test_a_robot_at_a_rooms_goal_sees_its_marker():
-    world = vwg.load_robot_world(ROOT / "maps" / "office.yaml")
+    world = vwg.robot.load_robot_world(ROOT / "maps" / "office.yaml")
     room = world.rooms["kitchen"]
     gx, gy = room.goal
     facing_marker = room.facing + math.pi
-    robots = [vwg.RobotSettings(id=1, start=(gx, gy, facing_marker))]
+    robots = [RobotSettings(id=1, start=(gx, gy, facing_marker))]
     physics = _core.PhysicsWorld(world.grid, robots)
-    source = _core.SimulatedCamera(physics, 1, world.grid, world.rooms, vwg.CameraSpec(wall_height=world.wall_height))
+    source = _core.SimulatedCamera(physics, 1, world.grid, world.rooms, CameraSpec(wall_height=world.wall_height))
     a = alphabet()
     camera = _core.CameraGenerator(source, 1, a, *source.apriltag_intrinsics(), tag_size=room.size)
     engine = vwg.Engine(vwg.World(a), "Robot<1>", [camera])
@@ -42,7 +44,7 @@ def test_a_robot_at_a_rooms_goal_sees_its_marker():
 
 
 def test_arobot_marks_the_markers_it_sees():
-    world = vwg.load_robot_world(ROOT / "maps" / "office.yaml")
+    world = vwg.robot.load_robot_world(ROOT / "maps" / "office.yaml")
     run = CaseStudy(world, "astar", goals={1: "kitchen"}, sensors=("laser", "camera"), world_orders=False)
     assert run.run(frames=600).robots[0].reached
     grid = np.asarray(run.robot_actors()[1]["grid"])

@@ -18,7 +18,7 @@ FIREFLIES = ROOT / "examples" / "01_fireflies" / "world.yaml"
 
 def test_one_loader_reads_both_kinds():
     office = vwg.load("office")
-    assert isinstance(office, vwg.RobotWorld) and office.name == "office"
+    assert isinstance(office, vwg.robot.RobotWorld) and office.name == "office"
     fireflies = vwg.load(FIREFLIES)
     assert isinstance(fireflies, WorldSpec) and fireflies.name == "fireflies"
     assert describe(office)[0] == "a robot world (office)\n  " + office.description

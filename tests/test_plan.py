@@ -1,4 +1,4 @@
-"""Path planning from Python: vwg.astar, vwg.DStarLite, vwg.plan_ompl / vwg.OmplPlanner.
+"""Path planning from Python: vwg.plan.astar, vwg.plan.DStarLite, vwg.plan.plan_ompl / vwg.plan.OmplPlanner.
 
 Expected lengths come from hand computation or from the MovingAI benchmark files (published
 optimal lengths), never from running the planners."""
@@ -68,42 +68,42 @@ WALL = grid(".....", ".....", "####.", ".....", ".....")
 def test_astar_wall_with_one_gap():
     # Through (2, 4) only, entered from (1, 4) and left to (3, 4) straight (the diagonals would cut
     # the wall's end): (3 + √2) + 2 + (3 + √2).
-    path, length = vwg.astar(WALL, (0, 0), (4, 0))
+    path, length = vwg.plan.astar(WALL, (0, 0), (4, 0))
     assert length == pytest.approx(8 + 2 * SQRT2, abs=1e-12)
     assert isinstance(path, list) and all(isinstance(c, tuple) and len(c) == 2 for c in path)
     assert check_legal(WALL, path, (0, 0), (4, 0)) == pytest.approx(length, abs=1e-9)
     # Cutting corners: (0,0)→(1,3)→(2,4) is 2 + 2√2, and as much again down to (4, 0).
-    path, length = vwg.astar(WALL, (0, 0), (4, 0), corner_cutting=True)
+    path, length = vwg.plan.astar(WALL, (0, 0), (4, 0), corner_cutting=True)
     assert length == pytest.approx(4 + 4 * SQRT2, abs=1e-12)
     check_legal(WALL, path, (0, 0), (4, 0), corner_cutting=True)
     # 4-connected: 6 + 6.
-    path, length = vwg.astar(WALL, (0, 0), (4, 0), diagonal=False, heuristic="manhattan")
+    path, length = vwg.plan.astar(WALL, (0, 0), (4, 0), diagonal=False, heuristic="manhattan")
     assert length == pytest.approx(12.0)
     check_legal(WALL, path, (0, 0), (4, 0), diagonal=False)
     for h in ("euclidean", "octile", "zero"):
-        assert vwg.astar(WALL, (0, 0), (4, 0), heuristic=h)[1] == pytest.approx(8 + 2 * SQRT2, abs=1e-12)
+        assert vwg.plan.astar(WALL, (0, 0), (4, 0), heuristic=h)[1] == pytest.approx(8 + 2 * SQRT2, abs=1e-12)
 
 
 def test_astar_does_not_cut_corners():
     blocked = grid(".#", "..")
-    assert vwg.astar(blocked, (0, 0), (1, 1)) == ([(0, 0), (1, 0), (1, 1)], 2.0)
-    path, length = vwg.astar(blocked, (0, 0), (1, 1), corner_cutting=True)
+    assert vwg.plan.astar(blocked, (0, 0), (1, 1)) == ([(0, 0), (1, 0), (1, 1)], 2.0)
+    path, length = vwg.plan.astar(blocked, (0, 0), (1, 1), corner_cutting=True)
     assert path == [(0, 0), (1, 1)] and length == pytest.approx(SQRT2)
 
 
 def test_astar_no_path_is_none_and_inf():
-    assert vwg.astar(grid(".#.", ".#.", ".#."), (0, 0), (2, 2)) == (None, math.inf)
-    assert vwg.astar(grid(".#", "#."), (0, 0), (1, 1)) == (None, math.inf)  # only a cut corner joins them
-    assert vwg.astar(grid(".#.", "...", "..."), (0, 0), (0, 1)) == (None, math.inf)  # blocked goal
+    assert vwg.plan.astar(grid(".#.", ".#.", ".#."), (0, 0), (2, 2)) == (None, math.inf)
+    assert vwg.plan.astar(grid(".#", "#."), (0, 0), (1, 1)) == (None, math.inf)  # only a cut corner joins them
+    assert vwg.plan.astar(grid(".#.", "...", "..."), (0, 0), (0, 1)) == (None, math.inf)  # blocked goal
 
 
 def test_astar_start_is_goal():
-    assert vwg.astar(np.zeros((3, 3), bool), (1, 2), (1, 2)) == ([(1, 2)], 0.0)
+    assert vwg.plan.astar(np.zeros((3, 3), bool), (1, 2), (1, 2)) == ([(1, 2)], 0.0)
 
 
 def test_astar_accepts_lists_numpy_integers_and_strided_masks():
     blocked = WALL[::-1]  # a view with a negative stride: rows reversed
-    path, length = vwg.astar(blocked, [np.int64(4), 0], np.array([0, 0]))
+    path, length = vwg.plan.astar(blocked, [np.int64(4), 0], np.array([0, 0]))
     assert length == pytest.approx(8 + 2 * SQRT2, abs=1e-12)
     assert path[0] == (4, 0) and path[-1] == (0, 0)
     check_legal(blocked, path, (4, 0), (0, 0))
@@ -114,7 +114,7 @@ def test_astar_accepts_lists_numpy_integers_and_strided_masks():
 def test_astar_movingai_every_scenario_of_the_small_maps(name, heuristic):
     blocked = read_map(name)
     for i, (start, goal, optimal) in enumerate(read_scenarios(name)):
-        path, length = vwg.astar(blocked, start, goal, heuristic=heuristic)
+        path, length = vwg.plan.astar(blocked, start, goal, heuristic=heuristic)
         assert length == pytest.approx(optimal, rel=1e-4, abs=1e-4), (name, i)
         if i % 10 == 0:
             assert check_legal(blocked, path, start, goal) == pytest.approx(length, abs=1e-9)
@@ -126,7 +126,7 @@ def test_astar_movingai_512_maps_sampled(name):
     blocked = read_map(name)
     for start, goal, optimal in read_scenarios(name)[::20]:
         for heuristic in ("octile", "euclidean"):
-            _, length = vwg.astar(blocked, start, goal, heuristic=heuristic)
+            _, length = vwg.plan.astar(blocked, start, goal, heuristic=heuristic)
             assert length == pytest.approx(optimal, rel=1e-4, abs=1e-4)
 
 
@@ -135,26 +135,26 @@ def test_astar_row_order_does_not_matter():
     h = blocked.shape[0]
     for start, goal, optimal in read_scenarios("den312d")[::40]:
         flipped = ((h - 1 - start[0], start[1]), (h - 1 - goal[0], goal[1]))
-        assert vwg.astar(blocked[::-1].copy(), *flipped)[1] == pytest.approx(optimal, rel=1e-4, abs=1e-4)
+        assert vwg.plan.astar(blocked[::-1].copy(), *flipped)[1] == pytest.approx(optimal, rel=1e-4, abs=1e-4)
 
 
 @pytest.mark.parametrize(
     ("call", "field"),
     [
-        (lambda: vwg.astar(WALL, (-1, 0), (4, 0)), "start"),
-        (lambda: vwg.astar(WALL, (0, 5), (4, 0)), "start"),
-        (lambda: vwg.astar(WALL, (2, 0), (4, 0)), "start"),  # blocked
-        (lambda: vwg.astar(WALL, (0, 0), (5, 0)), "goal"),
-        (lambda: vwg.astar(WALL, (0,), (4, 0)), "start"),
-        (lambda: vwg.astar(WALL, (0.5, 0), (4, 0)), "start"),
-        (lambda: vwg.astar(WALL, "ab", (4, 0)), "start"),
-        (lambda: vwg.astar(WALL.astype(np.uint8), (0, 0), (4, 0)), "blocked"),
-        (lambda: vwg.astar(WALL.astype(float), (0, 0), (4, 0)), "blocked"),
-        (lambda: vwg.astar(WALL[0], (0, 0), (4, 0)), "blocked"),
-        (lambda: vwg.astar(WALL[None], (0, 0), (4, 0)), "blocked"),
-        (lambda: vwg.astar(WALL.tolist(), (0, 0), (4, 0)), "blocked"),
-        (lambda: vwg.astar(WALL, (0, 0), (4, 0), heuristic="chebyshev"), "heuristic"),
-        (lambda: vwg.astar(WALL, (0, 0), (4, 0), heuristic="manhattan"), "heuristic"),  # 8-connected
+        (lambda: vwg.plan.astar(WALL, (-1, 0), (4, 0)), "start"),
+        (lambda: vwg.plan.astar(WALL, (0, 5), (4, 0)), "start"),
+        (lambda: vwg.plan.astar(WALL, (2, 0), (4, 0)), "start"),  # blocked
+        (lambda: vwg.plan.astar(WALL, (0, 0), (5, 0)), "goal"),
+        (lambda: vwg.plan.astar(WALL, (0,), (4, 0)), "start"),
+        (lambda: vwg.plan.astar(WALL, (0.5, 0), (4, 0)), "start"),
+        (lambda: vwg.plan.astar(WALL, "ab", (4, 0)), "start"),
+        (lambda: vwg.plan.astar(WALL.astype(np.uint8), (0, 0), (4, 0)), "blocked"),
+        (lambda: vwg.plan.astar(WALL.astype(float), (0, 0), (4, 0)), "blocked"),
+        (lambda: vwg.plan.astar(WALL[0], (0, 0), (4, 0)), "blocked"),
+        (lambda: vwg.plan.astar(WALL[None], (0, 0), (4, 0)), "blocked"),
+        (lambda: vwg.plan.astar(WALL.tolist(), (0, 0), (4, 0)), "blocked"),
+        (lambda: vwg.plan.astar(WALL, (0, 0), (4, 0), heuristic="chebyshev"), "heuristic"),
+        (lambda: vwg.plan.astar(WALL, (0, 0), (4, 0), heuristic="manhattan"), "heuristic"),  # 8-connected
     ],
 )
 def test_astar_bad_input_is_a_schema_error_naming_the_argument(call, field):
@@ -166,11 +166,11 @@ def test_astar_bad_input_is_a_schema_error_naming_the_argument(call, field):
 
 def test_astar_error_messages_say_what_is_wrong():
     with pytest.raises(vwg.SchemaError, match=r"start: cell \(row 2, col 0\) is blocked"):
-        vwg.astar(WALL, (2, 0), (4, 0))
+        vwg.plan.astar(WALL, (2, 0), (4, 0))
     with pytest.raises(vwg.SchemaError, match="outside the grid of 5 rows × 5 columns"):
-        vwg.astar(WALL, (0, 0), (9, 0))
+        vwg.plan.astar(WALL, (0, 0), (9, 0))
     with pytest.raises(vwg.SchemaError, match="dtype bool"):
-        vwg.astar(WALL.astype(np.uint8), (0, 0), (4, 0))
+        vwg.plan.astar(WALL.astype(np.uint8), (0, 0), (4, 0))
 
 
 def test_astar_releases_the_gil_and_is_thread_safe():
@@ -183,7 +183,7 @@ def test_astar_releases_the_gil_and_is_thread_safe():
     def work():
         for _ in range(5):
             begin = time.perf_counter()
-            result = vwg.astar(blocked, (0, 0), (1000, 1000), heuristic="zero")
+            result = vwg.plan.astar(blocked, (0, 0), (1000, 1000), heuristic="zero")
             windows.append((begin, time.perf_counter(), result))
 
     worker = threading.Thread(target=work)
@@ -205,7 +205,7 @@ def test_astar_releases_the_gil_and_is_thread_safe():
     results: dict[int, list[float]] = {}
 
     def run(k):
-        results[k] = [vwg.astar(maze, s, g, heuristic="octile")[1] for s, g, _ in cases]
+        results[k] = [vwg.plan.astar(maze, s, g, heuristic="octile")[1] for s, g, _ in cases]
 
     threads = [threading.Thread(target=run, args=(k,)) for k in range(4)]
     for t in threads:
@@ -220,7 +220,7 @@ def test_astar_releases_the_gil_and_is_thread_safe():
 def test_dstar_lite_hand_worked():
     # 3 × 5 open, start (1, 0), goal (1, 4): 4. Block (1, 2): over it by (0, 1), (0, 2), (0, 3),
     # diagonals only where no corner of (1, 2) is cut: √2 + 1 + 1 + √2.
-    planner = vwg.DStarLite(np.zeros((3, 5), bool), (1, 0), (1, 4))
+    planner = vwg.plan.DStarLite(np.zeros((3, 5), bool), (1, 0), (1, 4))
     path, length = planner.path()
     assert path == [(1, 0), (1, 1), (1, 2), (1, 3), (1, 4)] and length == 4.0
     planner.update_cells([(1, 2)], True)
@@ -248,10 +248,10 @@ def test_dstar_lite_equals_astar_after_random_changes():
         goal = (int(rng.integers(rows)), int(rng.integers(cols)))
         blocked[start] = False
         options = {"heuristic": "octile" if trial % 2 else "euclidean", "corner_cutting": trial % 3 == 0}
-        planner = vwg.DStarLite(blocked, start, goal, **options)
+        planner = vwg.plan.DStarLite(blocked, start, goal, **options)
         for _ in range(15):
             path, length = planner.path()
-            _, expected = vwg.astar(blocked, planner.start, goal, **options)
+            _, expected = vwg.plan.astar(blocked, planner.start, goal, **options)
             assert length == pytest.approx(expected, rel=1e-9) or length == expected == math.inf
             if path and len(path) > 2 and rng.random() < 0.5:
                 planner.move_to(path[1])
@@ -266,12 +266,12 @@ def test_dstar_lite_equals_astar_after_random_changes():
 def test_dstar_lite_bad_input():
     blocked = grid(".#.", "...", "...")
     with pytest.raises(vwg.SchemaError) as info:
-        vwg.DStarLite(blocked, (0, 1), (2, 2))
+        vwg.plan.DStarLite(blocked, (0, 1), (2, 2))
     assert info.value.field == "start"
     with pytest.raises(vwg.SchemaError) as info:
-        vwg.DStarLite(blocked.astype(np.int8), (0, 0), (2, 2))
+        vwg.plan.DStarLite(blocked.astype(np.int8), (0, 0), (2, 2))
     assert info.value.field == "blocked"
-    planner = vwg.DStarLite(blocked, (0, 0), (2, 2))
+    planner = vwg.plan.DStarLite(blocked, (0, 0), (2, 2))
     for call, field in ((lambda: planner.move_to((0, 1)), "cell"),
                         (lambda: planner.move_to((7, 0)), "cell"),
                         (lambda: planner.update_cells([(1, 1), (3, 3)], True), "cells"),
@@ -293,7 +293,7 @@ RADIUS = 0.15
 def arena():
     """The arena map with row 0 at the bottom, and its planner."""
     blocked = read_map("arena")[::-1].copy()
-    return blocked, vwg.OmplPlanner(blocked, RESOLUTION, ORIGIN, RADIUS)
+    return blocked, vwg.plan.OmplPlanner(blocked, RESOLUTION, ORIGIN, RADIUS)
 
 
 def to_world(u, v, origin=ORIGIN, resolution=RESOLUTION):
@@ -383,7 +383,7 @@ def test_ompl_same_seed_same_path(arena):
     assert a.solved
     np.testing.assert_array_equal(a.waypoints, b.waypoints)
     # The module-level function plans the same as a reused planner.
-    c = vwg.plan_ompl(blocked, RESOLUTION, ORIGIN, start, goal, RADIUS, seed=11)
+    c = vwg.plan.plan_ompl(blocked, RESOLUTION, ORIGIN, start, goal, RADIUS, seed=11)
     np.testing.assert_array_equal(first.waypoints, c.waypoints)
 
 
@@ -401,7 +401,7 @@ def test_ompl_failures_are_clear_results(arena):
     # A goal enclosed by walls: no path in the time given.
     boxed = np.zeros((40, 40), bool)
     boxed[20:31, 20] = boxed[20:31, 30] = boxed[20, 20:31] = boxed[30, 20:31] = True
-    plan = vwg.plan_ompl(boxed, 0.1, (0.0, 0.0), (0.5, 0.5), (2.5, 2.5), 0.05, time_limit=0.2)
+    plan = vwg.plan.plan_ompl(boxed, 0.1, (0.0, 0.0), (0.5, 0.5), (2.5, 2.5), 0.05, time_limit=0.2)
     # (RRTConnect reports the state nearest the goal as an approximate solution: still no path.)
     assert not plan.solved and plan.status in ("timeout", "approximate solution")
     assert plan.length == math.inf and plan.waypoints.shape == (0, 3)
@@ -429,7 +429,7 @@ def test_ompl_bad_input_is_a_schema_error(arena, kwargs, field):
             "goal_pose": goal, "robot_radius": RADIUS}
     args.update(kwargs)
     with pytest.raises(vwg.SchemaError) as info:
-        vwg.plan_ompl(**args)
+        vwg.plan.plan_ompl(**args)
     assert info.value.field == field
 
 
@@ -442,6 +442,6 @@ def test_ompl_start_in_collision_is_a_schema_error(arena):
 
 
 def test_ompl_planner_names():
-    names = vwg.OmplPlanner.planners()
+    names = vwg.plan.OmplPlanner.planners()
     for name in ("RRTConnect", "RRT", "RRTstar", "PRM", "PRMstar", "KPIECE1", "BITstar"):
         assert name in names

@@ -11,9 +11,10 @@ from test_sim import case_study_world, empty_map
 
 import vwg
 from vwg import _core
+from vwg.robot import RobotSettings
 
 
-class Kinematic(vwg.RobotPlatform):
+class Kinematic(vwg.robot.RobotPlatform):
     """A platform that executes every step exactly and at once when time passes: turn, then drive,
     in the robot's frame. Records what it was told."""
 
@@ -50,7 +51,7 @@ class Kinematic(vwg.RobotPlatform):
         self.pending.clear()
 
     def robots(self):
-        return [vwg.RobotState(i, p, commands=self.commands[i]) for i, p in sorted(self.poses.items())]
+        return [vwg.robot.RobotState(i, p, commands=self.commands[i]) for i, p in sorted(self.poses.items())]
 
     def take_collisions(self):
         return []
@@ -77,11 +78,12 @@ class Listener(vwg.Actor):
 
 def test_a_python_platform_runs_the_world_string_through_the_motion_backend():
     platform = Kinematic()
-    platform.add_robot(vwg.RobotSettings(id=1, start=(2.0, 3.0, 0.0)))
-    world = vwg.World(**vwg.MOTION_SYMBOLS, events={"go": None, "eOdometry": vwg.SIM_EVENTS["eOdometry"]},
+    platform.add_robot(RobotSettings(id=1, start=(2.0, 3.0, 0.0)))
+    world = vwg.World(**vwg.sim.MOTION_SYMBOLS, events={"go": None, "eOdometry": vwg.sim.SIM_EVENTS["eOdometry"]},
                       visual=["go"], actors=[Listener])
-    engine = vwg.Engine(world, "Listener", [vwg.Schedule({0: ["go"]}), vwg.OdometryGenerator(platform, world.alphabet)],
-                        vwg.MotionBackend(platform), dt=0.5)
+    feedback = vwg.robot.OdometryGenerator(platform, world.alphabet)
+    engine = vwg.Engine(world, "Listener", [vwg.Schedule({0: ["go"]}), feedback],
+                        vwg.robot.MotionBackend(platform), dt=0.5)
     engine.run(2)
     # Turn a quarter to the left, then 1 m: from (2, 3) facing +x to (2, 4) facing +y.
     assert platform.told == [(1, [("turn", pytest.approx(math.pi / 2)), ("drive", 1.0)])]
@@ -92,13 +94,13 @@ def test_a_python_platform_runs_the_world_string_through_the_motion_backend():
 
 
 def test_the_simulator_adds_and_removes_robots_while_running():
-    physics = _core.PhysicsWorld(empty_map(), [vwg.RobotSettings(id=1, start=(2.0, 2.5, 0.0))])
-    assert isinstance(physics, vwg.RobotPlatform) and physics.name() == "sim"
-    physics.add_robot(vwg.RobotSettings(id=7, start=(5.0, 2.5, math.pi), radius=0.2))
+    physics = _core.PhysicsWorld(empty_map(), [RobotSettings(id=1, start=(2.0, 2.5, 0.0))])
+    assert isinstance(physics, vwg.robot.RobotPlatform) and physics.name() == "sim"
+    physics.add_robot(RobotSettings(id=7, start=(5.0, 2.5, math.pi), radius=0.2))
     with pytest.raises(vwg.SchemaError, match="used twice"):
-        physics.add_robot(vwg.RobotSettings(id=7, start=(8.0, 2.5, 0.0)))
+        physics.add_robot(RobotSettings(id=7, start=(8.0, 2.5, 0.0)))
     with pytest.raises(vwg.SchemaError, match="overlaps robot 7"):
-        physics.add_robot(vwg.RobotSettings(id=8, start=(5.1, 2.5, 0.0)))
+        physics.add_robot(RobotSettings(id=8, start=(5.1, 2.5, 0.0)))
     physics.command(7, [("drive", 1.0)])
     physics.advance(5.0)
     x, y, yaw = physics.robot(7).pose
@@ -115,9 +117,9 @@ def test_the_simulator_adds_and_removes_robots_while_running():
 
 def test_motion_backend_drives_the_simulator_as_before():
     world = case_study_world()
-    physics = _core.PhysicsWorld(empty_map(), [vwg.RobotSettings(id=1, start=(2.0, 2.5, 0.0), radius=0.2)])
+    physics = _core.PhysicsWorld(empty_map(), [RobotSettings(id=1, start=(2.0, 2.5, 0.0), radius=0.2)])
     engine = vwg.Engine(world, 'Driver<order="Rotate<1.5707963267948966>(Move<1.0>(Robot<1>))">',
-                        [vwg.Schedule({0: ["go"]})], vwg.MotionBackend(physics))
+                        [vwg.Schedule({0: ["go"]})], vwg.robot.MotionBackend(physics))
     engine.run(80)
     assert physics.robot(1).pose == pytest.approx((2.0, 3.5, math.pi / 2), abs=1e-4)
 
@@ -137,7 +139,7 @@ class Spawner(vwg.Actor):
 def test_robots_spawned_by_a_lambda_get_a_body_and_those_gone_lose_it():
     from vwg.casestudy import CaseStudy
 
-    run = CaseStudy(vwg.load_robot_world("office"), "astar", sensors=())
+    run = CaseStudy(vwg.robot.load_robot_world("office"), "astar", sensors=())
     run.vworld.alphabet.add_actor_type(Spawner)
     initial = run.initial_string()
     run.engine.set_string(run.vworld.string(initial, vwg.Sym("Spawner", grid=_core.robot_map(run.world.grid))))

@@ -10,10 +10,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from vwg import CameraSpec, DepthCameraSpec, LaserSpec, NoiseModel
 from vwg.errors import WorldFileError
 from vwg.maps import OccupancyGrid
 from vwg.robotworld import RobotWorld, load_robot_world
+from vwg.sim import CameraSpec, DepthCameraSpec, LaserSpec, NoiseModel
 
 ROOT = Path(__file__).resolve().parents[1]
 MAPS = ROOT / "maps"
@@ -378,7 +378,9 @@ def test_settings_copy_pickle_and_refuse_unknown_fields() -> None:
     import copy
     import pickle
 
-    from vwg import PhysicsSettings, RobotSettings, SchemaError
+    from vwg import SchemaError
+    from vwg.robot import RobotSettings
+    from vwg.sim import PhysicsSettings
 
     robot = RobotSettings(id=3, start=(1.0, 2.0, 0.5), sensors=["laser"])
     assert robot.sensors == ("laser",) and robot.max_speed == 0.5

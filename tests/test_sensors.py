@@ -12,6 +12,8 @@ import pytest
 import vwg
 from conftest import ROOT
 from vwg import _core
+from vwg.robot import RobotSettings
+from vwg.sim import DepthCameraSpec, LaserSpec
 
 
 def box_map(cells=100, res=0.05):
@@ -22,15 +24,15 @@ def box_map(cells=100, res=0.05):
 
 
 def sim_world(grid, robots):
-    alphabet = vwg.Alphabet(events=vwg.SIM_EVENTS, **vwg.MOTION_SYMBOLS)
+    alphabet = vwg.Alphabet(events=vwg.sim.SIM_EVENTS, **vwg.sim.MOTION_SYMBOLS)
     physics = _core.PhysicsWorld(grid, robots)
     scanner = _core.RangeScanner(_core.GridRaycaster(grid), physics)
     return alphabet, physics, scanner
 
 
 def test_laser_ranges_and_events_by_hand():
-    alphabet, _, scanner = sim_world(box_map(), [vwg.RobotSettings(id=7, start=(2.52, 2.51, 0.0))])
-    laser = _core.LaserGenerator(scanner, 7, vwg.LaserSpec(beams=4, max_range=10.0, noise=0.0), alphabet)
+    alphabet, _, scanner = sim_world(box_map(), [RobotSettings(id=7, start=(2.52, 2.51, 0.0))])
+    laser = _core.LaserGenerator(scanner, 7, LaserSpec(beams=4, max_range=10.0, noise=0.0), alphabet)
     engine = vwg.Engine(vwg.World(alphabet), "Robot<7>", [laser])
     engine.step()
     # Beams at -π, -π/2, 0, π/2 from heading 0; faces at x = 0.05, 4.95 and y = 0.05, 4.95.
@@ -49,15 +51,15 @@ def test_laser_ranges_and_events_by_hand():
 
 def test_laser_sees_other_robots_and_only_hits_make_events():
     grid = box_map(200)  # 10 m room
-    robots = [vwg.RobotSettings(id=1, start=(2.0, 5.0, 0.0)),
-              vwg.RobotSettings(id=2, start=(6.0, 5.0, 0.0), radius=0.3)]
+    robots = [RobotSettings(id=1, start=(2.0, 5.0, 0.0)),
+              RobotSettings(id=2, start=(6.0, 5.0, 0.0), radius=0.3)]
     alphabet, _, scanner = sim_world(grid, robots)
-    laser = _core.LaserGenerator(scanner, 1, vwg.LaserSpec(beams=2, fov=math.pi, max_range=3.0, noise=0.0), alphabet)
+    laser = _core.LaserGenerator(scanner, 1, LaserSpec(beams=2, fov=math.pi, max_range=3.0, noise=0.0), alphabet)
     engine = vwg.Engine(vwg.World(alphabet), "Robot<1>", [laser])
     engine.step()
     # Beams at -π/2 (wall at 5 - 0.05 = 4.95 m: beyond 3 m, no event) and +π/2 (same), none hit.
     assert len(engine.last_events) == 0
-    laser = _core.LaserGenerator(scanner, 1, vwg.LaserSpec(beams=1, fov=0.1, max_range=10.0, noise=0.0), alphabet)
+    laser = _core.LaserGenerator(scanner, 1, LaserSpec(beams=1, fov=0.1, max_range=10.0, noise=0.0), alphabet)
     engine = vwg.Engine(vwg.World(alphabet), "Robot<1>", [laser])
     engine.step()
     # Straight ahead: robot 2's disc surface at 6.0 - 0.3 = 5.7 m, 3.7 m away (nearer than the wall).
@@ -69,13 +71,13 @@ def test_laser_in_a_crowd_equals_a_test_of_every_beam_against_every_disc(heading
     # The scanner tests only the beams near each neighbour's bearing; the truth here tests them all.
     rng = np.random.default_rng(3)
     grid = box_map(200)
-    robots = [vwg.RobotSettings(id=1, start=(5.0, 5.0, heading))]
+    robots = [RobotSettings(id=1, start=(5.0, 5.0, heading))]
     while len(robots) < 40:
         x, y = rng.uniform(0.5, 9.5, 2)
         if all(math.hypot(x - r.start[0], y - r.start[1]) > 0.5 for r in robots):
-            robots.append(vwg.RobotSettings(id=len(robots) + 1, start=(x, y, 0.0), radius=float(rng.uniform(0.1, 0.3))))
+            robots.append(RobotSettings(id=len(robots) + 1, start=(x, y, 0.0), radius=float(rng.uniform(0.1, 0.3))))
     alphabet, _, scanner = sim_world(grid, robots)
-    laser = _core.LaserGenerator(scanner, 1, vwg.LaserSpec(beams=beams, fov=fov, max_range=8.0, noise=0.0), alphabet)
+    laser = _core.LaserGenerator(scanner, 1, LaserSpec(beams=beams, fov=fov, max_range=8.0, noise=0.0), alphabet)
     vwg.Engine(vwg.World(alphabet), "Robot<1>", [laser]).step()
     angles = laser.angles
     truth = _core.GridRaycaster(grid).scan((5.0, 5.0, heading), angles, 8.0).astype(np.float64)
@@ -94,8 +96,8 @@ def test_laser_in_a_crowd_equals_a_test_of_every_beam_against_every_disc(heading
 
 def test_kinect_depth_image_by_hand():
     grid = box_map(200)  # inner faces at 0.05 and 9.95
-    alphabet, _, scanner = sim_world(grid, [vwg.RobotSettings(id=1, start=(7.95, 5.0, 0.0))])
-    kinect = _core.KinectGenerator(scanner, 1, vwg.DepthCameraSpec(min_range=0.5, max_range=4.5,
+    alphabet, _, scanner = sim_world(grid, [RobotSettings(id=1, start=(7.95, 5.0, 0.0))])
+    kinect = _core.KinectGenerator(scanner, 1, DepthCameraSpec(min_range=0.5, max_range=4.5,
                                                                    mount_height=0.3, wall_height=2.5), alphabet)
     vwg.Engine(vwg.World(alphabet), "Robot<1>", [kinect]).step()
     depth = kinect.depth
@@ -118,8 +120,8 @@ def test_kinect_depth_image_by_hand():
 
 def test_kinect_blind_zone_and_range():
     grid = box_map(200)
-    alphabet, _, scanner = sim_world(grid, [vwg.RobotSettings(id=1, start=(9.6, 5.0, 0.0))])
-    kinect = _core.KinectGenerator(scanner, 1, vwg.DepthCameraSpec(), alphabet)
+    alphabet, _, scanner = sim_world(grid, [RobotSettings(id=1, start=(9.6, 5.0, 0.0))])
+    kinect = _core.KinectGenerator(scanner, 1, DepthCameraSpec(), alphabet)
     engine = vwg.Engine(vwg.World(alphabet), "Robot<1>", [kinect])
     engine.step()
     # The wall is 0.35 m ahead: inside the 0.5 m blind zone, so the centre column has no range.
@@ -131,10 +133,10 @@ def scans_around(sensor_kind, world, alphabet, spots):
     marked = np.zeros(world.grid.data.shape, bool)
     for x, y in spots:
         robot_world = vwg.World(alphabet)
-        physics = _core.PhysicsWorld(world.grid, [vwg.RobotSettings(id=1, start=(x, y, 0.0))])
+        physics = _core.PhysicsWorld(world.grid, [RobotSettings(id=1, start=(x, y, 0.0))])
         scanner = _core.RangeScanner(_core.GridRaycaster(world.grid), physics)
-        gen = (_core.LaserGenerator(scanner, 1, vwg.LaserSpec(beams=360, max_range=4.5, noise=0.0), alphabet)
-               if sensor_kind == "laser" else _core.KinectGenerator(scanner, 1, vwg.DepthCameraSpec(), alphabet))
+        gen = (_core.LaserGenerator(scanner, 1, LaserSpec(beams=360, max_range=4.5, noise=0.0), alphabet)
+               if sensor_kind == "laser" else _core.KinectGenerator(scanner, 1, DepthCameraSpec(), alphabet))
         engine = vwg.Engine(robot_world, "Robot<1>", [gen])
         for _ in range(12):  # 12 headings, 30° apart: the Kinect's 58° sees all around
             physics.command(1, [("turn", 0.0)])
@@ -153,8 +155,8 @@ def scans_around(sensor_kind, world, alphabet, spots):
 
 
 def test_kinect_and_laser_build_nearly_the_same_grid():
-    world = vwg.load_robot_world(ROOT / "maps" / "office.yaml")
-    alphabet = vwg.Alphabet(events=vwg.SIM_EVENTS, **vwg.MOTION_SYMBOLS)
+    world = vwg.robot.load_robot_world(ROOT / "maps" / "office.yaml")
+    alphabet = vwg.Alphabet(events=vwg.sim.SIM_EVENTS, **vwg.sim.MOTION_SYMBOLS)
     spots = [(1.5, 9.0), (5.5, 9.0), (12.0, 9.0), (5.0, 14.0)]
     laser = scans_around("laser", world, alphabet, spots)
     kinect = scans_around("kinect", world, alphabet, spots)

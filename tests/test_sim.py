@@ -10,6 +10,8 @@ import pytest
 
 import vwg
 from vwg import _core
+from vwg.robot import RobotSettings
+from vwg.sim import NoiseModel, PhysicsSettings
 
 
 def empty_map(width_m=10.0, height_m=5.0, res=0.05, wall_x=None):
@@ -42,8 +44,8 @@ def case_study_world():
 
 def run(order, grid, frames=60, seed=0, motor_noise=0.0, odometry_noise=0.0):
     world = case_study_world()
-    physics = _core.PhysicsWorld(grid, [vwg.RobotSettings(id=1, start=(2.0, 2.5, 0.0), radius=0.2)],
-                                 vwg.PhysicsSettings(noise=vwg.NoiseModel(motors=motor_noise, odometry=odometry_noise),
+    physics = _core.PhysicsWorld(grid, [RobotSettings(id=1, start=(2.0, 2.5, 0.0), radius=0.2)],
+                                 PhysicsSettings(noise=NoiseModel(motors=motor_noise, odometry=odometry_noise),
                                                      seed=seed))
     gens = [vwg.Schedule({0: ["go"]}), _core.CollisionGenerator(physics, world.alphabet),
             _core.OdometryGenerator(physics, world.alphabet)]
@@ -76,7 +78,7 @@ def test_the_robot_stops_at_a_wall_and_hears_the_collision():
 
 def test_odometry_events_reach_the_robot_each_frame():
     world = case_study_world()
-    robots = [vwg.RobotSettings(id=1, start=(2.0, 2.5, 0.0)), vwg.RobotSettings(id=2, start=(5.0, 2.5, 0.0))]
+    robots = [RobotSettings(id=1, start=(2.0, 2.5, 0.0)), RobotSettings(id=2, start=(5.0, 2.5, 0.0))]
     physics = _core.PhysicsWorld(empty_map(), robots)
     engine = vwg.Engine(world, "Driver", [_core.OdometryGenerator(physics, world.alphabet)],
                         _core.MotionBackend(physics))
@@ -96,7 +98,7 @@ def test_same_seed_same_trace_with_noise():
 
 def test_bad_physics_settings_name_the_field():
     with pytest.raises(vwg.SchemaError, match="inside a wall"):
-        _core.PhysicsWorld(empty_map(wall_x=2.0), [vwg.RobotSettings(id=1, start=(2.05, 2.5, 0.0))])
+        _core.PhysicsWorld(empty_map(wall_x=2.0), [RobotSettings(id=1, start=(2.05, 2.5, 0.0))])
     with pytest.raises(vwg.SchemaError, match=r"grid\.data"):
         _core.PhysicsWorld(SimpleNamespace(data=np.zeros((3, 3)), resolution=0.1, origin=(0, 0, 0)), [])
     with pytest.raises(vwg.SchemaError, match=r"eOdometry: expected the fields \(x: real, y: real, "

@@ -11,7 +11,7 @@ import vwg
 from vwg.casestudy import CaseStudy
 
 
-class Keeper(vwg.Decider):
+class Keeper(vwg.robot.Decider):
     """Drives straight at the goal, and keeps every grid and path it is given, with a copy made at
     the time to compare them with later."""
 
@@ -30,7 +30,7 @@ class Keeper(vwg.Decider):
 def test_grids_and_paths_kept_by_a_decider_stay_as_they_were():
     decider = Keeper()
     # The robot knows no map: its laser writes new walls into its grid every frame.
-    run = CaseStudy(vwg.load_robot_world("office"), decider, goals={1: "lounge"}, sensors=("laser",),
+    run = CaseStudy(vwg.robot.load_robot_world("office"), decider, goals={1: "lounge"}, sensors=("laser",),
                     knows_map=False)
     run.run(frames=200)
     del run
@@ -46,7 +46,7 @@ def test_grids_and_paths_kept_by_a_decider_stay_as_they_were():
 
 
 def test_sensor_arrays_are_copies_of_one_frame():
-    world = vwg.load_robot_world("office")
+    world = vwg.robot.load_robot_world("office")
     run = CaseStudy(world, "astar", goals={1: "lounge"}, sensors=("laser",))
     run.run(frames=5)
     laser = run.sim.lasers[0]

@@ -4,7 +4,7 @@
     python tools/make_maps.py --check    # only check the files in maps/
 
 The output is deterministic (fixed layouts, seeded random choices). Every world is checked after writing: it loads
-with vwg.load_robot_world, and every room's goal is reachable from every robot's start by an 8-connected path
+with vwg.robot.load_robot_world, and every room's goal is reachable from every robot's start by an 8-connected path
 (no corner cutting) on the map inflated by the robot's radius. The Willow Garage world is converted from the
 navfn test cost map in tests/data/rosmaps/willow_costmap (see maps/willow/SOURCE.md).
 """

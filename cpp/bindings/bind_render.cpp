@@ -101,7 +101,7 @@ std::vector<cv::Point2d> points_of(py::handle obj, const std::string& field) {
   return pts;
 }
 
-py::array image_to_numpy(const cv::Mat& m) {
+py::array_t<std::uint8_t> image_to_numpy(const cv::Mat& m) {
   py::array_t<std::uint8_t> out({static_cast<py::ssize_t>(m.rows), static_cast<py::ssize_t>(m.cols),
                                  static_cast<py::ssize_t>(m.channels())});
   const std::size_t row = static_cast<std::size_t>(m.cols) * m.elemSize();
@@ -159,7 +159,7 @@ struct PyImageSequence {
 }  // namespace
 
 std::vector<cv::Point2d> points_from_python(py::handle obj, const std::string& field) { return points_of(obj, field); }
-py::array rgb_to_numpy(const cv::Mat& image) { return image_to_numpy(image); }
+py::array_t<std::uint8_t> rgb_to_numpy(const cv::Mat& image) { return image_to_numpy(image); }
 
 void init_render(py::module_& m) {
   // ---------------------------------------------------------------- RenderStyle

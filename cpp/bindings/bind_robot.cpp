@@ -100,12 +100,13 @@ resolution and origin, the current path (N×2) and a seed for random choices.)do
       .def_property_readonly("origin", [](const PyDecisionInput& i) { return pose_to_python(i.get().geometry->origin); })
       .def_property_readonly("grid", [](const PyDecisionInput& i) {
         const auto& in = i.get();
-        return blob_view(in.map, in.map->view<std::int16_t>().data(), {in.geometry->height, in.geometry->width});
+        return py::reinterpret_borrow<py::array_t<std::int16_t>>(
+            blob_view(in.map, in.map->view<std::int16_t>().data(), {in.geometry->height, in.geometry->width}));
       }, "The robot's map (int16, read-only); safe to keep: it does not change afterwards.")
-      .def_property_readonly("path", [](const PyDecisionInput& i) -> py::array {
+      .def_property_readonly("path", [](const PyDecisionInput& i) -> py::array_t<double> {
         const auto& in = i.get();
         const py::ssize_t n = static_cast<py::ssize_t>(in.path.size() / 2);
-        if (in.path_owner) return blob_view(in.path_owner, in.path.data(), {n, 2});
+        if (in.path_owner) return py::reinterpret_borrow<py::array_t<double>>(blob_view(in.path_owner, in.path.data(), {n, 2}));
         py::array_t<double> copy({n, py::ssize_t{2}});  // a path not held by a blob: copied
         std::copy(in.path.begin(), in.path.end(), copy.mutable_data());
         return copy;

@@ -15,7 +15,7 @@ namespace {
 /// A numpy copy of a sensor's buffer: the generator rewrites its buffers every frame, so a view
 /// kept by Python would change under it (and outlive a resized buffer).
 template <class T>
-py::array copy_of(const T* data, std::vector<py::ssize_t> shape) {
+py::array_t<T> copy_of(const T* data, std::vector<py::ssize_t> shape) {
   py::array_t<T> out(shape);
   std::copy(data, data + out.size(), out.mutable_data());
   return out;

@@ -35,4 +35,5 @@ PYBIND11_MODULE(_core, m) {
   init_robot(m);
   init_camera(m);
   init_camera_generator(m);
+  init_registries(m);
 }

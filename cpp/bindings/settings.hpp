@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <tuple>
 #include <type_traits>
 #include <vector>
 
@@ -38,6 +39,18 @@ py::object to_python(const M& v) {
   if constexpr (std::is_same_v<M, geometry::Pose2>) return pose_to_python(v);
   else if constexpr (std::is_same_v<M, std::vector<std::string>>) return py::tuple(py::cast(v));
   else return py::cast(v);
+}
+
+/// How a field reads in Python: a pose as (x, y, yaw), names as a tuple, the rest as they are.
+template <class M>
+using Shown = std::conditional_t<std::is_same_v<M, geometry::Pose2>, std::tuple<double, double, double>,
+                                 std::conditional_t<std::is_same_v<M, std::vector<std::string>>, py::tuple, M>>;
+
+template <class M>
+Shown<M> shown(const M& v) {
+  if constexpr (std::is_same_v<M, geometry::Pose2>) return {v.x, v.y, v.theta};
+  else if constexpr (std::is_same_v<M, std::vector<std::string>>) return py::tuple(py::cast(v));
+  else return v;
 }
 
 /// A value's type and text, for "expected ..., got float 1e9".
@@ -187,10 +200,13 @@ py::class_<T> bind(py::module_& m, const char* name, const std::string& doc) {
     const std::string key = field;
     cls.def_property(
         field,
+        // Typed by the field's C++ type, so the stubs say int, float, tuple[float, float, float], ...
         [key](const T& s) {
-          py::object out;
+          Shown<M> out{};
           visit_settings(s, [&](const char* f, const auto& v, const char*) {
-            if (key == f) out = to_python(v);
+            if constexpr (std::is_same_v<std::remove_cvref_t<decltype(v)>, M>) {
+              if (key == f) out = shown(v);
+            }
           });
           return out;
         },
@@ -225,10 +241,10 @@ py::class_<T> bind(py::module_& m, const char* name, const std::string& doc) {
       .def("check", [](const T& s, const std::string& owner) { check_settings(s, owner); }, py::arg("owner"),
            "Raise vwg.SchemaError naming `owner.field` for a value out of range (what the C++ side would refuse).")
       .def_static("fields", [defaults]() {
-        py::list out;
+        std::vector<std::tuple<std::string, std::string, py::object, std::string>> out;
         visit_settings(defaults, [&](const char* f, const auto& v, const char* help) {
           using M = std::remove_cvref_t<decltype(v)>;
-          out.append(py::make_tuple(f, type_name<M>(), to_python(v), help));
+          out.emplace_back(f, type_name<M>(), to_python(v), help);
         });
         return out;
       }, "[(name, type, default, meaning)] of every field, in order.")

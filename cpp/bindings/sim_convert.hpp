@@ -20,6 +20,6 @@ std::vector<cv::Point2d> points_from_python(py::handle obj, const std::string& f
 /// Wall markers from Python: a list of dicts or objects (vwg.Room) or RobotWorld.rooms.
 std::vector<sim::WallMarker> wall_markers_from_python(py::handle markers);
 /// An H×W×3 uint8 numpy copy of an RGB image.
-py::array rgb_to_numpy(const cv::Mat& image);
+py::array_t<std::uint8_t> rgb_to_numpy(const cv::Mat& image);
 
 }  // namespace vwg::bindings

@@ -1,8 +1,10 @@
 #include "vwg/backend.hpp"
 
+#include <mutex>
 #include <string>
 
 #include "vwg/error.hpp"
+#include "vwg/registry.hpp"
 
 namespace vwg {
 
@@ -36,5 +38,15 @@ void TraceBackend::begin_frame(const FrameInfo& frame) { calls_.push_back("frame
 void TraceBackend::primitive(const NodeView& p) { calls_.push_back("alpha " + to_text(p)); }
 void TraceBackend::open(const NodeView& t) { calls_.push_back("beta " + to_text(t)); }
 void TraceBackend::close(const NodeView& t) { calls_.push_back("delta " + to_text(t)); }
+
+Registry<Backend>& backends() {
+  static Registry<Backend> registry("backend");
+  static std::once_flag built_in;
+  std::call_once(built_in, [] {
+    registry.add("trace", [] { return std::make_shared<TraceBackend>(); });
+    registry.add("null", [] { return std::make_shared<NullBackend>(); });
+  });
+  return registry;
+}
 
 }  // namespace vwg

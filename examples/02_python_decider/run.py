@@ -23,7 +23,7 @@ def main() -> int:
     parser.add_argument("--video", type=Path)
     parser.add_argument("--room", default="kitchen")
     args = parser.parse_args()
-    world = vwg.load_robot_world(ROOT / "maps" / "office.yaml")
+    world = vwg.robot.load_robot_world(ROOT / "maps" / "office.yaml")
     run = CaseStudy(world, PythonAStar(), goals={1: args.room}, sensors=("laser",), world_orders=False,
                     video=args.video)
     summary = run.run(frames=1500)

@@ -9,6 +9,7 @@
 #include <vwg/geometry/map_geometry.hpp>
 #include <vwg/geometry/occupancy_grid.hpp>
 #include <vwg/robot/planners.hpp>
+#include <vwg/robot/registries.hpp>
 #include <vwg/robot/robot_map.hpp>
 
 namespace {
@@ -50,7 +51,9 @@ int main() {
   in.goal_y = 0.15;
   in.radius = 0.04;
   in.step_length = 5.0;
-  vwg::robot::GridDecider astar(vwg::robot::GridDecider::Algorithm::AStar);
+  // The decider by its registered name, as a world file or `--planner` names it.
+  const std::shared_ptr<vwg::robot::Decider> planner = vwg::robot::deciders().create("astar");
+  vwg::robot::Decider& astar = *planner;
   const vwg::robot::Decision d = astar.decide(in);
   if (d.kind != vwg::robot::Decision::Kind::Move) return fail("A* found no path");
   const auto& p = d.path;

@@ -8,7 +8,7 @@ import numpy
 import numpy.typing
 import os
 import typing
-__all__: list[str] = ['ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'ArrivalCondition', 'Backend', 'BackendGroup', 'Blob', 'CameraGenerator', 'CameraRenderer', 'CameraSpec', 'Collision', 'CollisionGenerator', 'DStarLite', 'Decider', 'DecisionInput', 'DepthCameraSpec', 'Engine', 'Event', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'FrameSink', 'Generator', 'GridDecider', 'GridRaycaster', 'ImageFiles', 'ImageSequence', 'ImageSource', 'KinectGenerator', 'LaserGenerator', 'LaserSpec', 'MotionBackend', 'Node', 'NoiseModel', 'NullBackend', 'OdometryGenerator', 'OmplDecider', 'OmplPlan', 'OmplPlanner', 'OrderGenerator', 'OverviewCamera', 'PhysicsSettings', 'PhysicsWorld', 'PythonActor', 'RandomDecider', 'RangeScanner', 'RenderStyle', 'RobotPlatform', 'RobotSettings', 'RobotState', 'SimView', 'SimulatedCamera', 'StopCondition', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoSource', 'add_arobot', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'arobot_event_types', 'astar', 'build_string', 'detect_apriltags', 'display', 'estimate_tag_pose', 'evolve', 'grid_clearance', 'grid_inflate', 'overview_camera', 'plan_ompl', 'read_image', 'render_overview', 'robot_map', 'set_log_sink', 'visualize', 'walker_behavior', 'write_image']
+__all__: list[str] = ['ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'ArrivalCondition', 'Backend', 'BackendGroup', 'Blob', 'CameraGenerator', 'CameraRenderer', 'CameraSpec', 'Collision', 'CollisionGenerator', 'DStarLite', 'Decider', 'DecisionInput', 'DepthCameraSpec', 'Engine', 'Event', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'FrameSink', 'Generator', 'GridDecider', 'GridRaycaster', 'ImageFiles', 'ImageSequence', 'ImageSource', 'KinectGenerator', 'LaserGenerator', 'LaserSpec', 'MotionBackend', 'Node', 'NoiseModel', 'NullBackend', 'OdometryGenerator', 'OmplDecider', 'OmplPlan', 'OmplPlanner', 'OrderGenerator', 'OverviewCamera', 'PhysicsSettings', 'PhysicsWorld', 'PythonActor', 'RandomDecider', 'RangeScanner', 'RenderStyle', 'RobotPlatform', 'RobotSettings', 'RobotState', 'SimView', 'SimulatedCamera', 'StopCondition', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoSource', 'add_arobot', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'arobot_event_types', 'astar', 'backend_names', 'build_string', 'create_backend', 'create_decider', 'create_platform', 'create_sensor', 'decider_names', 'detect_apriltags', 'display', 'estimate_tag_pose', 'evolve', 'grid_clearance', 'grid_inflate', 'overview_camera', 'plan_ompl', 'platform_names', 'ranging_sensors', 'read_image', 'render_overview', 'robot_map', 'sensor_names', 'set_log_sink', 'visualize', 'walker_behavior', 'write_image']
 class Blob:
     """
     A large attribute value held by reference from world strings (an occupancy grid, an image, a path).
@@ -356,7 +356,7 @@ class LaserSpec:
     """
     __hash__: typing.ClassVar[None] = None
     @staticmethod
-    def fields() -> list:
+    def fields() -> list[tuple[str, str, typing.Any, str]]:
         """
         [(name, type, default, meaning)] of every field, in order.
         """
@@ -391,7 +391,7 @@ class LaserSpec:
         {field: value}, as a world file writes them.
         """
     @property
-    def beams(self) -> typing.Any:
+    def beams(self) -> int:
         """
         rays per scan (int)
         """
@@ -399,7 +399,7 @@ class LaserSpec:
     def beams(self, arg1: typing.Any) -> None:
         ...
     @property
-    def fov(self) -> typing.Any:
+    def fov(self) -> float:
         """
         field of view, radians, centred ahead (2π: a full circle) (float)
         """
@@ -407,7 +407,7 @@ class LaserSpec:
     def fov(self, arg1: typing.Any) -> None:
         ...
     @property
-    def max_range(self) -> typing.Any:
+    def max_range(self) -> float:
         """
         metres (float)
         """
@@ -415,7 +415,7 @@ class LaserSpec:
     def max_range(self, arg1: typing.Any) -> None:
         ...
     @property
-    def min_range(self) -> typing.Any:
+    def min_range(self) -> float:
         """
         nearer returns are dropped, metres (float)
         """
@@ -423,7 +423,7 @@ class LaserSpec:
     def min_range(self, arg1: typing.Any) -> None:
         ...
     @property
-    def noise(self) -> typing.Any:
+    def noise(self) -> float:
         """
         standard deviation of each range, metres (float)
         """
@@ -450,7 +450,7 @@ class DepthCameraSpec:
     """
     __hash__: typing.ClassVar[None] = None
     @staticmethod
-    def fields() -> list:
+    def fields() -> list[tuple[str, str, typing.Any, str]]:
         """
         [(name, type, default, meaning)] of every field, in order.
         """
@@ -485,7 +485,7 @@ class DepthCameraSpec:
         {field: value}, as a world file writes them.
         """
     @property
-    def height(self) -> typing.Any:
+    def height(self) -> int:
         """
         image height, pixels (int)
         """
@@ -493,7 +493,7 @@ class DepthCameraSpec:
     def height(self, arg1: typing.Any) -> None:
         ...
     @property
-    def hfov(self) -> typing.Any:
+    def hfov(self) -> float:
         """
         horizontal field of view, radians (float)
         """
@@ -501,7 +501,7 @@ class DepthCameraSpec:
     def hfov(self, arg1: typing.Any) -> None:
         ...
     @property
-    def max_range(self) -> typing.Any:
+    def max_range(self) -> float:
         """
         metres (float)
         """
@@ -509,7 +509,7 @@ class DepthCameraSpec:
     def max_range(self, arg1: typing.Any) -> None:
         ...
     @property
-    def min_range(self) -> typing.Any:
+    def min_range(self) -> float:
         """
         nearer depths are invalid (the blind zone), metres (float)
         """
@@ -517,7 +517,7 @@ class DepthCameraSpec:
     def min_range(self, arg1: typing.Any) -> None:
         ...
     @property
-    def mount_height(self) -> typing.Any:
+    def mount_height(self) -> float:
         """
         optical centre above the floor, metres (float)
         """
@@ -525,7 +525,7 @@ class DepthCameraSpec:
     def mount_height(self, arg1: typing.Any) -> None:
         ...
     @property
-    def noise(self) -> typing.Any:
+    def noise(self) -> bool:
         """
         axial noise noise_a + noise_b·(z - 0.4)² on or off (bool)
         """
@@ -533,7 +533,7 @@ class DepthCameraSpec:
     def noise(self, arg1: typing.Any) -> None:
         ...
     @property
-    def noise_a(self) -> typing.Any:
+    def noise_a(self) -> float:
         """
         metres (float)
         """
@@ -541,7 +541,7 @@ class DepthCameraSpec:
     def noise_a(self, arg1: typing.Any) -> None:
         ...
     @property
-    def noise_b(self) -> typing.Any:
+    def noise_b(self) -> float:
         """
         metres per square metre (float)
         """
@@ -549,7 +549,7 @@ class DepthCameraSpec:
     def noise_b(self, arg1: typing.Any) -> None:
         ...
     @property
-    def robot_height(self) -> typing.Any:
+    def robot_height(self) -> float:
         """
         other robots are cylinders this tall, metres (float)
         """
@@ -557,7 +557,7 @@ class DepthCameraSpec:
     def robot_height(self, arg1: typing.Any) -> None:
         ...
     @property
-    def scan_rows(self) -> typing.Any:
+    def scan_rows(self) -> int:
         """
         rows around the centre turned into the scan (int)
         """
@@ -565,7 +565,7 @@ class DepthCameraSpec:
     def scan_rows(self, arg1: typing.Any) -> None:
         ...
     @property
-    def wall_height(self) -> typing.Any:
+    def wall_height(self) -> float:
         """
         walls and ceiling, metres (float)
         """
@@ -573,7 +573,7 @@ class DepthCameraSpec:
     def wall_height(self, arg1: typing.Any) -> None:
         ...
     @property
-    def width(self) -> typing.Any:
+    def width(self) -> int:
         """
         image width, pixels (int)
         """
@@ -596,7 +596,7 @@ class CameraSpec:
     """
     __hash__: typing.ClassVar[None] = None
     @staticmethod
-    def fields() -> list:
+    def fields() -> list[tuple[str, str, typing.Any, str]]:
         """
         [(name, type, default, meaning)] of every field, in order.
         """
@@ -631,7 +631,7 @@ class CameraSpec:
         {field: value}, as a world file writes them.
         """
     @property
-    def blur(self) -> typing.Any:
+    def blur(self) -> float:
         """
         Gaussian blur sigma, pixels (float)
         """
@@ -639,7 +639,7 @@ class CameraSpec:
     def blur(self, arg1: typing.Any) -> None:
         ...
     @property
-    def height(self) -> typing.Any:
+    def height(self) -> int:
         """
         image height, pixels (int)
         """
@@ -647,7 +647,7 @@ class CameraSpec:
     def height(self, arg1: typing.Any) -> None:
         ...
     @property
-    def hfov(self) -> typing.Any:
+    def hfov(self) -> float:
         """
         horizontal field of view, radians (float)
         """
@@ -655,7 +655,7 @@ class CameraSpec:
     def hfov(self, arg1: typing.Any) -> None:
         ...
     @property
-    def mount_height(self) -> typing.Any:
+    def mount_height(self) -> float:
         """
         optical centre above the floor, metres (float)
         """
@@ -663,7 +663,7 @@ class CameraSpec:
     def mount_height(self, arg1: typing.Any) -> None:
         ...
     @property
-    def noise(self) -> typing.Any:
+    def noise(self) -> float:
         """
         standard deviation of the added pixel noise, grey levels (0..255) (float)
         """
@@ -671,7 +671,7 @@ class CameraSpec:
     def noise(self, arg1: typing.Any) -> None:
         ...
     @property
-    def robot_height(self) -> typing.Any:
+    def robot_height(self) -> float:
         """
         other robots are cylinders this tall, metres (float)
         """
@@ -679,7 +679,7 @@ class CameraSpec:
     def robot_height(self, arg1: typing.Any) -> None:
         ...
     @property
-    def wall_height(self) -> typing.Any:
+    def wall_height(self) -> float:
         """
         walls and ceiling, metres (float)
         """
@@ -687,7 +687,7 @@ class CameraSpec:
     def wall_height(self, arg1: typing.Any) -> None:
         ...
     @property
-    def width(self) -> typing.Any:
+    def width(self) -> int:
         """
         image width, pixels (int)
         """
@@ -710,7 +710,7 @@ class RobotSettings:
     """
     __hash__: typing.ClassVar[None] = None
     @staticmethod
-    def fields() -> list:
+    def fields() -> list[tuple[str, str, typing.Any, str]]:
         """
         [(name, type, default, meaning)] of every field, in order.
         """
@@ -745,7 +745,7 @@ class RobotSettings:
         {field: value}, as a world file writes them.
         """
     @property
-    def id(self) -> typing.Any:
+    def id(self) -> int:
         """
         the robot's id, >= 1: events are addressed to it (int)
         """
@@ -753,7 +753,7 @@ class RobotSettings:
     def id(self, arg1: typing.Any) -> None:
         ...
     @property
-    def max_accel(self) -> typing.Any:
+    def max_accel(self) -> float:
         """
         m/s² (float)
         """
@@ -761,7 +761,7 @@ class RobotSettings:
     def max_accel(self, arg1: typing.Any) -> None:
         ...
     @property
-    def max_speed(self) -> typing.Any:
+    def max_speed(self) -> float:
         """
         m/s (float)
         """
@@ -769,7 +769,7 @@ class RobotSettings:
     def max_speed(self, arg1: typing.Any) -> None:
         ...
     @property
-    def max_turn_accel(self) -> typing.Any:
+    def max_turn_accel(self) -> float:
         """
         rad/s² (float)
         """
@@ -777,7 +777,7 @@ class RobotSettings:
     def max_turn_accel(self, arg1: typing.Any) -> None:
         ...
     @property
-    def max_turn_rate(self) -> typing.Any:
+    def max_turn_rate(self) -> float:
         """
         rad/s (float)
         """
@@ -785,7 +785,7 @@ class RobotSettings:
     def max_turn_rate(self, arg1: typing.Any) -> None:
         ...
     @property
-    def radius(self) -> typing.Any:
+    def radius(self) -> float:
         """
         metres (float)
         """
@@ -793,7 +793,7 @@ class RobotSettings:
     def radius(self, arg1: typing.Any) -> None:
         ...
     @property
-    def sensors(self) -> typing.Any:
+    def sensors(self) -> tuple:
         """
         the sensors it carries, by registered name (laser, kinect, camera, ...) (tuple[str, ...])
         """
@@ -801,7 +801,7 @@ class RobotSettings:
     def sensors(self, arg1: typing.Any) -> None:
         ...
     @property
-    def start(self) -> typing.Any:
+    def start(self) -> tuple[float, float, float]:
         """
         start pose (x, y, yaw): metres, metres, radians (tuple[float, float, float])
         """
@@ -818,7 +818,7 @@ class NoiseModel:
     """
     __hash__: typing.ClassVar[None] = None
     @staticmethod
-    def fields() -> list:
+    def fields() -> list[tuple[str, str, typing.Any, str]]:
         """
         [(name, type, default, meaning)] of every field, in order.
         """
@@ -853,7 +853,7 @@ class NoiseModel:
         {field: value}, as a world file writes them.
         """
     @property
-    def motors(self) -> typing.Any:
+    def motors(self) -> float:
         """
         relative standard deviation of each commanded turn and drive (float)
         """
@@ -861,7 +861,7 @@ class NoiseModel:
     def motors(self, arg1: typing.Any) -> None:
         ...
     @property
-    def odometry(self) -> typing.Any:
+    def odometry(self) -> float:
         """
         standard deviation of the odometry's drift, per metre and per radian (float)
         """
@@ -883,7 +883,7 @@ class PhysicsSettings:
     """
     __hash__: typing.ClassVar[None] = None
     @staticmethod
-    def fields() -> list:
+    def fields() -> list[tuple[str, str, typing.Any, str]]:
         """
         [(name, type, default, meaning)] of every field, in order.
         """
@@ -918,7 +918,7 @@ class PhysicsSettings:
         {field: value}, as a world file writes them.
         """
     @property
-    def noise(self) -> typing.Any:
+    def noise(self) -> NoiseModel:
         """
         motor and odometry noise (NoiseModel)
         """
@@ -926,7 +926,7 @@ class PhysicsSettings:
     def noise(self, arg1: typing.Any) -> None:
         ...
     @property
-    def obstacle_threshold(self) -> typing.Any:
+    def obstacle_threshold(self) -> int:
         """
         grid values >= this are walls (int)
         """
@@ -934,7 +934,7 @@ class PhysicsSettings:
     def obstacle_threshold(self, arg1: typing.Any) -> None:
         ...
     @property
-    def position_iterations(self) -> typing.Any:
+    def position_iterations(self) -> int:
         """
         Box2D's position iterations per step (int)
         """
@@ -942,7 +942,7 @@ class PhysicsSettings:
     def position_iterations(self, arg1: typing.Any) -> None:
         ...
     @property
-    def seed(self) -> typing.Any:
+    def seed(self) -> int:
         """
         seed of the noise (int)
         """
@@ -950,7 +950,7 @@ class PhysicsSettings:
     def seed(self, arg1: typing.Any) -> None:
         ...
     @property
-    def step(self) -> typing.Any:
+    def step(self) -> float:
         """
         fixed time step of Box2D, seconds (float)
         """
@@ -958,7 +958,7 @@ class PhysicsSettings:
     def step(self, arg1: typing.Any) -> None:
         ...
     @property
-    def velocity_iterations(self) -> typing.Any:
+    def velocity_iterations(self) -> int:
         """
         Box2D's velocity iterations per step (int)
         """
@@ -966,7 +966,7 @@ class PhysicsSettings:
     def velocity_iterations(self, arg1: typing.Any) -> None:
         ...
     @property
-    def walls_at_border(self) -> typing.Any:
+    def walls_at_border(self) -> bool:
         """
         a wall around the map, so robots cannot leave it (bool)
         """
@@ -1585,7 +1585,7 @@ class TopDownRenderer:
         """
         A trajectory: N×2 world points, oldest first, fading into the past.
         """
-    def image(self) -> numpy.ndarray[typing.Any, numpy.dtype[typing.Any]]:
+    def image(self) -> numpy.typing.NDArray[numpy.uint8]:
         """
         The frame as an H×W×3 uint8 RGB array (a copy).
         """
@@ -1804,7 +1804,7 @@ class LaserGenerator(Generator):
     def __init__(self, scanner: RangeScanner, robot: typing.SupportsInt | typing.SupportsIndex, spec: LaserSpec, alphabet: Alphabet, event: str = 'eLaser') -> None:
         ...
     @property
-    def angles(self) -> numpy.ndarray[typing.Any, numpy.dtype[typing.Any]]:
+    def angles(self) -> numpy.typing.NDArray[numpy.float64]:
         """
         The beam angles from the heading (radians).
         """
@@ -1812,7 +1812,7 @@ class LaserGenerator(Generator):
     def max_range(self) -> float:
         ...
     @property
-    def ranges(self) -> numpy.ndarray[typing.Any, numpy.dtype[typing.Any]]:
+    def ranges(self) -> numpy.typing.NDArray[numpy.float32]:
         """
         The last scan's ranges (float32; max_range where nothing was hit), a copy.
         """
@@ -1832,13 +1832,13 @@ class KinectGenerator(Generator):
     def __init__(self, scanner: RangeScanner, robot: typing.SupportsInt | typing.SupportsIndex, spec: DepthCameraSpec, alphabet: Alphabet, event: str = 'eLaser') -> None:
         ...
     @property
-    def angles(self) -> numpy.ndarray[typing.Any, numpy.dtype[typing.Any]]:
+    def angles(self) -> numpy.typing.NDArray[numpy.float64]:
         ...
     @property
-    def depth(self) -> numpy.ndarray[typing.Any, numpy.dtype[typing.Any]]:
+    def depth(self) -> numpy.typing.NDArray[numpy.float32]:
         ...
     @property
-    def ranges(self) -> numpy.ndarray[typing.Any, numpy.dtype[typing.Any]]:
+    def ranges(self) -> numpy.typing.NDArray[numpy.float32]:
         ...
     @property
     def robot(self) -> int:
@@ -1883,7 +1883,7 @@ class SimView(Backend):
         """
         Draw the last frame again — with `final`, the displayable string of the state reached (π of the last string), shown instead of the last frame's — write it hold_frames times to the video (once to the images), and close.
         """
-    def image(self) -> numpy.ndarray[typing.Any, numpy.dtype[typing.Any]]:
+    def image(self) -> numpy.typing.NDArray[numpy.uint8]:
         """
         The last frame (H×W×3 uint8, a copy).
         """
@@ -2049,7 +2049,7 @@ class DecisionInput:
     def goal(self) -> tuple[float, float]:
         ...
     @property
-    def grid(self) -> numpy.ndarray[typing.Any, numpy.dtype[typing.Any]]:
+    def grid(self) -> numpy.typing.NDArray[numpy.int16]:
         """
         The robot's map (int16, read-only); safe to keep: it does not change afterwards.
         """
@@ -2057,7 +2057,7 @@ class DecisionInput:
     def origin(self) -> tuple:
         ...
     @property
-    def path(self) -> numpy.ndarray[typing.Any, numpy.dtype[typing.Any]]:
+    def path(self) -> numpy.typing.NDArray[numpy.float64]:
         """
         The current plan (N×2, read-only); safe to keep: it does not change afterwards.
         """
@@ -2378,9 +2378,31 @@ def astar(blocked: numpy.typing.NDArray[numpy.bool_], start: tuple[int, int], go
     float; (None, inf) when there is no path (a blocked goal has none). Raises vwg.SchemaError naming
     the argument for a start or goal outside the grid, a blocked start, or a mask that is not 2-D bool.
     """
+def backend_names() -> list[str]:
+    """
+    The backends registered in C++.
+    """
 def build_string(alphabet: Alphabet, parts: typing.Any) -> String:
     """
     A string from Python parts: text, vwg.String, actors, vwg.Sym, or lists of these.
+    """
+def create_backend(name: str) -> Backend:
+    ...
+def create_decider(name: str) -> Decider:
+    """
+    A new decider by its C++ registered name (vwg.SchemaError listing the known ones otherwise).
+    """
+def create_platform(name: str, grid: typing.Any, robots: collections.abc.Sequence[RobotSettings], physics: PhysicsSettings = ..., options: collections.abc.Mapping[str, str] = {}) -> RobotPlatform:
+    """
+    A robot platform by its C++ registered name, with the map, the robots and the simulator's settings.
+    """
+def create_sensor(name: str, platform: RobotPlatform, alphabet: Alphabet, robot: typing.SupportsInt | typing.SupportsIndex, *, grid: typing.Any = None, scanner: RangeScanner = None, laser: LaserSpec = ..., kinect: DepthCameraSpec = ..., camera: CameraSpec = ..., markers: typing.Any = [], camera_period: typing.SupportsInt | typing.SupportsIndex = 3, seed: typing.SupportsInt | typing.SupportsIndex = 0) -> Generator:
+    """
+    A sensor's event generator for one robot by its C++ registered name (laser, kinect, camera).
+    """
+def decider_names() -> list[str]:
+    """
+    The deciders registered in C++.
     """
 def detect_apriltags(image: typing.Any, family: str = 'tag36h11', quad_decimate: typing.SupportsFloat | typing.SupportsIndex = 2.0, refine_edges: bool = True, *, quad_sigma: typing.SupportsFloat | typing.SupportsIndex = 0.0, decode_sharpening: typing.SupportsFloat | typing.SupportsIndex = 0.25, threads: typing.SupportsInt | typing.SupportsIndex = 1, max_hamming: typing.SupportsInt | typing.SupportsIndex = 2) -> list:
     """
@@ -2430,17 +2452,29 @@ def plan_ompl(blocked: numpy.typing.NDArray[numpy.bool_], resolution: float, ori
     inf. Raises vwg.SchemaError for a start pose off the map or in collision, an unknown planner or a bad
     argument. Each call computes the map's distance transform: reuse a vwg.OmplPlanner to plan many times.
     """
+def platform_names() -> list[str]:
+    """
+    The robot platforms registered in C++.
+    """
+def ranging_sensors() -> list[str]:
+    """
+    The sensors that come first in the priority order (ranging ones).
+    """
 def read_image(path: str) -> numpy.ndarray[typing.Any, numpy.dtype[typing.Any]]:
     """
     Read an image file (PNG, PGM, BMP, JPEG) as stored: uint8 or uint16, H×W, H×W×3 (RGB) or H×W×4 (RGBA).
     """
-def render_overview(grid: typing.Any, markers: typing.Any = [], robots: typing.Any = [], wall_height: typing.SupportsFloat | typing.SupportsIndex = 2.5, width: typing.SupportsInt | typing.SupportsIndex = 1000, height: typing.SupportsInt | typing.SupportsIndex = 700, azimuth: typing.SupportsFloat | typing.SupportsIndex = -1.9, elevation: typing.SupportsFloat | typing.SupportsIndex = 1.1, fov: typing.SupportsFloat | typing.SupportsIndex = 0.6, robot_height: typing.SupportsFloat | typing.SupportsIndex = 0.4, labels: bool = True, supersample: typing.SupportsInt | typing.SupportsIndex = 3, threshold: typing.SupportsInt | typing.SupportsIndex = 50, target: typing.Any = None, scale: typing.Any = None, distance: typing.Any = None) -> numpy.ndarray[typing.Any, numpy.dtype[typing.Any]]:
+def render_overview(grid: typing.Any, markers: typing.Any = [], robots: typing.Any = [], wall_height: typing.SupportsFloat | typing.SupportsIndex = 2.5, width: typing.SupportsInt | typing.SupportsIndex = 1000, height: typing.SupportsInt | typing.SupportsIndex = 700, azimuth: typing.SupportsFloat | typing.SupportsIndex = -1.9, elevation: typing.SupportsFloat | typing.SupportsIndex = 1.1, fov: typing.SupportsFloat | typing.SupportsIndex = 0.6, robot_height: typing.SupportsFloat | typing.SupportsIndex = 0.4, labels: bool = True, supersample: typing.SupportsInt | typing.SupportsIndex = 3, threshold: typing.SupportsInt | typing.SupportsIndex = 50, target: typing.Any = None, scale: typing.Any = None, distance: typing.Any = None) -> numpy.typing.NDArray[numpy.uint8]:
     """
     A 3D overview of a map (the paper's Fig. 5) as an H×W×3 uint8 RGB array: walls (cells >= threshold) extruded to wall_height and lit, the floor with their shadows and 1 m tiles, the markers (as for CameraRenderer) as their tags in an orange frame with their labels, robots (as for CameraRenderer.render) as cylinders in the 2D view's colours. azimuth: direction from the map's centre towards the eye, radians counter-clockwise from +x (-π/2: from the south). elevation: how steeply the eye looks down, radians (π/2: straight down). fov: horizontal field of view, radians; 0 = orthographic. Without target the view frames the map's free cells and their walls; with target (x, y[, z]) it aims there with scale pixels per metre (orthographic) or the eye distance metres away (perspective). supersample: rays per pixel side (1..4). Releases the GIL.
     """
 def robot_map(grid: typing.Any, knows_map: bool = True) -> Blob:
     """
     A robot's grid (an int16 vwg.Blob): the known map (walls 100, free 0, unknown -1), or all free (eq. 13).
+    """
+def sensor_names() -> list[str]:
+    """
+    The sensors registered in C++.
     """
 def set_log_sink(sink: typing.Any) -> None:
     """

@@ -8,7 +8,7 @@
   gLaser / gKinect, gCamera, gObjective (the users' orders), gDecide, gExecute;
 - the backend: the simulator, and a view when asked for video or images.
 
-    run = vwg.CaseStudy(vwg.load_robot_world("maps/office.yaml"), planner="astar", goals={1: "kitchen"})
+    run = vwg.robot.CaseStudy(vwg.robot.load_robot_world("maps/office.yaml"), planner="astar", goals={1: "kitchen"})
     summary = run.run()
 """
 

@@ -1,7 +1,7 @@
 """One loader, one run path and one replay path for every kind of world file.
 
 A world file is of one of the kinds registered in ``vwg.registry.world_kinds``: ``robot`` (the case
-study: a map, rooms, robots; vwg.RobotWorld) and ``generic`` (an alphabet, an initial string,
+study: a map, rooms, robots; vwg.robot.RobotWorld) and ``generic`` (an alphabet, an initial string,
 generators, a backend; vwg.worldfile.WorldSpec). A kind recognises its files, loads them, says which
 run options apply to it, starts a run and rebuilds the world a record of it was made with.
 ``vwg run``, ``vwg replay`` and ``vwg check`` go through here and nowhere else, so an option that
@@ -144,7 +144,7 @@ def kind_of(path: Path, data: Any) -> WorldKind:
 
 
 def load(world: str | Path) -> Any:
-    """Load a world file of any kind, or a shipped world by name: a vwg.RobotWorld or a WorldSpec."""
+    """Load a world file of any kind, or a shipped world by name: a vwg.robot.RobotWorld or a WorldSpec."""
     from .worlds import resolve_world
     from .yamldoc import YamlDoc
 

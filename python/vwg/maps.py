@@ -1,8 +1,8 @@
 """Occupancy-grid maps: ROS map_server YAML + image pairs, MovingAI ``.map`` files, and the grid they load into.
 
-    grid = vwg.load_map("maps/office/map.yaml")            # ROS map_server / Nav2 YAML + PGM/PNG/BMP
-    grid = vwg.load_map("arena.map", resolution=0.1)        # MovingAI benchmark map
-    grid = vwg.load_map({"movingai": "arena.map", "resolution": 0.1, "origin": [0, 0, 0]})
+    grid = vwg.maps.load_map("maps/office/map.yaml")            # ROS map_server / Nav2 YAML + PGM/PNG/BMP
+    grid = vwg.maps.load_map("arena.map", resolution=0.1)        # MovingAI benchmark map
+    grid = vwg.maps.load_map({"movingai": "arena.map", "resolution": 0.1, "origin": [0, 0, 0]})
     row, col = grid.world_to_cell(2.0, 3.5)
     grid.save("out/map.yaml")                               # map.yaml + map.pgm, trinary
 

@@ -55,7 +55,7 @@ class Registry(Generic[T]):
 @dataclass(frozen=True)
 class Sensor:
     """A kind of sensor a world file's robot may list: ``make(platform, alphabet, robot_id)`` gives
-    its event generator on that platform (a vwg.Simulation, say). ``ranging`` sensors come first in
+    its event generator on that platform (a vwg.sim.Simulation, say). ``ranging`` sensors come first in
     the priority order, robot by robot, then the others (the paper's gLaser/gKinect, then gCamera)."""
 
     make: Callable[..., Any]
@@ -65,11 +65,11 @@ class Sensor:
 backends: Registry[Any] = Registry("backend")
 generators: Registry[Any] = Registry("generator")
 #: Deciders by name (paper test 1: the decision is swapped, nothing else): a factory with no
-#: arguments -> a vwg.Decider. ``deciders.register("mine", MyDecider)`` makes ``--planner mine`` work.
+#: arguments -> a vwg.robot.Decider. ``deciders.register("mine", MyDecider)`` makes ``--planner mine`` work.
 deciders: Registry[Any] = Registry("decider")
 #: Robot platforms by name: a factory (robot world, seed, options) -> an object with ``platform`` (a
-#: vwg.RobotPlatform), ``backend`` (φ on it), ``feedback(alphabet)``, ``sensors(alphabet, kinds)``,
-#: ``view(...)`` and ``robot(id)``, as vwg.Simulation has them.
+#: vwg.robot.RobotPlatform), ``backend`` (φ on it), ``feedback(alphabet)``, ``sensors(alphabet, kinds)``,
+#: ``view(...)`` and ``robot(id)``, as vwg.sim.Simulation has them.
 platforms: Registry[Any] = Registry("platform")
 #: Sensors by name, as world files list them (``robots[i].sensors``): a factory with no arguments ->
 #: a Sensor. ``sensors.register("sonar", lambda: Sensor(make_sonar))`` lets a world list ``sonar``.
@@ -93,8 +93,10 @@ def _register_builtins() -> None:
 
     world_kinds.register("robot", robot_kind)
     world_kinds.register("generic", generic_kind)
-    backends.register("trace", lambda **_: _core.TraceBackend())
-    backends.register("null", lambda **_: _core.NullBackend())
+    # The built-in backends, sensors and deciders are the C++ registries' (vwg/registry.hpp,
+    # vwg/robot/registries.hpp): one list of names, one set of settings (the OMPL planners' budgets).
+    for name in _core.backend_names():
+        backends.register(name, lambda n=name, **_: _core.create_backend(n))
 
     def simulator(world: Any, seed: int, options: dict[str, Any]) -> Any:
         from .sim import Simulation
@@ -105,20 +107,14 @@ def _register_builtins() -> None:
 
     platforms.register("sim", simulator)
 
-    sensors.register("laser", lambda: Sensor(lambda platform, alphabet, robot: platform.laser(alphabet, robot)))
-    sensors.register("kinect", lambda: Sensor(lambda platform, alphabet, robot: platform.kinect(alphabet, robot)))
-    sensors.register("camera", lambda: Sensor(lambda platform, alphabet, robot: platform.camera(alphabet, robot),
-                                              ranging=False))
+    ranging = set(_core.ranging_sensors())
+    for name in _core.sensor_names():
+        def make(platform: Any, alphabet: Any, robot: int, name: str = name) -> Any:
+            return platform.sensor(name, alphabet, robot)
 
-    deciders.register("random", lambda: _core.RandomDecider())
-    deciders.register("astar", lambda: _core.GridDecider("astar"))
-    deciders.register("dstar", lambda: _core.GridDecider("dstar"))
-    # OMPL planners bounded by iterations, not time, so a run is the same on any machine: RRT-Connect
-    # stops at its first solution; RRT* improves its path for all its iterations; "prm" is OMPL's
-    # LazyPRM (PRM proper builds its roadmap on a second thread and is not reproducible).
-    deciders.register("rrtconnect", lambda: _core.OmplDecider("RRTConnect", 20000))
-    deciders.register("rrtstar", lambda: _core.OmplDecider("RRTstar", 5000))
-    deciders.register("prm", lambda: _core.OmplDecider("LazyPRM", 5000))
+        sensors.register(name, lambda make=make, name=name: Sensor(make, ranging=name in ranging))
+    for name in _core.decider_names():
+        deciders.register(name, lambda n=name: _core.create_decider(n))
 
 
 _register_builtins()

@@ -36,8 +36,8 @@ their sensors, noise, and a timed script of user orders.
       - {time: 0.0, robot: 1, room: kitchen}
 
 A robot entry and the ``laser``, ``kinect``, ``camera`` and ``noise`` sections take the fields of
-vwg.RobotSettings, vwg.LaserSpec, vwg.DepthCameraSpec, vwg.CameraSpec and vwg.NoiseModel (the C++
-structs, which hold the one copy of every default; ``vwg.LaserSpec.fields()`` lists names, types,
+vwg.robot.RobotSettings, vwg.sim.LaserSpec, vwg.sim.DepthCameraSpec, vwg.sim.CameraSpec and vwg.sim.NoiseModel (the C++
+structs, which hold the one copy of every default; ``vwg.sim.LaserSpec.fields()`` lists names, types,
 defaults and meanings), except ``wall_height``, which is the world's. The Kinect also takes
 ``robot_height``, ``noise`` (true: axial noise ``noise_a + noise_b·(z - 0.4)²`` metres), ``noise_a``,
 ``noise_b`` and ``scan_rows``; the camera ``robot_height``.

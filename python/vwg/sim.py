@@ -2,8 +2,8 @@
 motion backend G commands with the robots' Move/Rotate actions), the range sensors and the robots'
 feedback (event generators), and a view (a backend that draws the simulation and records video).
 
-    world = vwg.load_robot_world("maps/office.yaml")
-    sim = vwg.Simulation(world)
+    world = vwg.robot.load_robot_world("maps/office.yaml")
+    sim = vwg.sim.Simulation(world)
     engine = vwg.Engine(world_of_symbols, initial,
                         generators=[*sim.sensors(alphabet), *others, *sim.feedback(alphabet)],
                         backend=vwg.BackendGroup([sim.backend, sim.view(video="run.mp4")]))
@@ -20,10 +20,29 @@ import os
 from typing import Any
 
 from . import _core
+from ._core import (
+    CameraRenderer,
+    CameraSpec,
+    DepthCameraSpec,
+    GridRaycaster,
+    KinectGenerator,
+    LaserGenerator,
+    LaserSpec,
+    NoiseModel,
+    PhysicsSettings,
+    PhysicsWorld,
+    RangeScanner,
+    SimulatedCamera,
+    SimView,
+    TopDownRenderer,
+    render_overview,
+)
 from .robotworld import RobotWorld
 from .video import VideoWriter
 
-__all__ = ["MOTION_SYMBOLS", "SIM_EVENTS", "Simulation"]
+__all__ = ["MOTION_SYMBOLS", "SIM_EVENTS", "CameraRenderer", "CameraSpec", "DepthCameraSpec", "GridRaycaster",
+           "KinectGenerator", "LaserGenerator", "LaserSpec", "NoiseModel", "PhysicsSettings", "PhysicsWorld",
+           "RangeScanner", "SimView", "SimulatedCamera", "Simulation", "TopDownRenderer", "render_overview"]
 
 #: Event types of the simulator's generators, as Alphabet(events=...) takes them.
 SIM_EVENTS: dict[str, dict[str, Any]] = {
@@ -52,7 +71,7 @@ class Simulation:
         settings = _core.PhysicsSettings(noise=world.noise, seed=self.seed)
         if step is not None:
             settings.step = step
-        self.physics = _core.PhysicsWorld(world.grid, list(world.robots), settings)
+        self.physics: _core.PhysicsWorld = _core.create_platform("sim", world.grid, list(world.robots), settings)
         self.raycaster = _core.GridRaycaster(world.grid)
         self.scanner = _core.RangeScanner(self.raycaster, self.physics)
         self.platform: _core.RobotPlatform = self.physics
@@ -61,28 +80,31 @@ class Simulation:
         self.kinects: list[_core.KinectGenerator] = []
         self.cameras: list[_core.CameraGenerator] = []
 
-    def laser(self, alphabet: _core.Alphabet, robot: int, **overrides: Any) -> _core.LaserGenerator:
-        """gLaser for one robot, with the world's laser settings (and these overrides of vwg.LaserSpec's fields)."""
-        gen = _core.LaserGenerator(self.scanner, robot, self.world.laser.replace(**overrides), alphabet)
-        self.lasers.append(gen)
+    def sensor(self, name: str, alphabet: _core.Alphabet, robot: int, *, laser: _core.LaserSpec | None = None,
+               kinect: _core.DepthCameraSpec | None = None, camera: _core.CameraSpec | None = None) -> _core.Generator:
+        """A sensor of the C++ registry (laser, kinect, camera) for one robot, with the world's settings
+        (or these); the view draws the scans of the range sensors made here."""
+        gen = _core.create_sensor(name, self.physics, alphabet, robot, grid=self.world.grid, scanner=self.scanner,
+                                  laser=laser or self.world.laser, kinect=kinect or self.world.kinect,
+                                  camera=camera or self.world.camera, markers=self.world.rooms, seed=self.seed)
+        for kind, kept in ((_core.LaserGenerator, self.lasers), (_core.KinectGenerator, self.kinects),
+                           (_core.CameraGenerator, self.cameras)):
+            if isinstance(gen, kind):
+                kept.append(gen)  # type: ignore[arg-type]
         return gen
+
+    def laser(self, alphabet: _core.Alphabet, robot: int, **overrides: Any) -> _core.LaserGenerator:
+        """gLaser for one robot, with the world's laser settings (and these overrides of vwg.sim.LaserSpec's fields)."""
+        return self.sensor("laser", alphabet, robot, laser=self.world.laser.replace(**overrides))  # type: ignore[return-value]
 
     def kinect(self, alphabet: _core.Alphabet, robot: int, **overrides: Any) -> _core.KinectGenerator:
-        """gKinect for one robot, with the world's Kinect settings (and these overrides of vwg.DepthCameraSpec's)."""
-        gen = _core.KinectGenerator(self.scanner, robot, self.world.kinect.replace(**overrides), alphabet)
-        self.kinects.append(gen)
-        return gen
+        """gKinect for one robot, with the world's Kinect settings (and these overrides of DepthCameraSpec's)."""
+        return self.sensor("kinect", alphabet, robot, kinect=self.world.kinect.replace(**overrides))  # type: ignore[return-value]
 
-    def camera(self, alphabet: _core.Alphabet, robot: int, period: int = 3, **overrides: Any) -> _core.CameraGenerator:
+    def camera(self, alphabet: _core.Alphabet, robot: int, **overrides: Any) -> _core.CameraGenerator:
         """gCamera for one robot: its simulated camera (the world's settings and these overrides of
-        vwg.CameraSpec's fields), AprilTag detection every `period` frames."""
-        source = _core.SimulatedCamera(self.physics, robot, self.world.grid, self.world.rooms,
-                                       self.world.camera.replace(**overrides), seed=self.seed * 1009 + robot)
-        fx, fy, cx, cy = source.apriltag_intrinsics()
-        sizes = {room.marker: room.size for room in self.world.rooms.values()}
-        gen = _core.CameraGenerator(source, robot, alphabet, fx, fy, cx, cy, tag_sizes=sizes, period=period)
-        self.cameras.append(gen)
-        return gen
+        vwg.sim.CameraSpec's fields), AprilTag detection every third frame."""
+        return self.sensor("camera", alphabet, robot, camera=self.world.camera.replace(**overrides))  # type: ignore[return-value]
 
     def sensors(self, alphabet: _core.Alphabet, kinds: tuple[str, ...] | None = None) -> list[_core.Generator]:
         """The sensors each robot lists (those of `kinds`, or all), made by the sensor registry

@@ -1,0 +1,30 @@
+"""The robot of the case study (paper §III): its world files (vwg.robot.load_robot_world), the
+deciders inside eDecide, the platform interface a simulator or a real robot implements, the motion
+backend and the feedback generators, and CaseStudy, which assembles a run.
+
+    world = vwg.robot.load_robot_world("office")
+    with vwg.robot.CaseStudy(world, "astar", goals={1: "kitchen"}) as run:
+        print(run.run().reached)
+"""
+
+from __future__ import annotations
+
+from ._core import (
+    Collision,
+    CollisionGenerator,
+    Decider,
+    GridDecider,
+    MotionBackend,
+    OdometryGenerator,
+    OmplDecider,
+    RandomDecider,
+    RobotPlatform,
+    RobotSettings,
+    RobotState,
+)
+from .casestudy import CaseStudy, RobotSummary, RunSummary
+from .robotworld import Order, RobotWorld, Room, load_robot_world
+
+__all__ = ["CaseStudy", "Collision", "CollisionGenerator", "Decider", "GridDecider", "MotionBackend",
+           "OdometryGenerator", "OmplDecider", "Order", "RandomDecider", "RobotPlatform", "RobotSettings", "RobotState",
+           "RobotSummary", "RobotWorld", "Room", "RunSummary", "load_robot_world"]
