@@ -87,7 +87,7 @@ plan::GridPath GridDecider::search(RobotState& s, geometry::Cell start, geometry
   const auto t0 = Clock::now();
   plan::GridPath path;
   if (algorithm_ == Algorithm::AStar) {
-    path = plan::astar(s.map.inflated(), start, goal);
+    path = astar_.search(s.map.inflated(), start, goal);
   } else {
     if (!s.dstar || !(s.goal == goal) || s.dstar->grid().rows() != s.map.inflated().rows()) {
       s.dstar.emplace(s.map.inflated(), start, goal);

@@ -9,6 +9,7 @@
 #include <optional>
 #include <string>
 
+#include "vwg/plan/astar.hpp"
 #include "vwg/plan/dstar_lite.hpp"
 #include "vwg/plan/grid_graph.hpp"
 #include "vwg/robot/decider.hpp"
@@ -41,6 +42,8 @@ class GridDecider final : public Decider {
   Algorithm algorithm_;
   std::map<int, RobotState> robots_;
   SearchStats stats_;
+  // One A* kept for every search: its node arrays (the size of the map) are made once, not per search.
+  plan::AStar astar_;
 };
 
 class OmplDecider final : public Decider {
