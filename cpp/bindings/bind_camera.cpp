@@ -198,7 +198,7 @@ Gaussian sigma in pixels (before the noise); seed: the noise sequence.
 
 markers: a list of dicts or objects (vwg.robotworld.Room) with id (or marker), at=(x, y) (or x and
 y), facing, and optionally size (0.3), height (0.6), label; or RobotWorld.rooms (a dict).)doc")
-      .def(py::init([](py::object grid, py::object markers, const sim::CameraSpec& spec, std::uint64_t seed, int threshold) {
+      .def(py::init([](MapArg grid, py::object markers, const sim::CameraSpec& spec, std::uint64_t seed, int threshold) {
              sim::OccupancyGrid g = grid_from_python(grid);
              std::vector<sim::WallMarker> ms = markers_from_python(markers);
              py::gil_scoped_release release;  // the raycaster's tables and the normals take a while on big maps
@@ -208,7 +208,7 @@ y), facing, and optionally size (0.3), height (0.6), label; or RobotWorld.rooms 
            py::arg("threshold") = 50)
       .def(
           "render",
-          [](Camera& cam, py::object pose, py::object robots, bool grey) {
+          [](Camera& cam, PoseArg pose, py::object robots, bool grey) {
             const sim::Pose2 p = pose_from_python(pose, "pose");
             const std::vector<sim::RobotShape> others = robots_from_python(robots);
             const sim::CameraSpec& spec = cam.renderer.spec();
@@ -296,7 +296,7 @@ y), facing, and optionally size (0.3), height (0.6), label; or RobotWorld.rooms 
 
   m.def(
       "overview_camera",
-      [](py::object grid, double wall_height, int width, int height, double azimuth, double elevation, double fov,
+      [](MapArg grid, double wall_height, int width, int height, double azimuth, double elevation, double fov,
          int threshold, py::object target, py::object scale, py::object distance) {
         const sim::OccupancyGrid g = grid_from_python(grid);
         const sim::OverviewView v = view_from(width, height, azimuth, elevation, fov, 0.4, false, 1, target, scale, distance);
@@ -310,7 +310,7 @@ y), facing, and optionally size (0.3), height (0.6), label; or RobotWorld.rooms 
 
   m.def(
       "render_overview",
-      [](py::object grid, py::object markers, py::object robots, double wall_height, int width, int height, double azimuth,
+      [](MapArg grid, py::object markers, py::object robots, double wall_height, int width, int height, double azimuth,
          double elevation, double fov, double robot_height, bool labels, int supersample, int threshold, py::object target,
          py::object scale, py::object distance) {
         const sim::OccupancyGrid g = grid_from_python(grid);

@@ -21,7 +21,7 @@ void init_camera_generator(py::module_& m) {
       .def(py::init<int>(), py::arg("device"));
   py::class_<sim::SimulatedCamera, perception::ImageSource, std::shared_ptr<sim::SimulatedCamera>>(m, "SimulatedCamera",
       "The robot's view in the simulated world (see CameraRenderer), other robots included.")
-      .def(py::init([](std::shared_ptr<sim::PhysicsWorld> world, int robot, py::object grid, py::object markers,
+      .def(py::init([](std::shared_ptr<sim::PhysicsWorld> world, int robot, MapArg grid, py::object markers,
                        const sim::CameraSpec& spec, std::uint64_t seed) {
              auto renderer = std::make_shared<sim::CameraRenderer>(grid_from_python(grid), wall_markers_from_python(markers),
                                                                   spec, 50, seed);

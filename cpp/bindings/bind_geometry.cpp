@@ -12,7 +12,7 @@ namespace vwg::bindings {
 void init_geometry(py::module_& m) {
   m.def(
       "grid_clearance",
-      [](py::handle grid, double x, double y, double limit, int threshold, bool unknown) {
+      [](MapArg grid, double x, double y, double limit, int threshold, bool unknown) {
         return geometry::clearance(grid_from_python(grid), x, y, limit, threshold, unknown);
       },
       py::arg("grid"), py::arg("x"), py::arg("y"), py::arg("limit"), py::arg("threshold") = 50, py::arg("unknown") = true,
@@ -20,7 +20,7 @@ void init_geometry(py::module_& m) {
       "everything off the grid when `unknown`), capped at `limit`; 0 inside one.");
   m.def(
       "grid_inflate",
-      [](py::handle grid, double radius, int threshold, bool unknown) {
+      [](MapArg grid, double radius, int threshold, bool unknown) {
         const geometry::OccupancyGrid g = grid_from_python(grid);
         const geometry::BlockedGrid out =
             geometry::inflate(geometry::BlockedGrid::from_occupancy(g, threshold, unknown), radius / g.resolution, unknown);

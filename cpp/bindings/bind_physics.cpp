@@ -40,7 +40,7 @@ void init_physics(py::module_& m) {
 The Box2D world of the simulator: walls from an occupancy grid (merged into few rectangles) and
 differential-drive robots (vwg.RobotSettings) that execute motion plans under speed and acceleration
 limits, stepped at the fixed time step of `settings`.)doc")
-      .def(py::init([](py::object grid, const std::vector<sim::RobotSettings>& robots, const sim::PhysicsSettings& settings) {
+      .def(py::init([](MapArg grid, const std::vector<sim::RobotSettings>& robots, const sim::PhysicsSettings& settings) {
              return std::make_shared<sim::PhysicsWorld>(grid_from_python(grid), robots, settings);
            }),
            py::arg("grid"), py::arg("robots"), py::arg("settings") = sim::PhysicsSettings{})

@@ -21,27 +21,28 @@ namespace vwg::bindings {
 
 namespace {
 
-bool accept_any(PyObject*) { return true; }
-
-/// An argument taken as any Python object and checked here, so that a bad one raises
-/// vwg.SchemaError naming it rather than pybind11's TypeError; `Tag` only gives signatures and
-/// stubs the type the argument should have (see handle_type_name below).
-template <class Tag>
-class LooseArg : public py::object {
- public:
-  PYBIND11_OBJECT_DEFAULT(LooseArg, py::object, accept_any)
+struct MaskTag {
+  static constexpr auto name = py::detail::const_name("numpy.typing.NDArray[numpy.bool_]");
 };
-
-struct MaskTag {};
-struct CellTag {};
-struct CellsTag {};
-struct PoseTag {};
-struct RealTag {};
-struct IntTag {};
+struct CellTag {
+  static constexpr auto name = py::detail::const_name("tuple[int, int]");
+};
+struct CellsTag {
+  static constexpr auto name = py::detail::const_name("collections.abc.Iterable[tuple[int, int]]");
+};
+struct PlanPoseTag {
+  static constexpr auto name = py::detail::const_name("tuple[float, float] | tuple[float, float, float]");
+};
+struct RealTag {
+  static constexpr auto name = py::detail::const_name("float");
+};
+struct IntTag {
+  static constexpr auto name = py::detail::const_name("int");
+};
 using MaskArg = LooseArg<MaskTag>;
 using CellArg = LooseArg<CellTag>;
 using CellsArg = LooseArg<CellsTag>;
-using PoseArg = LooseArg<PoseTag>;
+using PlanPoseArg = LooseArg<PlanPoseTag>;
 using RealArg = LooseArg<RealTag>;
 using IntArg = LooseArg<IntTag>;
 
@@ -52,32 +53,7 @@ using PathResult = py::typing::Tuple<py::typing::Optional<py::typing::List<py::t
 
 }  // namespace vwg::bindings
 
-namespace pybind11::detail {
-template <>
-struct handle_type_name<vwg::bindings::MaskArg> {
-  static constexpr auto name = const_name("numpy.typing.NDArray[numpy.bool_]");
-};
-template <>
-struct handle_type_name<vwg::bindings::CellArg> {
-  static constexpr auto name = const_name("tuple[int, int]");
-};
-template <>
-struct handle_type_name<vwg::bindings::CellsArg> {
-  static constexpr auto name = const_name("collections.abc.Iterable[tuple[int, int]]");
-};
-template <>
-struct handle_type_name<vwg::bindings::PoseArg> {
-  static constexpr auto name = const_name("tuple[float, float] | tuple[float, float, float]");
-};
-template <>
-struct handle_type_name<vwg::bindings::RealArg> {
-  static constexpr auto name = const_name("float");
-};
-template <>
-struct handle_type_name<vwg::bindings::IntArg> {
-  static constexpr auto name = const_name("int");
-};
-}  // namespace pybind11::detail
+
 
 namespace vwg::bindings {
 
@@ -367,7 +343,7 @@ vwg.OccupancyGrid (flip an image-ordered mask with mask[::-1]); resolution: metr
 (x, y) or (x, y, yaw) of the lower-left corner of cell (0, 0) in the world frame; robot_radius: metres.
 A pose is valid when the robot's disc stays strictly clear of blocked cells and inside the map;
 motions are checked exactly (no sampling), so paths never cross or graze an obstacle.)doc")
-      .def(py::init([](MaskArg blocked, RealArg resolution, PoseArg origin, RealArg robot_radius) {
+      .def(py::init([](MaskArg blocked, RealArg resolution, PlanPoseArg origin, RealArg robot_radius) {
              geometry::BlockedGrid grid = blocked_from_python(blocked, "blocked");
              const double res = real_from_python(resolution, "resolution");
              const geometry::Pose2 o = pose_from_python(origin, "origin");
@@ -378,7 +354,7 @@ motions are checked exactly (no sampling), so paths never cross or graze an obst
            py::arg("blocked"), py::arg("resolution"), py::arg("origin"), py::arg("robot_radius"))
       .def(
           "plan",
-          [](const plan::OmplGridPlanner& self, PoseArg start_pose, PoseArg goal_pose, const std::string& planner,
+          [](const plan::OmplGridPlanner& self, PlanPoseArg start_pose, PlanPoseArg goal_pose, const std::string& planner,
              RealArg time_limit, IntArg seed, bool simplify, std::optional<RealArg> spacing, IntArg iterations) {
             const geometry::Pose2 s = pose_from_python(start_pose, "start_pose");
             const geometry::Pose2 g = pose_from_python(goal_pose, "goal_pose");
@@ -401,7 +377,7 @@ motions are checked exactly (no sampling), so paths never cross or graze an obst
 
   m.def(
       "plan_ompl",
-      [](MaskArg blocked, RealArg resolution, PoseArg origin, PoseArg start_pose, PoseArg goal_pose,
+      [](MaskArg blocked, RealArg resolution, PlanPoseArg origin, PlanPoseArg start_pose, PlanPoseArg goal_pose,
          RealArg robot_radius, const std::string& planner, RealArg time_limit, IntArg seed, bool simplify,
          std::optional<RealArg> spacing, IntArg iterations) {
         geometry::BlockedGrid grid = blocked_from_python(blocked, "blocked");

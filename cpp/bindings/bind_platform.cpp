@@ -71,7 +71,7 @@ std::vector<MotionStep> steps_from_python(py::handle steps) {
 
 void init_platform(py::module_& m) {
   py::class_<RobotState>(m, "RobotState", "A robot as a platform knows it after its last step.")
-      .def(py::init([](int id, py::object pose, py::object odometry, double radius, bool busy, std::uint64_t commands,
+      .def(py::init([](int id, PoseArg pose, py::object odometry, double radius, bool busy, std::uint64_t commands,
                        std::uint64_t collisions, double travelled, double speed, double turn_rate) {
              RobotState s;
              s.id = id;
@@ -107,7 +107,7 @@ void init_platform(py::module_& m) {
       });
 
   py::class_<Collision>(m, "Collision", "A robot touched a wall (other = 0) or another robot.")
-      .def(py::init([](int robot, int other, py::object pose, double time) {
+      .def(py::init([](int robot, int other, PoseArg pose, double time) {
              return Collision{robot, other, pose_from_python(pose, "pose"), time};
            }),
            py::arg("robot"), py::arg("other"), py::arg("pose") = py::make_tuple(0.0, 0.0, 0.0), py::arg("time") = 0.0)

@@ -18,7 +18,7 @@ void init_registries(py::module_& m) {
   m.def("platform_names", [] { return robot::platforms().names(); }, "The robot platforms registered in C++.");
   m.def(
       "create_platform",
-      [](const std::string& name, py::object grid, const std::vector<platform::RobotSettings>& robots,
+      [](const std::string& name, MapArg grid, const std::vector<platform::RobotSettings>& robots,
          const sim::PhysicsSettings& physics, const std::map<std::string, std::string>& options) {
         robot::PlatformSetup setup{grid_from_python(grid), robots, physics, options};
         return robot::platforms().create(name, setup);

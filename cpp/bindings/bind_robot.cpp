@@ -172,12 +172,12 @@ while running (order, from any thread: they go out at the next frame).)doc")
       .def(py::init<const Alphabet&, std::shared_ptr<const robot::OrderGenerator>, const std::string&>(),
            py::arg("alphabet"), py::arg("orders"), py::arg("actor") = "ARobot");
 
-  m.def("robot_map", [](py::object grid, bool knows_map) {
+  m.def("robot_map", [](MapArg grid, bool knows_map) {
          return std::const_pointer_cast<Blob>(std::shared_ptr<const Blob>(robot::make_robot_map(grid_from_python(grid), knows_map)));
        }, py::arg("grid"), py::arg("knows_map") = true,
        "A robot's grid (an int16 vwg.Blob): the known map (walls 100, free 0, unknown -1), or all free (eq. 13).");
 
-  m.def("add_arobot", [](Alphabet& alphabet, std::shared_ptr<robot::Decider> decider, py::object grid, py::dict rooms,
+  m.def("add_arobot", [](Alphabet& alphabet, std::shared_ptr<robot::Decider> decider, MapArg grid, py::dict rooms,
                          double radius, double margin, double goal_tolerance, double step_length, bool carve,
                          const std::string& name) {
          robot::ARobotConfig config;

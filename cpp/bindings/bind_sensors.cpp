@@ -38,7 +38,7 @@ void init_sensors(py::module_& m) {
   py::class_<sim::GridRaycaster, std::shared_ptr<sim::GridRaycaster>>(m, "GridRaycaster", R"doc(
 Exact raycasting over an occupancy grid (cells with a value >= threshold are obstacles): the
 simulated laser. ``cast`` gives the hit cell, face and entry point; ``scan`` many ranges at once.)doc")
-      .def(py::init([](py::object grid, int threshold) {
+      .def(py::init([](MapArg grid, int threshold) {
              return std::make_shared<sim::GridRaycaster>(grid_from_python(grid), threshold);
            }), py::arg("grid"), py::arg("threshold") = 50)
       .def("cast", [](const sim::GridRaycaster& r, double x, double y, double angle, double max_range) {
@@ -48,7 +48,7 @@ simulated laser. ``cast`` gives the hit cell, face and entry point; ``scan`` man
       .def("cast_dda", [](const sim::GridRaycaster& r, double x, double y, double angle, double max_range) {
              return hit_to_python(r.cast_dda(x, y, angle, max_range));
            }, py::arg("x"), py::arg("y"), py::arg("angle"), py::arg("max_range"), "The plain cell-walk reference of cast().")
-      .def("scan", [](const sim::GridRaycaster& r, py::object pose, py::array_t<double, py::array::c_style | py::array::forcecast> angles,
+      .def("scan", [](const sim::GridRaycaster& r, PoseArg pose, py::array_t<double, py::array::c_style | py::array::forcecast> angles,
                       double max_range) {
              const sim::Pose2 p = pose_from_python(pose, "pose");
              py::array_t<float> out(angles.size());

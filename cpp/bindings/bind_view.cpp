@@ -54,15 +54,16 @@ frame, the map, room markers, the robots displayed this frame at their true pose
 trajectories, the scans of the lasers and Kinects added, and the paths and beliefs set. Put it
 after the SimBackend in a BackendGroup. Frames go to a video (a FrameSink: vwg.VideoWriter writes MP4 H.264
 or GIF) and/or PNG files; without either nothing is drawn.)doc")
-      .def(py::init([](std::shared_ptr<sim::PhysicsWorld> world, std::optional<sim::RenderStyle> style, int width, int header) {
+      .def(py::init([](std::shared_ptr<platform::RobotPlatform> platform, MapArg grid, std::optional<sim::RenderStyle> style,
+                       int width, int header) {
              sim::RenderStyle s = style ? *style : sim::RenderStyle{};
              if (!style) {
                s.width = width;
                s.header = header;
              }
-             return std::make_shared<sim::SimView>(std::move(world), s);
+             return std::make_shared<sim::SimView>(std::move(platform), grid_from_python(grid), s);
            }),
-           py::arg("world"), py::arg("style") = py::none(), py::arg("width") = 800, py::arg("header") = 40)
+           py::arg("platform"), py::arg("grid"), py::arg("style") = py::none(), py::arg("width") = 800, py::arg("header") = 40)
       .def("add_laser", &sim::SimView::add_laser, py::arg("laser"))
       .def("add_kinect", &sim::SimView::add_kinect, py::arg("kinect"))
       .def("add_marker", &sim::SimView::add_marker, py::arg("x"), py::arg("y"), py::arg("facing"), py::arg("label"),

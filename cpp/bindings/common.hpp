@@ -97,3 +97,36 @@ std::string python_type_name(py::handle self);
 py::object python_class(const char* module, const char* name);
 
 }  // namespace vwg::bindings
+
+// --- arguments checked by the callee, typed for the stubs ---
+namespace vwg::bindings {
+
+inline bool accept_any(PyObject*) { return true; }
+
+/// An argument taken as any Python object and checked by the function, so that a bad one raises a
+/// vwg error naming it rather than pybind11's TypeError; `Tag::name` only gives signatures and
+/// stubs the type the argument should have (a map is any object with .data, .resolution and
+/// .origin, typed as vwg.maps.OccupancyGrid).
+template <class Tag>
+class LooseArg : public py::object {
+ public:
+  PYBIND11_OBJECT_DEFAULT(LooseArg, py::object, accept_any)
+};
+
+struct MapTag {
+  static constexpr auto name = py::detail::const_name("vwg.maps.OccupancyGrid");
+};
+struct PoseTag {
+  static constexpr auto name = py::detail::const_name("tuple[float, float, float]");
+};
+using MapArg = LooseArg<MapTag>;
+using PoseArg = LooseArg<PoseTag>;
+
+}  // namespace vwg::bindings
+
+namespace pybind11::detail {
+template <class Tag>
+struct handle_type_name<vwg::bindings::LooseArg<Tag>> {
+  static constexpr auto name = Tag::name;
+};
+}  // namespace pybind11::detail

@@ -53,6 +53,41 @@ Shown<M> shown(const M& v) {
   else return v;
 }
 
+/// How a setter's argument is typed in the stubs (the setter itself takes any object and names
+/// the field when it does not fit).
+template <class M>
+struct FieldTag {
+  static constexpr auto name = py::detail::make_caster<M>::name;  // a settings class: its Python name
+};
+template <>
+struct FieldTag<bool> {
+  static constexpr auto name = py::detail::const_name("bool");
+};
+template <>
+struct FieldTag<int> {
+  static constexpr auto name = py::detail::const_name("int");
+};
+template <>
+struct FieldTag<std::uint64_t> {
+  static constexpr auto name = py::detail::const_name("int");
+};
+template <>
+struct FieldTag<double> {
+  static constexpr auto name = py::detail::const_name("float");
+};
+template <>
+struct FieldTag<std::string> {
+  static constexpr auto name = py::detail::const_name("str");
+};
+template <>
+struct FieldTag<geometry::Pose2> {
+  static constexpr auto name = py::detail::const_name("tuple[float, float, float]");
+};
+template <>
+struct FieldTag<std::vector<std::string>> {
+  static constexpr auto name = py::detail::const_name("collections.abc.Sequence[str]");
+};
+
 /// A value's type and text, for "expected ..., got float 1e9".
 inline std::string got(py::handle h) {
   return std::string(py::str(py::type::of(h).attr("__name__"))) + " " + std::string(py::repr(h));
@@ -210,7 +245,7 @@ py::class_<T> bind(py::module_& m, const char* name, const std::string& doc) {
           });
           return out;
         },
-        [key, owner = std::string(name)](T& s, py::handle value) {
+        [key, owner = std::string(name)](T& s, const LooseArg<FieldTag<M>>& value) {
           visit_settings(s, [&](const char* f, auto& v, const char*) {
             if (key == f) from_python(value, v, owner + "." + key);
           });

@@ -11,9 +11,10 @@
 
 namespace vwg::sim {
 
-SimView::SimView(std::shared_ptr<const PhysicsWorld> world, RenderStyle style, platform::MotionSymbols symbols)
-    : world_(std::move(world)), renderer_(world_ ? world_->grid() : OccupancyGrid{}, style), motion_(std::move(symbols)) {
-  if (!world_) throw Error("SimView: no physics world");
+SimView::SimView(std::shared_ptr<const platform::RobotPlatform> platform, OccupancyGrid grid, RenderStyle style,
+                 platform::MotionSymbols symbols)
+    : world_(std::move(platform)), grid_(std::move(grid)), renderer_(grid_, style), motion_(std::move(symbols)) {
+  if (!world_) throw Error("SimView: no robot platform");
 }
 
 void SimView::add_marker(double x, double y, double facing, std::string label, int tag_id) {
@@ -25,7 +26,7 @@ void SimView::set_belief(int robot, std::vector<std::int8_t> cells) {
     beliefs_.erase(robot);
     return;
   }
-  const auto& g = world_->grid();
+  const auto& g = grid_;
   if (cells.size() != g.data.size()) throw SchemaError("belief", "expected one value per map cell");
   beliefs_[robot] = std::move(cells);
 }

@@ -8,6 +8,7 @@ import numpy
 import numpy.typing
 import os
 import typing
+import vwg.maps
 __all__: list[str] = ['ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'ArrivalCondition', 'Backend', 'BackendGroup', 'Blob', 'CameraGenerator', 'CameraRenderer', 'CameraSpec', 'Collision', 'CollisionGenerator', 'DStarLite', 'Decider', 'DecisionInput', 'DepthCameraSpec', 'Engine', 'Event', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'FrameSink', 'Generator', 'GridDecider', 'GridRaycaster', 'ImageFiles', 'ImageSequence', 'ImageSource', 'KinectGenerator', 'LaserGenerator', 'LaserSpec', 'MotionBackend', 'Node', 'NoiseModel', 'NullBackend', 'OdometryGenerator', 'OmplDecider', 'OmplPlan', 'OmplPlanner', 'OrderGenerator', 'OverviewCamera', 'PhysicsSettings', 'PhysicsWorld', 'PythonActor', 'RandomDecider', 'RangeScanner', 'RenderStyle', 'RobotPlatform', 'RobotSettings', 'RobotState', 'SimView', 'SimulatedCamera', 'StopCondition', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoSource', 'add_arobot', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'arobot_event_types', 'astar', 'backend_names', 'build_string', 'create_backend', 'create_decider', 'create_platform', 'create_sensor', 'decider_names', 'detect_apriltags', 'display', 'estimate_tag_pose', 'evolve', 'grid_clearance', 'grid_inflate', 'overview_camera', 'plan_ompl', 'platform_names', 'ranging_sensors', 'read_image', 'render_overview', 'robot_map', 'sensor_names', 'set_log_sink', 'visualize', 'walker_behavior', 'write_image']
 class Blob:
     """
@@ -396,7 +397,7 @@ class LaserSpec:
         rays per scan (int)
         """
     @beams.setter
-    def beams(self, arg1: typing.Any) -> None:
+    def beams(self, arg1: int) -> None:
         ...
     @property
     def fov(self) -> float:
@@ -404,7 +405,7 @@ class LaserSpec:
         field of view, radians, centred ahead (2π: a full circle) (float)
         """
     @fov.setter
-    def fov(self, arg1: typing.Any) -> None:
+    def fov(self, arg1: float) -> None:
         ...
     @property
     def max_range(self) -> float:
@@ -412,7 +413,7 @@ class LaserSpec:
         metres (float)
         """
     @max_range.setter
-    def max_range(self, arg1: typing.Any) -> None:
+    def max_range(self, arg1: float) -> None:
         ...
     @property
     def min_range(self) -> float:
@@ -420,7 +421,7 @@ class LaserSpec:
         nearer returns are dropped, metres (float)
         """
     @min_range.setter
-    def min_range(self, arg1: typing.Any) -> None:
+    def min_range(self, arg1: float) -> None:
         ...
     @property
     def noise(self) -> float:
@@ -428,7 +429,7 @@ class LaserSpec:
         standard deviation of each range, metres (float)
         """
     @noise.setter
-    def noise(self, arg1: typing.Any) -> None:
+    def noise(self, arg1: float) -> None:
         ...
 class DepthCameraSpec:
     """
@@ -490,7 +491,7 @@ class DepthCameraSpec:
         image height, pixels (int)
         """
     @height.setter
-    def height(self, arg1: typing.Any) -> None:
+    def height(self, arg1: int) -> None:
         ...
     @property
     def hfov(self) -> float:
@@ -498,7 +499,7 @@ class DepthCameraSpec:
         horizontal field of view, radians (float)
         """
     @hfov.setter
-    def hfov(self, arg1: typing.Any) -> None:
+    def hfov(self, arg1: float) -> None:
         ...
     @property
     def max_range(self) -> float:
@@ -506,7 +507,7 @@ class DepthCameraSpec:
         metres (float)
         """
     @max_range.setter
-    def max_range(self, arg1: typing.Any) -> None:
+    def max_range(self, arg1: float) -> None:
         ...
     @property
     def min_range(self) -> float:
@@ -514,7 +515,7 @@ class DepthCameraSpec:
         nearer depths are invalid (the blind zone), metres (float)
         """
     @min_range.setter
-    def min_range(self, arg1: typing.Any) -> None:
+    def min_range(self, arg1: float) -> None:
         ...
     @property
     def mount_height(self) -> float:
@@ -522,7 +523,7 @@ class DepthCameraSpec:
         optical centre above the floor, metres (float)
         """
     @mount_height.setter
-    def mount_height(self, arg1: typing.Any) -> None:
+    def mount_height(self, arg1: float) -> None:
         ...
     @property
     def noise(self) -> bool:
@@ -530,7 +531,7 @@ class DepthCameraSpec:
         axial noise noise_a + noise_b·(z - 0.4)² on or off (bool)
         """
     @noise.setter
-    def noise(self, arg1: typing.Any) -> None:
+    def noise(self, arg1: bool) -> None:
         ...
     @property
     def noise_a(self) -> float:
@@ -538,7 +539,7 @@ class DepthCameraSpec:
         metres (float)
         """
     @noise_a.setter
-    def noise_a(self, arg1: typing.Any) -> None:
+    def noise_a(self, arg1: float) -> None:
         ...
     @property
     def noise_b(self) -> float:
@@ -546,7 +547,7 @@ class DepthCameraSpec:
         metres per square metre (float)
         """
     @noise_b.setter
-    def noise_b(self, arg1: typing.Any) -> None:
+    def noise_b(self, arg1: float) -> None:
         ...
     @property
     def robot_height(self) -> float:
@@ -554,7 +555,7 @@ class DepthCameraSpec:
         other robots are cylinders this tall, metres (float)
         """
     @robot_height.setter
-    def robot_height(self, arg1: typing.Any) -> None:
+    def robot_height(self, arg1: float) -> None:
         ...
     @property
     def scan_rows(self) -> int:
@@ -562,7 +563,7 @@ class DepthCameraSpec:
         rows around the centre turned into the scan (int)
         """
     @scan_rows.setter
-    def scan_rows(self, arg1: typing.Any) -> None:
+    def scan_rows(self, arg1: int) -> None:
         ...
     @property
     def wall_height(self) -> float:
@@ -570,7 +571,7 @@ class DepthCameraSpec:
         walls and ceiling, metres (float)
         """
     @wall_height.setter
-    def wall_height(self, arg1: typing.Any) -> None:
+    def wall_height(self, arg1: float) -> None:
         ...
     @property
     def width(self) -> int:
@@ -578,7 +579,7 @@ class DepthCameraSpec:
         image width, pixels (int)
         """
     @width.setter
-    def width(self, arg1: typing.Any) -> None:
+    def width(self, arg1: int) -> None:
         ...
 class CameraSpec:
     """
@@ -636,7 +637,7 @@ class CameraSpec:
         Gaussian blur sigma, pixels (float)
         """
     @blur.setter
-    def blur(self, arg1: typing.Any) -> None:
+    def blur(self, arg1: float) -> None:
         ...
     @property
     def height(self) -> int:
@@ -644,7 +645,7 @@ class CameraSpec:
         image height, pixels (int)
         """
     @height.setter
-    def height(self, arg1: typing.Any) -> None:
+    def height(self, arg1: int) -> None:
         ...
     @property
     def hfov(self) -> float:
@@ -652,7 +653,7 @@ class CameraSpec:
         horizontal field of view, radians (float)
         """
     @hfov.setter
-    def hfov(self, arg1: typing.Any) -> None:
+    def hfov(self, arg1: float) -> None:
         ...
     @property
     def mount_height(self) -> float:
@@ -660,7 +661,7 @@ class CameraSpec:
         optical centre above the floor, metres (float)
         """
     @mount_height.setter
-    def mount_height(self, arg1: typing.Any) -> None:
+    def mount_height(self, arg1: float) -> None:
         ...
     @property
     def noise(self) -> float:
@@ -668,7 +669,7 @@ class CameraSpec:
         standard deviation of the added pixel noise, grey levels (0..255) (float)
         """
     @noise.setter
-    def noise(self, arg1: typing.Any) -> None:
+    def noise(self, arg1: float) -> None:
         ...
     @property
     def robot_height(self) -> float:
@@ -676,7 +677,7 @@ class CameraSpec:
         other robots are cylinders this tall, metres (float)
         """
     @robot_height.setter
-    def robot_height(self, arg1: typing.Any) -> None:
+    def robot_height(self, arg1: float) -> None:
         ...
     @property
     def wall_height(self) -> float:
@@ -684,7 +685,7 @@ class CameraSpec:
         walls and ceiling, metres (float)
         """
     @wall_height.setter
-    def wall_height(self, arg1: typing.Any) -> None:
+    def wall_height(self, arg1: float) -> None:
         ...
     @property
     def width(self) -> int:
@@ -692,7 +693,7 @@ class CameraSpec:
         image width, pixels (int)
         """
     @width.setter
-    def width(self, arg1: typing.Any) -> None:
+    def width(self, arg1: int) -> None:
         ...
 class RobotSettings:
     """
@@ -750,7 +751,7 @@ class RobotSettings:
         the robot's id, >= 1: events are addressed to it (int)
         """
     @id.setter
-    def id(self, arg1: typing.Any) -> None:
+    def id(self, arg1: int) -> None:
         ...
     @property
     def max_accel(self) -> float:
@@ -758,7 +759,7 @@ class RobotSettings:
         m/s² (float)
         """
     @max_accel.setter
-    def max_accel(self, arg1: typing.Any) -> None:
+    def max_accel(self, arg1: float) -> None:
         ...
     @property
     def max_speed(self) -> float:
@@ -766,7 +767,7 @@ class RobotSettings:
         m/s (float)
         """
     @max_speed.setter
-    def max_speed(self, arg1: typing.Any) -> None:
+    def max_speed(self, arg1: float) -> None:
         ...
     @property
     def max_turn_accel(self) -> float:
@@ -774,7 +775,7 @@ class RobotSettings:
         rad/s² (float)
         """
     @max_turn_accel.setter
-    def max_turn_accel(self, arg1: typing.Any) -> None:
+    def max_turn_accel(self, arg1: float) -> None:
         ...
     @property
     def max_turn_rate(self) -> float:
@@ -782,7 +783,7 @@ class RobotSettings:
         rad/s (float)
         """
     @max_turn_rate.setter
-    def max_turn_rate(self, arg1: typing.Any) -> None:
+    def max_turn_rate(self, arg1: float) -> None:
         ...
     @property
     def radius(self) -> float:
@@ -790,7 +791,7 @@ class RobotSettings:
         metres (float)
         """
     @radius.setter
-    def radius(self, arg1: typing.Any) -> None:
+    def radius(self, arg1: float) -> None:
         ...
     @property
     def sensors(self) -> tuple:
@@ -798,7 +799,7 @@ class RobotSettings:
         the sensors it carries, by registered name (laser, kinect, camera, ...) (tuple[str, ...])
         """
     @sensors.setter
-    def sensors(self, arg1: typing.Any) -> None:
+    def sensors(self, arg1: collections.abc.Sequence[str]) -> None:
         ...
     @property
     def start(self) -> tuple[float, float, float]:
@@ -806,7 +807,7 @@ class RobotSettings:
         start pose (x, y, yaw): metres, metres, radians (tuple[float, float, float])
         """
     @start.setter
-    def start(self, arg1: typing.Any) -> None:
+    def start(self, arg1: tuple[float, float, float]) -> None:
         ...
 class NoiseModel:
     """
@@ -858,7 +859,7 @@ class NoiseModel:
         relative standard deviation of each commanded turn and drive (float)
         """
     @motors.setter
-    def motors(self, arg1: typing.Any) -> None:
+    def motors(self, arg1: float) -> None:
         ...
     @property
     def odometry(self) -> float:
@@ -866,7 +867,7 @@ class NoiseModel:
         standard deviation of the odometry's drift, per metre and per radian (float)
         """
     @odometry.setter
-    def odometry(self, arg1: typing.Any) -> None:
+    def odometry(self, arg1: float) -> None:
         ...
 class PhysicsSettings:
     """
@@ -923,7 +924,7 @@ class PhysicsSettings:
         motor and odometry noise (NoiseModel)
         """
     @noise.setter
-    def noise(self, arg1: typing.Any) -> None:
+    def noise(self, arg1: NoiseModel) -> None:
         ...
     @property
     def obstacle_threshold(self) -> int:
@@ -931,7 +932,7 @@ class PhysicsSettings:
         grid values >= this are walls (int)
         """
     @obstacle_threshold.setter
-    def obstacle_threshold(self, arg1: typing.Any) -> None:
+    def obstacle_threshold(self, arg1: int) -> None:
         ...
     @property
     def position_iterations(self) -> int:
@@ -939,7 +940,7 @@ class PhysicsSettings:
         Box2D's position iterations per step (int)
         """
     @position_iterations.setter
-    def position_iterations(self, arg1: typing.Any) -> None:
+    def position_iterations(self, arg1: int) -> None:
         ...
     @property
     def seed(self) -> int:
@@ -947,7 +948,7 @@ class PhysicsSettings:
         seed of the noise (int)
         """
     @seed.setter
-    def seed(self, arg1: typing.Any) -> None:
+    def seed(self, arg1: int) -> None:
         ...
     @property
     def step(self) -> float:
@@ -955,7 +956,7 @@ class PhysicsSettings:
         fixed time step of Box2D, seconds (float)
         """
     @step.setter
-    def step(self, arg1: typing.Any) -> None:
+    def step(self, arg1: float) -> None:
         ...
     @property
     def velocity_iterations(self) -> int:
@@ -963,7 +964,7 @@ class PhysicsSettings:
         Box2D's velocity iterations per step (int)
         """
     @velocity_iterations.setter
-    def velocity_iterations(self, arg1: typing.Any) -> None:
+    def velocity_iterations(self, arg1: int) -> None:
         ...
     @property
     def walls_at_border(self) -> bool:
@@ -971,13 +972,13 @@ class PhysicsSettings:
         a wall around the map, so robots cannot leave it (bool)
         """
     @walls_at_border.setter
-    def walls_at_border(self, arg1: typing.Any) -> None:
+    def walls_at_border(self, arg1: bool) -> None:
         ...
 class RobotState:
     """
     A robot as a platform knows it after its last step.
     """
-    def __init__(self, id: typing.SupportsInt | typing.SupportsIndex, pose: typing.Any, odometry: typing.Any = None, *, radius: typing.SupportsFloat | typing.SupportsIndex = 0.18, busy: bool = False, commands: typing.SupportsInt | typing.SupportsIndex = 0, collisions: typing.SupportsInt | typing.SupportsIndex = 0, travelled: typing.SupportsFloat | typing.SupportsIndex = 0.0, speed: typing.SupportsFloat | typing.SupportsIndex = 0.0, turn_rate: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
+    def __init__(self, id: typing.SupportsInt | typing.SupportsIndex, pose: tuple[float, float, float], odometry: typing.Any = None, *, radius: typing.SupportsFloat | typing.SupportsIndex = 0.18, busy: bool = False, commands: typing.SupportsInt | typing.SupportsIndex = 0, collisions: typing.SupportsInt | typing.SupportsIndex = 0, travelled: typing.SupportsFloat | typing.SupportsIndex = 0.0, speed: typing.SupportsFloat | typing.SupportsIndex = 0.0, turn_rate: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
         ...
     def __repr__(self) -> str:
         ...
@@ -1025,7 +1026,7 @@ class Collision:
     """
     A robot touched a wall (other = 0) or another robot.
     """
-    def __init__(self, robot: typing.SupportsInt | typing.SupportsIndex, other: typing.SupportsInt | typing.SupportsIndex, pose: typing.Any = (0.0, 0.0, 0.0), time: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
+    def __init__(self, robot: typing.SupportsInt | typing.SupportsIndex, other: typing.SupportsInt | typing.SupportsIndex, pose: tuple[float, float, float] = (0.0, 0.0, 0.0), time: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
         ...
     @property
     def other(self) -> int:
@@ -1223,7 +1224,7 @@ class PhysicsWorld(RobotPlatform):
     differential-drive robots (vwg.RobotSettings) that execute motion plans under speed and acceleration
     limits, stepped at the fixed time step of `settings`.
     """
-    def __init__(self, grid: typing.Any, robots: collections.abc.Sequence[RobotSettings], settings: PhysicsSettings = ...) -> None:
+    def __init__(self, grid: vwg.maps.OccupancyGrid, robots: collections.abc.Sequence[RobotSettings], settings: PhysicsSettings = ...) -> None:
         ...
     @property
     def wall_shapes(self) -> int:
@@ -1772,7 +1773,7 @@ class GridRaycaster:
     Exact raycasting over an occupancy grid (cells with a value >= threshold are obstacles): the
     simulated laser. ``cast`` gives the hit cell, face and entry point; ``scan`` many ranges at once.
     """
-    def __init__(self, grid: typing.Any, threshold: typing.SupportsInt | typing.SupportsIndex = 50) -> None:
+    def __init__(self, grid: vwg.maps.OccupancyGrid, threshold: typing.SupportsInt | typing.SupportsIndex = 50) -> None:
         ...
     def cast(self, x: typing.SupportsFloat | typing.SupportsIndex, y: typing.SupportsFloat | typing.SupportsIndex, angle: typing.SupportsFloat | typing.SupportsIndex, max_range: typing.SupportsFloat | typing.SupportsIndex) -> dict:
         """
@@ -1782,7 +1783,7 @@ class GridRaycaster:
         """
         The plain cell-walk reference of cast().
         """
-    def scan(self, pose: typing.Any, angles: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], max_range: typing.SupportsFloat | typing.SupportsIndex) -> numpy.typing.NDArray[numpy.float32]:
+    def scan(self, pose: tuple[float, float, float], angles: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], max_range: typing.SupportsFloat | typing.SupportsIndex) -> numpy.typing.NDArray[numpy.float32]:
         """
         Ranges (float32) from pose (x, y, yaw) along yaw + each angle.
         """
@@ -1867,7 +1868,7 @@ class SimView(Backend):
     after the SimBackend in a BackendGroup. Frames go to a video (a FrameSink: vwg.VideoWriter writes MP4 H.264
     or GIF) and/or PNG files; without either nothing is drawn.
     """
-    def __init__(self, world: PhysicsWorld, style: RenderStyle | None = None, width: typing.SupportsInt | typing.SupportsIndex = 800, header: typing.SupportsInt | typing.SupportsIndex = 40) -> None:
+    def __init__(self, platform: RobotPlatform, grid: vwg.maps.OccupancyGrid, style: RenderStyle | None = None, width: typing.SupportsInt | typing.SupportsIndex = 800, header: typing.SupportsInt | typing.SupportsIndex = 40) -> None:
         ...
     def add_kinect(self, kinect: KinectGenerator) -> None:
         ...
@@ -2176,7 +2177,7 @@ class CameraRenderer:
     markers: a list of dicts or objects (vwg.robotworld.Room) with id (or marker), at=(x, y) (or x and
     y), facing, and optionally size (0.3), height (0.6), label; or RobotWorld.rooms (a dict).
     """
-    def __init__(self, grid: typing.Any, markers: typing.Any = [], spec: CameraSpec = ..., seed: typing.SupportsInt | typing.SupportsIndex = 0, threshold: typing.SupportsInt | typing.SupportsIndex = 50) -> None:
+    def __init__(self, grid: vwg.maps.OccupancyGrid, markers: typing.Any = [], spec: CameraSpec = ..., seed: typing.SupportsInt | typing.SupportsIndex = 0, threshold: typing.SupportsInt | typing.SupportsIndex = 50) -> None:
         ...
     def __repr__(self) -> str:
         ...
@@ -2184,7 +2185,7 @@ class CameraRenderer:
         """
         (fx, fy, cx, cy) for vwg.estimate_tag_pose on these images: the detector puts pixel centres at +0.5, so cx, cy are this camera's + 0.5.
         """
-    def render(self, pose: typing.Any, robots: typing.Any = [], grey: bool = False) -> numpy.typing.NDArray[numpy.uint8]:
+    def render(self, pose: tuple[float, float, float], robots: typing.Any = [], grey: bool = False) -> numpy.typing.NDArray[numpy.uint8]:
         """
         The image seen from pose (x, y, yaw): H×W×3 uint8 RGB, or H×W uint8 grey (the luma) with grey=True. robots: the other robots (vwg.RobotState, RobotSpec, or dicts with pose and radius, optional id for the colour); a robot whose cylinder holds the camera is skipped. Releases the GIL.
         """
@@ -2315,7 +2316,7 @@ class SimulatedCamera(ImageSource):
     """
     The robot's view in the simulated world (see CameraRenderer), other robots included.
     """
-    def __init__(self, world: PhysicsWorld, robot: typing.SupportsInt | typing.SupportsIndex, grid: typing.Any, markers: typing.Any, spec: CameraSpec = ..., seed: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
+    def __init__(self, world: PhysicsWorld, robot: typing.SupportsInt | typing.SupportsIndex, grid: vwg.maps.OccupancyGrid, markers: typing.Any, spec: CameraSpec = ..., seed: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
         ...
     def apriltag_intrinsics(self) -> tuple[float, float, float, float]:
         """
@@ -2343,7 +2344,7 @@ class CameraGenerator(Generator):
     @property
     def robot(self) -> int:
         ...
-def add_arobot(alphabet: Alphabet, decider: Decider, grid: typing.Any, rooms: dict, radius: typing.SupportsFloat | typing.SupportsIndex = 0.18, margin: typing.SupportsFloat | typing.SupportsIndex = 0.07, goal_tolerance: typing.SupportsFloat | typing.SupportsIndex = 0.25, step_length: typing.SupportsFloat | typing.SupportsIndex = 1.0, carve: bool = True, name: str = 'ARobot') -> None:
+def add_arobot(alphabet: Alphabet, decider: Decider, grid: vwg.maps.OccupancyGrid, rooms: dict, radius: typing.SupportsFloat | typing.SupportsIndex = 0.18, margin: typing.SupportsFloat | typing.SupportsIndex = 0.07, goal_tolerance: typing.SupportsFloat | typing.SupportsIndex = 0.25, step_length: typing.SupportsFloat | typing.SupportsIndex = 1.0, carve: bool = True, name: str = 'ARobot') -> None:
     """
     Register the actor type ARobot (paper eq. 11) with its decider. `grid` gives the map geometry,
     `rooms` the known rooms as {marker id: (x, y) goal}. The alphabet must already have the symbols
@@ -2392,7 +2393,7 @@ def create_decider(name: str) -> Decider:
     """
     A new decider by its C++ registered name (vwg.SchemaError listing the known ones otherwise).
     """
-def create_platform(name: str, grid: typing.Any, robots: collections.abc.Sequence[RobotSettings], physics: PhysicsSettings = ..., options: collections.abc.Mapping[str, str] = {}) -> RobotPlatform:
+def create_platform(name: str, grid: vwg.maps.OccupancyGrid, robots: collections.abc.Sequence[RobotSettings], physics: PhysicsSettings = ..., options: collections.abc.Mapping[str, str] = {}) -> RobotPlatform:
     """
     A robot platform by its C++ registered name, with the map, the robots and the simulator's settings.
     """
@@ -2422,15 +2423,15 @@ def evolve(w: String, events: typing.Any, frame: typing.SupportsInt | typing.Sup
     """
     η(w, S) (paper eq. 8): every actor takes the events of S it responds to, in order.
     """
-def grid_clearance(grid: typing.Any, x: typing.SupportsFloat | typing.SupportsIndex, y: typing.SupportsFloat | typing.SupportsIndex, limit: typing.SupportsFloat | typing.SupportsIndex, threshold: typing.SupportsInt | typing.SupportsIndex = 50, unknown: bool = True) -> float:
+def grid_clearance(grid: vwg.maps.OccupancyGrid, x: typing.SupportsFloat | typing.SupportsIndex, y: typing.SupportsFloat | typing.SupportsIndex, limit: typing.SupportsFloat | typing.SupportsIndex, threshold: typing.SupportsInt | typing.SupportsIndex = 50, unknown: bool = True) -> float:
     """
     Distance (m) from the world point (x, y) to the nearest cell of value >= threshold (and unknown cells and everything off the grid when `unknown`), capped at `limit`; 0 inside one.
     """
-def grid_inflate(grid: typing.Any, radius: typing.SupportsFloat | typing.SupportsIndex, threshold: typing.SupportsInt | typing.SupportsIndex = 50, unknown: bool = True) -> numpy.typing.NDArray[numpy.bool]:
+def grid_inflate(grid: vwg.maps.OccupancyGrid, radius: typing.SupportsFloat | typing.SupportsIndex, threshold: typing.SupportsInt | typing.SupportsIndex = 50, unknown: bool = True) -> numpy.typing.NDArray[numpy.bool]:
     """
     Boolean mask of the cells whose centre is within `radius` metres (inclusive) of a cell of value >= threshold (and of unknown cells and the grid's edge when `unknown`): where a disc robot's centre may not be.
     """
-def overview_camera(grid: typing.Any, wall_height: typing.SupportsFloat | typing.SupportsIndex = 2.5, width: typing.SupportsInt | typing.SupportsIndex = 1000, height: typing.SupportsInt | typing.SupportsIndex = 700, azimuth: typing.SupportsFloat | typing.SupportsIndex = -1.9, elevation: typing.SupportsFloat | typing.SupportsIndex = 1.1, fov: typing.SupportsFloat | typing.SupportsIndex = 0.6, threshold: typing.SupportsInt | typing.SupportsIndex = 50, target: typing.Any = None, scale: typing.Any = None, distance: typing.Any = None) -> OverviewCamera:
+def overview_camera(grid: vwg.maps.OccupancyGrid, wall_height: typing.SupportsFloat | typing.SupportsIndex = 2.5, width: typing.SupportsInt | typing.SupportsIndex = 1000, height: typing.SupportsInt | typing.SupportsIndex = 700, azimuth: typing.SupportsFloat | typing.SupportsIndex = -1.9, elevation: typing.SupportsFloat | typing.SupportsIndex = 1.1, fov: typing.SupportsFloat | typing.SupportsIndex = 0.6, threshold: typing.SupportsInt | typing.SupportsIndex = 50, target: typing.Any = None, scale: typing.Any = None, distance: typing.Any = None) -> OverviewCamera:
     """
     The projection render_overview uses with these arguments (to draw over its image). azimuth: direction from the map's centre towards the eye, radians counter-clockwise from +x (-π/2: from the south). elevation: how steeply the eye looks down, radians (π/2: straight down). fov: horizontal field of view, radians; 0 = orthographic. Without target the view frames the map's free cells and their walls; with target (x, y[, z]) it aims there with scale pixels per metre (orthographic) or the eye distance metres away (perspective).
     """
@@ -2464,11 +2465,11 @@ def read_image(path: str) -> numpy.ndarray[typing.Any, numpy.dtype[typing.Any]]:
     """
     Read an image file (PNG, PGM, BMP, JPEG) as stored: uint8 or uint16, H×W, H×W×3 (RGB) or H×W×4 (RGBA).
     """
-def render_overview(grid: typing.Any, markers: typing.Any = [], robots: typing.Any = [], wall_height: typing.SupportsFloat | typing.SupportsIndex = 2.5, width: typing.SupportsInt | typing.SupportsIndex = 1000, height: typing.SupportsInt | typing.SupportsIndex = 700, azimuth: typing.SupportsFloat | typing.SupportsIndex = -1.9, elevation: typing.SupportsFloat | typing.SupportsIndex = 1.1, fov: typing.SupportsFloat | typing.SupportsIndex = 0.6, robot_height: typing.SupportsFloat | typing.SupportsIndex = 0.4, labels: bool = True, supersample: typing.SupportsInt | typing.SupportsIndex = 3, threshold: typing.SupportsInt | typing.SupportsIndex = 50, target: typing.Any = None, scale: typing.Any = None, distance: typing.Any = None) -> numpy.typing.NDArray[numpy.uint8]:
+def render_overview(grid: vwg.maps.OccupancyGrid, markers: typing.Any = [], robots: typing.Any = [], wall_height: typing.SupportsFloat | typing.SupportsIndex = 2.5, width: typing.SupportsInt | typing.SupportsIndex = 1000, height: typing.SupportsInt | typing.SupportsIndex = 700, azimuth: typing.SupportsFloat | typing.SupportsIndex = -1.9, elevation: typing.SupportsFloat | typing.SupportsIndex = 1.1, fov: typing.SupportsFloat | typing.SupportsIndex = 0.6, robot_height: typing.SupportsFloat | typing.SupportsIndex = 0.4, labels: bool = True, supersample: typing.SupportsInt | typing.SupportsIndex = 3, threshold: typing.SupportsInt | typing.SupportsIndex = 50, target: typing.Any = None, scale: typing.Any = None, distance: typing.Any = None) -> numpy.typing.NDArray[numpy.uint8]:
     """
     A 3D overview of a map (the paper's Fig. 5) as an H×W×3 uint8 RGB array: walls (cells >= threshold) extruded to wall_height and lit, the floor with their shadows and 1 m tiles, the markers (as for CameraRenderer) as their tags in an orange frame with their labels, robots (as for CameraRenderer.render) as cylinders in the 2D view's colours. azimuth: direction from the map's centre towards the eye, radians counter-clockwise from +x (-π/2: from the south). elevation: how steeply the eye looks down, radians (π/2: straight down). fov: horizontal field of view, radians; 0 = orthographic. Without target the view frames the map's free cells and their walls; with target (x, y[, z]) it aims there with scale pixels per metre (orthographic) or the eye distance metres away (perspective). supersample: rays per pixel side (1..4). Releases the GIL.
     """
-def robot_map(grid: typing.Any, knows_map: bool = True) -> Blob:
+def robot_map(grid: vwg.maps.OccupancyGrid, knows_map: bool = True) -> Blob:
     """
     A robot's grid (an int16 vwg.Blob): the known map (walls 100, free 0, unknown -1), or all free (eq. 13).
     """

@@ -148,6 +148,7 @@ class RunSummary:
     seed: int
     robots: list[RobotSummary] = field(default_factory=list)
     outputs: dict[str, str] = field(default_factory=dict)
+    faults: list[dict[str, Any]] = field(default_factory=list)  # a real robot's: watchdog stops, a lost link
 
     def to_json(self) -> dict[str, Any]:
         import dataclasses
@@ -261,6 +262,11 @@ class CaseStudy:
             # The end shows the state reached: π of the last string (an arrival decided in the last frame).
             final = _core.visualize(self.engine.string, [self.vworld.event("eExecute")])
             self.view.finish(self._hold, final)
+        if not self._closed:
+            # A real robot is sent a stop before its link closes, however the run ended.
+            close = getattr(self.sim, "close", None)
+            if callable(close):
+                close()
         self._closed = True
 
     def __enter__(self) -> CaseStudy:
@@ -293,7 +299,8 @@ class CaseStudy:
             world=self.world.name, planner=self.planner, reached=all(r.reached for r in ordered),
             frames=self.engine.frame, simulated_time_s=self.engine.time, wall_time_s=self.wall_time,
             path_length_m=sum(r.path_length_m for r in robots), collisions=sum(r.collisions for r in robots),
-            replans=sum(r.replans for r in robots), seed=self.seed, robots=robots, outputs=outputs)
+            replans=sum(r.replans for r in robots), seed=self.seed, robots=robots, outputs=outputs,
+            faults=[f.to_json() for f in getattr(self.sim.platform, "faults", [])])
 
     def save_trajectory(self, path: str | Path) -> None:
         """A PNG of the map with every robot's trajectory (full strength, no fading), its start
@@ -347,11 +354,18 @@ class RobotRun:
             world = dataclasses.replace(world, dt=options.dt)
         self.world = world
         self.options = options
-        extra = [lambda sim: backend_registry.create(options.backend, world=None)] if options.backend else []
+        shown = [lambda sim: backend_registry.create(options.backend, world=None)] if options.backend else []
         goals = _goals(options.goals, [r.id for r in world.robots])
+        # The platform: the world file's, or the one named; --url and --port are options of it.
+        spec = world.platform
+        if options.platform and options.platform != spec.kind:
+            spec = PlatformSpec(options.platform)
+        extra = {k: v for k, v in (("url", options.url), ("port", options.port)) if v is not None}
+        if extra:
+            spec = PlatformSpec(spec.kind, {**spec.options, **extra})
         self.case = CaseStudy(world, options.planner or "astar", goals=goals,
-                              platform=options.platform, seed=options.seed, frames=options.frames, video=options.video,
-                              images=options.images, max_symbols=options.max_symbols, backends=extra,
+                              platform=spec, seed=options.seed, frames=options.frames, video=options.video,
+                              images=options.images, max_symbols=options.max_symbols, backends=shown,
                               world_orders=False if options.no_world_orders else None)
         self.engine = self.case.engine
         self.record_data: dict[str, Any] = {"robot_world": str(Path(world.path).resolve()),
@@ -362,9 +376,18 @@ class RobotRun:
     kind = "robot"
 
     def execute(self, progress: bool | None = False) -> Any:
-        from .launch import EXIT_UNREACHED, Outcome
+        from .errors import FrameError
+        from .launch import EXIT_LINK_FAULT, EXIT_UNREACHED, Outcome
+        from .rosbridge import LinkError
 
-        summary = self.case.run(progress=progress)
+        link_fault = ""
+        try:
+            summary = self.case.run(progress=progress)
+        except FrameError as e:
+            if not isinstance(e.__cause__, LinkError):
+                raise
+            link_fault = str(e.__cause__)  # the frames up to the fault are recorded; the summary says what happened
+            summary = self.case.summary()
         options = self.options
         trajectory = options.trajectory or (Path(options.video).with_suffix(".png") if options.video else None)
         if trajectory:
@@ -389,7 +412,11 @@ class RobotRun:
             rows.append((f"robot {r.id}", f"{where}, {r.path_length_m:.2f} m, {r.collisions} collisions, "
                                            f"{r.replans} replans"))
         status, message = 0, ""
-        if not summary.reached and not options.allow_unreached:
+        for fault in summary.faults:
+            rows.append(("fault", f"{fault['time_s']:.2f} s, robot {fault['robot']}: {fault['what']}"))
+        if link_fault:
+            status, message = EXIT_LINK_FAULT, f"the run ended on a link fault: {link_fault}"
+        elif not summary.reached and not options.allow_unreached:
             missed = ", ".join(f"robot {r.id} ({r.room})" for r in summary.robots if r.room and not r.reached)
             status = EXIT_UNREACHED
             message = (f"not every order was reached: {missed}; exit status {EXIT_UNREACHED} "
@@ -412,8 +439,8 @@ class RobotKind:
 
     name = "robot"
     shape = "a mapping with map:, rooms: and robots:"
-    options = frozenset({"platform", "planner", "goals", "no_world_orders", "stdin_orders", "video", "images",
-                         "trajectory", "allow_unreached"})
+    options = frozenset({"platform", "url", "port", "planner", "goals", "no_world_orders", "stdin_orders", "video",
+                         "images", "trajectory", "allow_unreached"})
 
     def matches(self, data: dict[str, Any]) -> bool:
         return "map" in data

@@ -3,7 +3,8 @@ a world file, draw a robot world in 3D (``overview``), list the shipped ``worlds
 
 Exit status: 0 on success; 1 when a frame failed (an error in an actor, generator or backend); 2 for
 bad input (a file, an option); 3 when ``vwg run`` finished but a robot with an order did not reach
-its room (``--allow-unreached`` makes that 0); 130 when interrupted."""
+its room (``--allow-unreached`` makes that 0); 4 when a real robot's link failed (the robot was
+stopped first; the summary lists the faults); 130 when interrupted."""
 
 from __future__ import annotations
 
@@ -51,7 +52,8 @@ def _options(args: argparse.Namespace) -> Any:
 
     return RunOptions(frames=args.frames, seed=args.seed, dt=args.dt, max_symbols=args.max_symbols,
                       backend=args.backend, record=args.record, summary_json=args.summary_json,
-                      progress=args.progress, platform=args.platform, planner=args.planner, goals=args.goal,
+                      progress=args.progress, platform=args.platform, url=args.url, port=args.port,
+                      planner=args.planner, goals=args.goal,
                       no_world_orders=args.no_world_orders, stdin_orders=args.stdin_orders, video=args.video,
                       images=args.images, trajectory=args.trajectory, allow_unreached=args.allow_unreached)
 
@@ -157,8 +159,11 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--max-symbols", type=int, default=10_000_000,
                      help="fail if the string grows past this many symbols (default 10 000 000; 0: no limit)")
     robot = run.add_argument_group("robot worlds (the case study: world files that name a map)")
-    robot.add_argument("--platform", help="where the robots run (default: the world file's platform:, else sim, "
-                                           "the Box2D simulator)")
+    robot.add_argument("--platform", help="where the robots run: sim (the Box2D simulator), rosbridge (a ROS "
+                                           "robot through its rosbridge server) (default: the world file's "
+                                           "platform:, else sim)")
+    robot.add_argument("--url", help="the rosbridge server of --platform rosbridge (ws://HOST:PORT)")
+    robot.add_argument("--port", help="the serial port of --platform serial (/dev/ttyUSB0, socket://HOST:PORT)")
     robot.add_argument("--planner",
                        help="the decision inside eDecide: random, astar, dstar, rrtconnect, rrtstar, prm "
                             "(default astar)")

@@ -25,11 +25,13 @@ from typing import Any, Protocol
 from . import _core
 from .errors import Error
 
-__all__ = ["COMMON_OPTIONS", "EXIT_UNREACHED", "Outcome", "Run", "RunOptions", "WorldKind", "describe", "kind_of",
-           "load", "replay_world", "start", "strict_json"]
+__all__ = ["COMMON_OPTIONS", "EXIT_LINK_FAULT", "EXIT_UNREACHED", "Outcome", "Run", "RunOptions", "WorldKind",
+           "describe", "kind_of", "load", "replay_world", "start", "strict_json"]
 
 #: Exit status of a run that finished with a robot short of the room it was sent to.
 EXIT_UNREACHED = 3
+#: Exit status of a run a real robot's link ended (the robot was stopped; the faults are in the summary).
+EXIT_LINK_FAULT = 4
 
 
 @dataclass
@@ -47,6 +49,8 @@ class RunOptions:
     progress: bool | None = False
     # the robot case study
     platform: str | None = None
+    url: str | None = None            # the rosbridge server of a real robot (ws://HOST:PORT)
+    port: str | None = None           # the serial port of a real base (/dev/ttyUSB0, socket://HOST:PORT)
     planner: str | None = None
     goals: list[str] | None = None    # "ROOM" (the first robot) or "ROBOT:ROOM"; replace the file's orders
     no_world_orders: bool = False

@@ -107,6 +107,22 @@ def _register_builtins() -> None:
 
     platforms.register("sim", simulator)
 
+    def rosbridge(world: Any, seed: int, options: dict[str, Any]) -> Any:
+        from .real_robots import RealRobots
+        from .rosbridge_platform import OPTIONS, RosbridgePlatform
+
+        unknown = sorted(set(options) - set(OPTIONS))
+        if unknown:
+            raise SchemaError(f"platform rosbridge: unknown option(s) {', '.join(unknown)} "
+                              f"(known: {', '.join(OPTIONS)})")
+        if not isinstance(options.get("url"), str):
+            raise SchemaError("platform rosbridge: url: missing (ws://HOST:PORT, or --url)")
+        numbers = {k: float(options[k]) for k in ("watchdog", "reconnect", "control_rate") if k in options}
+        platform = RosbridgePlatform(list(world.robots), options["url"], topics=options.get("topics"), **numbers)
+        return RealRobots(world, platform)
+
+    platforms.register("rosbridge", rosbridge)
+
     ranging = set(_core.ranging_sensors())
     for name in _core.sensor_names():
         def make(platform: Any, alphabet: Any, robot: int, name: str = name) -> Any:

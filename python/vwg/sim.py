@@ -131,7 +131,7 @@ class Simulation:
         """A backend drawing the simulation: map, markers, robots, scans of the sensors made so far,
         trajectories; recording to `video` (MP4/GIF, a vwg.VideoWriter at `fps`, by default the world's frame
         rate) and/or PNG files in `images`."""
-        view = _core.SimView(self.physics, width=width)
+        view = _core.SimView(self.physics, self.world.grid, width=width)
         for room in self.world.rooms.values():
             view.add_marker(room.at[0], room.at[1], room.facing, room.name, room.marker)
         for laser in self.lasers:

@@ -428,7 +428,7 @@ std::shared_ptr<PhysicsWorld> one_robot_world() {
 
 TEST(SimViewSink, EveryFrameThenTheFinalStateHeldThenOneClose) {
   auto sink = std::make_shared<RecordingSink>();
-  SimView view(one_robot_world(), plain_style());
+  SimView view(one_robot_world(), free_grid(), plain_style());
   view.record_video(sink);
   for (std::uint64_t t = 0; t < 4; ++t) {
     view.begin_frame({.frame = t, .time = 0.1 * static_cast<double>(t)});
@@ -457,11 +457,11 @@ TEST(SimViewSink, EveryFrameThenTheFinalStateHeldThenOneClose) {
 TEST(SimViewSink, ASinkGivenNoFramesIsNotClosedAndNothingIsDrawnWithoutOne) {
   auto sink = std::make_shared<RecordingSink>();
   {
-    SimView view(one_robot_world(), plain_style());
+    SimView view(one_robot_world(), free_grid(), plain_style());
     view.record_video(sink);
   }  // destroyed before any frame: nothing to finish
   EXPECT_EQ(sink->closed, 0);
-  SimView view(one_robot_world(), plain_style());
+  SimView view(one_robot_world(), free_grid(), plain_style());
   view.begin_frame({.frame = 0});
   view.end_frame({.frame = 0});
   view.finish(5);
@@ -472,7 +472,7 @@ TEST(SimViewSink, ASinkGivenNoFramesIsNotClosedAndNothingIsDrawnWithoutOne) {
 TEST(SimViewSink, DestroyingTheViewClosesItsSink) {
   auto sink = std::make_shared<RecordingSink>();
   {
-    SimView view(one_robot_world(), plain_style());
+    SimView view(one_robot_world(), free_grid(), plain_style());
     view.record_video(sink);
     view.begin_frame({.frame = 0});
     view.end_frame({.frame = 0});

@@ -26,7 +26,9 @@ namespace vwg::sim {
 
 class SimView final : public Backend {
  public:
-  SimView(std::shared_ptr<const PhysicsWorld> world, RenderStyle style = {}, platform::MotionSymbols symbols = {});
+  /// The robots of `platform` (the simulator or a real robot's link) drawn on `grid`.
+  SimView(std::shared_ptr<const platform::RobotPlatform> platform, OccupancyGrid grid, RenderStyle style = {},
+          platform::MotionSymbols symbols = {});
 
   /// Scans to draw: a laser's or a Kinect's last scan, at its robot.
   void add_laser(std::shared_ptr<const LaserGenerator> laser) { lasers_.push_back(std::move(laser)); }
@@ -72,7 +74,8 @@ class SimView final : public Backend {
     std::string label;
     int tag_id;
   };
-  std::shared_ptr<const PhysicsWorld> world_;
+  std::shared_ptr<const platform::RobotPlatform> world_;
+  OccupancyGrid grid_;
   TopDownRenderer renderer_;
   platform::MotionInterpreter motion_;
   std::vector<std::shared_ptr<const LaserGenerator>> lasers_;

@@ -1,0 +1,292 @@
+"""A real robot as a vwg.robot.RobotPlatform: the motion commands of the frames (turn, drive) become
+velocity commands closed on the robot's odometry, frames run at wall-clock rate, and the robot is
+kept safe when its link goes quiet or away.
+
+The link itself (rosbridge, a serial base) is a subclass: it sends velocities (``send_velocity``),
+says whether it has failed (``link_failure``), and calls ``on_odometry`` (and ``on_scan``) from its
+own thread as messages come.
+
+Safety, in this order of precedence:
+
+- every velocity is clamped to the robot's limits (speed, turn rate and both accelerations);
+- a watchdog: when no odometry has come for ``watchdog`` seconds the robot is sent a stop at once,
+  and kept stopped until odometry comes again; the fault is logged and listed in ``faults``;
+- a link that fails (lost for longer than its ``reconnect`` time) stops the run: ``advance``
+  raises LinkError after a last stop to every robot;
+- ``close()`` (the end of any run) sends a stop to every robot before the link closes.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import threading
+import time
+from collections import deque
+from dataclasses import dataclass, field
+from typing import Any
+
+from . import _core
+from .ros_messages import LaserScan, Odometry, pose_compose
+from .rosbridge import LinkError
+
+__all__ = ["Fault", "MotionController", "RealRobotPlatform"]
+
+log = logging.getLogger("vwg.robot")
+
+#: A drive is done within this distance of its end, a turn within this angle (odometry's resolution).
+DRIVE_TOLERANCE = 0.01
+TURN_TOLERANCE = 0.01
+
+
+@dataclass(frozen=True)
+class Fault:
+    """Something that went wrong with a real robot: when (seconds since the run started), which robot
+    (0: the link), and what."""
+
+    time: float
+    robot: int
+    what: str
+
+    def to_json(self) -> dict[str, Any]:
+        return {"time_s": round(self.time, 3), "robot": self.robot, "what": self.what}
+
+
+def _wrap(angle: float) -> float:
+    return math.atan2(math.sin(angle), math.cos(angle))
+
+
+def _approach(current: float, target: float, step: float) -> float:
+    return min(current + step, target) if target > current else max(current - step, target)
+
+
+@dataclass
+class MotionController:
+    """One robot's plan (turn and drive steps in its own frame) followed on its odometry: a trapezoidal
+    speed profile toward what remains of the current step, recomputed at every tick from where
+    odometry says the robot is, so the step ends when odometry says it is done (not on a timer)."""
+
+    limits: _core.RobotSettings
+    plan: deque[tuple[str, float]] = field(default_factory=deque)
+    speed: float = 0.0      # last commanded, m/s
+    turn_rate: float = 0.0  # last commanded, rad/s
+    _origin: tuple[float, float, float] | None = None  # odometry pose where the current step began
+
+    def command(self, steps: list[tuple[str, float]]) -> None:
+        """The latest command replaces the plan (an empty one stops the robot)."""
+        self.plan = deque(steps)
+        self._origin = None
+
+    @property
+    def busy(self) -> bool:
+        return bool(self.plan)
+
+    def tick(self, odom: Odometry, dt: float) -> tuple[float, float]:
+        """The velocities to send now, within the robot's limits."""
+        target_v = target_w = 0.0
+        while self.plan:
+            kind, amount = self.plan[0]
+            if self._origin is None:
+                self._origin = (odom.x, odom.y, odom.yaw)
+            ox, oy, oyaw = self._origin
+            if kind == "drive":
+                done = (odom.x - ox) * math.cos(oyaw) + (odom.y - oy) * math.sin(oyaw)
+                remaining = amount - done
+                if abs(remaining) <= DRIVE_TOLERANCE:
+                    self.plan.popleft()
+                    self._origin = None
+                    continue
+                target_v = math.copysign(min(self.limits.max_speed,
+                                             math.sqrt(2 * self.limits.max_accel * abs(remaining))), remaining)
+            else:
+                remaining = amount - _wrap(odom.yaw - oyaw)  # the robot's turns are within ±π
+                if abs(remaining) <= TURN_TOLERANCE:
+                    self.plan.popleft()
+                    self._origin = None
+                    continue
+                target_w = math.copysign(min(self.limits.max_turn_rate,
+                                             math.sqrt(2 * self.limits.max_turn_accel * abs(remaining))), remaining)
+            break
+        self.speed = _approach(self.speed, target_v, self.limits.max_accel * dt)
+        self.turn_rate = _approach(self.turn_rate, target_w, self.limits.max_turn_accel * dt)
+        return self.speed, self.turn_rate
+
+    def stop(self) -> None:
+        self.plan.clear()
+        self._origin = None
+        self.speed = self.turn_rate = 0.0
+
+
+@dataclass
+class _Robot:
+    settings: _core.RobotSettings
+    controller: MotionController
+    odom: Odometry | None = None
+    odom_at: float = 0.0            # monotonic time the last odometry came
+    silent: bool = False            # the watchdog has stopped it
+    commands: int = 0
+    travelled: float = 0.0
+    scan: LaserScan | None = None
+
+
+class RealRobotPlatform(_core.RobotPlatform):
+    """The robots of a world on a real link (a subclass gives the link). ``watchdog`` seconds of
+    silence stop a robot; ``control_rate`` is how often (Hz) velocities are sent between frames."""
+
+    kind = "real"
+
+    def __init__(self, robots: list[_core.RobotSettings], *, watchdog: float = 0.5, control_rate: float = 20.0) -> None:
+        super().__init__()
+        if not (math.isfinite(watchdog) and watchdog > 0):
+            raise LinkError(f"platform watchdog: expected seconds > 0, got {watchdog}")
+        if not (math.isfinite(control_rate) and 1 <= control_rate <= 1000):
+            raise LinkError(f"platform control_rate: expected 1 to 1000 Hz, got {control_rate}")
+        self.watchdog = watchdog
+        self.control_period = 1.0 / control_rate
+        self.faults: list[Fault] = []
+        self._lock = threading.Lock()
+        self._robots: dict[int, _Robot] = {}
+        self._t0 = time.monotonic()
+        self._frame_end = self._t0
+        self._closed = False
+        for r in robots:
+            self.add_robot(r)
+
+    # ---- what the link calls ----------------------------------------------------------------------------------
+    def on_odometry(self, robot: int, odom: Odometry) -> None:
+        with self._lock:
+            r = self._robots.get(robot)
+            if r is None:
+                return
+            if r.odom is not None:
+                r.travelled += math.hypot(odom.x - r.odom.x, odom.y - r.odom.y)
+            r.odom = odom
+            r.odom_at = time.monotonic()
+
+    def on_scan(self, robot: int, scan: LaserScan) -> None:
+        with self._lock:
+            r = self._robots.get(robot)
+            if r is not None:
+                r.scan = scan
+
+    def latest_scan(self, robot: int) -> LaserScan | None:
+        with self._lock:
+            r = self._robots.get(robot)
+            return r.scan if r else None
+
+    # ---- what a link subclass gives ---------------------------------------------------------------------------
+    def send_velocity(self, robot: int, speed: float, turn_rate: float) -> bool:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def link_failure(self) -> str | None:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def close_link(self) -> None:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    # ---- RobotPlatform -------------------------------------------------------------------------------------------
+    def add_robot(self, settings: _core.RobotSettings) -> None:
+        settings.check(f"robot {settings.id}")
+        with self._lock:
+            if settings.id in self._robots:
+                raise LinkError(f"robot {settings.id}: the id is used twice")
+            self._robots[settings.id] = _Robot(settings, MotionController(settings), odom_at=time.monotonic())
+
+    def remove_robot(self, robot: int) -> None:
+        self.send_velocity(robot, 0.0, 0.0)
+        with self._lock:
+            self._robots.pop(robot, None)
+
+    def command(self, robot: int, steps: list[tuple[str, float]]) -> None:
+        with self._lock:
+            r = self._robots[robot]
+            r.controller.command(list(steps))
+            r.commands += 1
+
+    def advance(self, seconds: float) -> None:
+        """Let `seconds` of wall-clock time pass from the end of the last frame, following the plans."""
+        self._frame_end = max(self._frame_end + seconds, time.monotonic() - seconds)  # a late frame does not pile up
+        while True:
+            self._check_link()
+            self._control()
+            now = time.monotonic()
+            if now >= self._frame_end:
+                return
+            time.sleep(min(self.control_period, self._frame_end - now))
+
+    def _check_link(self) -> None:
+        failure = self.link_failure()
+        if failure:
+            self._fault(0, failure)
+            self.stop_all()
+            raise LinkError(f"{self.name()} link: {failure}")
+
+    def _control(self) -> None:
+        now = time.monotonic()
+        sends: list[tuple[int, float, float]] = []
+        with self._lock:
+            for rid, r in self._robots.items():
+                if r.odom is None and now - r.odom_at <= self.watchdog:
+                    sends.append((rid, 0.0, 0.0))  # waiting for the first odometry: keep still
+                    continue
+                if r.odom is None or now - r.odom_at > self.watchdog:
+                    if not r.silent:
+                        r.silent = True
+                        quiet = now - r.odom_at
+                        self._fault_locked(rid, f"no odometry for {quiet:.2f} s (watchdog {self.watchdog:g} s): "
+                                                "stopped")
+                    r.controller.speed = r.controller.turn_rate = 0.0
+                    sends.append((rid, 0.0, 0.0))
+                    continue
+                if r.silent:
+                    r.silent = False
+                    log.warning("%s: robot %d: odometry again; moving on", self.name(), rid)
+                v, w = r.controller.tick(r.odom, self.control_period)
+                sends.append((rid, v, w))
+        for rid, v, w in sends:
+            self.send_velocity(rid, v, w)
+
+    def _fault(self, robot: int, what: str) -> None:
+        with self._lock:
+            self._fault_locked(robot, what)
+
+    def _fault_locked(self, robot: int, what: str) -> None:
+        fault = Fault(time.monotonic() - self._t0, robot, what)
+        self.faults.append(fault)
+        log.warning("%s: robot %d: %s", self.name(), robot, what) if robot else log.error("%s: %s", self.name(), what)
+
+    def stop_all(self) -> None:
+        with self._lock:
+            ids = list(self._robots)
+            for r in self._robots.values():
+                r.controller.stop()
+        for rid in ids:
+            self.send_velocity(rid, 0.0, 0.0)
+
+    def robots(self) -> list[_core.RobotState]:
+        with self._lock:
+            out = []
+            for rid, r in self._robots.items():
+                local = (r.odom.x, r.odom.y, r.odom.yaw) if r.odom else (0.0, 0.0, 0.0)
+                pose = pose_compose(r.settings.start, local)  # odometry starts at zero where the robot starts
+                out.append(_core.RobotState(rid, pose, pose, radius=r.settings.radius, busy=r.controller.busy,
+                                            commands=r.commands, travelled=r.travelled,
+                                            speed=r.odom.speed if r.odom else 0.0,
+                                            turn_rate=r.odom.turn_rate if r.odom else 0.0))
+            return out
+
+    def take_collisions(self) -> list[_core.Collision]:
+        return []  # a real base reports no contacts here (a bumper topic would)
+
+    def time(self) -> float:
+        return time.monotonic() - self._t0
+
+    def close(self) -> None:
+        """Stop every robot, then close the link (the end of any run)."""
+        if self._closed:
+            return
+        self._closed = True
+        try:
+            self.stop_all()
+        finally:
+            self.close_link()

@@ -1,0 +1,190 @@
+"""ROS messages as rosbridge v2 carries them (JSON), to and from what vwg uses: a Twist from a
+velocity command, a pose from an Odometry, ranges from a LaserScan (REP 117), a time from a header
+stamp. ROS 1 and ROS 2 spellings are both read: type names (``geometry_msgs/Twist`` and
+``geometry_msgs/msg/Twist``) and stamps (``secs``/``nsecs`` and ``sec``/``nanosec``). Pure
+functions, so a fake robot, a log replayer and the link share them.
+
+Every reader raises ValueError naming the field it could not read; a link logs and drops such a
+message (a malformed message never stops a run).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+__all__ = [
+    "LaserScan",
+    "Odometry",
+    "laser_scan",
+    "odometry",
+    "odometry_message",
+    "pose_compose",
+    "same_type",
+    "scan_message",
+    "stamp_message",
+    "stamp_seconds",
+    "twist_message",
+    "twist_of",
+    "yaw_of_quaternion",
+]
+
+
+def same_type(a: str, b: str) -> bool:
+    """Whether two ROS type names are the same type (``pkg/Name`` and ``pkg/msg/Name`` are)."""
+    def norm(t: str) -> str:
+        parts = t.strip("/").split("/")
+        return "/".join([parts[0], parts[-1]]) if len(parts) == 3 and parts[1] == "msg" else "/".join(parts)
+    return norm(a) == norm(b)
+
+
+def _field(msg: Any, path: str) -> Any:
+    value = msg
+    for key in path.split("."):
+        if not isinstance(value, Mapping) or key not in value:
+            raise ValueError(f"{path}: missing")
+        value = value[key]
+    return value
+
+
+def _number(msg: Any, path: str) -> float:
+    value = _field(msg, path)
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise ValueError(f"{path}: expected a number, got {value!r}")
+    return float(value)
+
+
+def stamp_seconds(stamp: Any) -> float:
+    """A header stamp in seconds: ROS 1 ``{secs, nsecs}`` or ROS 2 ``{sec, nanosec}``."""
+    if isinstance(stamp, Mapping):
+        if "secs" in stamp:
+            return _number(stamp, "secs") + _number(stamp, "nsecs") * 1e-9
+        if "sec" in stamp:
+            return _number(stamp, "sec") + _number(stamp, "nanosec") * 1e-9
+    raise ValueError(f"stamp: expected {{secs, nsecs}} or {{sec, nanosec}}, got {stamp!r}")
+
+
+def stamp_message(seconds: float, ros2: bool = False) -> dict[str, int]:
+    whole = math.floor(seconds)
+    nanos = min(round((seconds - whole) * 1e9), 999_999_999)
+    return {"sec": whole, "nanosec": nanos} if ros2 else {"secs": whole, "nsecs": nanos}
+
+
+def twist_message(speed: float, turn_rate: float) -> dict[str, Any]:
+    """geometry_msgs/Twist: forward speed (m/s) and turn rate (rad/s, counter-clockwise)."""
+    return {"linear": {"x": float(speed), "y": 0.0, "z": 0.0}, "angular": {"x": 0.0, "y": 0.0, "z": float(turn_rate)}}
+
+
+def twist_of(msg: Any) -> tuple[float, float]:
+    """(forward speed, turn rate) of a geometry_msgs/Twist."""
+    return _number(msg, "linear.x"), _number(msg, "angular.z")
+
+
+def yaw_of_quaternion(q: Any) -> float:
+    x, y, z, w = (_number(q, k) for k in ("x", "y", "z", "w"))
+    if not all(math.isfinite(v) for v in (x, y, z, w)) or x * x + y * y + z * z + w * w < 1e-12:
+        raise ValueError("orientation: expected a finite, non-zero quaternion")
+    return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+
+
+@dataclass(frozen=True)
+class Odometry:
+    """A robot's own pose estimate (odometry frame, metres and radians) and velocities, at `time`."""
+
+    time: float
+    x: float
+    y: float
+    yaw: float
+    speed: float
+    turn_rate: float
+
+
+def odometry(msg: Any) -> Odometry:
+    """nav_msgs/Odometry: the pose and twist of ``msg``; ValueError names a missing or bad field."""
+    x, y = _number(msg, "pose.pose.position.x"), _number(msg, "pose.pose.position.y")
+    if not (math.isfinite(x) and math.isfinite(y)):
+        raise ValueError("pose.pose.position: expected finite x and y")
+    yaw = yaw_of_quaternion(_field(msg, "pose.pose.orientation"))
+    try:
+        speed, turn = twist_of(_field(msg, "twist.twist"))
+    except ValueError:
+        speed, turn = 0.0, 0.0  # a twist is optional for the pose
+    return Odometry(stamp_seconds(_field(msg, "header.stamp")), x, y, yaw,
+                    speed if math.isfinite(speed) else 0.0, turn if math.isfinite(turn) else 0.0)
+
+
+def odometry_message(time: float, x: float, y: float, yaw: float, speed: float = 0.0, turn_rate: float = 0.0,
+                     ros2: bool = False) -> dict[str, Any]:
+    return {
+        "header": {"stamp": stamp_message(time, ros2), "frame_id": "odom"},
+        "child_frame_id": "base_link",
+        "pose": {"pose": {"position": {"x": x, "y": y, "z": 0.0},
+                          "orientation": {"x": 0.0, "y": 0.0, "z": math.sin(yaw / 2), "w": math.cos(yaw / 2)}}},
+        "twist": {"twist": twist_message(speed, turn_rate)},
+    }
+
+
+def pose_compose(start: Sequence[float], local: Sequence[float]) -> tuple[float, float, float]:
+    """start ⊕ local: a pose given in the frame of `start` (odometry starts at zero where the robot
+    starts), in the world's frame."""
+    sx, sy, st = start
+    x, y, t = local
+    c, s = math.cos(st), math.sin(st)
+    yaw = math.atan2(math.sin(st + t), math.cos(st + t))
+    return sx + c * x - s * y, sy + s * x + c * y, yaw
+
+
+@dataclass(frozen=True)
+class LaserScan:
+    """A scan as vwg uses it: the angle (radians from the heading) and range (metres) of each beam
+    that met an obstacle, and the scan's limits."""
+
+    time: float
+    angles: tuple[float, ...]
+    ranges: tuple[float, ...]
+    range_min: float
+    range_max: float
+
+
+def laser_scan(msg: Any) -> LaserScan:
+    """sensor_msgs/LaserScan read as REP 117 says: a range within [range_min, range_max] is an
+    obstacle; −Inf is one nearer than range_min (taken at range_min); +Inf is no return (free to
+    range_max: no obstacle); NaN, null (rosbridge's JSON for NaN and ±Inf alike: nothing is known)
+    and finite values outside the limits are no measurement."""
+    angle_min, increment = _number(msg, "angle_min"), _number(msg, "angle_increment")
+    range_min, range_max = _number(msg, "range_min"), _number(msg, "range_max")
+    if not all(math.isfinite(v) for v in (angle_min, increment, range_min, range_max)):
+        raise ValueError("angle_min, angle_increment, range_min, range_max: expected finite numbers")
+    if not 0 <= range_min < range_max:
+        raise ValueError(f"range_min, range_max: expected 0 <= range_min < range_max, got {range_min}, {range_max}")
+    ranges = _field(msg, "ranges")
+    if not isinstance(ranges, Sequence) or isinstance(ranges, (str, bytes)):
+        raise ValueError("ranges: expected a list of numbers")
+    if len(ranges) > 100_000:
+        raise ValueError(f"ranges: {len(ranges)} beams, more than 100000")
+    angles: list[float] = []
+    hits: list[float] = []
+    for i, r in enumerate(ranges):
+        if r is None or isinstance(r, bool) or not isinstance(r, (int, float)) or math.isnan(r):
+            continue
+        if r == -math.inf:
+            r = range_min
+        elif not range_min <= r <= range_max:
+            continue  # +Inf (no return) and finite values outside the limits
+        angles.append(angle_min + i * increment)
+        hits.append(float(r))
+    return LaserScan(stamp_seconds(_field(msg, "header.stamp")), tuple(angles), tuple(hits), range_min, range_max)
+
+
+def scan_message(time: float, angle_min: float, angle_increment: float, ranges: Sequence[float], range_min: float,
+                 range_max: float, ros2: bool = False) -> dict[str, Any]:
+    """sensor_msgs/LaserScan; a beam with no return is +Inf, which JSON cannot hold: null, as rosbridge sends it."""
+    return {
+        "header": {"stamp": stamp_message(time, ros2), "frame_id": "laser"},
+        "angle_min": angle_min, "angle_max": angle_min + angle_increment * max(len(ranges) - 1, 0),
+        "angle_increment": angle_increment, "time_increment": 0.0, "scan_time": 0.0,
+        "range_min": range_min, "range_max": range_max,
+        "ranges": [float(r) if math.isfinite(r) else None for r in ranges], "intensities": [],
+    }

@@ -1,0 +1,96 @@
+"""Robots behind a rosbridge v2 server (ROS 1 or ROS 2): the platform ``rosbridge`` of world files
+and ``vwg run --platform rosbridge --url ws://HOST:PORT``.
+
+    platform:
+      kind: rosbridge
+      url: ws://192.168.1.10:9090
+      watchdog: 0.5        # seconds without odometry before a robot is stopped
+      reconnect: 5         # seconds a lost link is retried before the run ends
+      topics: {cmd_vel: /cmd_vel, odom: /odom, scan: /scan, camera: /camera/image/compressed}
+
+Topic names default to ``/cmd_vel``, ``/odom``, ``/scan`` and ``/camera/image/compressed`` for one
+robot and to ``/robot{id}/...`` for several; a name may hold ``{id}``. vwg publishes
+geometry_msgs/Twist and reads nav_msgs/Odometry and sensor_msgs/LaserScan (type names in the ROS 1
+spelling, which rosbridge for ROS 2 accepts too; both spellings are read).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+from . import _core
+from .errors import SchemaError
+from .real_robot import RealRobotPlatform
+from .ros_messages import laser_scan, odometry, twist_message
+from .rosbridge import RosbridgeLink
+
+__all__ = ["DEFAULT_TOPICS", "RosbridgePlatform", "topics_for"]
+
+DEFAULT_TOPICS = {"cmd_vel": "/cmd_vel", "odom": "/odom", "scan": "/scan", "camera": "/camera/image/compressed"}
+TYPES = {"cmd_vel": "geometry_msgs/Twist", "odom": "nav_msgs/Odometry", "scan": "sensor_msgs/LaserScan",
+         "camera": "sensor_msgs/CompressedImage"}
+OPTIONS = ("url", "topics", "watchdog", "reconnect", "control_rate")
+
+
+def topics_for(robot: int, several: bool, topics: dict[str, str] | None = None) -> dict[str, str]:
+    """The topics of one robot: the given names (``{id}`` replaced), else the defaults, under
+    ``/robot{id}`` when there are several robots."""
+    out = {}
+    for key, default in DEFAULT_TOPICS.items():
+        name = (topics or {}).get(key) or (f"/robot{{id}}{default}" if several else default)
+        out[key] = name.replace("{id}", str(robot))
+    return out
+
+
+class RosbridgePlatform(RealRobotPlatform):
+    """The robots of a world on one rosbridge server."""
+
+    kind = "rosbridge"
+
+    def __init__(self, robots: list[_core.RobotSettings], url: str, *, topics: dict[str, str] | None = None,
+                 watchdog: float = 0.5, reconnect: float = 5.0, control_rate: float = 20.0) -> None:
+        self.link: RosbridgeLink | None = None
+        unknown = set(topics or {}) - set(DEFAULT_TOPICS)
+        if unknown:
+            raise SchemaError(f"platform.topics: unknown topic key(s) {', '.join(sorted(unknown))} "
+                              f"(known: {', '.join(DEFAULT_TOPICS)})")
+        if not (math.isfinite(reconnect) and reconnect >= 0):
+            raise SchemaError(f"platform.reconnect: expected seconds >= 0, got {reconnect}")
+        several = len(robots) > 1
+        self.topics = {r.id: topics_for(r.id, several, topics) for r in robots}
+        self._by_topic: dict[str, tuple[str, int]] = {}
+        for rid, named in self.topics.items():
+            for key, topic in named.items():
+                self._by_topic[topic] = (key, rid)
+        super().__init__(robots, watchdog=watchdog, control_rate=control_rate)
+        self.link = RosbridgeLink(url, on_message=self._on_message, reconnect=reconnect)
+        self.link.connect()
+        for rid, named in self.topics.items():
+            self.link.advertise(named["cmd_vel"], TYPES["cmd_vel"])
+            self.link.subscribe(named["odom"], TYPES["odom"])
+            sensors = next(r.sensors for r in robots if r.id == rid)
+            if "laser" in sensors:
+                self.link.subscribe(named["scan"], TYPES["scan"])
+
+    def _on_message(self, topic: str, msg: Any) -> None:
+        key, robot = self._by_topic.get(topic, ("", 0))
+        if key == "odom":
+            self.on_odometry(robot, odometry(msg))
+        elif key == "scan":
+            self.on_scan(robot, laser_scan(msg))
+
+    def send_velocity(self, robot: int, speed: float, turn_rate: float) -> bool:
+        topics = self.topics.get(robot)
+        return bool(topics) and self.link is not None and self.link.publish(topics["cmd_vel"],
+                                                                             twist_message(speed, turn_rate))
+
+    def link_failure(self) -> str | None:
+        return self.link.failed if self.link is not None else "not connected"
+
+    def close_link(self) -> None:
+        if self.link is not None:
+            self.link.close()
+
+    def name(self) -> str:
+        return "rosbridge"

@@ -1,0 +1,147 @@
+"""The real robot through rosbridge (issue 10): ROS messages read as ROS says, the same world file run
+on a fake ROS robot served on 127.0.0.1, and a robot kept safe when its odometry or its link goes."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import threading
+import time
+
+import pytest
+
+import vwg
+from vwg.fake_robot import FakeRosbridgeRobot
+from vwg.robotworld import PlatformSpec
+from vwg.ros_messages import laser_scan, odometry, odometry_message, pose_compose, same_type, stamp_seconds
+from vwg.rosbridge_platform import RosbridgePlatform, topics_for
+
+MAZE = vwg.robot.load_robot_world("maze")
+# The office with its first robot only, twice as quick as the file's (frames run at wall-clock rate).
+_OFFICE = vwg.robot.load_robot_world("office")
+OFFICE = dataclasses.replace(_OFFICE, orders=[], robots=[_OFFICE.robots[0].replace(
+    max_speed=1.0, max_accel=2.0, max_turn_rate=3.0, max_turn_accel=8.0)])
+
+
+# ---- messages ---------------------------------------------------------------------------------------------------
+def test_type_names_and_stamps_in_both_ros_spellings():
+    assert same_type("geometry_msgs/Twist", "geometry_msgs/msg/Twist")
+    assert same_type("/nav_msgs/msg/Odometry", "nav_msgs/Odometry")
+    assert not same_type("geometry_msgs/Twist", "geometry_msgs/TwistStamped")
+    assert stamp_seconds({"secs": 12, "nsecs": 500_000_000}) == 12.5
+    assert stamp_seconds({"sec": 12, "nanosec": 250_000_000}) == 12.25
+    with pytest.raises(ValueError, match="stamp: expected"):
+        stamp_seconds({"seconds": 1})
+
+
+def test_odometry_yaw_from_its_quaternion_and_the_start_pose_as_origin():
+    msg = odometry_message(3.0, 1.0, 2.0, 0.7, speed=0.2, turn_rate=-0.1, ros2=True)
+    o = odometry(msg)
+    assert (o.time, o.x, o.y, o.speed, o.turn_rate) == (3.0, 1.0, 2.0, 0.2, -0.1)
+    assert o.yaw == pytest.approx(0.7)
+    # A base that started at (5, 1) facing +y and drove 2 m forward, then turned left a quarter, is
+    # at (5, 3) facing -x: start ⊕ odometry, worked out by hand.
+    assert pose_compose((5.0, 1.0, math.pi / 2), (2.0, 0.0, math.pi / 2)) == pytest.approx((5.0, 3.0, math.pi))
+    with pytest.raises(ValueError, match=r"pose\.pose\.position\.x: missing"):
+        odometry({"header": {"stamp": {"sec": 0, "nanosec": 0}}, "pose": {"pose": {}}})
+
+
+def test_laser_scan_ranges_as_rep_117_says():
+    msg = {"header": {"stamp": {"secs": 1, "nsecs": 0}}, "angle_min": -1.0, "angle_increment": 0.5,
+           "range_min": 0.1, "range_max": 10.0,
+           # a hit, no return (+Inf), too near (-Inf), nothing known (NaN, null), out of limits both ways
+           "ranges": [2.0, math.inf, -math.inf, math.nan, None, 20.0, 0.05]}
+    scan = laser_scan(msg)
+    assert scan.angles == (-1.0, 0.0) and scan.ranges == (2.0, 0.1)
+    with pytest.raises(ValueError, match="range_min, range_max"):
+        laser_scan({**msg, "range_min": 5.0, "range_max": 1.0})
+
+
+def test_topics_default_per_robot_and_take_the_robot_id():
+    assert topics_for(1, False)["cmd_vel"] == "/cmd_vel"
+    assert topics_for(2, True)["odom"] == "/robot2/odom"
+    assert topics_for(3, True, {"scan": "/base{id}/laser"})["scan"] == "/base3/laser"
+
+
+# ---- runs -------------------------------------------------------------------------------------------------------
+@pytest.fixture
+def fake():
+    with FakeRosbridgeRobot(MAZE) as robot:
+        yield robot
+
+
+def test_the_office_world_runs_on_a_ros_robot_through_rosbridge():
+    # The world is the simulator's; only the platform changes (paper test 3).
+    room = "office"
+    with FakeRosbridgeRobot(OFFICE) as fake:
+        options = vwg.RunOptions(platform="rosbridge", url=fake.url, goals=[room], frames=250)
+        with vwg.start(OFFICE, options) as run:
+            outcome = run.execute()
+    assert outcome.exit_status == 0 and outcome.summary["reached"], outcome.rows
+    # Where the fake robot really is (its own pose, not vwg's estimate) is within the goal tolerance.
+    x, y, _ = fake.pose(1)
+    gx, gy = OFFICE.rooms[room].goal
+    assert math.hypot(x - gx, y - gy) <= OFFICE.goal_tolerance + 0.05
+    # The last command the robot received is a stop, sent when the run closed.
+    assert fake.commands[1][-1][1:] == (0.0, 0.0)
+    assert outcome.summary["faults"] == []
+
+
+def test_silent_odometry_stops_the_robot_within_the_watchdog(fake):
+    watchdog = 0.3
+    platform = RosbridgePlatform([MAZE.robots[0]], fake.url, watchdog=watchdog)
+    try:
+        platform.command(1, [("drive", 5.0)])
+        platform.advance(0.6)
+        assert fake.commands[1][-1][1] > 0.0  # driving
+        silent_from = fake.silence(1)
+        platform.advance(0.8)
+        # The first stop after the silence, on the fake robot's clock: no sleep in the test can make
+        # this hold; only the watchdog sending a stop at the right time.
+        stops = [t for t, v, w in fake.commands[1] if t > silent_from and v == 0.0 and w == 0.0]
+        assert stops, "no stop was sent"
+        delay = stops[0] - silent_from
+        assert watchdog - 0.05 <= delay <= watchdog + platform.control_period + 0.1, delay
+        assert all(v == 0.0 for t, v, _ in fake.commands[1] if t >= stops[0])  # kept stopped
+        assert "no odometry" in platform.faults[0].what and platform.faults[0].robot == 1
+        fake.speak(1)
+        platform.advance(0.5)
+        assert fake.commands[1][-1][1] > 0.0  # odometry again: the plan goes on
+    finally:
+        platform.close()
+    assert fake.commands[1][-1][1:] == (0.0, 0.0)
+
+
+def test_a_lost_link_ends_the_run_with_status_4_and_keeps_the_record(fake, tmp_path):
+    world = dataclasses.replace(MAZE, platform=PlatformSpec("rosbridge", {"url": fake.url, "reconnect": 0.5}))
+    record = tmp_path / "run.jsonl"
+    options = vwg.RunOptions(goals=["dead_end_0_2"], frames=300, record=record)
+    cut_at: list[float] = []
+    timer = threading.Timer(1.5, lambda: (cut_at.append(time.monotonic()), fake.cut()))
+    with vwg.start(world, options) as run:
+        recorder = vwg.Recorder(record, run.engine, world_file=world.path, world_data=run.record_data,
+                                world_kind=run.kind)
+        timer.start()
+        outcome = run.execute()
+        recorder.close()
+    assert outcome.exit_status == vwg.launch.EXIT_LINK_FAULT == 4
+    assert "link fault" in outcome.message and "did not come back within 0.5 s" in outcome.message
+    assert outcome.summary["faults"][-1]["robot"] == 0
+    # Every frame before the fault is in the record, each line whole, and it replays.
+    recorded = vwg.read_record(record)
+    assert [f["t"] for f in recorded.frames] == list(range(run.engine.frame)) and run.engine.frame >= 10
+    vwg.replay(record, world=vwg.launch.replay_world(recorded.header, None, record))
+    # The robot went quiet with the link: the base's own command timeout stopped it.
+    x0, y0, _ = fake.pose(1)
+    time.sleep(0.3)
+    assert fake.pose(1)[:2] == pytest.approx((x0, y0))
+
+
+def test_rosbridge_options_are_checked_by_name():
+    with pytest.raises(vwg.SchemaError, match="platform rosbridge: url: missing"):
+        vwg.start(MAZE, vwg.RunOptions(platform="rosbridge", frames=1))
+    with pytest.raises(vwg.SchemaError, match=r"unknown option\(s\) speed"):
+        vwg.start(dataclasses.replace(MAZE, platform=PlatformSpec("rosbridge", {"url": "ws://127.0.0.1:1",
+                                                                               "speed": 2})), vwg.RunOptions())
+    with pytest.raises(vwg.Error, match="cannot connect"):
+        RosbridgePlatform([MAZE.robots[0]], "ws://127.0.0.1:9", reconnect=0.2)
