@@ -145,3 +145,29 @@ def test_rosbridge_options_are_checked_by_name():
                                                                                "speed": 2})), vwg.RunOptions())
     with pytest.raises(vwg.Error, match="cannot connect"):
         RosbridgePlatform([MAZE.robots[0]], "ws://127.0.0.1:9", reconnect=0.2)
+
+
+# ---- a serial base ----------------------------------------------------------------------------------------------
+def test_the_office_world_runs_on_a_serial_base():
+    from vwg.fake_base import FakeSerialBase
+
+    room = "office"
+    with FakeSerialBase(OFFICE) as base:
+        options = vwg.RunOptions(platform="serial", port=base.url, goals=[room], frames=300)
+        with vwg.start(OFFICE, options) as run:
+            outcome = run.execute()
+        x, y, _ = base.pose_now()
+    assert outcome.exit_status == 0 and outcome.summary["reached"], outcome.rows
+    gx, gy = OFFICE.rooms[room].goal
+    # The base's true pose (integrated by the fake from its wheels), not vwg's odometry.
+    assert math.hypot(x - gx, y - gy) <= OFFICE.goal_tolerance + 0.08
+    assert base.commands[-1][1:] == (0, 0)  # stopped at the end
+
+
+def test_serial_options_are_checked_by_name():
+    with pytest.raises(vwg.SchemaError, match="platform serial: port: missing"):
+        vwg.start(OFFICE, vwg.RunOptions(platform="serial", frames=1))
+    with pytest.raises(vwg.SchemaError, match="one base per serial line, and the world has 2 robots"):
+        vwg.start(_OFFICE, vwg.RunOptions(platform="serial", port="loop://", frames=1))
+    with pytest.raises(vwg.SchemaError, match="cannot use socket://127.0.0.1:9"):
+        vwg.start(OFFICE, vwg.RunOptions(platform="serial", port="socket://127.0.0.1:9", frames=1))

@@ -123,6 +123,23 @@ def _register_builtins() -> None:
 
     platforms.register("rosbridge", rosbridge)
 
+    def serial_base(world: Any, seed: int, options: dict[str, Any]) -> Any:
+        from .real_robots import RealRobots
+        from .serial_platform import OPTIONS, SerialPlatform
+
+        unknown = sorted(set(options) - set(OPTIONS))
+        if unknown:
+            raise SchemaError(f"platform serial: unknown option(s) {', '.join(unknown)} (known: {', '.join(OPTIONS)})")
+        if not isinstance(options.get("port"), str):
+            raise SchemaError("platform serial: port: missing (/dev/ttyUSB0, socket://HOST:PORT, or --port)")
+        if len(world.robots) != 1:
+            raise SchemaError(f"platform serial: one base per serial line, and the world has {len(world.robots)} "
+                              "robots")
+        numbers = {k: options[k] for k in OPTIONS if k in options and k != "port"}
+        return RealRobots(world, SerialPlatform(world.robots[0], options["port"], **numbers))
+
+    platforms.register("serial", serial_base)
+
     ranging = set(_core.ranging_sensors())
     for name in _core.sensor_names():
         def make(platform: Any, alphabet: Any, robot: int, name: str = name) -> Any:

@@ -1,0 +1,179 @@
+"""A differential-drive base on a serial line, speaking the ros_arduino_bridge commands (pyserial):
+the platform ``serial`` of world files and ``vwg run --platform serial --port /dev/ttyUSB0`` (or
+any pyserial URL: ``socket://127.0.0.1:PORT``, ``loop://``).
+
+    platform:
+      kind: serial
+      port: /dev/ttyUSB0
+      baud: 57600
+      wheel_radius: 0.0325   # m
+      track_width: 0.16      # m between the wheels' contact points
+      ticks_per_rev: 1920    # encoder ticks per wheel revolution
+      pid_rate: 30           # the firmware's PID loop, Hz: motor speeds are ticks per PID interval
+      watchdog: 0.5
+      reconnect: 5
+
+The commands (each ends with a carriage return): ``e`` → ``LEFT RIGHT`` encoder counts; ``m L R``
+→ ``OK``, motor speeds in ticks per PID interval; ``r`` → ``OK``, encoders reset; ``b`` → the baud
+rate. Odometry is integrated from the encoders (midpoint rule), from zero where the robot starts.
+One base per line: a world with several robots needs several platforms.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import logging
+import math
+import threading
+import time
+from typing import Any
+
+from . import _core
+from .errors import SchemaError
+from .real_robot import RealRobotPlatform
+from .ros_messages import Odometry
+
+__all__ = ["OPTIONS", "SerialBase", "SerialPlatform"]
+
+log = logging.getLogger("vwg.serial")
+
+OPTIONS = ("port", "baud", "wheel_radius", "track_width", "ticks_per_rev", "pid_rate", "watchdog", "reconnect",
+           "control_rate", "odometry_rate")
+
+
+class SerialBase:
+    """The line to one base: commands and replies, one at a time (a lock), reopened when it breaks."""
+
+    def __init__(self, port: str, baud: int = 57600, timeout: float = 0.2) -> None:
+        self.port = port
+        self.baud = baud
+        self.timeout = timeout
+        self._lock = threading.Lock()
+        self._serial: Any = None
+
+    def open(self) -> None:
+        import serial
+
+        self.close()
+        self._serial = serial.serial_for_url(self.port, baudrate=self.baud, timeout=self.timeout,
+                                             write_timeout=self.timeout)
+        self._serial.reset_input_buffer()
+
+    def ask(self, command: str) -> str:
+        """Send one command, return its reply line; OSError (pyserial's errors are) when the line is
+        down or the base does not answer within the timeout."""
+        import serial
+
+        with self._lock:
+            if self._serial is None:
+                raise OSError(f"serial {self.port}: not open")
+            try:
+                self._serial.write((command + "\r").encode("ascii"))
+                reply = self._serial.readline()
+            except serial.SerialException as e:
+                raise OSError(f"serial {self.port}: {e}") from None
+        if not reply.endswith(b"\n"):
+            raise OSError(f"serial {self.port}: no answer to {command!r} within {self.timeout:g} s")
+        return reply.decode("ascii", errors="replace").strip()
+
+    def close(self) -> None:
+        with self._lock:
+            if self._serial is not None:
+                try:
+                    self._serial.close()
+                finally:
+                    self._serial = None
+
+
+class SerialPlatform(RealRobotPlatform):
+    """One differential-drive base on a serial line (ros_arduino_bridge commands)."""
+
+    kind = "serial"
+
+    def __init__(self, robot: _core.RobotSettings, port: str, *, baud: int = 57600, wheel_radius: float = 0.0325,
+                 track_width: float = 0.16, ticks_per_rev: float = 1920, pid_rate: float = 30,
+                 watchdog: float = 0.5, reconnect: float = 5.0, control_rate: float = 20.0,
+                 odometry_rate: float = 30.0) -> None:
+        for name, value in (("wheel_radius", wheel_radius), ("track_width", track_width),
+                            ("ticks_per_rev", ticks_per_rev), ("pid_rate", pid_rate), ("odometry_rate", odometry_rate)):
+            if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
+                raise SchemaError(f"platform.{name}: expected a number > 0, got {value!r}")
+        super().__init__([robot], watchdog=watchdog, control_rate=control_rate)
+        self.robot_id = robot.id
+        self.metres_per_tick = 2 * math.pi * wheel_radius / ticks_per_rev
+        self.track_width = track_width
+        self.pid_rate = pid_rate
+        self.reconnect = reconnect
+        self.base = SerialBase(port, int(baud))
+        self._pose = (0.0, 0.0, 0.0)  # odometry, from zero where the robot starts
+        self._ticks: tuple[int, int] | None = None
+        self._failure: str | None = None
+        self._lost_at: float | None = None
+        self._running = True
+        try:
+            self.base.open()
+            if self.base.ask("r") != "OK":
+                raise OSError(f"serial {port}: the base did not accept 'r' (reset encoders)")
+        except OSError as e:
+            self.base.close()
+            raise SchemaError(f"platform serial: cannot use {port}: {e}") from None
+        self._thread = threading.Thread(target=self._poll, args=(1.0 / odometry_rate,), name="vwg-serial", daemon=True)
+        self._thread.start()
+
+    def _poll(self, period: float) -> None:
+        """Encoders → odometry, on the link's own thread; a broken line is reopened for `reconnect` s."""
+        start = time.monotonic()
+        while self._running:
+            try:
+                reply = self.base.ask("e").split()
+                left, right = int(reply[0]), int(reply[1])
+                self._integrate(left, right, time.monotonic() - start)
+                self._lost_at = None
+            except (OSError, ValueError, IndexError) as e:
+                now = time.monotonic()
+                if self._lost_at is None:
+                    self._lost_at = now
+                    log.warning("serial %s: %s", self.base.port, e)
+                if now - self._lost_at > self.reconnect:
+                    self._failure = f"the line to {self.base.port} broke and did not come back within " \
+                                    f"{self.reconnect:g} s ({e})"
+                    return
+                with contextlib.suppress(Exception):  # still down: try again next period
+                    self.base.open()
+            time.sleep(period)
+
+    def _integrate(self, left: int, right: int, t: float) -> None:
+        if self._ticks is None:
+            self._ticks = (left, right)
+            self.on_odometry(self.robot_id, Odometry(t, 0.0, 0.0, 0.0, 0.0, 0.0))
+            return
+        dl = (left - self._ticks[0]) * self.metres_per_tick
+        dr = (right - self._ticks[1]) * self.metres_per_tick
+        self._ticks = (left, right)
+        ds, dtheta = (dl + dr) / 2, (dr - dl) / self.track_width
+        x, y, yaw = self._pose
+        x += ds * math.cos(yaw + dtheta / 2)
+        y += ds * math.sin(yaw + dtheta / 2)
+        yaw = math.atan2(math.sin(yaw + dtheta), math.cos(yaw + dtheta))
+        self._pose = (x, y, yaw)
+        self.on_odometry(self.robot_id, Odometry(t, x, y, yaw, 0.0, 0.0))
+
+    def send_velocity(self, robot: int, speed: float, turn_rate: float) -> bool:
+        # Wheel speeds in ticks per PID interval, as the firmware's `m` takes them.
+        left = (speed - turn_rate * self.track_width / 2) / self.metres_per_tick / self.pid_rate
+        right = (speed + turn_rate * self.track_width / 2) / self.metres_per_tick / self.pid_rate
+        try:
+            return self.base.ask(f"m {round(left)} {round(right)}") == "OK"
+        except OSError:
+            return False
+
+    def link_failure(self) -> str | None:
+        return self._failure
+
+    def close_link(self) -> None:
+        self._running = False
+        self._thread.join(2.0)
+        self.base.close()
+
+    def name(self) -> str:
+        return "serial"
