@@ -85,6 +85,12 @@ def test_the_office_world_runs_on_a_ros_robot_through_rosbridge():
     # The last command the robot received is a stop, sent when the run closed.
     assert fake.commands[1][-1][1:] == (0.0, 0.0)
     assert outcome.summary["faults"] == []
+    # Every command within the robot's limits: speeds, and their change from one command to the next
+    # (20 commands a second) within the accelerations.
+    limits, commands = OFFICE.robots[0], fake.commands[1]
+    assert all(abs(v) <= limits.max_speed + 1e-9 and abs(w) <= limits.max_turn_rate + 1e-9 for _, v, w in commands)
+    for (_, v0, w0), (_, v1, w1) in zip(commands[:-2], commands[1:-1], strict=True):
+        assert abs(v1 - v0) <= limits.max_accel / 20 + 1e-9 and abs(w1 - w0) <= limits.max_turn_accel / 20 + 1e-9
 
 
 def test_silent_odometry_stops_the_robot_within_the_watchdog(fake):
@@ -169,5 +175,5 @@ def test_serial_options_are_checked_by_name():
         vwg.start(OFFICE, vwg.RunOptions(platform="serial", frames=1))
     with pytest.raises(vwg.SchemaError, match="one base per serial line, and the world has 2 robots"):
         vwg.start(_OFFICE, vwg.RunOptions(platform="serial", port="loop://", frames=1))
-    with pytest.raises(vwg.SchemaError, match="cannot use socket://127.0.0.1:9"):
+    with pytest.raises(vwg.SchemaError, match=r"cannot use socket://127\.0\.0\.1:9"):
         vwg.start(OFFICE, vwg.RunOptions(platform="serial", port="socket://127.0.0.1:9", frames=1))
