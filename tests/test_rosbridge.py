@@ -8,6 +8,7 @@ import math
 import threading
 import time
 
+import numpy as np
 import pytest
 
 import vwg
@@ -77,7 +78,17 @@ def test_the_office_world_runs_on_a_ros_robot_through_rosbridge():
         options = vwg.RunOptions(platform="rosbridge", url=fake.url, goals=[room], frames=250)
         with vwg.start(OFFICE, options) as run:
             outcome = run.execute()
+            images = run.case.sim.platform.images[1]
+            grid = np.asarray(run.case.robot_actors()[1]["grid"])
     assert outcome.exit_status == 0 and outcome.summary["reached"], outcome.rows
+    # The camera's JPEG images came over the link, and gCamera found the room's marker in them: the
+    # robot's map holds it where the world file puts it, within the tag pose's error at a few metres.
+    assert images.received > 20 and images.dropped == 0
+    marker = OFFICE.rooms[room]
+    rows, cols = np.nonzero(grid == 1000 + marker.marker)
+    r0, c0 = OFFICE.grid.world_to_cell(*marker.at)
+    assert len(rows) >= 1
+    assert np.hypot(rows - r0, cols - c0).max() * OFFICE.grid.resolution <= 0.2
     # Where the fake robot really is (its own pose, not vwg's estimate) is within the goal tolerance.
     x, y, _ = fake.pose(1)
     gx, gy = OFFICE.rooms[room].goal

@@ -19,6 +19,31 @@ void init_camera_generator(py::module_& m) {
       "A video file, or a live camera (a device number), through OpenCV: one image per frame.")
       .def(py::init<const std::string&>(), py::arg("path"))
       .def(py::init<int>(), py::arg("device"));
+  py::class_<perception::ReceivedImages, perception::ImageSource, std::shared_ptr<perception::ReceivedImages>>(
+      m, "ReceivedImages",
+      "The latest compressed image (JPEG or PNG bytes) a robot's link received: push() it from any thread; "
+      "a frame gets it when it is new. Images that do not decode are dropped and counted.")
+      .def(py::init<>())
+      .def("push", [](perception::ReceivedImages& r, const py::bytes& encoded) {
+             const std::string_view view(encoded);
+             r.push(std::vector<std::uint8_t>(view.begin(), view.end()));
+           }, py::arg("encoded"))
+      .def_property_readonly("received", &perception::ReceivedImages::received)
+      .def_property_readonly("dropped", &perception::ReceivedImages::dropped);
+  m.def("encode_image", [](py::array_t<std::uint8_t, py::array::c_style | py::array::forcecast> image,
+                           const std::string& format, int quality) {
+          const bool grey = image.ndim() == 2, rgb = image.ndim() == 3 && image.shape(2) == 3;
+          if (!grey && !rgb) throw SchemaError("image", "expected an H×W grey or H×W×3 RGB uint8 image");
+          const cv::Mat view(static_cast<int>(image.shape(0)), static_cast<int>(image.shape(1)), grey ? CV_8UC1 : CV_8UC3,
+                             const_cast<std::uint8_t*>(image.data()));
+          std::vector<std::uint8_t> out;
+          {
+            py::gil_scoped_release release;
+            out = perception::encode_image(view, format, quality);
+          }
+          return py::bytes(reinterpret_cast<const char*>(out.data()), out.size());
+        }, py::arg("image"), py::arg("format") = "jpeg", py::arg("quality") = 90,
+        "JPEG or PNG bytes of an image (as sensor_msgs/CompressedImage carries them).");
   py::class_<sim::SimulatedCamera, perception::ImageSource, std::shared_ptr<sim::SimulatedCamera>>(m, "SimulatedCamera",
       "The robot's view in the simulated world (see CameraRenderer), other robots included.")
       .def(py::init([](std::shared_ptr<sim::PhysicsWorld> world, int robot, MapArg grid, py::object markers,

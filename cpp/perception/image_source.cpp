@@ -1,5 +1,6 @@
 #include "vwg/perception/image_source.hpp"
 
+#include <algorithm>
 #include <filesystem>
 
 #include <opencv2/imgcodecs.hpp>
@@ -67,6 +68,60 @@ bool VideoSource::grab(const FrameInfo&, cv::Mat& grey) {
   if (!capture_->capture.read(capture_->frame) || capture_->frame.empty()) return false;
   to_grey(capture_->frame, grey, name_);
   return true;
+}
+
+void ReceivedImages::push(std::vector<std::uint8_t> encoded) {
+  std::lock_guard lock(mutex_);
+  latest_ = std::move(encoded);
+  fresh_ = true;
+  ++received_;
+}
+
+bool ReceivedImages::grab(const FrameInfo&, cv::Mat& grey) {
+  std::vector<std::uint8_t> encoded;
+  {
+    std::lock_guard lock(mutex_);
+    if (!fresh_) return false;
+    encoded.swap(latest_);
+    fresh_ = false;
+  }
+  cv::Mat decoded;
+  try {
+    decoded = cv::imdecode(encoded, cv::IMREAD_GRAYSCALE);
+  } catch (const cv::Exception&) {
+    decoded.release();
+  }
+  if (decoded.empty()) {
+    std::lock_guard lock(mutex_);
+    ++dropped_;
+    return false;
+  }
+  grey = decoded;
+  return true;
+}
+
+std::uint64_t ReceivedImages::received() const {
+  std::lock_guard lock(mutex_);
+  return received_;
+}
+
+std::uint64_t ReceivedImages::dropped() const {
+  std::lock_guard lock(mutex_);
+  return dropped_;
+}
+
+std::vector<std::uint8_t> encode_image(const cv::Mat& image, const std::string& format, int quality) {
+  if (format != "jpeg" && format != "png") throw SchemaError("format", "expected jpeg or png, got '" + format + "'");
+  if (image.empty() || image.depth() != CV_8U || (image.channels() != 1 && image.channels() != 3)) {
+    throw SchemaError("image", "expected an 8-bit grey or RGB image");
+  }
+  cv::Mat bgr = image;
+  if (image.channels() == 3) cv::cvtColor(image, bgr, cv::COLOR_RGB2BGR);
+  std::vector<std::uint8_t> out;
+  const std::vector<int> params = format == "jpeg" ? std::vector<int>{cv::IMWRITE_JPEG_QUALITY, std::clamp(quality, 0, 100)}
+                                                   : std::vector<int>{};
+  cv::imencode(format == "jpeg" ? ".jpg" : ".png", bgr, out, params);
+  return out;
 }
 
 }  // namespace vwg::perception

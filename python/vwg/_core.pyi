@@ -9,7 +9,7 @@ import numpy.typing
 import os
 import typing
 import vwg.maps
-__all__: list[str] = ['ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'ArrivalCondition', 'Backend', 'BackendGroup', 'Blob', 'CameraGenerator', 'CameraRenderer', 'CameraSpec', 'Collision', 'CollisionGenerator', 'DStarLite', 'Decider', 'DecisionInput', 'DepthCameraSpec', 'Engine', 'Event', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'FrameSink', 'Generator', 'GridDecider', 'GridRaycaster', 'ImageFiles', 'ImageSequence', 'ImageSource', 'KinectGenerator', 'LaserGenerator', 'LaserSpec', 'MotionBackend', 'Node', 'NoiseModel', 'NullBackend', 'OdometryGenerator', 'OmplDecider', 'OmplPlan', 'OmplPlanner', 'OrderGenerator', 'OverviewCamera', 'PhysicsSettings', 'PhysicsWorld', 'PythonActor', 'RandomDecider', 'RangeScanner', 'RenderStyle', 'RobotPlatform', 'RobotSettings', 'RobotState', 'SimView', 'SimulatedCamera', 'StopCondition', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoSource', 'add_arobot', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'arobot_event_types', 'astar', 'backend_names', 'build_string', 'create_backend', 'create_decider', 'create_platform', 'create_sensor', 'decider_names', 'detect_apriltags', 'display', 'estimate_tag_pose', 'evolve', 'grid_clearance', 'grid_inflate', 'overview_camera', 'plan_ompl', 'platform_names', 'ranging_sensors', 'read_image', 'render_overview', 'robot_map', 'sensor_names', 'set_log_sink', 'visualize', 'walker_behavior', 'write_image']
+__all__: list[str] = ['ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'ArrivalCondition', 'Backend', 'BackendGroup', 'Blob', 'CameraGenerator', 'CameraRenderer', 'CameraSpec', 'Collision', 'CollisionGenerator', 'DStarLite', 'Decider', 'DecisionInput', 'DepthCameraSpec', 'Engine', 'Event', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'FrameSink', 'Generator', 'GridDecider', 'GridRaycaster', 'ImageFiles', 'ImageSequence', 'ImageSource', 'KinectGenerator', 'LaserGenerator', 'LaserSpec', 'MotionBackend', 'Node', 'NoiseModel', 'NullBackend', 'OdometryGenerator', 'OmplDecider', 'OmplPlan', 'OmplPlanner', 'OrderGenerator', 'OverviewCamera', 'PhysicsSettings', 'PhysicsWorld', 'PythonActor', 'RandomDecider', 'RangeScanner', 'ReceivedImages', 'RenderStyle', 'RobotPlatform', 'RobotSettings', 'RobotState', 'SimView', 'SimulatedCamera', 'StopCondition', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoSource', 'add_arobot', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'arobot_event_types', 'astar', 'backend_names', 'build_string', 'create_backend', 'create_decider', 'create_platform', 'create_sensor', 'decider_names', 'detect_apriltags', 'display', 'encode_image', 'estimate_tag_pose', 'evolve', 'grid_clearance', 'grid_inflate', 'overview_camera', 'plan_ompl', 'platform_names', 'ranging_sensors', 'read_image', 'render_overview', 'robot_map', 'sensor_names', 'set_log_sink', 'visualize', 'walker_behavior', 'write_image']
 class Blob:
     """
     A large attribute value held by reference from world strings (an occupancy grid, an image, a path).
@@ -619,6 +619,10 @@ class CameraSpec:
         ...
     def __setstate__(self, arg0: dict) -> None:
         ...
+    def apriltag_intrinsics(self) -> tuple[float, float, float, float]:
+        """
+        (fx, fy, cx, cy) of this camera in the AprilTag library's pixel convention, for CameraGenerator.
+        """
     def check(self, owner: str) -> None:
         """
         Raise vwg.SchemaError naming `owner.field` for a value out of range (what the C++ side would refuse).
@@ -2312,6 +2316,20 @@ class VideoSource(ImageSource):
     @typing.overload
     def __init__(self, device: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
+class ReceivedImages(ImageSource):
+    """
+    The latest compressed image (JPEG or PNG bytes) a robot's link received: push() it from any thread; a frame gets it when it is new. Images that do not decode are dropped and counted.
+    """
+    def __init__(self) -> None:
+        ...
+    def push(self, encoded: bytes) -> None:
+        ...
+    @property
+    def dropped(self) -> int:
+        ...
+    @property
+    def received(self) -> int:
+        ...
 class SimulatedCamera(ImageSource):
     """
     The robot's view in the simulated world (see CameraRenderer), other robots included.
@@ -2414,6 +2432,10 @@ def detect_apriltags(image: typing.Any, family: str = 'tag36h11', quad_decimate:
 def display(v: String, backend: Backend) -> None:
     """
     φ(v) (paper eq. 7) on a backend: α, β, δ in string order.
+    """
+def encode_image(image: typing.Annotated[numpy.typing.ArrayLike, numpy.uint8], format: str = 'jpeg', quality: typing.SupportsInt | typing.SupportsIndex = 90) -> bytes:
+    """
+    JPEG or PNG bytes of an image (as sensor_msgs/CompressedImage carries them).
     """
 def estimate_tag_pose(detection: AprilTagDetection, tag_size: typing.SupportsFloat | typing.SupportsIndex, fx: typing.SupportsFloat | typing.SupportsIndex, fy: typing.SupportsFloat | typing.SupportsIndex, cx: typing.SupportsFloat | typing.SupportsIndex, cy: typing.SupportsFloat | typing.SupportsIndex) -> AprilTagPose:
     """

@@ -2,7 +2,8 @@
 geometry_msgs/Twist on each robot's ``cmd_vel``, moves the robots as differential-drive bases
 (their world-file limits, stopped by walls) on the world's map, and publishes nav_msgs/Odometry
 (from zero where each robot starts, as a real base does) and sensor_msgs/LaserScan (the walls,
-by vwg's ray caster) at ``rate`` Hz, as a real robot's rosbridge server would.
+by vwg's ray caster) at ``rate`` Hz, and sensor_msgs/CompressedImage (the simulator's camera view,
+JPEG) at 10 Hz, as a real robot's rosbridge server would.
 
     with FakeRosbridgeRobot(world) as robot:          # serves ws://127.0.0.1:<free port>
         vwg.start(world, vwg.RunOptions(platform="rosbridge", url=robot.url, goals=["kitchen"])).execute()
@@ -27,7 +28,7 @@ import numpy as np
 
 from . import _core
 from .robotworld import RobotWorld
-from .ros_messages import odometry_message, scan_message, twist_of
+from .ros_messages import compressed_image_message, odometry_message, scan_message, twist_of
 from .rosbridge_platform import topics_for
 
 __all__ = ["FakeRosbridgeRobot"]
@@ -56,6 +57,10 @@ class FakeRosbridgeRobot:
         laser = world.laser
         self.angles = np.linspace(-laser.fov / 2, laser.fov / 2, laser.beams) if laser.fov < 2 * math.pi - 1e-9 else \
             -math.pi + 2 * math.pi * np.arange(laser.beams) / laser.beams
+        # The robots' cameras: the simulator's renderer, JPEG-compressed, every `camera_every` ticks.
+        self.camera = _core.CameraRenderer(world.grid, world.rooms, world.camera)
+        self.camera_every = max(1, round(rate / 10))
+        self._ticks = 0
         self._clients: set[Any] = set()
         self._subscriptions: dict[Any, set[str]] = {}
         self._cut = False
@@ -203,6 +208,8 @@ class FakeRosbridgeRobot:
     async def _publish(self) -> None:
         now = time.monotonic() - self._t0
         out: list[tuple[str, dict[str, Any]]] = []
+        self._ticks += 1
+        wanted = set().union(*self._subscriptions.values()) if self._subscriptions else set()
         with self._lock:
             for rid, base in self.robots.items():
                 sx, sy, st = base.settings.start
@@ -221,6 +228,11 @@ class FakeRosbridgeRobot:
                                                                    if len(self.angles) > 1 else 0.0,
                                                                    ranges, laser.min_range, laser.max_range,
                                                                    ros2=self.ros2)))
+                if self._ticks % self.camera_every == 0 and self.topics[rid]["camera"] in wanted:
+                    grey = self.camera.render(base.pose, [], grey=True)
+                    out.append((self.topics[rid]["camera"],
+                                compressed_image_message(now, _core.encode_image(grey, "jpeg", 95), "jpeg",
+                                                         ros2=self.ros2)))
         for ws in list(self._clients):
             wanted = self._subscriptions.get(ws, set())
             for topic, msg in out:

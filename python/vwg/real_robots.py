@@ -1,10 +1,11 @@
-"""A robot world's robots on a real platform (rosbridge): what vwg.sim.Simulation is for the
+"""A robot world's robots on a real platform (rosbridge, serial): what vwg.sim.Simulation is for the
 simulator — the platform, the motion backend on it, the feedback and sensor generators, a view —
 so that CaseStudy and ``vwg run`` take either without knowing which.
 
 The laser's events are those of the simulated laser: ``eLaser<to=robot, dist, angle>`` for each beam
 that met an obstacle (REP 117, see vwg.ros_messages.laser_scan), in the same place of the priority
-order, for each scan that came since the last frame.
+order, for each scan that came since the last frame. The camera's are gCamera's, on the images the
+link receives (sensor_msgs/CompressedImage), with the calibration of the world file's ``camera``.
 """
 
 from __future__ import annotations
@@ -59,6 +60,13 @@ class RealRobots:
             gen = ScanGenerator(self.platform, robot)
             self.lasers.append(gen)
             return gen
+        images = getattr(self.platform, "images", {}).get(robot)
+        if name == "camera" and images is not None:
+            # The robot's camera as the world file describes it (its calibration), AprilTag detection
+            # on each new image, every third frame as in the simulator.
+            fx, fy, cx, cy = self.world.camera.apriltag_intrinsics()
+            sizes = {room.marker: room.size for room in self.world.rooms.values()}
+            return _core.CameraGenerator(images, robot, alphabet, fx, fy, cx, cy, tag_sizes=sizes, period=3)
         log.warning("%s: robot %d: sensor %r is not carried by this link yet; left out", self.platform.name(), robot,
                     name)
         return None

@@ -10,6 +10,7 @@ message (a malformed message never stops a run).
 
 from __future__ import annotations
 
+import base64
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -18,6 +19,8 @@ from typing import Any
 __all__ = [
     "LaserScan",
     "Odometry",
+    "compressed_image",
+    "compressed_image_message",
     "laser_scan",
     "odometry",
     "odometry_message",
@@ -176,6 +179,28 @@ def laser_scan(msg: Any) -> LaserScan:
         angles.append(angle_min + i * increment)
         hits.append(float(r))
     return LaserScan(stamp_seconds(_field(msg, "header.stamp")), tuple(angles), tuple(hits), range_min, range_max)
+
+
+def compressed_image(msg: Any) -> bytes:
+    """The bytes of a sensor_msgs/CompressedImage (JPEG or PNG): rosbridge sends ``data`` (uint8[])
+    as base64 text; a list of byte values is read too."""
+    fmt = _field(msg, "format")
+    if not isinstance(fmt, str) or not any(k in fmt.lower() for k in ("jpeg", "jpg", "png")):
+        raise ValueError(f"format: expected jpeg or png, got {fmt!r}")
+    data = _field(msg, "data")
+    if isinstance(data, str):
+        try:
+            return base64.b64decode(data, validate=True)
+        except ValueError:
+            raise ValueError("data: not base64") from None
+    if isinstance(data, list) and all(isinstance(b, int) and 0 <= b < 256 for b in data):
+        return bytes(data)
+    raise ValueError("data: expected base64 text or a list of bytes")
+
+
+def compressed_image_message(time: float, encoded: bytes, fmt: str = "jpeg", ros2: bool = False) -> dict[str, Any]:
+    return {"header": {"stamp": stamp_message(time, ros2), "frame_id": "camera"}, "format": fmt,
+            "data": base64.b64encode(encoded).decode("ascii")}
 
 
 def scan_message(time: float, angle_min: float, angle_increment: float, ranges: Sequence[float], range_min: float,

@@ -22,7 +22,7 @@ from typing import Any
 from . import _core
 from .errors import SchemaError
 from .real_robot import RealRobotPlatform
-from .ros_messages import laser_scan, odometry, twist_message
+from .ros_messages import compressed_image, laser_scan, odometry, twist_message
 from .rosbridge import RosbridgeLink
 
 __all__ = ["DEFAULT_TOPICS", "RosbridgePlatform", "topics_for"]
@@ -64,6 +64,8 @@ class RosbridgePlatform(RealRobotPlatform):
             for key, topic in named.items():
                 self._by_topic[topic] = (key, rid)
         super().__init__(robots, watchdog=watchdog, control_rate=control_rate)
+        # Each robot's latest camera image, decoded when its gCamera asks (sensor_msgs/CompressedImage).
+        self.images = {r.id: _core.ReceivedImages() for r in robots if "camera" in r.sensors}
         self.link = RosbridgeLink(url, on_message=self._on_message, reconnect=reconnect)
         self.link.connect()
         for rid, named in self.topics.items():
@@ -72,6 +74,8 @@ class RosbridgePlatform(RealRobotPlatform):
             sensors = next(r.sensors for r in robots if r.id == rid)
             if "laser" in sensors:
                 self.link.subscribe(named["scan"], TYPES["scan"])
+            if "camera" in sensors:
+                self.link.subscribe(named["camera"], TYPES["camera"])
 
     def _on_message(self, topic: str, msg: Any) -> None:
         key, robot = self._by_topic.get(topic, ("", 0))
@@ -79,6 +83,8 @@ class RosbridgePlatform(RealRobotPlatform):
             self.on_odometry(robot, odometry(msg))
         elif key == "scan":
             self.on_scan(robot, laser_scan(msg))
+        elif key == "camera" and robot in self.images:
+            self.images[robot].push(compressed_image(msg))
 
     def send_velocity(self, robot: int, speed: float, turn_rate: float) -> bool:
         topics = self.topics.get(robot)

@@ -3,7 +3,9 @@
 // independence, for the camera).
 #pragma once
 
+#include <cstdint>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -49,5 +51,27 @@ class VideoSource final : public ImageSource {
   std::unique_ptr<Capture> capture_;
   std::string name_;
 };
+
+/// The latest compressed image (JPEG or PNG bytes) a robot's link received, decoded when a frame
+/// asks for it: a frame gets an image only when a new one has come since the last. Images that do
+/// not decode are counted and dropped (a link's message may be corrupt; the run goes on).
+class ReceivedImages final : public ImageSource {
+ public:
+  /// From the link's thread: the newest image replaces one not yet taken.
+  void push(std::vector<std::uint8_t> encoded);
+  bool grab(const FrameInfo& frame, cv::Mat& grey) override;
+  std::string name() const override { return "received images"; }
+  std::uint64_t received() const;
+  std::uint64_t dropped() const;
+
+ private:
+  mutable std::mutex mutex_;
+  std::vector<std::uint8_t> latest_;
+  bool fresh_ = false;
+  std::uint64_t received_ = 0, dropped_ = 0;
+};
+
+/// An 8-bit grey or RGB image as JPEG (`quality` 0..100) or PNG bytes (`format` "jpeg" or "png").
+std::vector<std::uint8_t> encode_image(const cv::Mat& image, const std::string& format, int quality = 90);
 
 }  // namespace vwg::perception
