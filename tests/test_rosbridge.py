@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import dataclasses
 import itertools
+import json
 import math
 import threading
 import time
@@ -189,3 +190,48 @@ def test_serial_options_are_checked_by_name():
         vwg.start(_OFFICE, vwg.RunOptions(platform="serial", port="loop://", frames=1))
     with pytest.raises(vwg.SchemaError, match=r"cannot use socket://127\.0\.0\.1:9"):
         vwg.start(OFFICE, vwg.RunOptions(platform="serial", port="socket://127.0.0.1:9", frames=1))
+
+
+def test_malformed_and_oversized_messages_are_dropped_and_the_run_goes_on(fake):
+    platform = RosbridgePlatform([MAZE.robots[0]], fake.url)
+    try:
+        link = platform.link
+        before = link.dropped
+        for text in ("not json", "[1, 2]", json.dumps({"op": "publish", "topic": "/odom", "msg": {"pose": 3}}),
+                     json.dumps({"op": "publish", "topic": "/scan", "msg": {"ranges": "x"}}),
+                     json.dumps({"op": "teleport"}), "x" * (link.max_message + 1)):
+            link._receive(text)  # as if the server had sent it
+        assert link.dropped == before + 6
+        platform.command(1, [("drive", 0.3)])
+        platform.advance(1.5)
+        assert not platform.robots()[0].busy  # odometry kept coming: the drive finished
+        assert platform.robots()[0].pose[0] == pytest.approx(MAZE.robots[0].start[0] + 0.3, abs=0.02)
+    finally:
+        platform.close()
+
+
+def test_a_serial_base_silent_or_cut_is_stopped_and_ends_the_run():
+    from vwg.fake_base import FakeSerialBase
+    from vwg.serial_platform import SerialPlatform
+
+    with FakeSerialBase(OFFICE) as base:
+        platform = SerialPlatform(OFFICE.robots[0], base.url, watchdog=0.3, reconnect=0.5)
+        try:
+            platform.command(1, [("drive", 3.0)])
+            platform.advance(0.6)
+            assert base.commands[-1][1] > 0  # driving
+            cut_at = time.monotonic()
+            base.cut()  # the encoders stop answering: odometry stops
+            with pytest.raises(vwg.Error, match="did not come back within 0.5 s"):
+                for _ in range(20):
+                    platform.advance(0.1)
+            assert time.monotonic() - cut_at < 0.5 + 0.5  # the fault ended it promptly
+            assert any("no odometry" in f.what for f in platform.faults)
+            assert platform.faults[-1].robot == 0
+        finally:
+            platform.close()
+        # The firmware's own timeout stops the motors once commands stop coming.
+        time.sleep(base.auto_stop + 0.2)
+        x0, y0, _ = base.pose_now()
+        time.sleep(0.2)
+        assert base.pose_now()[:2] == pytest.approx((x0, y0))

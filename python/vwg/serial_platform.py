@@ -80,6 +80,11 @@ class SerialBase:
         with self._lock:
             if self._serial is not None:
                 try:
+                    # pyserial's socket:// close() skips closing its socket when shutdown() fails (the
+                    # peer already gone): close that socket here first, or it leaks.
+                    sock = getattr(self._serial, "_socket", None)
+                    if sock is not None:
+                        sock.close()
                     self._serial.close()
                 finally:
                     self._serial = None
