@@ -222,7 +222,7 @@ def test_a_serial_base_silent_or_cut_is_stopped_and_ends_the_run():
             assert base.commands[-1][1] > 0  # driving
             cut_at = time.monotonic()
             base.cut()  # the encoders stop answering: odometry stops
-            with pytest.raises(vwg.Error, match="did not come back within 0.5 s"):
+            with pytest.raises(vwg.Error, match=r"did not come back within 0\.5 s"):
                 for _ in range(20):
                     platform.advance(0.1)
             assert time.monotonic() - cut_at < 0.5 + 0.5  # the fault ended it promptly
