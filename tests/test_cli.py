@@ -159,7 +159,7 @@ def test_the_platform_is_one_setting(tmp_path, capsys):
     assert main(["run", "office", "--platform", "sim", "--goal", "kitchen", "--summary-json", str(summary), "-q"]) == 0
     assert strict_loads(summary.read_text())["reached"] is True
     assert main(["run", "office", "--platform", "warp", "--goal", "kitchen"]) == 2
-    assert "unknown platform 'warp' (known: rosbridge, sim)" in capsys.readouterr().err
+    assert "unknown platform 'warp' (known: rosbridge, serial, sim)" in capsys.readouterr().err
     # In the world file: `platform:` names it (a name or a mapping with kind); an unknown one is an
     # error with the file and line.
     text = shipped_worlds()["office"].read_text().replace("map: office/map.yaml", "map: " + str(
@@ -170,7 +170,7 @@ def test_the_platform_is_one_setting(tmp_path, capsys):
     mine.write_text(text + "platform: warp\n")
     assert main(["check", str(mine)]) == 2
     err = capsys.readouterr().err
-    assert f"{mine}:{len(text.splitlines()) + 1}: platform: unknown platform 'warp' (known: rosbridge, sim)" in err
+    assert f"{mine}:{len(text.splitlines()) + 1}: platform: unknown platform 'warp' (known: rosbridge, serial, sim)" in err
 
 
 def test_a_third_party_decider_registers_by_name(tmp_path, capsys):

@@ -235,3 +235,27 @@ def test_a_serial_base_silent_or_cut_is_stopped_and_ends_the_run():
         x0, y0, _ = base.pose_now()
         time.sleep(0.2)
         assert base.pose_now()[:2] == pytest.approx((x0, y0))
+
+
+def test_the_same_world_on_the_simulator_and_on_a_ros_robot_takes_the_same_way():
+    # Paper test 3 with noise off: (a) the simulator platform, (b) rosbridge to the fake robot. The
+    # frame logs are not byte-identical — (b) runs at wall-clock rate and moves by velocity commands
+    # closed on odometry, (a) in simulated time by the simulator's own motion profile — so what is
+    # compared is the way each took: both reach the room, and every point (b) drove lies close to
+    # the path (a) drove.
+    paths = {}
+    with vwg.start(OFFICE, vwg.RunOptions(goals=["office"], frames=250)) as run:
+        a = run.execute()
+        paths["sim"] = np.asarray(run.case.view.trajectories[1])
+    with FakeRosbridgeRobot(OFFICE) as fake, vwg.start(OFFICE, vwg.RunOptions(
+            platform="rosbridge", url=fake.url, goals=["office"], frames=250)) as run:
+        b = run.execute()
+        paths["rosbridge"] = np.asarray(run.case.view.trajectories[1])
+    assert a.summary["reached"] and b.summary["reached"]
+    sim, ros = paths["sim"], paths["rosbridge"]
+    deviation = max(float(np.hypot(*(sim - p).T).min()) for p in ros)
+    ends = float(np.hypot(*(sim[-1] - ros[-1])))
+    print(f"\nsimulator: {a.summary['frames']} frames, {a.summary['path_length_m']:.2f} m; rosbridge: "
+          f"{b.summary['frames']} frames, {b.summary['path_length_m']:.2f} m; largest distance of the ROS "
+          f"robot's path from the simulated one {deviation:.3f} m; ends {ends:.3f} m apart")
+    assert deviation < 0.35 and ends < 2 * OFFICE.goal_tolerance
