@@ -170,7 +170,8 @@ def test_the_platform_is_one_setting(tmp_path, capsys):
     mine.write_text(text + "platform: warp\n")
     assert main(["check", str(mine)]) == 2
     err = capsys.readouterr().err
-    assert f"{mine}:{len(text.splitlines()) + 1}: platform: unknown platform 'warp' (known: rosbridge, serial, sim)" in err
+    line = len(text.splitlines()) + 1
+    assert f"{mine}:{line}: platform: unknown platform 'warp' (known: rosbridge, serial, sim)" in err
 
 
 def test_a_third_party_decider_registers_by_name(tmp_path, capsys):

@@ -259,3 +259,14 @@ def test_the_same_world_on_the_simulator_and_on_a_ros_robot_takes_the_same_way()
           f"{b.summary['frames']} frames, {b.summary['path_length_m']:.2f} m; largest distance of the ROS "
           f"robot's path from the simulated one {deviation:.3f} m; ends {ends:.3f} m apart")
     assert deviation < 0.35 and ends < 2 * OFFICE.goal_tolerance
+
+
+@pytest.mark.parametrize(("ros", "twist", "scan"), [(1, "geometry_msgs/Twist", "sensor_msgs/LaserScan"),
+                                                   (2, "geometry_msgs/msg/Twist", "sensor_msgs/msg/LaserScan")])
+def test_type_names_are_spelled_for_the_robots_ros(fake, ros, twist, scan):
+    platform = RosbridgePlatform([MAZE.robots[0]], fake.url, ros=ros)
+    try:
+        platform.advance(0.2)
+    finally:
+        platform.close()
+    assert ("advertise", "/cmd_vel", twist) in fake.declared and ("subscribe", "/scan", scan) in fake.declared

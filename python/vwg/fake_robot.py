@@ -61,6 +61,7 @@ class FakeRosbridgeRobot:
         self.camera = _core.CameraRenderer(world.grid, world.rooms, world.camera)
         self.camera_every = max(1, round(rate / 10))
         self._ticks = 0
+        self.declared: list[tuple[str, str, str]] = []  # (op, topic, type) of each advertise and subscribe
         self._clients: set[Any] = set()
         self._subscriptions: dict[Any, set[str]] = {}
         self._cut = False
@@ -158,6 +159,8 @@ class FakeRosbridgeRobot:
                 if not isinstance(message, dict):
                     continue
                 op = message.get("op")
+                if op in ("advertise", "subscribe"):
+                    self.declared.append((op, str(message.get("topic")), str(message.get("type"))))
                 if op == "subscribe":
                     self._subscriptions[ws].add(message.get("topic"))
                 elif op == "publish":

@@ -118,7 +118,8 @@ def _register_builtins() -> None:
         if not isinstance(options.get("url"), str):
             raise SchemaError("platform rosbridge: url: missing (ws://HOST:PORT, or --url)")
         numbers = {k: float(options[k]) for k in ("watchdog", "reconnect", "control_rate") if k in options}
-        platform = RosbridgePlatform(list(world.robots), options["url"], topics=options.get("topics"), **numbers)
+        platform = RosbridgePlatform(list(world.robots), options["url"], topics=options.get("topics"),
+                                     ros=options.get("ros", 1), **numbers)
         return RealRobots(world, platform)
 
     platforms.register("rosbridge", rosbridge)

@@ -7,11 +7,13 @@ and ``vwg run --platform rosbridge --url ws://HOST:PORT``.
       watchdog: 0.5        # seconds without odometry before a robot is stopped
       reconnect: 5         # seconds a lost link is retried before the run ends
       topics: {cmd_vel: /cmd_vel, odom: /odom, scan: /scan, camera: /camera/image/compressed}
+      ros: 1               # 2: type names spelled pkg/msg/Name (rosbridge for ROS 2 takes both)
 
 Topic names default to ``/cmd_vel``, ``/odom``, ``/scan`` and ``/camera/image/compressed`` for one
 robot and to ``/robot{id}/...`` for several; a name may hold ``{id}``. vwg publishes
-geometry_msgs/Twist and reads nav_msgs/Odometry and sensor_msgs/LaserScan (type names in the ROS 1
-spelling, which rosbridge for ROS 2 accepts too; both spellings are read).
+geometry_msgs/Twist and reads nav_msgs/Odometry, sensor_msgs/LaserScan and
+sensor_msgs/CompressedImage (type names in the ROS 1 spelling unless ``ros: 2``; headers' stamps are
+read in both spellings).
 """
 
 from __future__ import annotations
@@ -30,7 +32,7 @@ __all__ = ["DEFAULT_TOPICS", "RosbridgePlatform", "topics_for"]
 DEFAULT_TOPICS = {"cmd_vel": "/cmd_vel", "odom": "/odom", "scan": "/scan", "camera": "/camera/image/compressed"}
 TYPES = {"cmd_vel": "geometry_msgs/Twist", "odom": "nav_msgs/Odometry", "scan": "sensor_msgs/LaserScan",
          "camera": "sensor_msgs/CompressedImage"}
-OPTIONS = ("url", "topics", "watchdog", "reconnect", "control_rate")
+OPTIONS = ("url", "topics", "ros", "watchdog", "reconnect", "control_rate")
 
 
 def topics_for(robot: int, several: bool, topics: dict[str, str] | None = None) -> dict[str, str]:
@@ -49,12 +51,16 @@ class RosbridgePlatform(RealRobotPlatform):
     kind = "rosbridge"
 
     def __init__(self, robots: list[_core.RobotSettings], url: str, *, topics: dict[str, str] | None = None,
-                 watchdog: float = 0.5, reconnect: float = 5.0, control_rate: float = 20.0) -> None:
+                 ros: int = 1, watchdog: float = 0.5, reconnect: float = 5.0, control_rate: float = 20.0) -> None:
         self.link: RosbridgeLink | None = None
         unknown = set(topics or {}) - set(DEFAULT_TOPICS)
         if unknown:
             raise SchemaError(f"platform.topics: unknown topic key(s) {', '.join(sorted(unknown))} "
                               f"(known: {', '.join(DEFAULT_TOPICS)})")
+        if ros not in (1, 2):
+            raise SchemaError(f"platform.ros: expected 1 or 2 (how type names are spelled), got {ros!r}")
+        # ROS 2 spells message types pkg/msg/Name; rosbridge for ROS 2 takes both, ROS 1 only pkg/Name.
+        self.types = {k: v.replace("/", "/msg/") if ros == 2 else v for k, v in TYPES.items()}
         if not (math.isfinite(reconnect) and reconnect >= 0):
             raise SchemaError(f"platform.reconnect: expected seconds >= 0, got {reconnect}")
         several = len(robots) > 1
@@ -69,13 +75,13 @@ class RosbridgePlatform(RealRobotPlatform):
         self.link = RosbridgeLink(url, on_message=self._on_message, reconnect=reconnect)
         self.link.connect()
         for rid, named in self.topics.items():
-            self.link.advertise(named["cmd_vel"], TYPES["cmd_vel"])
-            self.link.subscribe(named["odom"], TYPES["odom"])
+            self.link.advertise(named["cmd_vel"], self.types["cmd_vel"])
+            self.link.subscribe(named["odom"], self.types["odom"])
             sensors = next(r.sensors for r in robots if r.id == rid)
             if "laser" in sensors:
-                self.link.subscribe(named["scan"], TYPES["scan"])
+                self.link.subscribe(named["scan"], self.types["scan"])
             if "camera" in sensors:
-                self.link.subscribe(named["camera"], TYPES["camera"])
+                self.link.subscribe(named["camera"], self.types["camera"])
 
     def _on_message(self, topic: str, msg: Any) -> None:
         key, robot = self._by_topic.get(topic, ("", 0))
