@@ -134,6 +134,8 @@ cpp-package: deps
 	  cat $(BUILD)/example-cpp-bad.log; echo "the failure does not name the unknown component"; exit 1; fi
 
 bench: install
+	@# The peers the benchmarks compare with (not vwg dependencies).
+	@$(PIP) install -q pyastar2d
 	@for b in benchmarks/bench_*.py; do echo "== $$b"; $(PY) $$b; done
 
 clean:

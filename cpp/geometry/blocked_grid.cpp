@@ -20,9 +20,14 @@ BlockedGrid::BlockedGrid(int rows, int cols) : rows_(rows), cols_(cols) {
     throw SchemaError("grid", "grid too large for the planners (" + std::to_string(rows) + " × " +
                                   std::to_string(cols) + " cells)");
   }
-  cells_.assign(static_cast<std::size_t>(padded), 1);
+  // The border blocked, the inside free: one pass.
+  cells_.assign(static_cast<std::size_t>(padded), 0);
+  const std::size_t stride = static_cast<std::size_t>(cols) + 2;
+  std::fill_n(cells_.begin(), stride, std::uint8_t{1});
+  std::fill_n(cells_.end() - static_cast<std::ptrdiff_t>(stride), stride, std::uint8_t{1});
   for (int r = 0; r < rows; ++r) {
-    std::fill_n(cells_.begin() + index({r, 0}), cols, std::uint8_t{0});
+    cells_[index({r, 0}) - 1] = 1;
+    cells_[index({r, 0}) + static_cast<std::size_t>(cols)] = 1;
   }
 }
 

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <memory>
 #include <ostream>
 #include <random>
 #include <span>
@@ -182,6 +183,32 @@ TEST(AStar, BadInputIsASchemaErrorNamingTheArgument) {
   } catch (const vwg::SchemaError& e) {
     EXPECT_EQ(std::string(e.what()), "start: cell (row 0, col 1) is blocked");
   }
+}
+
+TEST(BlockedGrid, MasksOfEveryTypeGiveTheSamePaddedCells) {
+  // A random 37 × 53 mask as bool, bytes and doubles: the padded cells, border included, are those
+  // set one at a time on a free grid.
+  std::mt19937 rng(5);
+  std::vector<bool> bits(37 * 53);
+  for (auto&& b : bits) b = rng() % 3 == 0;
+  std::unique_ptr<bool[]> as_bool(new bool[bits.size()]);
+  std::vector<std::uint8_t> as_bytes(bits.size());
+  std::vector<double> as_doubles(bits.size());
+  BlockedGrid reference(37, 53);
+  for (std::size_t i = 0; i < bits.size(); ++i) {
+    as_bool[i] = bits[i];
+    as_bytes[i] = bits[i] ? 7 : 0;
+    as_doubles[i] = bits[i] ? -0.5 : 0.0;
+    if (bits[i]) reference.set_blocked({static_cast<int>(i / 53), static_cast<int>(i % 53)}, true);
+  }
+  const auto cells = [](const BlockedGrid& g) { return std::vector<std::uint8_t>(g.padded().begin(), g.padded().end()); };
+  EXPECT_EQ(cells(BlockedGrid::from_mask(std::span<const bool>(as_bool.get(), bits.size()), 37, 53)), cells(reference));
+  EXPECT_EQ(cells(BlockedGrid::from_mask(std::span<const std::uint8_t>(as_bytes), 37, 53)), cells(reference));
+  EXPECT_EQ(cells(BlockedGrid::from_mask(std::span<const double>(as_doubles), 37, 53)), cells(reference));
+  // The border is blocked all round, the inside of a new grid free.
+  const BlockedGrid empty(2, 3);
+  const std::vector<std::uint8_t> expected{1, 1, 1, 1, 1, 1, 0, 0, 0, 1, 1, 0, 0, 0, 1, 1, 1, 1, 1, 1};
+  EXPECT_EQ(cells(empty), expected);
 }
 
 TEST(BlockedGrid, MaskOccupancyAndBorder) {

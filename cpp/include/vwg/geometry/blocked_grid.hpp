@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <span>
 #include <string>
 #include <type_traits>
@@ -38,9 +39,15 @@ class BlockedGrid {
     static_assert(std::is_arithmetic_v<T>, "a mask holds numbers or bools");
     BlockedGrid grid(rows, cols);
     grid.check_mask_size(mask.size());
+    // Row by row through pointers: a planner called from Python converts its map on every call,
+    // so this is on the path of every search (a bool row is copied as it is: its bytes are 0 or 1).
     for (int r = 0; r < rows; ++r) {
-      for (int c = 0; c < cols; ++c) {
-        grid.cells_[grid.index({r, c})] = mask[static_cast<std::size_t>(r) * cols + c] != T{} ? 1 : 0;
+      const T* src = mask.data() + static_cast<std::size_t>(r) * static_cast<std::size_t>(cols);
+      std::uint8_t* dst = grid.cells_.data() + grid.index({r, 0});
+      if constexpr (std::is_same_v<T, bool>) {
+        std::memcpy(dst, src, static_cast<std::size_t>(cols));
+      } else {
+        for (int c = 0; c < cols; ++c) dst[c] = src[c] != T{} ? 1 : 0;
       }
     }
     return grid;

@@ -1,0 +1,92 @@
+"""Grid A* against a peer: vwg.plan.astar and pyastar2d (a C++ A* with a Python face) on the same
+queries — the MovingAI benchmark maps and their scenarios — each called as a user calls it (a numpy
+map in, a path out), in the same process.
+
+    python benchmarks/bench_astar_peer.py [--quick]     prints a table, writes benchmarks/results/bench_astar_peer.json
+
+pyastar2d is not a vwg dependency: `pip install pyastar2d` first (make bench does).
+The same problem for both: 4-connected moves of cost 1 (pyastar2d's 8-connected mode costs a diagonal
+step as much as a straight one, a different problem from vwg's octile/Euclidean one), and the number
+of steps of every path is checked equal.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import platform
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+from tqdm import tqdm
+
+import vwg
+
+ROOT = Path(__file__).resolve().parents[1]
+DATA = ROOT / "tests" / "data" / "movingai"
+RESULTS = Path(__file__).resolve().parent / "results" / "bench_astar_peer.json"
+MAPS = ("random512-10-0.map", "8room_000.map", "den312d.map", "arena.map")
+
+
+def queries(name: str) -> tuple[np.ndarray, list[tuple[tuple[int, int], tuple[int, int]]]]:
+    grid = vwg.maps.load_movingai(DATA / name)
+    out = []
+    for line in (DATA / f"{name}.scen").read_text().splitlines()[1:]:
+        f = line.split("\t")
+        if len(f) >= 9:
+            sx, sy, gx, gy = (int(v) for v in f[4:8])
+            out.append((vwg.maps.movingai_cell(sx, sy, grid.height), vwg.maps.movingai_cell(gx, gy, grid.height)))
+    return grid.data != 0, out
+
+
+def timed(fn, items) -> float:
+    t0 = time.perf_counter()
+    for item in items:
+        fn(*item)
+    return time.perf_counter() - t0
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="the first 200 scenarios of each map")
+    args = parser.parse_args()
+    try:
+        import pyastar2d
+    except ImportError:
+        print("bench_astar_peer: pyastar2d is not installed (pip install pyastar2d)", file=sys.stderr)
+        return 2
+    rows = []
+    for name in tqdm(MAPS, desc="bench_astar_peer", unit="map"):
+        blocked, qs = queries(name)
+        if args.quick:
+            qs = qs[:200]
+        weights = np.where(blocked, np.inf, 1.0).astype(np.float32)
+        for s, g in qs:  # the same answers: the step counts of the shortest 4-connected paths
+            path, _ = vwg.plan.astar(blocked, s, g, diagonal=False, heuristic="manhattan")
+            theirs = pyastar2d.astar_path(weights, s, g, allow_diagonal=False)
+            assert (path is None) == (theirs is None) and (path is None or len(path) == len(theirs)), (name, s, g)
+        # The best of three passes over all the queries.
+        def ours_once(s, g, blocked=blocked):
+            return vwg.plan.astar(blocked, s, g, diagonal=False, heuristic="manhattan")
+
+        def peer_once(s, g, weights=weights):
+            return pyastar2d.astar_path(weights, s, g, allow_diagonal=False)
+
+        ours = min(timed(ours_once, qs) for _ in range(3))
+        peer = min(timed(peer_once, qs) for _ in range(3))
+        rows.append({"map": name, "cells": int(blocked.size), "queries": len(qs), "vwg_ms": ours / len(qs) * 1e3,
+                     "pyastar2d_ms": peer / len(qs) * 1e3, "speed_ratio": peer / ours})
+    print(f"{'map':<20} {'queries':>7} {'vwg ms':>8} {'pyastar2d ms':>13} {'vwg speed / pyastar2d':>22}")
+    for r in rows:
+        print(f"{r['map']:<20} {r['queries']:>7} {r['vwg_ms']:8.3f} {r['pyastar2d_ms']:13.3f} {r['speed_ratio']:22.2f}")
+    RESULTS.parent.mkdir(parents=True, exist_ok=True)
+    RESULTS.write_text(json.dumps({"machine": platform.machine(), "python": platform.python_version(),
+                                   "quick": args.quick, "rows": rows}, indent=2) + "\n")
+    print(f"wrote {RESULTS}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
