@@ -5,7 +5,8 @@ map in, a path out), in the same process.
     python benchmarks/bench_astar_peer.py [--quick]     prints a table, writes benchmarks/results/bench_astar_peer.json
 
 pyastar2d is not a vwg dependency: `pip install pyastar2d` first (make bench does).
-The same problem for both: 4-connected moves of cost 1 (pyastar2d's 8-connected mode costs a diagonal
+D* Lite is timed on its first plan (made and searched per query; its strength, the repairs, is
+bench_planning's). The same problem for all: 4-connected moves of cost 1 (pyastar2d's 8-connected mode costs a diagonal
 step as much as a straight one, a different problem from vwg's octile/Euclidean one), and the number
 of steps of every path is checked equal.
 """
@@ -74,13 +75,22 @@ def main() -> int:
         def peer_once(s, g, weights=weights):
             return pyastar2d.astar_path(weights, s, g, allow_diagonal=False)
 
+        def dstar_once(s, g, blocked=blocked):
+            return vwg.plan.DStarLite(blocked, s, g, diagonal=False, heuristic="manhattan").path()
+
+        for s, g in qs[:50]:  # D* Lite's first plan gives the same answers too
+            assert dstar_once(s, g)[1] == ours_once(s, g)[1], (name, s, g)
         ours = min(timed(ours_once, qs) for _ in range(3))
         peer = min(timed(peer_once, qs) for _ in range(3))
+        dstar = timed(dstar_once, qs)
         rows.append({"map": name, "cells": int(blocked.size), "queries": len(qs), "vwg_ms": ours / len(qs) * 1e3,
-                     "pyastar2d_ms": peer / len(qs) * 1e3, "speed_ratio": peer / ours})
-    print(f"{'map':<20} {'queries':>7} {'vwg ms':>8} {'pyastar2d ms':>13} {'vwg speed / pyastar2d':>22}")
+                     "pyastar2d_ms": peer / len(qs) * 1e3, "speed_ratio": peer / ours,
+                     "dstar_first_plan_ms": dstar / len(qs) * 1e3, "dstar_speed_ratio": peer / dstar})
+    print(f"{'map':<20} {'queries':>7} {'A* ms':>8} {'D* Lite ms':>11} {'pyastar2d ms':>13} "
+          f"{'A* speed / peer':>16} {'D* Lite speed / peer':>21}")
     for r in rows:
-        print(f"{r['map']:<20} {r['queries']:>7} {r['vwg_ms']:8.3f} {r['pyastar2d_ms']:13.3f} {r['speed_ratio']:22.2f}")
+        print(f"{r['map']:<20} {r['queries']:>7} {r['vwg_ms']:8.3f} {r['dstar_first_plan_ms']:11.3f} "
+              f"{r['pyastar2d_ms']:13.3f} {r['speed_ratio']:16.2f} {r['dstar_speed_ratio']:21.2f}")
     RESULTS.parent.mkdir(parents=True, exist_ok=True)
     RESULTS.write_text(json.dumps({"machine": platform.machine(), "python": platform.python_version(),
                                    "quick": args.quick, "rows": rows}, indent=2) + "\n")
