@@ -233,6 +233,30 @@ py::class_<T> bind(py::module_& m, const char* name, const std::string& doc) {
   visit_settings(defaults, [&](const char* field, const auto& member, const char* help) {
     using M = std::remove_cvref_t<decltype(member)>;
     const std::string key = field;
+    const std::string doc = std::string(help) + " (" + type_name<M>() + ")";
+    auto setter = [key, owner = std::string(name)](T& s, const LooseArg<FieldTag<M>>& value) {
+      visit_settings(s, [&](const char* f, auto& v, const char*) {
+        if (key == f) from_python(value, v, owner + "." + key);
+      });
+    };
+    if constexpr (Settings<M>) {
+      // A nested settings struct is the one inside, not a copy: `physics.noise.motors = 0.1` sticks.
+      cls.def_property(
+          field,
+          py::cpp_function(
+              [key](T& s) -> M& {
+                M* out = nullptr;
+                visit_settings(s, [&](const char* f, auto& v, const char*) {
+                  if constexpr (std::is_same_v<std::remove_cvref_t<decltype(v)>, M>) {
+                    if (key == f) out = &v;
+                  }
+                });
+                return *out;
+              },
+              py::return_value_policy::reference_internal),
+          setter, doc.c_str());
+      return;
+    }
     cls.def_property(
         field,
         // Typed by the field's C++ type, so the stubs say int, float, tuple[float, float, float], ...
@@ -245,12 +269,7 @@ py::class_<T> bind(py::module_& m, const char* name, const std::string& doc) {
           });
           return out;
         },
-        [key, owner = std::string(name)](T& s, const LooseArg<FieldTag<M>>& value) {
-          visit_settings(s, [&](const char* f, auto& v, const char*) {
-            if (key == f) from_python(value, v, owner + "." + key);
-          });
-        },
-        (std::string(help) + " (" + type_name<M>() + ")").c_str());
+        setter, doc.c_str());
   });
   cls.def("__eq__", [](const T& a, py::handle b) { return py::isinstance<T>(b) && equal(a, b.cast<const T&>()); },
           py::is_operator())

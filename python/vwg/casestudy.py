@@ -186,35 +186,43 @@ class CaseStudy:
         # The platform by name (the world file's, or `platform`): the simulator unless said otherwise.
         spec = world.platform if platform is None else PlatformSpec(platform) if isinstance(platform, str) else platform
         self.sim = platforms.create(spec.kind, world, self.seed, dict(spec.options))
-        self.orders = Orders(world, alphabet)
-        # The world file's timed orders play unless orders are given here (or world_orders says).
-        if world_orders is None:
-            world_orders = not goals
-        for order in world.orders if world_orders else ():
-            self.orders.schedule(math.ceil(order.time / world.dt - 1e-9), order.robot, order.room)
-        for robot, room in (goals or {}).items():
-            self.orders.schedule(0, robot, room)
-        kinds = None if sensors is None else tuple(sensors)
-        generators: list[Any] = [*self.sim.feedback(alphabet), *self.sim.sensors(alphabet, kinds),
-                                 self.orders.generator, every_frame("eDecide"), every_frame("eExecute")]
-        # The view draws what θ shows of the robots (their actions, paths and status lines) through π
-        # and φ, and keeps the trajectories; without video or images it draws nothing.
-        self.view: _core.SimView = self.sim.view(width=view_width, video=str(video) if video else None,
-                                                 images=str(images) if images else None)
-        # Extra backends (after the simulator): ready ones, or factories given the simulation.
-        shown = [self.view, *(b if isinstance(b, _core.Backend) else b(self.sim) for b in backends)]
-        # The platform's motion backend first (it moves the robots), then what shows them.
-        backend = _core.BackendGroup([self.sim.backend, *shown])
-        self.engine = Engine(self.vworld, self.initial_string(), generators, backend, dt=world.dt, seed=self.seed,
-                             max_symbols=max_symbols)
-        # Done when every robot sent somewhere is there: checked in C++ after each frame.
-        self.engine.stop_when(_core.ArrivalCondition(alphabet, self.orders.generator))
-        # A robot a λ spawns gets a body on the platform; one that leaves the string loses it.
-        self.engine.keep_robots_in_step(self.sim.platform, radius=max((r.radius for r in world.robots), default=0.18))
-        self.video = str(video) if video else None
-        # The video is finished by close(), or at the latest when this object goes or Python exits.
-        self._hold = max(1, round(1.0 / world.dt))
-        self._finish = weakref.finalize(self, self.view.finish, self._hold)
+        try:
+            self.orders = Orders(world, alphabet)
+            # The world file's timed orders play unless orders are given here (or world_orders says).
+            if world_orders is None:
+                world_orders = not goals
+            for order in world.orders if world_orders else ():
+                self.orders.schedule(math.ceil(order.time / world.dt - 1e-9), order.robot, order.room)
+            for robot, room in (goals or {}).items():
+                self.orders.schedule(0, robot, room)
+            kinds = None if sensors is None else tuple(sensors)
+            generators: list[Any] = [*self.sim.feedback(alphabet), *self.sim.sensors(alphabet, kinds),
+                                     self.orders.generator, every_frame("eDecide"), every_frame("eExecute")]
+            # The view draws what θ shows of the robots (their actions, paths and status lines) through π
+            # and φ, and keeps the trajectories; without video or images it draws nothing.
+            self.view: _core.SimView = self.sim.view(width=view_width, video=str(video) if video else None,
+                                                     images=str(images) if images else None)
+            # Extra backends (after the simulator): ready ones, or factories given the simulation.
+            shown = [self.view, *(b if isinstance(b, _core.Backend) else b(self.sim) for b in backends)]
+            # The platform's motion backend first (it moves the robots), then what shows them.
+            backend = _core.BackendGroup([self.sim.backend, *shown])
+            self.engine = Engine(self.vworld, self.initial_string(), generators, backend, dt=world.dt, seed=self.seed,
+                                 max_symbols=max_symbols)
+            # Done when every robot sent somewhere is there: checked in C++ after each frame.
+            self.engine.stop_when(_core.ArrivalCondition(alphabet, self.orders.generator))
+            # A robot a λ spawns gets a body on the platform; one that leaves the string loses it.
+            self.engine.keep_robots_in_step(self.sim.platform,
+                                            radius=max((r.radius for r in world.robots), default=0.18))
+            self.video = str(video) if video else None
+            # The video is finished by close(), or at the latest when this object goes or Python exits.
+            self._hold = max(1, round(1.0 / world.dt))
+            self._finish = weakref.finalize(self, self.view.finish, self._hold)
+        except BaseException:
+            # A real robot's link is open now: nothing may leave it so.
+            close = getattr(self.sim, "close", None)
+            if callable(close):
+                close()
+            raise
         self._closed = False
         self.wall_time = 0.0
 

@@ -34,7 +34,8 @@ class FakeSerialBase:
         self.commanded_at = 0.0
         self.commands: list[tuple[float, int, int]] = []  # (monotonic time, left, right) of every `m`
         self._lock = threading.Lock()
-        self._running = True
+        self._running = True   # taking connections and commands
+        self._alive = True     # the motors (they run on after a cut, until the firmware's auto-stop)
         fake = self
 
         class Handler(socketserver.StreamRequestHandler):
@@ -72,8 +73,10 @@ class FakeSerialBase:
         return self
 
     def stop(self) -> None:
-        self._running = False
-        self._server.shutdown()
+        self._alive = False
+        if self._running:
+            self._running = False
+            self._server.shutdown()
         self._server.server_close()
         for t in self._threads:
             t.join(2)
@@ -107,7 +110,7 @@ class FakeSerialBase:
     def _move(self) -> None:
         dt = 0.01
         grid = self.world.grid
-        while self._running:
+        while self._alive:
             with self._lock:
                 if time.monotonic() - self.commanded_at > self.auto_stop:
                     self.motors = (0, 0)
@@ -126,8 +129,9 @@ class FakeSerialBase:
 
     def cut(self) -> None:
         """Pull the cable: every connection closes and no new one is taken."""
-        self._server.socket.close()
         self._running = False
+        self._server.shutdown()  # serve_forever returns (it runs on its own thread)
+        self._server.socket.close()
 
     def pose_now(self) -> tuple[float, float, float]:
         with self._lock:

@@ -44,8 +44,11 @@ class _Base:
 
 
 class FakeRosbridgeRobot:
-    def __init__(self, world: RobotWorld, *, rate: float = 50.0, ros2: bool = False, cmd_timeout: float = 0.5) -> None:
+    def __init__(self, world: RobotWorld, *, rate: float = 50.0, ros2: bool = False, cmd_timeout: float = 0.5,
+                 odom_offset: tuple[float, float, float] = (0.0, 0.0, 0.0)) -> None:
         self.world = world
+        # Where each base's odometry count stood when vwg connected (a base that has run before).
+        self.odom_offset = odom_offset
         self.cmd_timeout = cmd_timeout  # a base stops by itself when commands stop coming (as real ones do)
         self.rate = rate
         self.ros2 = ros2
@@ -220,6 +223,10 @@ class FakeRosbridgeRobot:
                 dx, dy = x - sx, y - sy
                 local = (math.cos(st) * dx + math.sin(st) * dy, -math.sin(st) * dx + math.cos(st) * dy,
                          math.atan2(math.sin(yaw - st), math.cos(yaw - st)))
+                ox, oy, oyaw = self.odom_offset  # offset ⊕ local: the base's count did not start at zero here
+                local = (ox + math.cos(oyaw) * local[0] - math.sin(oyaw) * local[1],
+                         oy + math.sin(oyaw) * local[0] + math.cos(oyaw) * local[1],
+                         math.atan2(math.sin(oyaw + local[2]), math.cos(oyaw + local[2])))
                 if not base.silent:
                     out.append((self.topics[rid]["odom"], odometry_message(now, *local, base.speed, base.turn_rate,
                                                                            ros2=self.ros2)))

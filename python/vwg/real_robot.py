@@ -18,6 +18,7 @@ Safety, in this order of precedence:
 
 from __future__ import annotations
 
+import contextlib
 import logging
 import math
 import threading
@@ -71,6 +72,8 @@ class MotionController:
     speed: float = 0.0      # last commanded, m/s
     turn_rate: float = 0.0  # last commanded, rad/s
     _origin: tuple[float, float, float] | None = None  # odometry pose where the current step began
+    _turned: float = 0.0          # the current turn's progress, unwrapped (a turn of π may pass ±π)
+    _last_yaw: float = 0.0
 
     def command(self, steps: list[tuple[str, float]]) -> None:
         """The latest command replaces the plan (an empty one stops the robot)."""
@@ -88,6 +91,7 @@ class MotionController:
             kind, amount = self.plan[0]
             if self._origin is None:
                 self._origin = (odom.x, odom.y, odom.yaw)
+                self._turned, self._last_yaw = 0.0, odom.yaw
             ox, oy, oyaw = self._origin
             if kind == "drive":
                 done = (odom.x - ox) * math.cos(oyaw) + (odom.y - oy) * math.sin(oyaw)
@@ -99,7 +103,9 @@ class MotionController:
                 target_v = math.copysign(min(self.limits.max_speed,
                                              math.sqrt(2 * self.limits.max_accel * abs(remaining))), remaining)
             else:
-                remaining = amount - _wrap(odom.yaw - oyaw)  # the robot's turns are within ±π
+                self._turned += _wrap(odom.yaw - self._last_yaw)
+                self._last_yaw = odom.yaw
+                remaining = amount - self._turned
                 if abs(remaining) <= TURN_TOLERANCE:
                     self.plan.popleft()
                     self._origin = None
@@ -121,7 +127,8 @@ class MotionController:
 class _Robot:
     settings: _core.RobotSettings
     controller: MotionController
-    odom: Odometry | None = None
+    odom: Odometry | None = None     # relative to the first odometry this run received
+    origin: Odometry | None = None   # that first odometry: the base's own count may not start at zero
     odom_at: float = 0.0            # monotonic time the last odometry came
     silent: bool = False            # the watchdog has stopped it
     commands: int = 0
@@ -149,8 +156,14 @@ class RealRobotPlatform(_core.RobotPlatform):
         self._t0 = time.monotonic()
         self._frame_end = self._t0
         self._closed = False
+        self._failure: str | None = None
         for r in robots:
             self.add_robot(r)
+        # The robots are controlled and watched on a thread of their own, at control_rate, whatever
+        # the frames are doing: a slow frame (a long replan, a video) leaves no robot unwatched. It
+        # starts with the first command or frame, once the subclass has its link.
+        self._stop_control = threading.Event()
+        self._control_thread = threading.Thread(target=self._control_loop, name="vwg-robot-control", daemon=True)
 
     # ---- what the link calls ----------------------------------------------------------------------------------
     def on_odometry(self, robot: int, odom: Odometry) -> None:
@@ -158,9 +171,16 @@ class RealRobotPlatform(_core.RobotPlatform):
             r = self._robots.get(robot)
             if r is None:
                 return
+            if r.origin is None:
+                r.origin = odom
+            o = r.origin  # odometry relative to where this run found the robot: origin⁻¹ ⊕ odom
+            c, s = math.cos(o.yaw), math.sin(o.yaw)
+            dx, dy = odom.x - o.x, odom.y - o.y
+            local = Odometry(odom.time, c * dx + s * dy, -s * dx + c * dy, _wrap(odom.yaw - o.yaw), odom.speed,
+                             odom.turn_rate)
             if r.odom is not None:
-                r.travelled += math.hypot(odom.x - r.odom.x, odom.y - r.odom.y)
-            r.odom = odom
+                r.travelled += math.hypot(local.x - r.odom.x, local.y - r.odom.y)
+            r.odom = local
             r.odom_at = time.monotonic()
 
     def on_scan(self, robot: int, scan: LaserScan) -> None:
@@ -197,31 +217,55 @@ class RealRobotPlatform(_core.RobotPlatform):
         with self._lock:
             self._robots.pop(robot, None)
 
+    def _ensure_control(self) -> None:
+        if self._control_thread.ident is None and not self._stop_control.is_set():
+            self._control_thread.start()
+
     def command(self, robot: int, steps: list[tuple[str, float]]) -> None:
+        self._ensure_control()
         with self._lock:
             r = self._robots[robot]
             r.controller.command(list(steps))
             r.commands += 1
 
     def advance(self, seconds: float) -> None:
-        """Let `seconds` of wall-clock time pass from the end of the last frame, following the plans."""
+        """Let `seconds` of wall-clock time pass from the end of the last frame (the robots follow
+        their plans meanwhile, on the control thread); LinkError when the link has failed."""
+        self._ensure_control()
         self._frame_end = max(self._frame_end + seconds, time.monotonic() - seconds)  # a late frame does not pile up
         while True:
-            self._check_link()
-            self._control()
+            self._raise_if_failed()
             now = time.monotonic()
             if now >= self._frame_end:
                 return
             time.sleep(min(self.control_period, self._frame_end - now))
 
-    def _check_link(self) -> None:
-        failure = self.link_failure()
-        if failure:
-            self._fault(0, failure)
-            self.stop_all()
-            raise LinkError(f"{self.name()} link: {failure}")
+    def _raise_if_failed(self) -> None:
+        if self._failure:
+            raise LinkError(f"{self.name()} link: {self._failure}")
 
-    def _control(self) -> None:
+    def _control_loop(self) -> None:
+        last = time.monotonic()
+        while not self._stop_control.wait(self.control_period):
+            now = time.monotonic()
+            try:
+                failure = self.link_failure()
+                if failure:
+                    self._fault(0, failure)
+                    self._failure = failure
+                    self.stop_all()
+                    return
+                # The time that really passed (capped): the accelerations stay within the limits.
+                self._control(min(now - last, 2 * self.control_period))
+            except Exception as e:  # a link that throws: stop what can be stopped, end the run
+                self._failure = f"control failed: {type(e).__name__}: {e}"
+                self._fault(0, self._failure)
+                with contextlib.suppress(Exception):
+                    self.stop_all()
+                return
+            last = now
+
+    def _control(self, dt: float) -> None:
         now = time.monotonic()
         sends: list[tuple[int, float, float]] = []
         with self._lock:
@@ -241,7 +285,7 @@ class RealRobotPlatform(_core.RobotPlatform):
                 if r.silent:
                     r.silent = False
                     log.warning("%s: robot %d: odometry again; moving on", self.name(), rid)
-                v, w = r.controller.tick(r.odom, self.control_period)
+                v, w = r.controller.tick(r.odom, dt)
                 sends.append((rid, v, w))
         for rid, v, w in sends:
             self.send_velocity(rid, v, w)
@@ -286,6 +330,9 @@ class RealRobotPlatform(_core.RobotPlatform):
         if self._closed:
             return
         self._closed = True
+        self._stop_control.set()
+        if self._control_thread.ident is not None:
+            self._control_thread.join(2.0)
         try:
             self.stop_all()
         finally:

@@ -89,7 +89,7 @@ def yaw_of_quaternion(q: Any) -> float:
     x, y, z, w = (_number(q, k) for k in ("x", "y", "z", "w"))
     if not all(math.isfinite(v) for v in (x, y, z, w)) or x * x + y * y + z * z + w * w < 1e-12:
         raise ValueError("orientation: expected a finite, non-zero quaternion")
-    return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+    return math.atan2(2.0 * (w * z + x * y), w * w + x * x - y * y - z * z)  # right for any scale
 
 
 @dataclass(frozen=True)

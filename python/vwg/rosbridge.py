@@ -54,6 +54,7 @@ class RosbridgeLink:
         self._on_message = on_message
         self._on_state = on_state or (lambda connected: None)
         self._topics: dict[str, tuple[str, str]] = {}  # topic -> (op, type): what to say again on reconnection
+        self._topics_lock = threading.Lock()
         self._loop = asyncio.new_event_loop()
         self._ws: Any = None
         self._connected = threading.Event()
@@ -84,10 +85,14 @@ class RosbridgeLink:
         delay = 0.1
         while not self._closing:
             try:
+                # Pings notice a peer that went away without closing (power, Wi-Fi) within the reconnect time.
+                ping = max(0.5, min(1.0, self.reconnect / 2))
                 async with websockets.connect(self.url, open_timeout=self.connect_timeout, max_size=None,
-                                              ping_interval=None) as ws:
+                                              ping_interval=ping, ping_timeout=ping, close_timeout=1.0) as ws:
                     self._ws = ws
-                    for topic, (op, kind) in self._topics.items():
+                    with self._topics_lock:
+                        declared = list(self._topics.items())
+                    for topic, (op, kind) in declared:
                         await ws.send(json.dumps(self._op(op, topic, kind)))
                     self._connected.set()
                     self._on_state(True)
@@ -157,11 +162,13 @@ class RosbridgeLink:
         return {"op": "advertise", "topic": topic, "type": kind}
 
     def advertise(self, topic: str, kind: str) -> None:
-        self._topics[topic] = ("advertise", kind)
+        with self._topics_lock:
+            self._topics[topic] = ("advertise", kind)
         self._send(self._op("advertise", topic, kind))
 
     def subscribe(self, topic: str, kind: str) -> None:
-        self._topics[topic] = ("subscribe", kind)
+        with self._topics_lock:
+            self._topics[topic] = ("subscribe", kind)
         self._send(self._op("subscribe", topic, kind))
 
     def publish(self, topic: str, msg: dict[str, Any]) -> bool:
@@ -188,10 +195,10 @@ class RosbridgeLink:
         ws = self._ws
 
         async def shut() -> None:
+            if self._task is not None:
+                self._task.cancel()  # first: the loop ends even if the peer never answers the close
             if ws is not None:
                 await ws.close()
-            if self._task is not None:
-                self._task.cancel()
 
         with contextlib.suppress(Exception):  # already closed or the loop is gone: nothing left to close
             asyncio.run_coroutine_threadsafe(shut(), self._loop).result(2.0)

@@ -68,6 +68,10 @@ class RosbridgePlatform(RealRobotPlatform):
         self._by_topic: dict[str, tuple[str, int]] = {}
         for rid, named in self.topics.items():
             for key, topic in named.items():
+                if topic in self._by_topic:
+                    other = self._by_topic[topic]
+                    raise SchemaError(f"platform.topics: robots {other[1]} and {rid} would share {topic} "
+                                      "(with several robots, put {id} in the topic names)")
                 self._by_topic[topic] = (key, rid)
         super().__init__(robots, watchdog=watchdog, control_rate=control_rate)
         # Each robot's latest camera image, decoded when its gCamera asks (sensor_msgs/CompressedImage).
@@ -98,7 +102,7 @@ class RosbridgePlatform(RealRobotPlatform):
                                                                              twist_message(speed, turn_rate))
 
     def link_failure(self) -> str | None:
-        return self.link.failed if self.link is not None else "not connected"
+        return self.link.failed if self.link is not None else None
 
     def close_link(self) -> None:
         if self.link is not None:

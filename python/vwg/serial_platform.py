@@ -68,6 +68,8 @@ class SerialBase:
             if self._serial is None:
                 raise OSError(f"serial {self.port}: not open")
             try:
+                # A late reply to an earlier command must not be taken for this one's.
+                self._serial.reset_input_buffer()
                 self._serial.write((command + "\r").encode("ascii"))
                 reply = self._serial.readline()
             except serial.SerialException as e:
@@ -117,13 +119,27 @@ class SerialPlatform(RealRobotPlatform):
         self._running = True
         try:
             self.base.open()
-            if self.base.ask("r") != "OK":
-                raise OSError(f"serial {port}: the base did not accept 'r' (reset encoders)")
+            self._reset_encoders()
         except OSError as e:
             self.base.close()
             raise SchemaError(f"platform serial: cannot use {port}: {e}") from None
         self._thread = threading.Thread(target=self._poll, args=(1.0 / odometry_rate,), name="vwg-serial", daemon=True)
         self._thread.start()
+
+    def _reset_encoders(self, patience: float = 2.5) -> None:
+        """`r`, retried while the board boots: opening the port resets an Arduino, whose bootloader
+        answers nothing for a second or two."""
+        until = time.monotonic() + patience
+        while True:
+            try:
+                if self.base.ask("r") == "OK":
+                    return
+                problem = "the base did not accept 'r' (reset encoders)"
+            except OSError as e:
+                problem = str(e)
+            if time.monotonic() >= until:
+                raise OSError(problem)
+            time.sleep(0.1)
 
     def _poll(self, period: float) -> None:
         """Encoders → odometry, on the link's own thread; a broken line is reopened for `reconnect` s."""
@@ -145,12 +161,15 @@ class SerialPlatform(RealRobotPlatform):
                     return
                 with contextlib.suppress(Exception):  # still down: try again next period
                     self.base.open()
+                    # A reopened port may have rebooted the board (its counts back to zero): the next
+                    # counts are a new baseline, the pose goes on from where it was.
+                    self._ticks = None
             time.sleep(period)
 
     def _integrate(self, left: int, right: int, t: float) -> None:
         if self._ticks is None:
             self._ticks = (left, right)
-            self.on_odometry(self.robot_id, Odometry(t, 0.0, 0.0, 0.0, 0.0, 0.0))
+            self.on_odometry(self.robot_id, Odometry(t, *self._pose, 0.0, 0.0))
             return
         dl = (left - self._ticks[0]) * self.metres_per_tick
         dr = (right - self._ticks[1]) * self.metres_per_tick
