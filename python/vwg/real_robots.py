@@ -84,16 +84,9 @@ class RealRobots:
     def view(self, *, width: int = 800, video: str | os.PathLike[str] | None = None, fps: float | None = None,
              images: str | None = None) -> _core.SimView:
         """What the robots did, drawn on the world's map (their poses from odometry)."""
-        from .video import VideoWriter
+        from .sim import world_view
 
-        view = _core.SimView(self.platform, self.world.grid, width=width)
-        for room in self.world.rooms.values():
-            view.add_marker(room.at[0], room.at[1], room.facing, room.name, room.marker)
-        if video:
-            view.record_video(VideoWriter(video, fps=fps if fps is not None else 1.0 / self.world.dt))
-        if images:
-            view.record_images(str(images))
-        return view
+        return world_view(self.platform, self.world, width=width, video=video, fps=fps, images=images)
 
     def robot(self, robot: int) -> _core.RobotState:
         return self.platform.robot(robot)

@@ -40,9 +40,27 @@ from ._core import (
 from .robotworld import RobotWorld
 from .video import VideoWriter
 
-__all__ = ["MOTION_SYMBOLS", "SIM_EVENTS", "CameraRenderer", "CameraSpec", "DepthCameraSpec", "GridRaycaster",
-           "KinectGenerator", "LaserGenerator", "LaserSpec", "NoiseModel", "PhysicsSettings", "PhysicsWorld",
-           "RangeScanner", "SimView", "SimulatedCamera", "Simulation", "TopDownRenderer", "render_overview"]
+__all__ = [
+    "MOTION_SYMBOLS",
+    "SIM_EVENTS",
+    "CameraRenderer",
+    "CameraSpec",
+    "DepthCameraSpec",
+    "GridRaycaster",
+    "KinectGenerator",
+    "LaserGenerator",
+    "LaserSpec",
+    "NoiseModel",
+    "PhysicsSettings",
+    "PhysicsWorld",
+    "RangeScanner",
+    "SimView",
+    "SimulatedCamera",
+    "Simulation",
+    "TopDownRenderer",
+    "render_overview",
+    "world_view",
+]
 
 #: Event types of the simulator's generators, as Alphabet(events=...) takes them.
 SIM_EVENTS: dict[str, dict[str, Any]] = {
@@ -58,6 +76,22 @@ MOTION_SYMBOLS: dict[str, dict[str, dict[str, Any]]] = {
     "primitives": {"Robot": {"id": 0}, "Path": {"robot": 0, "points": _core.Blob}, "Status": {"robot": 0, "text": ""}},
     "transformations": {"Move": {"dist": 0.0}, "Rotate": {"angle": 0.0}},
 }
+
+
+def world_view(platform: _core.RobotPlatform, world: RobotWorld, *, width: int = 800,
+               video: str | os.PathLike[str] | None = None, fps: float | None = None,
+               images: str | None = None) -> _core.SimView:
+    """A view of `world`'s robots on `platform` (the simulator or a real robot): its map, its rooms'
+    markers, recording to `video` (MP4/GIF at `fps`, by default the world's frame rate) and/or PNG
+    files in `images`."""
+    view = _core.SimView(platform, world.grid, width=width)
+    for room in world.rooms.values():
+        view.add_marker(room.at[0], room.at[1], room.facing, room.name, room.marker)
+    if video:
+        view.record_video(VideoWriter(video, fps=fps if fps is not None else 1.0 / world.dt))
+    if images:
+        view.record_images(str(images))
+    return view
 
 
 class Simulation:
@@ -131,17 +165,11 @@ class Simulation:
         """A backend drawing the simulation: map, markers, robots, scans of the sensors made so far,
         trajectories; recording to `video` (MP4/GIF, a vwg.VideoWriter at `fps`, by default the world's frame
         rate) and/or PNG files in `images`."""
-        view = _core.SimView(self.physics, self.world.grid, width=width)
-        for room in self.world.rooms.values():
-            view.add_marker(room.at[0], room.at[1], room.facing, room.name, room.marker)
+        view = world_view(self.physics, self.world, width=width, video=video, fps=fps, images=images)
         for laser in self.lasers:
             view.add_laser(laser)
         for kinect in self.kinects:
             view.add_kinect(kinect)
-        if video:
-            view.record_video(VideoWriter(video, fps=fps if fps is not None else 1.0 / self.world.dt))
-        if images:
-            view.record_images(str(images))
         return view
 
     def robot(self, robot: int) -> _core.RobotState:
