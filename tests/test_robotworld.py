@@ -288,6 +288,11 @@ CASES = [
      "expected a number, got str 'fast'"),
     ("    start: [1.0, 3.0, 0.0]", "    start: [1.0, 3.0, .nan]", "robots[1].start", "start: [1.0, 3.0, .nan]",
      "expected finite x, y, yaw"),
+    # a platform's options, checked by the platform's own list
+    ("frames: 100", "frames: 100\nplatform: {kind: rosbridge, url: 'ws://127.0.0.1:9', watchdg: 0.3}",
+     "platform.watchdg", "platform:", "did you mean 'watchdog'"),
+    ("frames: 100", "frames: 100\nplatform: {kind: sim, url: 'ws://127.0.0.1:9'}", "platform.url", "platform:",
+     "unknown key"),
     # sensors' two heights
     ("camera: {width: 320, height: 240, mount_height: 0.4}", "camera: {width: 320, height: 240, height: 0.4}",
      "camera.height", "camera:", "duplicate key; the image size is width/height and the mounting height is"),

@@ -493,6 +493,7 @@ class RobotKind:
             ("noise", f"odometry {w.noise.odometry:g}, motors {w.noise.motors:g}"),
             ("orders", "; ".join(f"{o.time:g} s: robot {o.robot} to {o.room}" for o in w.orders) or "none"),
             ("frames", f"{w.frames} (dt {w.dt:g} s, seed {w.seed})"),
+            ("platform", w.platform.kind + "".join(f", {k} {v}" for k, v in w.platform.options.items())),
         ]
         title = f"a robot world ({w.name})" + (f"\n  {w.description}" if w.description else "")
         return title, rows

@@ -67,7 +67,9 @@ generators: Registry[Any] = Registry("generator")
 #: Deciders by name (paper test 1: the decision is swapped, nothing else): a factory with no
 #: arguments -> a vwg.robot.Decider. ``deciders.register("mine", MyDecider)`` makes ``--planner mine`` work.
 deciders: Registry[Any] = Registry("decider")
-#: Robot platforms by name: a factory (robot world, seed, options) -> an object with ``platform`` (a
+#: Robot platforms by name (a factory's ``options`` attribute, when it has one, lists the keys a
+#: world file's ``platform:`` may give it, checked with the file's line): a factory (robot world,
+#: seed, options) -> an object with ``platform`` (a
 #: vwg.robot.RobotPlatform), ``backend`` (φ on it), ``feedback(alphabet)``, ``sensors(alphabet, kinds)``,
 #: ``view(...)`` and ``robot(id)``, as vwg.sim.Simulation has them.
 platforms: Registry[Any] = Registry("platform")
@@ -105,6 +107,7 @@ def _register_builtins() -> None:
             raise SchemaError(f"platform sim: unknown option(s) {', '.join(sorted(options))} (it takes none)")
         return Simulation(world, seed=seed)
 
+    simulator.options = ()  # type: ignore[attr-defined]  # what a world file's platform: may hold
     platforms.register("sim", simulator)
 
     def rosbridge(world: Any, seed: int, options: dict[str, Any]) -> Any:
@@ -122,6 +125,10 @@ def _register_builtins() -> None:
                                      ros=options.get("ros", 1), **numbers)
         return RealRobots(world, platform)
 
+    from .rosbridge_platform import OPTIONS as ROSBRIDGE_OPTIONS
+    from .serial_platform import OPTIONS as SERIAL_OPTIONS
+
+    rosbridge.options = ROSBRIDGE_OPTIONS  # type: ignore[attr-defined]
     platforms.register("rosbridge", rosbridge)
 
     def serial_base(world: Any, seed: int, options: dict[str, Any]) -> Any:
@@ -139,6 +146,7 @@ def _register_builtins() -> None:
         numbers = {k: options[k] for k in OPTIONS if k in options and k != "port"}
         return RealRobots(world, SerialPlatform(world.robots[0], options["port"], **numbers))
 
+    serial_base.options = SERIAL_OPTIONS  # type: ignore[attr-defined]
     platforms.register("serial", serial_base)
 
     ranging = set(_core.ranging_sensors())

@@ -418,6 +418,9 @@ def _platform(doc: YamlDoc) -> PlatformSpec:
         options = {k: v for k, v in entry.items() if k != "kind"}
     if kind not in platforms:
         raise doc.error(("platform",), f"unknown platform {kind!r} (known: {', '.join(platforms)})")
+    allowed = getattr(platforms.get(kind), "options", None)
+    if allowed is not None:
+        _check_keys(doc, ("platform",), options, tuple(allowed))
     return PlatformSpec(kind, options)
 
 
