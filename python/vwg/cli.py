@@ -18,13 +18,9 @@ from typing import Any
 
 from . import _core
 from .errors import Error, FrameError
-from .launch import EXIT_UNREACHED, strict_json
+from .launch import EXIT_UNREACHED, clip, strict_json
 
 __all__ = ["EXIT_UNREACHED", "main", "strict_json"]
-
-
-def _clip(text: str, n: int = 200) -> str:
-    return text if len(text) <= n else text[: n - 3] + "..."
 
 
 def _print_summary(rows: list[tuple[str, str]]) -> None:
@@ -100,7 +96,7 @@ def _cmd_replay(args: argparse.Namespace) -> int:
     wall = time.perf_counter() - start
     print(f"vwg replay {args.record}: {len(record.frames)} frames replayed, every string as recorded "
           f"({wall:.1f} s)")
-    print(f"  final string: {_clip(str(engine.string)) or 'ε'}")
+    print(f"  final string: {clip(str(engine.string)) or 'ε'}")
     return 0
 
 

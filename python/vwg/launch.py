@@ -26,7 +26,7 @@ from . import _core
 from .errors import Error
 
 __all__ = ["COMMON_OPTIONS", "EXIT_LINK_FAULT", "EXIT_UNREACHED", "Outcome", "Run", "RunOptions", "WorldKind",
-           "describe", "kind_of", "load", "replay_world", "start", "strict_json"]
+           "clip", "describe", "kind_of", "load", "replay_world", "start", "strict_json"]
 
 #: Exit status of a run that finished with a robot short of the room it was sent to.
 EXIT_UNREACHED = 3
@@ -198,6 +198,11 @@ def replay_world(header: dict[str, Any], world_file: str | Path | None, record_p
         if other.name != kind.name:
             raise Error(f"{path}: the record was made by a {kind.name} world; this is a {other.name} world")
     return kind.replay_world(header, path, record_path)
+
+
+def clip(text: str, n: int = 200) -> str:
+    """`text` cut to `n` characters with "..." (a long string in a summary line)."""
+    return text if len(text) <= n else text[: n - 3] + "..."
 
 
 def strict_json(value: Any) -> Any:

@@ -11,12 +11,12 @@ link receives (sensor_msgs/CompressedImage), with the calibration of the world f
 from __future__ import annotations
 
 import logging
-import os
 from typing import Any
 
 from . import _core
 from .real_robot import RealRobotPlatform
 from .robotworld import RobotWorld
+from .sim import WorldRobots
 
 __all__ = ["RealRobots", "ScanGenerator"]
 
@@ -42,7 +42,7 @@ class ScanGenerator(_core.Generator):
                                                                                       strict=True)]
 
 
-class RealRobots:
+class RealRobots(WorldRobots):
     """The robots of `world` on `platform`; sensors a real link does not carry yet (the cameras) are
     left out with a warning, so a world file written for the simulator runs unchanged."""
 
@@ -51,9 +51,6 @@ class RealRobots:
         self.platform = platform
         self.backend = _core.MotionBackend(platform)
         self.lasers: list[ScanGenerator] = []
-
-    def feedback(self, alphabet: _core.Alphabet) -> list[_core.Generator]:
-        return [_core.OdometryGenerator(self.platform, alphabet), _core.CollisionGenerator(self.platform, alphabet)]
 
     def sensor(self, name: str, alphabet: _core.Alphabet, robot: int) -> _core.Generator | None:
         if name == "laser":
@@ -70,26 +67,6 @@ class RealRobots:
         log.warning("%s: robot %d: sensor %r is not carried by this link yet; left out", self.platform.name(), robot,
                     name)
         return None
-
-    def sensors(self, alphabet: _core.Alphabet, kinds: tuple[str, ...] | None = None) -> list[_core.Generator]:
-        out = []
-        for robot in self.world.robots:
-            for name in robot.sensors:
-                if kinds is None or name in kinds:
-                    gen = self.sensor(name, alphabet, robot.id)
-                    if gen is not None:
-                        out.append(gen)
-        return out
-
-    def view(self, *, width: int = 800, video: str | os.PathLike[str] | None = None, fps: float | None = None,
-             images: str | None = None) -> _core.SimView:
-        """What the robots did, drawn on the world's map (their poses from odometry)."""
-        from .sim import world_view
-
-        return world_view(self.platform, self.world, width=width, video=video, fps=fps, images=images)
-
-    def robot(self, robot: int) -> _core.RobotState:
-        return self.platform.robot(robot)
 
     def close(self) -> None:
         self.platform.close()

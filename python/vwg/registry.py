@@ -55,7 +55,8 @@ class Registry(Generic[T]):
 @dataclass(frozen=True)
 class Sensor:
     """A kind of sensor a world file's robot may list: ``make(platform, alphabet, robot_id)`` gives
-    its event generator on that platform (a vwg.sim.Simulation, say). ``ranging`` sensors come first in
+    its event generator on that platform (a vwg.sim.WorldRobots), or None when the platform does not
+    carry it. ``ranging`` sensors come first in
     the priority order, robot by robot, then the others (the paper's gLaser/gKinect, then gCamera)."""
 
     make: Callable[..., Any]
@@ -69,9 +70,8 @@ generators: Registry[Any] = Registry("generator")
 deciders: Registry[Any] = Registry("decider")
 #: Robot platforms by name (a factory's ``options`` attribute, when it has one, lists the keys a
 #: world file's ``platform:`` may give it, checked with the file's line): a factory (robot world,
-#: seed, options) -> an object with ``platform`` (a
-#: vwg.robot.RobotPlatform), ``backend`` (φ on it), ``feedback(alphabet)``, ``sensors(alphabet, kinds)``,
-#: ``view(...)`` and ``robot(id)``, as vwg.sim.Simulation has them.
+#: seed, options) -> a vwg.sim.WorldRobots (``platform``, ``backend`` on it, the feedback and sensor
+#: generators, a view), as vwg.sim.Simulation and vwg.real_robots.RealRobots are.
 platforms: Registry[Any] = Registry("platform")
 #: Sensors by name, as world files list them (``robots[i].sensors``): a factory with no arguments ->
 #: a Sensor. ``sensors.register("sonar", lambda: Sensor(make_sonar))`` lets a world list ``sonar``.

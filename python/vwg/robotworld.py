@@ -70,7 +70,7 @@ from ._core import CameraSpec, DepthCameraSpec, LaserSpec, NoiseModel, RobotSett
 from .errors import SchemaError, WorldFileError
 from .maps import OccupancyGrid, _movingai_spec, load_map
 from .worlds import shipped_world
-from .yamldoc import YamlDoc
+from .yamldoc import YamlDoc, field_text
 
 __all__ = ["Order", "PlatformSpec", "RobotWorld", "Room", "load_robot_world"]
 
@@ -355,20 +355,13 @@ def _settings(doc: YamlDoc, path: tuple[Any, ...], spec: Any, *, fixed: dict[str
                 setattr(spec, key, value)
         for key, value in fixed.items():
             setattr(spec, key, value)
-        owner = _field_text(path)
+        owner = field_text(path)
         spec.check(owner)
     except SchemaError as e:
         field = getattr(e, "field", "")
         message = str(e)[len(field) + 2:] if field and str(e).startswith(field) else str(e)
         raise doc.error((*path, *_settings_path(owner, field)), message) from None
     return spec
-
-
-def _field_text(path: tuple[Any, ...]) -> str:
-    out = ""
-    for p in path:
-        out += f"[{p}]" if isinstance(p, int) else (f".{p}" if out else str(p))
-    return out
 
 
 def _sensors(doc: YamlDoc, wall_height: float) -> tuple[LaserSpec, DepthCameraSpec, CameraSpec, NoiseModel]:

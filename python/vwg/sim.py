@@ -58,6 +58,7 @@ __all__ = [
     "SimulatedCamera",
     "Simulation",
     "TopDownRenderer",
+    "WorldRobots",
     "render_overview",
     "world_view",
 ]
@@ -94,7 +95,52 @@ def world_view(platform: _core.RobotPlatform, world: RobotWorld, *, width: int =
     return view
 
 
-class Simulation:
+class WorldRobots:
+    """A robot world's robots on a platform (the simulator, vwg.sim.Simulation, or a real robot's link,
+    vwg.real_robots.RealRobots): what CaseStudy and ``vwg run`` use of either. A subclass sets
+    ``world``, ``platform`` and ``backend`` and makes each sensor in ``sensor()`` (None: not carried)."""
+
+    world: RobotWorld
+    platform: _core.RobotPlatform
+    backend: _core.Backend
+
+    def sensor(self, name: str, alphabet: _core.Alphabet, robot: int) -> _core.Generator | None:
+        raise NotImplementedError
+
+    def sensors(self, alphabet: _core.Alphabet, kinds: tuple[str, ...] | None = None) -> list[_core.Generator]:
+        """The sensors each robot lists (those of `kinds`, or all), made by the sensor registry
+        (vwg.registry.sensors): the ranging ones robot by robot (gLaser, gKinect), then the others
+        (gCamera), as the paper's priority order has them; those the platform does not carry are left out."""
+        from .registry import sensors as registry
+
+        ranging: list[_core.Generator] = []
+        others: list[_core.Generator] = []
+        for robot in self.world.robots:
+            for name in robot.sensors:
+                if kinds is not None and name not in kinds:
+                    continue
+                sensor = registry.create(name)
+                gen = sensor.make(self, alphabet, robot.id)
+                if gen is not None:
+                    (ranging if sensor.ranging else others).append(gen)
+        return ranging + others
+
+    def feedback(self, alphabet: _core.Alphabet) -> list[_core.Generator]:
+        """Odometry and collisions of every robot, as events (from the platform)."""
+        return [_core.OdometryGenerator(self.platform, alphabet), _core.CollisionGenerator(self.platform, alphabet)]
+
+    def view(self, *, width: int = 800, video: str | os.PathLike[str] | None = None, fps: float | None = None,
+             images: str | None = None) -> _core.SimView:
+        """A backend drawing the robots on the world's map: the markers, robots and trajectories;
+        recording to `video` (MP4/GIF, a vwg.VideoWriter at `fps`, by default the world's frame rate)
+        and/or PNG files in `images`."""
+        return world_view(self.platform, self.world, width=width, video=video, fps=fps, images=images)
+
+    def robot(self, robot: int) -> _core.RobotState:
+        return self.platform.robot(robot)
+
+
+class Simulation(WorldRobots):
     """One robot world simulated: ``physics`` (Box2D, the robot platform), ``backend`` (α/β/δ of Robot,
     Move, Rotate on that platform),
     ``raycaster`` and ``scanner`` (walls and other robots), and factories for the generators."""
@@ -140,37 +186,12 @@ class Simulation:
         vwg.sim.CameraSpec's fields), AprilTag detection every third frame."""
         return self.sensor("camera", alphabet, robot, camera=self.world.camera.replace(**overrides))  # type: ignore[return-value]
 
-    def sensors(self, alphabet: _core.Alphabet, kinds: tuple[str, ...] | None = None) -> list[_core.Generator]:
-        """The sensors each robot lists (those of `kinds`, or all), made by the sensor registry
-        (vwg.registry.sensors): the ranging ones robot by robot (gLaser, gKinect), then the others
-        (gCamera), as the paper's priority order has them."""
-        from .registry import sensors as registry
-
-        ranging: list[_core.Generator] = []
-        others: list[_core.Generator] = []
-        for robot in self.world.robots:
-            for name in robot.sensors:
-                if kinds is not None and name not in kinds:
-                    continue
-                sensor = registry.create(name)
-                (ranging if sensor.ranging else others).append(sensor.make(self, alphabet, robot.id))
-        return ranging + others
-
-    def feedback(self, alphabet: _core.Alphabet) -> list[_core.Generator]:
-        """Odometry and collisions of every robot, as events (from the platform: here the simulator)."""
-        return [_core.OdometryGenerator(self.physics, alphabet), _core.CollisionGenerator(self.physics, alphabet)]
-
     def view(self, *, width: int = 800, video: str | os.PathLike[str] | None = None, fps: float | None = None,
              images: str | None = None) -> _core.SimView:
-        """A backend drawing the simulation: map, markers, robots, scans of the sensors made so far,
-        trajectories; recording to `video` (MP4/GIF, a vwg.VideoWriter at `fps`, by default the world's frame
-        rate) and/or PNG files in `images`."""
-        view = world_view(self.physics, self.world, width=width, video=video, fps=fps, images=images)
+        """WorldRobots.view, with the scans of the range sensors made so far."""
+        view = super().view(width=width, video=video, fps=fps, images=images)
         for laser in self.lasers:
             view.add_laser(laser)
         for kinect in self.kinects:
             view.add_kinect(kinect)
         return view
-
-    def robot(self, robot: int) -> _core.RobotState:
-        return self.physics.robot(robot)

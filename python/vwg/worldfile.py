@@ -227,7 +227,7 @@ class GenericRun:
     def execute(self, progress: bool | None = False) -> Any:
         import time
 
-        from .launch import Outcome
+        from .launch import Outcome, clip
 
         start = time.perf_counter()
         reason = self.engine.run(self.spec.frames, progress=progress)
@@ -239,7 +239,7 @@ class GenericRun:
             ("simulated time", f"{self.engine.time:.3f} s (dt {self.spec.dt} s)"),
             ("seed", str(self.spec.seed)),
             ("final string", f"{len(w)} symbols, {w.actor_count} actors"),
-            ("", _clip(str(w)) or "ε"),
+            ("", clip(str(w)) or "ε"),
             ("wall time", f"{wall:.3f} s ({self.engine.frame / wall:.0f} frames/s)" if wall > 0 else "0 s"),
         ]
         if isinstance(self.spec.backend, _core.TraceBackend):
@@ -261,10 +261,6 @@ class GenericRun:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
-
-
-def _clip(text: str, n: int = 200) -> str:
-    return text if len(text) <= n else text[: n - 3] + "..."
 
 
 class GenericKind:
@@ -298,6 +294,8 @@ class GenericKind:
         return world_of_record(header, record_path)
 
     def describe(self, spec: WorldSpec) -> tuple[str, list[tuple[str, str]]]:
+        from .launch import clip
+
         a = spec.world.alphabet
         return f"a generic world ({spec.name})", [
             ("primitives", ", ".join(a.primitives) or "-"),
@@ -306,6 +304,6 @@ class GenericKind:
             ("events", ", ".join(a.event_types) or "-"),
             ("visual events", ", ".join(a.visual_event_types) or "-"),
             ("generators", ", ".join(g.name for g in spec.generators) or "-"),
-            ("initial string", _clip(str(spec.initial)) or "ε"),
+            ("initial string", clip(str(spec.initial)) or "ε"),
             ("frames", f"{spec.frames} (dt {spec.dt} s, seed {spec.seed})"),
         ]

@@ -10,13 +10,14 @@ import yaml
 
 from .errors import WorldFileError
 
-__all__ = ["REQUIRED", "YamlDoc"]
+__all__ = ["REQUIRED", "YamlDoc", "field_text"]
 
 REQUIRED: Any = object()
 Path_ = tuple[Any, ...]
 
 
-def _field(path: Path_) -> str:
+def field_text(path: Path_) -> str:
+    """A key path as a field name: ``("robots", 0, "start")`` -> ``robots[0].start``."""
     out = ""
     for p in path:
         out += f"[{p}]" if isinstance(p, int) else (f".{p}" if out else str(p))
@@ -66,7 +67,7 @@ class YamlDoc:
         return self.lines.get(path, 0)
 
     def error(self, path: Path_, message: str) -> WorldFileError:
-        return WorldFileError(str(self.path), _field(path), message, line=self.line_of(path))
+        return WorldFileError(str(self.path), field_text(path), message, line=self.line_of(path))
 
     def get(self, path: Path_, kind: type | tuple[type, ...] | None = None, default: Any = REQUIRED) -> Any:
         """The value at `path`, checked to be of `kind`; `default` when absent (else an error)."""
