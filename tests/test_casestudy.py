@@ -277,8 +277,12 @@ def test_a_third_party_sensor_registers_by_name_and_a_world_file_lists_it(tmp_pa
         grid = np.asarray(run.robot_actors()[1]["grid"])
     assert made == [1]
     # Robot 1 stands at (2, 2) facing +y: the echo ends at (2, 3), the cell marked half a cell beyond.
+    # Its heading is π/2 at float resolution (as every platform reports poses), 4e-8 rad past π/2,
+    # which puts the end 4e-8 m left of x = 2, a cell boundary: the cell left of it.
     res = world.grid.resolution
-    row, col = world.grid.world_to_cell(2.0, 3.0 + res / 2)
+    heading = float(np.float32(math.pi / 2))
+    row, col = world.grid.world_to_cell(2.0 + math.cos(heading), 3.0 + res / 2)
+    assert col == round(2.0 / res) - 1
     assert grid[row, col] == 101
     (tmp_path / "radar.yaml").write_text(text.replace("sonar-test", "radar"))
     with pytest.raises(vwg.WorldFileError, match=r"robots\[0\]\.sensors\[0\]: unknown sensor 'radar' \(registered: "

@@ -52,6 +52,6 @@ def test_pinned_hash_of_the_string_and_the_platform_after_150_frames():
                     sensors=("laser", "camera"))
     run.run(frames=150)
     assert run.engine.frame == 150
-    assert run.engine.string.content_hash() == 0x3AE51F4493451BE6
+    assert run.engine.string.content_hash() == 0x6A0D244AE2158314
     state = b"".join(struct.pack("<i6d", r.id, *r.pose, *r.odometry) for r in run.sim.physics.robots())
-    assert hashlib.sha256(state).hexdigest()[:16] == "bbd962595ed6748b"
+    assert hashlib.sha256(state).hexdigest()[:16] == "498f6daf30afb66f"

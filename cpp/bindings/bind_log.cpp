@@ -34,6 +34,17 @@ void init_log(py::module_& m) {
       py::arg("sink"),
       "Send vwg's and its libraries' messages to sink(level, source, message) (levels as in `logging`); "
       "None drops them. Used by vwg.logs; called from any thread.");
+  m.def(
+      "log_message",
+      [](int level, const std::string& source, const std::string& message) {
+        if (level != 10 && level != 20 && level != 30 && level != 40) {
+          throw SchemaError("level", "expected 10, 20, 30 or 40 (logging's DEBUG, INFO, WARNING, ERROR), got " +
+                                         std::to_string(level));
+        }
+        log(static_cast<LogLevel>(level), source, message);
+      },
+      py::arg("level"), py::arg("source"), py::arg("message"),
+      "Say `message` through vwg's log sink, as its C++ parts do (a C++ extension's messages, a test of the route).");
 }
 
 }  // namespace vwg::bindings

@@ -44,6 +44,9 @@ limits, stepped at the fixed time step of `settings`.)doc")
              return std::make_shared<sim::PhysicsWorld>(grid_from_python(grid), robots, settings);
            }),
            py::arg("grid"), py::arg("robots"), py::arg("settings") = sim::PhysicsSettings{})
+      .def("drive", &sim::PhysicsWorld::drive, py::arg("robot"), py::arg("speed"), py::arg("turn_rate"),
+           "Hold the robot at these velocities (m/s, rad/s) from now on, as a base driven by velocity commands "
+           "(a fake robot behind a link); its plan is dropped, and the next command() ends it.")
       .def_property_readonly("wall_shapes", &sim::PhysicsWorld::wall_shapes, "Rectangles the walls were merged into.");
 
   py::class_<BackendGroup, Backend, std::shared_ptr<BackendGroup>>(m, "BackendGroup",

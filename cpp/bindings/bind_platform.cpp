@@ -8,6 +8,7 @@
 #include "sim_convert.hpp"
 #include "vwg/platform/feedback.hpp"
 #include "vwg/platform/motion.hpp"
+#include "vwg/platform/motion_follower.hpp"
 #include "vwg/platform/platform.hpp"
 
 namespace vwg::bindings {
@@ -115,6 +116,34 @@ void init_platform(py::module_& m) {
       .def_readonly("other", &Collision::other)
       .def_property_readonly("pose", [](const Collision& c) { return pose_to_python(c.pose); })
       .def_readonly("time", &Collision::time);
+
+  py::class_<platform::MotionFollower>(m, "MotionFollower", R"doc(
+A motion plan followed on a pose: a trapezoidal speed profile within the robot's limits, recomputed
+at every tick from where the pose says the robot is, so a step ends when the pose says it is done.
+The simulator runs it on the true pose at every physics step; a real robot's link on its odometry
+at every control tick — the same velocities from the same poses (paper test 3).)doc")
+      .def(py::init([](const RobotSettings& robot, double tolerance) { return platform::MotionFollower(robot.limits, tolerance); }),
+           py::arg("robot"), py::arg("tolerance") = 0.01,
+           "The follower of a robot with these limits; a step that meant to land on its end is done within `tolerance` (m or rad).")
+      .def("command", [](platform::MotionFollower& f, py::handle steps) { f.command(steps_from_python(steps)); },
+           py::arg("steps"), "Replace the plan: a list of ('turn', radians) and ('drive', metres); [] brings the robot to rest.")
+      .def("tick", [](platform::MotionFollower& f, PoseArg pose, double dt) {
+             const platform::Velocity v = f.tick(pose_from_python(pose, "pose"), dt);
+             return py::make_tuple(v.speed, v.turn_rate);
+           }, py::arg("pose"), py::arg("dt"), "The velocities (m/s, rad/s) to hold for the next dt seconds, the robot being at pose now.")
+      .def("settle", [](platform::MotionFollower& f, PoseArg pose) { f.settle(pose_from_python(pose, "pose")); },
+           py::arg("pose"), "After the robot moved: end a step that reached its end (keeps busy exact).")
+      .def("stop", &platform::MotionFollower::stop, "Drop the plan and command no motion at once.")
+      .def("halt", &platform::MotionFollower::halt, "Command no motion at once, keeping the plan (it goes on from rest).")
+      .def_property_readonly("busy", &platform::MotionFollower::busy)
+      .def_property_readonly("velocity", [](const platform::MotionFollower& f) {
+        return py::make_tuple(f.velocity().speed, f.velocity().turn_rate);
+      }, "The last commanded (speed, turn_rate).");
+
+  m.def("quantize_pose", [](PoseArg pose) { return pose_to_python(platform::quantize_pose(pose_from_python(pose, "pose"))); },
+        py::arg("pose"),
+        "The pose at the simulator's float resolution (x, y rounded to float; the angle wrapped into [-π, π] and rounded): "
+        "every platform reports poses so, and a pose carried through a link comes back bit for bit.");
 
   py::class_<RobotPlatform, PyRobotPlatform, std::shared_ptr<RobotPlatform>>(m, "RobotPlatform", R"doc(
 Where frames meet robots: the Box2D simulator (PhysicsWorld) or a real robot's link. Subclass it in

@@ -87,7 +87,24 @@ simulated laser. ``cast`` gives the hit cell, face and entry point; ``scan`` man
   py::class_<sim::RangeScanner, std::shared_ptr<sim::RangeScanner>>(m, "RangeScanner",
       "Ranges over a map's walls and the other robots of a physics world (shared by the laser and the Kinect).")
       .def(py::init<std::shared_ptr<const sim::GridRaycaster>, std::shared_ptr<const sim::PhysicsWorld>>(),
-           py::arg("raycaster"), py::arg("world"));
+           py::arg("raycaster"), py::arg("world"))
+      .def("scan", [](const sim::RangeScanner& s, int robot, const sim::LaserSpec& spec) {
+             const std::vector<double> angles = sim::beam_angles(spec);
+             py::array_t<float> out(static_cast<py::ssize_t>(angles.size()));
+             const sim::Pose2 pose = s.world().robot(robot).pose;
+             {
+               py::gil_scoped_release release;
+               s.scan(robot, pose, angles, spec.max_range, std::span<float>(out.mutable_data(), angles.size()));
+             }
+             return out;
+           }, py::arg("robot"), py::arg("spec"),
+           "Robot `robot`'s noiseless scan from where it is, over spec's beams (beam_angles(spec)): float32 ranges, max_range where nothing was hit.");
+
+  m.def("beam_layout", [](const sim::LaserSpec& spec) {
+          sim::check_settings(spec, "laser");
+          const sim::BeamLayout l = sim::beam_layout(spec);
+          return py::make_tuple(l.angle_min, l.increment);
+        }, py::arg("spec"), "The laser's beams as a sensor_msgs/LaserScan lays them out: (angle_min, angle_increment).");
 
   py::class_<sim::LaserGenerator, Generator, std::shared_ptr<sim::LaserGenerator>>(m, "LaserGenerator", R"doc(
 gLaser: each frame a scan from the robot's true pose; eLaser<to=robot, dist, angle> for each beam

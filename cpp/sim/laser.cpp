@@ -10,16 +10,17 @@
 
 namespace vwg::sim {
 
+BeamLayout beam_layout(const LaserSpec& spec) {
+  if (spec.fov >= 2 * M_PI - 1e-9) return {-M_PI, 2 * M_PI / spec.beams};
+  if (spec.beams == 1) return {0.0, 0.0};
+  return {-spec.fov / 2, spec.fov / (spec.beams - 1)};
+}
+
 std::vector<double> beam_angles(const LaserSpec& spec) {
-  std::vector<double> angles(static_cast<std::size_t>(spec.beams));
-  const bool full_circle = spec.fov >= 2 * M_PI - 1e-9;
-  for (int i = 0; i < spec.beams; ++i) {
-    if (full_circle) {
-      angles[static_cast<std::size_t>(i)] = -M_PI + 2 * M_PI * i / spec.beams;
-    } else {
-      angles[static_cast<std::size_t>(i)] = spec.beams == 1 ? 0.0 : -spec.fov / 2 + spec.fov * i / (spec.beams - 1);
-    }
-  }
+  const BeamLayout layout = beam_layout(spec);
+  std::vector<double> angles(static_cast<std::size_t>(std::max(spec.beams, 0)));
+  // As a LaserScan's reader computes them (angle_min + i·angle_increment), bit for bit.
+  for (std::size_t i = 0; i < angles.size(); ++i) angles[i] = layout.angle_min + static_cast<double>(i) * layout.increment;
   return angles;
 }
 

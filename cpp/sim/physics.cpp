@@ -18,23 +18,6 @@ namespace {
 
 constexpr std::uintptr_t kWallTag = 0;  // fixture user data of walls; robots store their id (>= 1)
 
-double approach(double current, double target, double max_change) {
-  if (target > current) return std::min(target, current + max_change);
-  return std::max(target, current - max_change);
-}
-
-/// Speed for a trapezoidal profile: accelerate towards the limit, brake so as to stop at the end.
-double profile_speed(double remaining, double current, double max_speed, double max_accel, double dt, bool& lands) {
-  const double direction = remaining >= 0 ? 1.0 : -1.0;
-  const double braking = std::sqrt(2.0 * max_accel * std::abs(remaining));
-  const double target = direction * std::min(max_speed, braking);
-  double speed = approach(current, target, max_accel * dt);
-  // The last step covers exactly what remains, so a plan ends where it should (no overshoot).
-  lands = std::abs(remaining) <= std::abs(speed) * dt + 1e-12 || std::abs(remaining) < 1e-9;
-  if (lands) speed = remaining / dt;
-  return speed;
-}
-
 }  // namespace
 
 void check_settings(const NoiseModel& noise, const std::string& owner) {
@@ -71,15 +54,9 @@ struct PhysicsWorld::Robot {
   RobotSettings settings;
   b2Body* body = nullptr;  // owned by the b2World
   Rng rng;
-  std::deque<MotionStep> plan;
-  bool stepping = false;  // a step of the plan is under way
-  MotionStep current{MotionStep::Turn, 0.0};
-  double target = 0.0;  // noisy amount of the current step
-  float start_angle = 0.0f;
-  b2Vec2 start_position{0.0f, 0.0f};
-  b2Vec2 direction{1.0f, 0.0f};
-  double speed = 0.0, turn_rate = 0.0;
-  bool lands = false;
+  platform::MotionFollower follower;
+  bool driven = false;  // drive() holds a velocity: the follower is set aside until the next command
+  platform::Velocity held{};
   int contacts = 0;
   int last_other = 0;  // what it touched last: a robot id, or 0 for a wall
   int stuck_steps = 0;
@@ -214,8 +191,7 @@ void PhysicsWorld::add_robot(const RobotSettings& rs) {
   bd.position.Set(static_cast<float>(rs.start.x), static_cast<float>(rs.start.y));
   bd.angle = static_cast<float>(rs.start.theta);
   bd.allowSleep = false;
-  Robot r;
-  r.settings = rs;
+  Robot r{rs, nullptr, Rng{}, platform::MotionFollower(rs.limits)};
   r.body = box2d_->world.CreateBody(&bd);
   b2CircleShape circle;
   circle.m_radius = static_cast<float>(rs.radius);
@@ -230,7 +206,7 @@ void PhysicsWorld::add_robot(const RobotSettings& rs) {
   RobotState st;
   st.id = rs.id;
   st.radius = rs.radius;
-  st.pose = st.odometry = rs.start;
+  st.pose = st.odometry = platform::quantize_pose({bd.position.x, bd.position.y, bd.angle});
   states_.push_back(st);
 }
 
@@ -262,56 +238,37 @@ void PhysicsWorld::command(int robot, std::vector<MotionStep> plan) {
   for (const MotionStep& s : plan) {
     if (!std::isfinite(s.amount)) throw SchemaError("robot " + std::to_string(robot) + " command", "non-finite amount");
   }
-  r.plan.assign(plan.begin(), plan.end());
-  r.stepping = false;
+  // The motors' error: each step is executed as amount·(1 + N(0, motors²)) (the follower, closed
+  // on the true pose, then carries out the wrong amount faithfully).
+  if (settings_.noise.motors > 0.0) {
+    for (MotionStep& s : plan) s.amount *= 1.0 + r.rng.normal(0.0, settings_.noise.motors);
+  }
+  r.follower.command(plan);
+  r.driven = false;
   r.stuck_steps = 0;
   RobotState& s = states_[static_cast<std::size_t>(&r - robots_.data())];
   ++s.commands;
-  s.busy = !r.plan.empty();
+  s.busy = r.follower.busy();
 }
 
-void PhysicsWorld::start_step(Robot& r) {
-  r.current = r.plan.front();
-  r.plan.pop_front();
-  const double noise = settings_.noise.motors > 0.0 ? r.rng.normal(0.0, settings_.noise.motors) : 0.0;
-  r.target = r.current.amount * (1.0 + noise);
-  r.start_angle = r.body->GetAngle();
-  r.start_position = r.body->GetPosition();
-  r.direction = b2Vec2(std::cos(r.start_angle), std::sin(r.start_angle));
-  r.stepping = true;
-  r.lands = false;
-  r.stuck_steps = 0;
+void PhysicsWorld::drive(int robot, double speed, double turn_rate) {
+  if (!std::isfinite(speed) || !std::isfinite(turn_rate)) {
+    throw SchemaError("robot " + std::to_string(robot) + " drive", "expected finite velocities");
+  }
+  Robot& r = find(robot);
+  r.follower.stop();
+  r.driven = true;
+  r.held = {speed, turn_rate};
+  RobotState& s = states_[static_cast<std::size_t>(&r - robots_.data())];
+  s.busy = false;
 }
 
-void PhysicsWorld::step_robot(Robot& r, double dt) {
-  const RobotLimits& lim = r.settings.limits;
-  while (!r.stepping && !r.plan.empty()) {
-    start_step(r);
-    if (std::abs(r.target) < 1e-12) r.stepping = false;  // nothing to do
-  }
-  if (!r.stepping) {
-    // Idle: come to rest within the acceleration limits.
-    r.speed = approach(r.speed, 0.0, lim.max_accel * dt);
-    r.turn_rate = approach(r.turn_rate, 0.0, lim.max_turn_accel * dt);
-    const float a = r.body->GetAngle();
-    r.body->SetLinearVelocity(static_cast<float>(r.speed) * b2Vec2(std::cos(a), std::sin(a)));
-    r.body->SetAngularVelocity(static_cast<float>(r.turn_rate));
-    return;
-  }
-  if (r.current.kind == MotionStep::Turn) {
-    const double remaining = r.target - (r.body->GetAngle() - r.start_angle);
-    r.speed = 0.0;
-    r.turn_rate = profile_speed(remaining, r.turn_rate, lim.max_turn_rate, lim.max_turn_accel, dt, r.lands);
-    r.body->SetLinearVelocity(b2Vec2(0.0f, 0.0f));
-    r.body->SetAngularVelocity(static_cast<float>(r.turn_rate));
-  } else {
-    const b2Vec2 moved = r.body->GetPosition() - r.start_position;
-    const double remaining = r.target - b2Dot(moved, r.direction);
-    r.turn_rate = 0.0;
-    r.speed = profile_speed(remaining, r.speed, lim.max_speed, lim.max_accel, dt, r.lands);
-    r.body->SetLinearVelocity(static_cast<float>(r.speed) * r.direction);
-    r.body->SetAngularVelocity(0.0f);
-  }
+void PhysicsWorld::step_robot(Robot& r, const RobotState& state, double dt) {
+  const platform::Velocity v = r.driven ? r.held : r.follower.tick(state.pose, dt);
+  // Along the body's own heading: the same for a plan followed here and for velocities from a link.
+  const float a = r.body->GetAngle();
+  r.body->SetLinearVelocity(static_cast<float>(v.speed) * b2Vec2(std::cos(a), std::sin(a)));
+  r.body->SetAngularVelocity(static_cast<float>(v.turn_rate));
 }
 
 void PhysicsWorld::advance(double seconds) {
@@ -324,7 +281,7 @@ void PhysicsWorld::advance(double seconds) {
     std::vector<b2Vec2> before(robots_.size());
     std::vector<float> angle_before(robots_.size());
     for (std::size_t i = 0; i < robots_.size(); ++i) {
-      step_robot(robots_[i], dt);
+      step_robot(robots_[i], states_[i], dt);
       before[i] = robots_[i].body->GetPosition();
       angle_before[i] = robots_[i].body->GetAngle();
     }
@@ -338,7 +295,7 @@ void PhysicsWorld::advance(double seconds) {
       const b2Vec2 heading(std::cos(angle_before[i]), std::sin(angle_before[i]));
       const double ds = b2Dot(p - before[i], heading);
       const double da = static_cast<double>(a) - angle_before[i];
-      s.pose = Pose2{p.x, p.y, geometry::wrap_angle(static_cast<double>(a))};
+      s.pose = platform::quantize_pose({p.x, p.y, a});
       s.travelled += std::abs(ds);
       if (settings_.noise.odometry > 0.0) {
         const double sigma = settings_.noise.odometry;
@@ -352,12 +309,10 @@ void PhysicsWorld::advance(double seconds) {
         s.odometry = s.pose;
       }
       // Pushing against a wall or a robot without getting anywhere: give up the plan.
-      if (r.stepping && r.current.kind == MotionStep::Drive && r.contacts > 0 &&
-          std::abs(ds) < 0.25 * std::abs(r.speed) * dt) {
+      const platform::Velocity v = r.driven ? r.held : r.follower.velocity();
+      if (r.follower.driving() && r.contacts > 0 && std::abs(ds) < 0.25 * std::abs(v.speed) * dt) {
         if (++r.stuck_steps >= 20) {
-          r.plan.clear();
-          r.stepping = false;
-          r.speed = 0.0;
+          r.follower.stop();
           // Reported like a collision: the robot learns that this drive is blocked, even when
           // the contact began long ago (a wall it keeps pushing against).
           collisions_.push_back(Collision{r.settings.id, r.last_other, s.pose, time_});
@@ -365,14 +320,11 @@ void PhysicsWorld::advance(double seconds) {
       } else {
         r.stuck_steps = 0;
       }
-      if (r.stepping && r.lands) {
-        r.stepping = false;
-        if (r.current.kind == MotionStep::Drive) r.speed = 0.0;
-        if (r.current.kind == MotionStep::Turn) r.turn_rate = 0.0;
-      }
-      s.speed = r.speed;
-      s.turn_rate = r.turn_rate;
-      s.busy = r.stepping || !r.plan.empty();
+      if (!r.driven) r.follower.settle(s.pose);
+      const platform::Velocity now = r.driven ? r.held : r.follower.velocity();
+      s.speed = now.speed;
+      s.turn_rate = now.turn_rate;
+      s.busy = r.follower.busy();
     }
   }
 }

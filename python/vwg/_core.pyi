@@ -9,7 +9,7 @@ import numpy.typing
 import os
 import typing
 import vwg.maps
-__all__: list[str] = ['ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'ArrivalCondition', 'Backend', 'BackendGroup', 'Blob', 'CameraGenerator', 'CameraRenderer', 'CameraSpec', 'Collision', 'CollisionGenerator', 'DStarLite', 'Decider', 'DecisionInput', 'DepthCameraSpec', 'Engine', 'Event', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'FrameSink', 'Generator', 'GridDecider', 'GridRaycaster', 'ImageFiles', 'ImageSequence', 'ImageSource', 'KinectGenerator', 'LaserGenerator', 'LaserSpec', 'MotionBackend', 'Node', 'NoiseModel', 'NullBackend', 'OdometryGenerator', 'OmplDecider', 'OmplPlan', 'OmplPlanner', 'OrderGenerator', 'OverviewCamera', 'PhysicsSettings', 'PhysicsWorld', 'PythonActor', 'RandomDecider', 'RangeScanner', 'ReceivedImages', 'RenderStyle', 'RobotPlatform', 'RobotSettings', 'RobotState', 'SimView', 'SimulatedCamera', 'StopCondition', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoSource', 'add_arobot', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'arobot_event_types', 'astar', 'backend_names', 'build_string', 'create_backend', 'create_decider', 'create_platform', 'create_sensor', 'decider_names', 'detect_apriltags', 'display', 'encode_image', 'estimate_tag_pose', 'evolve', 'grid_clearance', 'grid_inflate', 'overview_camera', 'plan_ompl', 'platform_names', 'ranging_sensors', 'read_image', 'render_overview', 'robot_map', 'sensor_names', 'set_log_sink', 'visualize', 'walker_behavior', 'write_image']
+__all__: list[str] = ['ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'ArrivalCondition', 'Backend', 'BackendGroup', 'Blob', 'CameraGenerator', 'CameraRenderer', 'CameraSpec', 'Collision', 'CollisionGenerator', 'DStarLite', 'Decider', 'DecisionInput', 'DepthCameraSpec', 'Engine', 'Event', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'FrameSink', 'Generator', 'GridDecider', 'GridRaycaster', 'ImageFiles', 'ImageSequence', 'ImageSource', 'KinectGenerator', 'LaserGenerator', 'LaserSpec', 'MotionBackend', 'MotionFollower', 'Node', 'NoiseModel', 'NullBackend', 'OdometryGenerator', 'OmplDecider', 'OmplPlan', 'OmplPlanner', 'OrderGenerator', 'OverviewCamera', 'PhysicsSettings', 'PhysicsWorld', 'PythonActor', 'RandomDecider', 'RangeScanner', 'ReceivedImages', 'RenderStyle', 'RobotPlatform', 'RobotSettings', 'RobotState', 'SimView', 'SimulatedCamera', 'StopCondition', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoSource', 'add_arobot', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'arobot_event_types', 'astar', 'backend_names', 'beam_layout', 'build_string', 'create_backend', 'create_decider', 'create_platform', 'create_sensor', 'decider_names', 'detect_apriltags', 'display', 'encode_image', 'estimate_tag_pose', 'evolve', 'grid_clearance', 'grid_inflate', 'log_message', 'overview_camera', 'plan_ompl', 'platform_names', 'quantize_pose', 'ranging_sensors', 'read_image', 'render_overview', 'robot_map', 'sensor_names', 'set_log_sink', 'visualize', 'walker_behavior', 'write_image']
 class Blob:
     """
     A large attribute value held by reference from world strings (an occupancy grid, an image, a path).
@@ -1044,6 +1044,45 @@ class Collision:
     @property
     def time(self) -> float:
         ...
+class MotionFollower:
+    """
+    A motion plan followed on a pose: a trapezoidal speed profile within the robot's limits, recomputed
+    at every tick from where the pose says the robot is, so a step ends when the pose says it is done.
+    The simulator runs it on the true pose at every physics step; a real robot's link on its odometry
+    at every control tick — the same velocities from the same poses (paper test 3).
+    """
+    def __init__(self, robot: RobotSettings, tolerance: typing.SupportsFloat | typing.SupportsIndex = 0.01) -> None:
+        """
+        The follower of a robot with these limits; a step that meant to land on its end is done within `tolerance` (m or rad).
+        """
+    def command(self, steps: typing.Any) -> None:
+        """
+        Replace the plan: a list of ('turn', radians) and ('drive', metres); [] brings the robot to rest.
+        """
+    def halt(self) -> None:
+        """
+        Command no motion at once, keeping the plan (it goes on from rest).
+        """
+    def settle(self, pose: tuple[float, float, float]) -> None:
+        """
+        After the robot moved: end a step that reached its end (keeps busy exact).
+        """
+    def stop(self) -> None:
+        """
+        Drop the plan and command no motion at once.
+        """
+    def tick(self, pose: tuple[float, float, float], dt: typing.SupportsFloat | typing.SupportsIndex) -> tuple[float, float]:
+        """
+        The velocities (m/s, rad/s) to hold for the next dt seconds, the robot being at pose now.
+        """
+    @property
+    def busy(self) -> bool:
+        ...
+    @property
+    def velocity(self) -> tuple[float, float]:
+        """
+        The last commanded (speed, turn_rate).
+        """
 class RobotPlatform:
     """
     Where frames meet robots: the Box2D simulator (PhysicsWorld) or a real robot's link. Subclass it in
@@ -1230,6 +1269,10 @@ class PhysicsWorld(RobotPlatform):
     """
     def __init__(self, grid: vwg.maps.OccupancyGrid, robots: collections.abc.Sequence[RobotSettings], settings: PhysicsSettings = ...) -> None:
         ...
+    def drive(self, robot: typing.SupportsInt | typing.SupportsIndex, speed: typing.SupportsFloat | typing.SupportsIndex, turn_rate: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        """
+        Hold the robot at these velocities (m/s, rad/s) from now on, as a base driven by velocity commands (a fake robot behind a link); its plan is dropped, and the next command() ends it.
+        """
     @property
     def wall_shapes(self) -> int:
         """
@@ -1801,6 +1844,10 @@ class RangeScanner:
     """
     def __init__(self, raycaster: GridRaycaster, world: PhysicsWorld) -> None:
         ...
+    def scan(self, robot: typing.SupportsInt | typing.SupportsIndex, spec: LaserSpec) -> numpy.typing.NDArray[numpy.float32]:
+        """
+        Robot `robot`'s noiseless scan from where it is, over spec's beams (beam_angles(spec)): float32 ranges, max_range where nothing was hit.
+        """
 class LaserGenerator(Generator):
     """
     gLaser: each frame a scan from the robot's true pose; eLaser<to=robot, dist, angle> for each beam
@@ -2401,6 +2448,10 @@ def backend_names() -> list[str]:
     """
     The backends registered in C++.
     """
+def beam_layout(spec: LaserSpec) -> tuple[float, float]:
+    """
+    The laser's beams as a sensor_msgs/LaserScan lays them out: (angle_min, angle_increment).
+    """
 def build_string(alphabet: Alphabet, parts: typing.Any) -> String:
     """
     A string from Python parts: text, vwg.String, actors, vwg.Sym, or lists of these.
@@ -2453,6 +2504,10 @@ def grid_inflate(grid: vwg.maps.OccupancyGrid, radius: typing.SupportsFloat | ty
     """
     Boolean mask of the cells whose centre is within `radius` metres (inclusive) of a cell of value >= threshold (and of unknown cells and the grid's edge when `unknown`): where a disc robot's centre may not be.
     """
+def log_message(level: typing.SupportsInt | typing.SupportsIndex, source: str, message: str) -> None:
+    """
+    Say `message` through vwg's log sink, as its C++ parts do (a C++ extension's messages, a test of the route).
+    """
 def overview_camera(grid: vwg.maps.OccupancyGrid, wall_height: typing.SupportsFloat | typing.SupportsIndex = 2.5, width: typing.SupportsInt | typing.SupportsIndex = 1000, height: typing.SupportsInt | typing.SupportsIndex = 700, azimuth: typing.SupportsFloat | typing.SupportsIndex = -1.9, elevation: typing.SupportsFloat | typing.SupportsIndex = 1.1, fov: typing.SupportsFloat | typing.SupportsIndex = 0.6, threshold: typing.SupportsInt | typing.SupportsIndex = 50, target: typing.Any = None, scale: typing.Any = None, distance: typing.Any = None) -> OverviewCamera:
     """
     The projection render_overview uses with these arguments (to draw over its image). azimuth: direction from the map's centre towards the eye, radians counter-clockwise from +x (-π/2: from the south). elevation: how steeply the eye looks down, radians (π/2: straight down). fov: horizontal field of view, radians; 0 = orthographic. Without target the view frames the map's free cells and their walls; with target (x, y[, z]) it aims there with scale pixels per metre (orthographic) or the eye distance metres away (perspective).
@@ -2478,6 +2533,10 @@ def plan_ompl(blocked: numpy.typing.NDArray[numpy.bool_], resolution: float, ori
 def platform_names() -> list[str]:
     """
     The robot platforms registered in C++.
+    """
+def quantize_pose(pose: tuple[float, float, float]) -> tuple:
+    """
+    The pose at the simulator's float resolution (x, y rounded to float; the angle wrapped into [-π, π] and rounded): every platform reports poses so, and a pose carried through a link comes back bit for bit.
     """
 def ranging_sensors() -> list[str]:
     """

@@ -55,26 +55,15 @@ def _options(args: argparse.Namespace) -> Any:
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
-    from .launch import load, start, write_summary
-    from .record import Recorder
+    from .launch import load, start
 
     world = load(args.world)
     options = _options(args)
     run = start(world, options)
-    recorder = (Recorder(options.record, run.engine, world_file=world.path, world_data=run.record_data,
-                         world_kind=run.kind) if options.record else None)
     try:
         outcome = run.execute(progress=options.progress)
     finally:
-        if recorder:
-            recorder.close()
         run.close()
-    if recorder:
-        frames = "" if run.kind == "robot" else f" ({recorder.frames} frames)"
-        outcome.outputs["record"] = f"{options.record}{frames}"
-    if options.summary_json:
-        outcome.outputs["summary"] = str(options.summary_json)
-        write_summary(options.summary_json, {**outcome.summary, "outputs": dict(outcome.outputs)})
     if not args.quiet:
         print(f"vwg run {args.world} — {outcome.title}")
         _print_summary(outcome.rows + list(outcome.outputs.items()))

@@ -1,12 +1,17 @@
-"""A fake ROS robot behind a rosbridge v2 server on 127.0.0.1, for tests and demos: it takes
-geometry_msgs/Twist on each robot's ``cmd_vel``, moves the robots as differential-drive bases
-(their world-file limits, stopped by walls) on the world's map, and publishes nav_msgs/Odometry
-(from zero where each robot starts, as a real base does) and sensor_msgs/LaserScan (the walls,
-by vwg's ray caster) at ``rate`` Hz, and sensor_msgs/CompressedImage (the simulator's camera view,
-JPEG) at 10 Hz, as a real robot's rosbridge server would.
+"""A fake ROS robot behind a rosbridge v2 server on 127.0.0.1, for tests and demos: vwg's own Box2D
+simulator (vwg.sim.PhysicsWorld) with the world's map and robots, driven by geometry_msgs/Twist on
+each robot's ``cmd_vel`` as a differential-drive base is, publishing nav_msgs/Odometry (from zero
+where each robot starts, as a real base does), sensor_msgs/LaserScan (the simulator's noiseless
+ranges, walls and other robots) and sensor_msgs/CompressedImage (the simulator's camera view, JPEG,
+10 Hz), as a real robot's rosbridge server would.
 
     with FakeRosbridgeRobot(world) as robot:          # serves ws://127.0.0.1:<free port>
         vwg.start(world, vwg.RunOptions(platform="rosbridge", url=robot.url, goals=["kitchen"])).execute()
+
+By default it runs at wall-clock rate (``rate`` Hz). With ``lockstep=True`` it runs in simulated
+time instead: it steps only when the service ``/vwg/step`` is called (``{"seconds": s}``), then
+publishes and answers — a simulator that vwg steps, for the frame-by-frame equivalence of paper
+test 3 (platform option ``lockstep: /vwg/step``).
 
 A base stops by itself when no command has come for ``cmd_timeout`` seconds, as real bases do.
 For fault tests: ``cut()`` closes every connection and refuses new ones until ``restore()``;
@@ -17,14 +22,13 @@ For fault tests: ``cut()`` closes every connection and refuses new ones until ``
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import http
 import json
 import math
 import threading
 import time
 from typing import Any
-
-import numpy as np
 
 from . import _core
 from .robotworld import RobotWorld
@@ -34,36 +38,34 @@ from .rosbridge_platform import topics_for
 __all__ = ["FakeRosbridgeRobot"]
 
 
-class _Base:
-    def __init__(self, settings: _core.RobotSettings) -> None:
-        self.settings = settings
-        self.pose = tuple(settings.start)  # true pose, world frame
-        self.speed = self.turn_rate = 0.0  # commanded
-        self.commanded_at = 0.0            # monotonic time of the last command
-        self.silent = False
+STEP_SERVICE = "/vwg/step"
 
 
 class FakeRosbridgeRobot:
     def __init__(self, world: RobotWorld, *, rate: float = 50.0, ros2: bool = False, cmd_timeout: float = 0.5,
-                 odom_offset: tuple[float, float, float] = (0.0, 0.0, 0.0)) -> None:
+                 odom_offset: tuple[float, float, float] = (0.0, 0.0, 0.0), lockstep: bool = False,
+                 physics: _core.PhysicsSettings | None = None) -> None:
         self.world = world
         # Where each base's odometry count stood when vwg connected (a base that has run before).
         self.odom_offset = odom_offset
         self.cmd_timeout = cmd_timeout  # a base stops by itself when commands stop coming (as real ones do)
         self.rate = rate
         self.ros2 = ros2
+        self.lockstep = lockstep
+        # The simulator's own physics (its odometry noise too: the odometry published is the noisy one).
+        self.physics = _core.PhysicsWorld(world.grid, list(world.robots),
+                                          physics or _core.PhysicsSettings(noise=world.noise, seed=world.seed))
+        self.scanner = _core.RangeScanner(_core.GridRaycaster(world.grid), self.physics)
+        self.angle_min, self.angle_increment = _core.beam_layout(world.laser)
         several = len(world.robots) > 1
-        self.robots = {r.id: _Base(r) for r in world.robots}
+        self.starts = {r.id: tuple(r.start) for r in world.robots}
         self.topics = {r.id: topics_for(r.id, several) for r in world.robots}
         self.commands: dict[int, list[tuple[float, float, float]]] = {r.id: [] for r in world.robots}
-        self.raycaster = _core.GridRaycaster(world.grid)
-        laser = world.laser
-        self.angles = np.linspace(-laser.fov / 2, laser.fov / 2, laser.beams) if laser.fov < 2 * math.pi - 1e-9 else \
-            -math.pi + 2 * math.pi * np.arange(laser.beams) / laser.beams
-        # The robots' cameras: the simulator's renderer, JPEG-compressed, every `camera_every` ticks.
+        self._commanded_at = {r.id: 0.0 for r in world.robots}
+        self._silent: set[int] = set()
+        # The robots' cameras: the simulator's renderer, JPEG-compressed, at 10 Hz of the robot's clock.
         self.camera = _core.CameraRenderer(world.grid, world.rooms, world.camera)
-        self.camera_every = max(1, round(rate / 10))
-        self._ticks = 0
+        self._camera_due = 0.0
         self.declared: list[tuple[str, str, str]] = []  # (op, topic, type) of each advertise and subscribe
         self._clients: set[Any] = set()
         self._subscriptions: dict[Any, set[str]] = {}
@@ -85,7 +87,8 @@ class FakeRosbridgeRobot:
         async def serve() -> None:
             self._server = await websockets.serve(self._client, "127.0.0.1", 0, process_request=self._refuse)
             self.port = self._server.sockets[0].getsockname()[1]
-            self._ticker = asyncio.ensure_future(self._tick())
+            if not self.lockstep:
+                self._ticker = asyncio.ensure_future(self._tick())
 
         asyncio.run_coroutine_threadsafe(serve(), self._loop).result(5)
         return self
@@ -132,16 +135,17 @@ class FakeRosbridgeRobot:
     def silence(self, robot: int) -> float:
         """Stop publishing `robot`'s odometry; returns when (the server's monotonic clock)."""
         with self._lock:
-            self.robots[robot].silent = True
+            self._silent.add(robot)
         return time.monotonic()
 
     def speak(self, robot: int) -> None:
         with self._lock:
-            self.robots[robot].silent = False
+            self._silent.discard(robot)
 
     def pose(self, robot: int) -> tuple[float, float, float]:
+        """The robot's true pose (the simulator's), not what its odometry says."""
         with self._lock:
-            return tuple(self.robots[robot].pose)  # type: ignore[return-value]
+            return self.physics.robot(robot).pose
 
     # ---- the server ---------------------------------------------------------------------------------------------
     def _refuse(self, connection: Any, request: Any) -> Any:
@@ -168,6 +172,8 @@ class FakeRosbridgeRobot:
                     self._subscriptions[ws].add(message.get("topic"))
                 elif op == "publish":
                     self._command(message.get("topic"), message.get("msg"))
+                elif op == "call_service":
+                    await self._call(ws, message)
         except Exception:
             pass
         finally:
@@ -182,64 +188,75 @@ class FakeRosbridgeRobot:
                 except ValueError:
                     return
                 with self._lock:
-                    base = self.robots[rid]
-                    base.speed, base.turn_rate = v, w
-                    base.commanded_at = time.monotonic()
-                    self.commands[rid].append((base.commanded_at, v, w))
+                    self.physics.drive(rid, v, w)
+                    self._commanded_at[rid] = time.monotonic()
+                    self.commands[rid].append((self._commanded_at[rid], v, w))
+
+    async def _call(self, ws: Any, message: dict[str, Any]) -> None:
+        """The step service of a lockstep robot: advance the simulator, publish, then answer."""
+        args = message.get("args")
+        seconds = args.get("seconds") if isinstance(args, dict) else None
+        ok = (self.lockstep and message.get("service") == STEP_SERVICE and isinstance(seconds, (int, float))
+              and math.isfinite(seconds) and 0 <= seconds <= 10)
+        if ok:
+            with self._lock:
+                self.physics.advance(float(seconds))
+            await self._publish()
+        answer = {"op": "service_response", "service": message.get("service"), "id": message.get("id"),
+                  "values": {"time": self.physics.time()} if ok else "no such service, or bad arguments",
+                  "result": ok}
+        with contextlib.suppress(Exception):
+            await ws.send(json.dumps(answer))
 
     async def _tick(self) -> None:
         period = 1.0 / self.rate
         next_at = time.monotonic()
         while True:
             next_at += period
-            self._move(period)
+            now = time.monotonic()
+            with self._lock:
+                for rid, at in self._commanded_at.items():
+                    if now - at > self.cmd_timeout:
+                        self.physics.drive(rid, 0.0, 0.0)
+                self.physics.advance(period)
             await self._publish()
             await asyncio.sleep(max(0.0, next_at - time.monotonic()))
 
-    def _move(self, dt: float) -> None:
-        grid = self.world.grid
-        now = time.monotonic()
-        with self._lock:
-            for base in self.robots.values():
-                if now - base.commanded_at > self.cmd_timeout:
-                    base.speed = base.turn_rate = 0.0
-                x, y, yaw = base.pose
-                yaw2 = yaw + base.turn_rate * dt
-                x2 = x + base.speed * dt * math.cos(yaw + base.turn_rate * dt / 2)
-                y2 = y + base.speed * dt * math.sin(yaw + base.turn_rate * dt / 2)
-                if grid.clearance(x2, y2, limit=base.settings.radius + 0.1) < base.settings.radius:
-                    x2, y2 = x, y  # a wall: the base stops against it
-                base.pose = (x2, y2, math.atan2(math.sin(yaw2), math.cos(yaw2)))
+    def _odometry(self, rid: int, pose: tuple[float, float, float]) -> tuple[float, float, float]:
+        """`pose` in the base's odometry frame: zero where the robot started (⊕ the offset its count
+        stood at when vwg connected)."""
+        sx, sy, st = self.starts[rid]
+        x, y, yaw = pose
+        dx, dy = x - sx, y - sy
+        local = (math.cos(st) * dx + math.sin(st) * dy, -math.sin(st) * dx + math.cos(st) * dy, yaw - st)
+        ox, oy, oyaw = self.odom_offset
+        return (ox + math.cos(oyaw) * local[0] - math.sin(oyaw) * local[1],
+                oy + math.sin(oyaw) * local[0] + math.cos(oyaw) * local[1],
+                math.atan2(math.sin(oyaw + local[2]), math.cos(oyaw + local[2])))
 
     async def _publish(self) -> None:
-        now = time.monotonic() - self._t0
         out: list[tuple[str, dict[str, Any]]] = []
-        self._ticks += 1
         wanted = set().union(*self._subscriptions.values()) if self._subscriptions else set()
+        laser = self.world.laser
         with self._lock:
-            for rid, base in self.robots.items():
-                sx, sy, st = base.settings.start
-                x, y, yaw = base.pose
-                dx, dy = x - sx, y - sy
-                local = (math.cos(st) * dx + math.sin(st) * dy, -math.sin(st) * dx + math.cos(st) * dy,
-                         math.atan2(math.sin(yaw - st), math.cos(yaw - st)))
-                ox, oy, oyaw = self.odom_offset  # offset ⊕ local: the base's count did not start at zero here
-                local = (ox + math.cos(oyaw) * local[0] - math.sin(oyaw) * local[1],
-                         oy + math.sin(oyaw) * local[0] + math.cos(oyaw) * local[1],
-                         math.atan2(math.sin(oyaw + local[2]), math.cos(oyaw + local[2])))
-                if not base.silent:
-                    out.append((self.topics[rid]["odom"], odometry_message(now, *local, base.speed, base.turn_rate,
+            now = self.physics.time() if self.lockstep else time.monotonic() - self._t0
+            camera = self.physics.time() >= self._camera_due
+            if camera:
+                self._camera_due = self.physics.time() + 0.1
+            for state in self.physics.robots():
+                rid = state.id
+                if rid not in self._silent:
+                    out.append((self.topics[rid]["odom"], odometry_message(now, *self._odometry(rid, state.odometry),
+                                                                           state.speed, state.turn_rate,
                                                                            ros2=self.ros2)))
-                laser = self.world.laser
-                ranges = self.raycaster.scan(base.pose, self.angles, laser.max_range)
-                ranges = [float(r) if r < laser.max_range else math.inf for r in ranges]
-                out.append((self.topics[rid]["scan"], scan_message(now, float(self.angles[0]),
-                                                                   float(self.angles[1] - self.angles[0])
-                                                                   if len(self.angles) > 1 else 0.0,
-                                                                   ranges, laser.min_range, laser.max_range,
-                                                                   ros2=self.ros2)))
-                if self._ticks % self.camera_every == 0 and self.topics[rid]["camera"] in wanted:
-                    grey = self.camera.render(base.pose, [], grey=True)
+                if self.topics[rid]["scan"] in wanted:
+                    ranges = self.scanner.scan(rid, laser)
+                    out.append((self.topics[rid]["scan"], scan_message(
+                        now, self.angle_min, self.angle_increment,
+                        [float(r) if r < laser.max_range else math.inf for r in ranges],
+                        laser.min_range, laser.max_range, ros2=self.ros2)))
+                if camera and self.topics[rid]["camera"] in wanted:
+                    grey = self.camera.render(state.pose, [], grey=True)
                     out.append((self.topics[rid]["camera"],
                                 compressed_image_message(now, _core.encode_image(grey, "jpeg", 95), "jpeg",
                                                          ros2=self.ros2)))
@@ -251,4 +268,3 @@ class FakeRosbridgeRobot:
                         await ws.send(json.dumps({"op": "publish", "topic": topic, "msg": msg}))
                     except Exception:
                         break
-

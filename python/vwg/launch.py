@@ -174,7 +174,53 @@ def start(world: Any, options: RunOptions | None = None) -> Run:
             where = f"is for {' and '.join(takers)} worlds" if takers else "does not apply"
             flag = _FLAGS.get(name, "--" + name.replace("_", "-"))
             raise Error(f"{flag} {where}; {world.path} is a {kind.name} world")
-    return kind.start(world, options)
+    run = kind.start(world, options)
+    return RecordedRun(run, world, options) if options.record or options.summary_json else run
+
+
+class RecordedRun:
+    """A run whose options ask for a record (every frame, flushed as it ends) or a summary JSON: both
+    are written by execute(), whoever calls it (``vwg run`` or a script). Everything else is the run's."""
+
+    def __init__(self, run: Run, world: Any, options: RunOptions) -> None:
+        from .record import Recorder
+
+        self.run = run
+        self.options = options
+        try:
+            self.recorder = (Recorder(options.record, run.engine, world_file=world.path, world_data=run.record_data,
+                                      world_kind=run.kind) if options.record else None)
+        except BaseException:
+            run.close()
+            raise
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self.run, name)
+
+    def execute(self, progress: bool | None = False) -> Outcome:
+        try:
+            outcome = self.run.execute(progress=progress)
+        finally:
+            if self.recorder:
+                self.recorder.close()
+        if self.recorder:
+            frames = "" if self.run.kind == "robot" else f" ({self.recorder.frames} frames)"
+            outcome.outputs["record"] = f"{self.options.record}{frames}"
+        if self.options.summary_json:
+            outcome.outputs["summary"] = str(self.options.summary_json)
+            write_summary(self.options.summary_json, {**outcome.summary, "outputs": dict(outcome.outputs)})
+        return outcome
+
+    def close(self) -> None:
+        if self.recorder:
+            self.recorder.close()
+        self.run.close()
+
+    def __enter__(self) -> RecordedRun:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
 
 
 def describe(world: Any) -> tuple[str, list[tuple[str, str]]]:

@@ -23,22 +23,16 @@ import logging
 import math
 import threading
 import time
-from collections import deque
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 from . import _core
 from .ros_messages import LaserScan, Odometry, pose_compose
 from .rosbridge import LinkError
 
-__all__ = ["Fault", "MotionController", "RealRobotPlatform"]
+__all__ = ["Fault", "RealRobotPlatform"]
 
 log = logging.getLogger("vwg.robot")
-
-#: A drive is done within this distance of its end, a turn within this angle (odometry's resolution).
-DRIVE_TOLERANCE = 0.01
-TURN_TOLERANCE = 0.01
-
 
 @dataclass(frozen=True)
 class Fault:
@@ -57,76 +51,10 @@ def _wrap(angle: float) -> float:
     return math.atan2(math.sin(angle), math.cos(angle))
 
 
-def _approach(current: float, target: float, step: float) -> float:
-    return min(current + step, target) if target > current else max(current - step, target)
-
-
-@dataclass
-class MotionController:
-    """One robot's plan (turn and drive steps in its own frame) followed on its odometry: a trapezoidal
-    speed profile toward what remains of the current step, recomputed at every tick from where
-    odometry says the robot is, so the step ends when odometry says it is done (not on a timer)."""
-
-    limits: _core.RobotSettings
-    plan: deque[tuple[str, float]] = field(default_factory=deque)
-    speed: float = 0.0      # last commanded, m/s
-    turn_rate: float = 0.0  # last commanded, rad/s
-    _origin: tuple[float, float, float] | None = None  # odometry pose where the current step began
-    _turned: float = 0.0          # the current turn's progress, unwrapped (a turn of π may pass ±π)
-    _last_yaw: float = 0.0
-
-    def command(self, steps: list[tuple[str, float]]) -> None:
-        """The latest command replaces the plan (an empty one stops the robot)."""
-        self.plan = deque(steps)
-        self._origin = None
-
-    @property
-    def busy(self) -> bool:
-        return bool(self.plan)
-
-    def tick(self, odom: Odometry, dt: float) -> tuple[float, float]:
-        """The velocities to send now, within the robot's limits."""
-        target_v = target_w = 0.0
-        while self.plan:
-            kind, amount = self.plan[0]
-            if self._origin is None:
-                self._origin = (odom.x, odom.y, odom.yaw)
-                self._turned, self._last_yaw = 0.0, odom.yaw
-            ox, oy, oyaw = self._origin
-            if kind == "drive":
-                done = (odom.x - ox) * math.cos(oyaw) + (odom.y - oy) * math.sin(oyaw)
-                remaining = amount - done
-                if abs(remaining) <= DRIVE_TOLERANCE:
-                    self.plan.popleft()
-                    self._origin = None
-                    continue
-                target_v = math.copysign(min(self.limits.max_speed,
-                                             math.sqrt(2 * self.limits.max_accel * abs(remaining))), remaining)
-            else:
-                self._turned += _wrap(odom.yaw - self._last_yaw)
-                self._last_yaw = odom.yaw
-                remaining = amount - self._turned
-                if abs(remaining) <= TURN_TOLERANCE:
-                    self.plan.popleft()
-                    self._origin = None
-                    continue
-                target_w = math.copysign(min(self.limits.max_turn_rate,
-                                             math.sqrt(2 * self.limits.max_turn_accel * abs(remaining))), remaining)
-            break
-        self.speed = _approach(self.speed, target_v, self.limits.max_accel * dt)
-        self.turn_rate = _approach(self.turn_rate, target_w, self.limits.max_turn_accel * dt)
-        return self.speed, self.turn_rate
-
-    def stop(self) -> None:
-        self.plan.clear()
-        self._origin = None
-        self.speed = self.turn_rate = 0.0
-
-
 @dataclass
 class _Robot:
     settings: _core.RobotSettings
-    controller: MotionController
+    follower: _core.MotionFollower
     odom: Odometry | None = None     # relative to the first odometry this run received
     origin: Odometry | None = None   # that first odometry: the base's own count may not start at zero
     odom_at: float = 0.0            # monotonic time the last odometry came
@@ -142,7 +70,8 @@ class RealRobotPlatform(_core.RobotPlatform):
 
     kind = "real"
 
-    def __init__(self, robots: list[_core.RobotSettings], *, watchdog: float = 0.5, control_rate: float = 20.0) -> None:
+    def __init__(self, robots: list[_core.RobotSettings], *, watchdog: float = 0.5, control_rate: float = 20.0,
+                 lockstep: bool = False) -> None:
         super().__init__()
         if not (math.isfinite(watchdog) and watchdog > 0):
             raise LinkError(f"platform watchdog: expected seconds > 0, got {watchdog}")
@@ -150,6 +79,9 @@ class RealRobotPlatform(_core.RobotPlatform):
             raise LinkError(f"platform control_rate: expected 1 to 1000 Hz, got {control_rate}")
         self.watchdog = watchdog
         self.control_period = 1.0 / control_rate
+        self.lockstep = lockstep
+        self._clock = 0.0    # lockstep: the robot's simulated time
+        self._pending = 0.0  # lockstep: time asked for that is less than a control period
         self.faults: list[Fault] = []
         self._lock = threading.Lock()
         self._robots: dict[int, _Robot] = {}
@@ -210,7 +142,7 @@ class RealRobotPlatform(_core.RobotPlatform):
         with self._lock:
             if settings.id in self._robots:
                 raise LinkError(f"robot {settings.id}: the id is used twice")
-            self._robots[settings.id] = _Robot(settings, MotionController(settings), odom_at=time.monotonic())
+            self._robots[settings.id] = _Robot(settings, _core.MotionFollower(settings), odom_at=time.monotonic())
 
     def remove_robot(self, robot: int) -> None:
         self.send_velocity(robot, 0.0, 0.0)
@@ -218,19 +150,23 @@ class RealRobotPlatform(_core.RobotPlatform):
             self._robots.pop(robot, None)
 
     def _ensure_control(self) -> None:
-        if self._control_thread.ident is None and not self._stop_control.is_set():
+        if self._control_thread.ident is None and not self._stop_control.is_set() and not self.lockstep:
             self._control_thread.start()
 
     def command(self, robot: int, steps: list[tuple[str, float]]) -> None:
         self._ensure_control()
         with self._lock:
             r = self._robots[robot]
-            r.controller.command(list(steps))
+            r.follower.command(list(steps))
             r.commands += 1
 
     def advance(self, seconds: float) -> None:
         """Let `seconds` of wall-clock time pass from the end of the last frame (the robots follow
-        their plans meanwhile, on the control thread); LinkError when the link has failed."""
+        their plans meanwhile, on the control thread); LinkError when the link has failed. In lockstep,
+        the robot's clock is stepped instead, as the simulator steps its own."""
+        if self.lockstep:
+            self._advance_lockstep(seconds)
+            return
         self._ensure_control()
         self._frame_end = max(self._frame_end + seconds, time.monotonic() - seconds)  # a late frame does not pile up
         while True:
@@ -239,6 +175,46 @@ class RealRobotPlatform(_core.RobotPlatform):
             if now >= self._frame_end:
                 return
             time.sleep(min(self.control_period, self._frame_end - now))
+
+    @staticmethod
+    def _map_pose(r: _Robot) -> tuple[float, float, float]:
+        """The map pose: start ⊕ odometry (odometry starts at zero where the robot starts), at the
+        float resolution every platform reports (vwg.robot.quantize_pose; the start too, as the
+        simulator places its bodies)."""
+        local = (r.odom.x, r.odom.y, r.odom.yaw) if r.odom else (0.0, 0.0, 0.0)
+        return _core.quantize_pose(pose_compose(_core.quantize_pose(r.settings.start), local))
+
+    # ---- lockstep -------------------------------------------------------------------------------------------------
+    def step_clock(self, seconds: float) -> None:  # pragma: no cover - abstract
+        """Lockstep: let the robot's simulated clock advance `seconds` (0: publish where it is) and
+        return once its odometry after the step has come; LinkError when it does not answer."""
+        raise NotImplementedError
+
+    def _advance_lockstep(self, seconds: float) -> None:
+        # Whole control periods, the remainder carried over: the simulator's own arithmetic, so
+        # both take the same number of steps in every frame.
+        period = self.control_period
+        total = self._pending + seconds
+        steps = math.floor(total / period + 1e-9)
+        self._pending = max(0.0, total - steps * period)
+        for _ in range(steps):
+            self._raise_if_failed()
+            with self._lock:
+                sends = [(rid, *r.follower.tick(self._map_pose(r), period)) for rid, r in self._robots.items()]
+            for rid, v, w in sends:
+                self.send_velocity(rid, v, w)
+            try:
+                self.step_clock(period)
+            except LinkError as e:
+                self._failure = str(e)
+                self._fault(0, self._failure)
+                with contextlib.suppress(Exception):
+                    self.stop_all()
+                raise
+            self._clock += period
+            with self._lock:
+                for r in self._robots.values():
+                    r.follower.settle(self._map_pose(r))
 
     def _raise_if_failed(self) -> None:
         if self._failure:
@@ -279,13 +255,13 @@ class RealRobotPlatform(_core.RobotPlatform):
                         quiet = now - r.odom_at
                         self._fault_locked(rid, f"no odometry for {quiet:.2f} s (watchdog {self.watchdog:g} s): "
                                                 "stopped")
-                    r.controller.speed = r.controller.turn_rate = 0.0
+                    r.follower.halt()
                     sends.append((rid, 0.0, 0.0))
                     continue
                 if r.silent:
                     r.silent = False
                     log.warning("%s: robot %d: odometry again; moving on", self.name(), rid)
-                v, w = r.controller.tick(r.odom, dt)
+                v, w = r.follower.tick(self._map_pose(r), dt)
                 sends.append((rid, v, w))
         for rid, v, w in sends:
             self.send_velocity(rid, v, w)
@@ -303,7 +279,7 @@ class RealRobotPlatform(_core.RobotPlatform):
         with self._lock:
             ids = list(self._robots)
             for r in self._robots.values():
-                r.controller.stop()
+                r.follower.stop()
         for rid in ids:
             self.send_velocity(rid, 0.0, 0.0)
 
@@ -311,9 +287,8 @@ class RealRobotPlatform(_core.RobotPlatform):
         with self._lock:
             out = []
             for rid, r in self._robots.items():
-                local = (r.odom.x, r.odom.y, r.odom.yaw) if r.odom else (0.0, 0.0, 0.0)
-                pose = pose_compose(r.settings.start, local)  # odometry starts at zero where the robot starts
-                out.append(_core.RobotState(rid, pose, pose, radius=r.settings.radius, busy=r.controller.busy,
+                pose = self._map_pose(r)
+                out.append(_core.RobotState(rid, pose, pose, radius=r.settings.radius, busy=r.follower.busy,
                                             commands=r.commands, travelled=r.travelled,
                                             speed=r.odom.speed if r.odom else 0.0,
                                             turn_rate=r.odom.turn_rate if r.odom else 0.0))
@@ -323,7 +298,7 @@ class RealRobotPlatform(_core.RobotPlatform):
         return []  # a real base reports no contacts here (a bumper topic would)
 
     def time(self) -> float:
-        return time.monotonic() - self._t0
+        return self._clock if self.lockstep else time.monotonic() - self._t0
 
     def close(self) -> None:
         """Stop every robot, then close the link (the end of any run)."""

@@ -16,12 +16,14 @@ from ._core import (
     Decider,
     GridDecider,
     MotionBackend,
+    MotionFollower,
     OdometryGenerator,
     OmplDecider,
     RandomDecider,
     RobotPlatform,
     RobotSettings,
     RobotState,
+    quantize_pose,
 )
 from .casestudy import CaseStudy, RobotSummary, RunSummary
 from .real_robot import Fault, RealRobotPlatform
@@ -30,6 +32,6 @@ from .rosbridge_platform import RosbridgePlatform
 from .serial_platform import SerialPlatform
 
 __all__ = ["CaseStudy", "Collision", "CollisionGenerator", "Decider", "Fault", "GridDecider", "MotionBackend",
-           "OdometryGenerator", "OmplDecider", "Order", "RandomDecider", "RealRobotPlatform", "RobotPlatform",
-           "RobotSettings", "RobotState", "RobotSummary", "RobotWorld", "Room", "RosbridgePlatform", "RunSummary",
-           "SerialPlatform", "load_robot_world"]
+           "MotionFollower", "OdometryGenerator", "OmplDecider", "Order", "RandomDecider", "RealRobotPlatform",
+           "RobotPlatform", "RobotSettings", "RobotState", "RobotSummary", "RobotWorld", "Room", "RosbridgePlatform",
+           "RunSummary", "SerialPlatform", "load_robot_world", "quantize_pose"]

@@ -13,17 +13,21 @@ ends the run.
     link.advertise("/cmd_vel", "geometry_msgs/Twist")
     link.subscribe("/odom", "nav_msgs/Odometry")
     link.publish("/cmd_vel", twist_message(0.2, 0.0))
+    link.call_service("/step", {"seconds": 0.01}, timeout=0.5)
 """
 
 from __future__ import annotations
 
 import asyncio
 import contextlib
+import itertools
 import json
 import logging
 import threading
 import time
 from collections.abc import Callable
+from concurrent.futures import Future
+from concurrent.futures import TimeoutError as FutureTimeout
 from typing import Any
 
 from .errors import Error
@@ -61,6 +65,8 @@ class RosbridgeLink:
         self._closing = False
         self.failed: str | None = None  # why the link gave up, once it has
         self.dropped = 0                # malformed or oversized messages logged and ignored
+        self._calls: dict[str, Future[Any]] = {}  # call_service ids waiting for their response
+        self._call_ids = itertools.count(1)
         self._thread = threading.Thread(target=self._loop.run_forever, name="vwg-rosbridge", daemon=True)
         self._thread.start()
         self._task: Any = None
@@ -148,6 +154,13 @@ class RosbridgeLink:
             except Exception as e:  # a message a handler cannot read is dropped, not the run
                 self.dropped += 1
                 log.warning("rosbridge %s: dropped a message on %s (%s)", self.url, message["topic"], e)
+        elif op == "service_response" and isinstance(message.get("id"), str) and message["id"] in self._calls:
+            call = self._calls.pop(message["id"])
+            if message.get("result", True) is False:
+                call.set_exception(LinkError(f"rosbridge {self.url}: service {message.get('service')} failed: "
+                                             f"{message.get('values')}"))
+            else:
+                call.set_result(message.get("values"))
         elif op == "status":
             log.info("rosbridge %s: %s: %s", self.url, message.get("level"), message.get("msg"))
         else:
@@ -174,6 +187,22 @@ class RosbridgeLink:
     def publish(self, topic: str, msg: dict[str, Any]) -> bool:
         """Send `msg` on `topic` (advertised first); False when not connected (the message is lost)."""
         return self._send({"op": "publish", "topic": topic, "msg": msg})
+
+    def call_service(self, service: str, args: dict[str, Any], timeout: float) -> Any:
+        """Call `service` and wait for its response's values; messages published before the response
+        have been handled when it returns (one connection keeps the order). LinkError when not
+        connected, when the service fails, or after `timeout` seconds without an answer."""
+        call_id = f"vwg_call_{next(self._call_ids)}"
+        answer: Future[Any] = Future()
+        self._calls[call_id] = answer
+        try:
+            if not self._send({"op": "call_service", "id": call_id, "service": service, "args": args}):
+                raise LinkError(f"rosbridge {self.url}: cannot call {service}: not connected")
+            return answer.result(timeout)
+        except FutureTimeout:
+            raise LinkError(f"rosbridge {self.url}: service {service} did not answer within {timeout:g} s") from None
+        finally:
+            self._calls.pop(call_id, None)
 
     def _send(self, message: dict[str, Any], timeout: float = 1.0) -> bool:
         ws = self._ws

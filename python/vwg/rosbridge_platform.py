@@ -8,12 +8,20 @@ and ``vwg run --platform rosbridge --url ws://HOST:PORT``.
       reconnect: 5         # seconds a lost link is retried before the run ends
       topics: {cmd_vel: /cmd_vel, odom: /odom, scan: /scan, camera: /camera/image/compressed}
       ros: 1               # 2: type names spelled pkg/msg/Name (rosbridge for ROS 2 takes both)
+      control_rate: 20     # Hz: velocities sent between frames
+      lockstep: /vwg/step  # a simulated robot stepped by vwg (see below); default: none, wall-clock
 
 Topic names default to ``/cmd_vel``, ``/odom``, ``/scan`` and ``/camera/image/compressed`` for one
 robot and to ``/robot{id}/...`` for several; a name may hold ``{id}``. vwg publishes
 geometry_msgs/Twist and reads nav_msgs/Odometry, sensor_msgs/LaserScan and
 sensor_msgs/CompressedImage (type names in the ROS 1 spelling unless ``ros: 2``; headers' stamps are
 read in both spellings).
+
+``lockstep: SERVICE`` is for a robot that is itself simulated and advances its clock on request:
+each control tick publishes the velocities, then calls SERVICE with ``{"seconds": period}`` and
+waits (up to ``watchdog`` seconds) for its response, by which time the robot has published its
+odometry and scan after the step. With ``control_rate`` equal to the simulator's rate (100 Hz for
+its 0.01 s step), the frames are those of ``--platform sim`` bit for bit (noise off).
 """
 
 from __future__ import annotations
@@ -32,7 +40,7 @@ __all__ = ["DEFAULT_TOPICS", "RosbridgePlatform", "topics_for"]
 DEFAULT_TOPICS = {"cmd_vel": "/cmd_vel", "odom": "/odom", "scan": "/scan", "camera": "/camera/image/compressed"}
 TYPES = {"cmd_vel": "geometry_msgs/Twist", "odom": "nav_msgs/Odometry", "scan": "sensor_msgs/LaserScan",
          "camera": "sensor_msgs/CompressedImage"}
-OPTIONS = ("url", "topics", "ros", "watchdog", "reconnect", "control_rate")
+OPTIONS = ("url", "topics", "ros", "watchdog", "reconnect", "control_rate", "lockstep")
 
 
 def topics_for(robot: int, several: bool, topics: dict[str, str] | None = None) -> dict[str, str]:
@@ -51,7 +59,8 @@ class RosbridgePlatform(RealRobotPlatform):
     kind = "rosbridge"
 
     def __init__(self, robots: list[_core.RobotSettings], url: str, *, topics: dict[str, str] | None = None,
-                 ros: int = 1, watchdog: float = 0.5, reconnect: float = 5.0, control_rate: float = 20.0) -> None:
+                 ros: int = 1, watchdog: float = 0.5, reconnect: float = 5.0, control_rate: float = 20.0,
+                 lockstep: str | None = None) -> None:
         self.link: RosbridgeLink | None = None
         unknown = set(topics or {}) - set(DEFAULT_TOPICS)
         if unknown:
@@ -73,7 +82,10 @@ class RosbridgePlatform(RealRobotPlatform):
                     raise SchemaError(f"platform.topics: robots {other[1]} and {rid} would share {topic} "
                                       "(with several robots, put {id} in the topic names)")
                 self._by_topic[topic] = (key, rid)
-        super().__init__(robots, watchdog=watchdog, control_rate=control_rate)
+        if lockstep is not None and (not isinstance(lockstep, str) or not lockstep.startswith("/")):
+            raise SchemaError(f"platform.lockstep: expected a service name such as /vwg/step, got {lockstep!r}")
+        self.step_service = lockstep
+        super().__init__(robots, watchdog=watchdog, control_rate=control_rate, lockstep=lockstep is not None)
         # Each robot's latest camera image, decoded when its gCamera asks (sensor_msgs/CompressedImage).
         self.images = {r.id: _core.ReceivedImages() for r in robots if "camera" in r.sensors}
         self.link = RosbridgeLink(url, on_message=self._on_message, reconnect=reconnect)
@@ -86,6 +98,8 @@ class RosbridgePlatform(RealRobotPlatform):
                 self.link.subscribe(named["scan"], self.types["scan"])
             if "camera" in sensors:
                 self.link.subscribe(named["camera"], self.types["camera"])
+        if self.step_service:
+            self.step_clock(0.0)  # the robot says where it is before the first frame
 
     def _on_message(self, topic: str, msg: Any) -> None:
         key, robot = self._by_topic.get(topic, ("", 0))
@@ -100,6 +114,10 @@ class RosbridgePlatform(RealRobotPlatform):
         topics = self.topics.get(robot)
         return bool(topics) and self.link is not None and self.link.publish(topics["cmd_vel"],
                                                                              twist_message(speed, turn_rate))
+
+    def step_clock(self, seconds: float) -> None:
+        assert self.link is not None and self.step_service is not None
+        self.link.call_service(self.step_service, {"seconds": seconds}, timeout=self.watchdog)
 
     def link_failure(self) -> str | None:
         return self.link.failed if self.link is not None else None

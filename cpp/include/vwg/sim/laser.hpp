@@ -41,8 +41,15 @@ void visit_settings(S& s, F&& field) {
   field("noise", s.noise, "standard deviation of each range, metres");
 }
 
-/// The beam angles from the heading: a full circle is [-π, π) in `beams` steps, a smaller field
-/// of view runs from -fov/2 to +fov/2 inclusive.
+/// The beams as sensor_msgs/LaserScan lays them out: beam i at angle_min + i·increment from the
+/// heading. A full circle is [-π, π) in `beams` steps; a smaller field of view runs from -fov/2 to
+/// +fov/2 inclusive.
+struct BeamLayout {
+  double angle_min;
+  double increment;
+};
+BeamLayout beam_layout(const LaserSpec& spec);
+/// The beam angles of that layout, computed as a LaserScan's reader does (so they agree bit for bit).
 std::vector<double> beam_angles(const LaserSpec& spec);
 
 /// Ranges over the map's walls and the other robots (discs of their radius, at their true poses).

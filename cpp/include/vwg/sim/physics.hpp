@@ -1,6 +1,7 @@
 // The physical world of the simulator: static walls from an occupancy grid and differential-drive
-// robots as Box2D bodies, stepped at a fixed time step. Robots execute motion plans (turn, drive)
-// under speed and acceleration limits; a seeded noise model perturbs motors and odometry.
+// robots as Box2D bodies, stepped at a fixed time step. Robots follow motion plans (turn, drive)
+// on their true pose with the platform's MotionFollower, under speed and acceleration limits, or
+// hold velocities given by drive(); a seeded noise model perturbs motors and odometry.
 #pragma once
 
 #include <concepts>
@@ -12,6 +13,7 @@
 #include <vector>
 
 #include "vwg/random.hpp"
+#include "vwg/platform/motion_follower.hpp"
 #include "vwg/platform/platform.hpp"
 #include "vwg/sim/grid.hpp"
 
@@ -86,6 +88,9 @@ class PhysicsWorld final : public platform::RobotPlatform {
   void remove_robot(int id) override;
   /// Replace the robot's current plan with `plan` (the latest command wins; an empty plan stops it).
   void command(int robot, std::vector<MotionStep> plan) override;
+  /// Hold robot `robot` at these velocities (m/s, rad/s) from now on, as a base driven by velocity
+  /// commands is (a fake robot behind a link); its plan, if any, is dropped. command() ends it.
+  void drive(int robot, double speed, double turn_rate);
   /// Step the world for `seconds` (a whole number of fixed steps; the remainder carries over).
   void advance(double seconds) override;
 
@@ -109,8 +114,7 @@ class PhysicsWorld final : public platform::RobotPlatform {
  private:
   struct Robot;
   class Contacts;
-  void step_robot(Robot& r, double dt);
-  void start_step(Robot& r);
+  void step_robot(Robot& r, const RobotState& state, double dt);
   Robot& find(int id);
   std::size_t index_of(int id) const;
 
