@@ -27,7 +27,7 @@ APT_PACKAGES := build-essential cmake pkg-config python3-dev python3-venv \
 BUILD := build
 STAMP := $(BUILD)/stamps
 
-.PHONY: help deps venv install demo test pytest lint stubs cpp-test cpp-package bench clean
+.PHONY: help deps venv install demo test pytest lint stubs cpp-test cpp-package bench bench-scale irsim-env clean
 
 help:
 	@sed -n '1,5p' Makefile | sed 's/^# \{0,1\}//'
@@ -133,10 +133,20 @@ cpp-package: deps
 	elif ! grep -q "no component 'nosuch'" $(BUILD)/example-cpp-bad.log; then \
 	  cat $(BUILD)/example-cpp-bad.log; echo "the failure does not name the unknown component"; exit 1; fi
 
-bench: install
+bench: install irsim-env
 	@# The peers the benchmarks compare with (not vwg dependencies).
 	@$(PIP) install -q pyastar2d
-	@for b in benchmarks/bench_*.py; do echo "== $$b"; $(PY) $$b; done
+	@for b in $(filter-out benchmarks/bench_scale.py,$(wildcard benchmarks/bench_*.py)); do echo "== $$b"; $(PY) $$b; done
+	@echo "== benchmarks/bench_scale.py"; $(PY) benchmarks/bench_scale.py --irsim-python $(IRSIM_PY)
+
+## Scale, side by side with IR-SIM (in its own environment: its dependencies are not vwg's).
+IRSIM_PY = $(BUILD)/bench-irsim/bin/python
+irsim-env: deps
+	@test -x $(IRSIM_PY) || python3 -m venv $(BUILD)/bench-irsim
+	@$(IRSIM_PY) -m pip install -q ir-sim
+
+bench-scale: install irsim-env
+	$(PY) benchmarks/bench_scale.py --irsim-python $(IRSIM_PY)
 
 clean:
 	rm -rf $(BUILD) out

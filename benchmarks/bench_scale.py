@@ -1,0 +1,162 @@
+"""Scale, side by side with IR-SIM: N robots on the shipped warehouse (30 × 20 m), each with a
+180-beam, 180°, 10 m laser and an order to a room, 10 Hz frames, the full `vwg run` frame (the
+generators, η, π, φ on the Box2D platform, A* decisions) — and the same scenario in IR-SIM (the
+same map as a PNG, the same starts, a 180-beam `lidar2d` per robot, `dash` behaviour to the same
+goals, headless) in the same run.
+
+    python benchmarks/bench_scale.py [--quick]   (make bench-scale installs IR-SIM in its own venv)
+
+Prints a table and writes benchmarks/results/bench_scale.json: rows with engine ("vwg" or "irsim"),
+n_robots, threads, robot_steps_per_s, rays_per_s, ms_per_frame, realtime_factor, rss_mb; and the
+ratio vwg / IR-SIM for each N both ran. IR-SIM runs in a subprocess with the interpreter given by
+--irsim-python (its own environment: its dependencies are not vwg's); without one, its rows are left
+out and the table says so.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import platform
+import resource
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+from typing import Any
+
+RESULTS = Path(__file__).resolve().parent / "results" / "bench_scale.json"
+BEAMS, FOV, RANGE, DT = 180, math.pi, 10.0, 0.1
+
+
+def rss_mb() -> float:
+    """The process's peak resident memory so far (the rows run from small N to large)."""
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+
+
+# ---- IR-SIM, in its own interpreter ---------------------------------------------------------------------------------
+IRSIM_WORKER = r"""
+import json, sys, time
+import irsim
+spec = json.loads(sys.argv[1])
+env = irsim.make(spec["yaml"], display=False)
+env.step()  # warm up
+t0 = time.perf_counter()
+for _ in range(spec["frames"]):
+    env.step()
+wall = time.perf_counter() - t0
+hwm = next(line for line in open("/proc/self/status") if line.startswith("VmHWM:"))
+print(json.dumps({"wall": wall, "rss_mb": int(hwm.split()[1]) / 1024}))
+"""
+
+
+def irsim_scenario(world: Any, folder: Path) -> Path:
+    """The world as IR-SIM reads it: the map as a PNG (black = occupied), robots with starts, goals
+    (their rooms' goal poses) and a lidar2d like vwg's laser."""
+    import numpy as np
+    from PIL import Image
+
+    grid = world.grid
+    png = folder / "map.png"
+    Image.fromarray(np.where(grid.blocked(), 0, 255).astype(np.uint8)).save(png)
+    rooms = list(world.rooms.values())
+    states = [[float(v) for v in r.start] for r in world.robots]
+    goals = [[*rooms[k % len(rooms)].goal, 0.0] for k in range(len(world.robots))]
+    doc = {
+        "world": {"height": grid.height_m, "width": grid.width_m, "step_time": DT, "sample_time": DT,
+                  "offset": [0, 0], "collision_mode": "stop", "obstacle_map": str(png), "mdownsample": 1},
+        "robot": [{"number": len(states), "distribution": {"name": "manual"}, "kinematics": {"name": "diff"},
+                   "shape": {"name": "circle", "radius": 0.18}, "state": states, "goal": goals,
+                   "behavior": {"name": "dash"}, "vel_max": [0.5, 1.5],
+                   "sensors": [{"name": "lidar2d", "range_min": 0.05, "range_max": RANGE, "angle_range": FOV,
+                                "number": BEAMS}]}],
+    }
+    path = folder / "scenario.yaml"
+    path.write_text(json.dumps(doc))  # JSON is YAML
+    return path
+
+
+def irsim_row(world: Any, frames: int, python: str) -> dict[str, Any] | None:
+    with tempfile.TemporaryDirectory() as tmp:
+        yaml = irsim_scenario(world, Path(tmp))
+        done = subprocess.run([python, "-c", IRSIM_WORKER, json.dumps({"yaml": str(yaml), "frames": frames})],
+                              capture_output=True, text=True, timeout=3600,
+                              env={**os.environ, "MPLBACKEND": "Agg"})
+    if done.returncode != 0:
+        print(f"IR-SIM failed:\n{done.stderr[-2000:]}", file=sys.stderr)
+        return None
+    out = json.loads(done.stdout.strip().splitlines()[-1])
+    return row("irsim", len(world.robots), 1, frames, out["wall"], out["rss_mb"])
+
+
+# ---- vwg ----------------------------------------------------------------------------------------------------------
+def vwg_row(world: Any, frames: int) -> dict[str, Any]:
+    from vwg.casestudy import CaseStudy
+
+    rooms = list(world.rooms)
+    goals = {r.id: rooms[k % len(rooms)] for k, r in enumerate(world.robots)}
+    with CaseStudy(world, "astar", goals=goals, sensors=("laser",)) as run:
+        run.run(frames=2)  # warm up: first plans, first scans
+        t0 = time.perf_counter()
+        done = run.run(frames=frames).frames - 2
+        wall = time.perf_counter() - t0
+    return row("vwg", len(world.robots), 1, done, wall, rss_mb())
+
+
+def row(engine: str, n: int, threads: int, frames: int, wall: float, rss: float) -> dict[str, Any]:
+    steps = n * frames / wall
+    return {"engine": engine, "n_robots": n, "threads": threads, "frames": frames,
+            "robot_steps_per_s": steps, "rays_per_s": steps * BEAMS, "ms_per_frame": 1000 * wall / frames,
+            "realtime_factor": frames * DT / wall, "rss_mb": rss}
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="fewer frames, N up to 100")
+    parser.add_argument("--irsim-python", default=os.environ.get("VWG_IRSIM_PYTHON"),
+                        help="the interpreter of an environment with ir-sim installed")
+    args = parser.parse_args()
+
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
+    from bench_frame import crowd
+    from tqdm import tqdm
+
+    sizes = (1, 10, 100) if args.quick else (1, 10, 100, 1000)
+    frames = {1: 50, 10: 30, 100: 10, 1000: 5} if args.quick else {1: 300, 10: 100, 100: 30, 1000: 10}
+    irsim_frames = {1: 50, 10: 20, 100: 5} if args.quick else {1: 200, 10: 50, 100: 10}
+    rows = []
+    jobs = [(n, "vwg") for n in sizes] + [(n, "irsim") for n in irsim_frames if args.irsim_python]
+    for n, engine in tqdm(jobs, desc="bench_scale", unit="run"):
+        world = crowd(n)
+        if len(world.robots) < n:
+            print(f"the warehouse holds {len(world.robots)} robots 0.6 m apart, not {n}: left out", file=sys.stderr)
+            continue
+        r = vwg_row(world, frames[n]) if engine == "vwg" else irsim_row(world, irsim_frames[n], args.irsim_python)
+        if r:
+            rows.append(r)
+    print(f"{'engine':>6} {'robots':>6} {'robot-steps/s':>14} {'rays/s':>12} {'ms/frame':>9} {'× real time':>11} "
+          f"{'RSS MB':>7}")
+    for r in rows:
+        print(f"{r['engine']:>6} {r['n_robots']:>6} {r['robot_steps_per_s']:>14,.0f} {r['rays_per_s']:>12,.0f} "
+              f"{r['ms_per_frame']:>9.1f} {r['realtime_factor']:>11.2f} {r['rss_mb']:>7.0f}")
+    ratios = {}
+    for r in rows:
+        peer = next((p for p in rows if p["engine"] == "irsim" and p["n_robots"] == r["n_robots"]), None)
+        if r["engine"] == "vwg" and peer:
+            ratios[r["n_robots"]] = r["robot_steps_per_s"] / peer["robot_steps_per_s"]
+            print(f"{r['n_robots']} robots: vwg {ratios[r['n_robots']]:,.0f}× IR-SIM's robot-steps/s")
+    if not args.irsim_python:
+        print("IR-SIM not run: give --irsim-python (make bench-scale installs it in build/bench-irsim)")
+    RESULTS.parent.mkdir(parents=True, exist_ok=True)
+    RESULTS.write_text(json.dumps({"machine": platform.machine(), "processor": platform.processor(),
+                                   "cores": os.cpu_count(), "python": platform.python_version(),
+                                   "quick": args.quick, "rows": rows,
+                                   "ratio_vwg_to_irsim": {str(k): v for k, v in ratios.items()}}, indent=2) + "\n")
+    print(f"wrote {RESULTS}")
+
+
+if __name__ == "__main__":
+    main()
