@@ -57,6 +57,8 @@ struct PhysicsWorld::Robot {
   platform::MotionFollower follower;
   bool driven = false;  // drive() holds a velocity: the follower is set aside until the next command
   platform::Velocity held{};
+  /// What it is told to do now: the held velocities, or its plan's.
+  platform::Velocity velocity() const { return driven ? held : follower.velocity(); }
   int contacts = 0;
   int last_other = 0;  // what it touched last: a robot id, or 0 for a wall
   int stuck_steps = 0;
@@ -309,8 +311,7 @@ void PhysicsWorld::advance(double seconds) {
         s.odometry = s.pose;
       }
       // Pushing against a wall or a robot without getting anywhere: give up the plan.
-      const platform::Velocity v = r.driven ? r.held : r.follower.velocity();
-      if (r.follower.driving() && r.contacts > 0 && std::abs(ds) < 0.25 * std::abs(v.speed) * dt) {
+      if (r.follower.driving() && r.contacts > 0 && std::abs(ds) < 0.25 * std::abs(r.velocity().speed) * dt) {
         if (++r.stuck_steps >= 20) {
           r.follower.stop();
           // Reported like a collision: the robot learns that this drive is blocked, even when
@@ -320,10 +321,9 @@ void PhysicsWorld::advance(double seconds) {
       } else {
         r.stuck_steps = 0;
       }
-      if (!r.driven) r.follower.settle(s.pose);
-      const platform::Velocity now = r.driven ? r.held : r.follower.velocity();
-      s.speed = now.speed;
-      s.turn_rate = now.turn_rate;
+      r.follower.settle(s.pose);  // idle when driven: nothing to settle
+      s.speed = r.velocity().speed;
+      s.turn_rate = r.velocity().turn_rate;
       s.busy = r.follower.busy();
     }
   }

@@ -32,7 +32,14 @@ from typing import Any
 
 from . import _core
 from .robotworld import RobotWorld
-from .ros_messages import compressed_image_message, odometry_message, scan_message, twist_of
+from .ros_messages import (
+    compressed_image_message,
+    odometry_message,
+    pose_compose,
+    pose_relative,
+    scan_message,
+    twist_of,
+)
 from .rosbridge_platform import topics_for
 
 __all__ = ["FakeRosbridgeRobot"]
@@ -225,14 +232,7 @@ class FakeRosbridgeRobot:
     def _odometry(self, rid: int, pose: tuple[float, float, float]) -> tuple[float, float, float]:
         """`pose` in the base's odometry frame: zero where the robot started (⊕ the offset its count
         stood at when vwg connected)."""
-        sx, sy, st = self.starts[rid]
-        x, y, yaw = pose
-        dx, dy = x - sx, y - sy
-        local = (math.cos(st) * dx + math.sin(st) * dy, -math.sin(st) * dx + math.cos(st) * dy, yaw - st)
-        ox, oy, oyaw = self.odom_offset
-        return (ox + math.cos(oyaw) * local[0] - math.sin(oyaw) * local[1],
-                oy + math.sin(oyaw) * local[0] + math.cos(oyaw) * local[1],
-                math.atan2(math.sin(oyaw + local[2]), math.cos(oyaw + local[2])))
+        return pose_compose(self.odom_offset, pose_relative(self.starts[rid], pose))
 
     async def _publish(self) -> None:
         out: list[tuple[str, dict[str, Any]]] = []

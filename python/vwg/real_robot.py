@@ -27,7 +27,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from . import _core
-from .ros_messages import LaserScan, Odometry, pose_compose
+from .ros_messages import LaserScan, Odometry, pose_compose, pose_relative
 from .rosbridge import LinkError
 
 __all__ = ["Fault", "RealRobotPlatform"]
@@ -45,10 +45,6 @@ class Fault:
 
     def to_json(self) -> dict[str, Any]:
         return {"time_s": round(self.time, 3), "robot": self.robot, "what": self.what}
-
-
-def _wrap(angle: float) -> float:
-    return math.atan2(math.sin(angle), math.cos(angle))
 
 
 @dataclass
@@ -105,11 +101,9 @@ class RealRobotPlatform(_core.RobotPlatform):
                 return
             if r.origin is None:
                 r.origin = odom
-            o = r.origin  # odometry relative to where this run found the robot: origin⁻¹ ⊕ odom
-            c, s = math.cos(o.yaw), math.sin(o.yaw)
-            dx, dy = odom.x - o.x, odom.y - o.y
-            local = Odometry(odom.time, c * dx + s * dy, -s * dx + c * dy, _wrap(odom.yaw - o.yaw), odom.speed,
-                             odom.turn_rate)
+            # Odometry relative to where this run found the robot: origin⁻¹ ⊕ odom.
+            x, y, yaw = pose_relative((r.origin.x, r.origin.y, r.origin.yaw), (odom.x, odom.y, odom.yaw))
+            local = Odometry(odom.time, x, y, yaw, odom.speed, odom.turn_rate)
             if r.odom is not None:
                 r.travelled += math.hypot(local.x - r.odom.x, local.y - r.odom.y)
             r.odom = local
@@ -206,15 +200,20 @@ class RealRobotPlatform(_core.RobotPlatform):
             try:
                 self.step_clock(period)
             except LinkError as e:
-                self._failure = str(e)
-                self._fault(0, self._failure)
-                with contextlib.suppress(Exception):
-                    self.stop_all()
+                self._fail(str(e))
                 raise
             self._clock += period
             with self._lock:
                 for r in self._robots.values():
                     r.follower.settle(self._map_pose(r))
+
+    def _fail(self, reason: str) -> None:
+        """The link has failed: a fault, a stop to every robot that can still be stopped, and every
+        advance from now on raises LinkError."""
+        self._failure = reason
+        self._fault(0, reason)
+        with contextlib.suppress(Exception):
+            self.stop_all()
 
     def _raise_if_failed(self) -> None:
         if self._failure:
@@ -227,17 +226,12 @@ class RealRobotPlatform(_core.RobotPlatform):
             try:
                 failure = self.link_failure()
                 if failure:
-                    self._fault(0, failure)
-                    self._failure = failure
-                    self.stop_all()
+                    self._fail(failure)
                     return
                 # The time that really passed (capped): the accelerations stay within the limits.
                 self._control(min(now - last, 2 * self.control_period))
             except Exception as e:  # a link that throws: stop what can be stopped, end the run
-                self._failure = f"control failed: {type(e).__name__}: {e}"
-                self._fault(0, self._failure)
-                with contextlib.suppress(Exception):
-                    self.stop_all()
+                self._fail(f"control failed: {type(e).__name__}: {e}")
                 return
             last = now
 

@@ -139,6 +139,15 @@ def pose_compose(start: Sequence[float], local: Sequence[float]) -> tuple[float,
     return sx + c * x - s * y, sy + s * x + c * y, yaw
 
 
+def pose_relative(origin: Sequence[float], pose: Sequence[float]) -> tuple[float, float, float]:
+    """origin⁻¹ ⊕ pose: `pose` (world frame) in the frame of `origin`, the inverse of pose_compose."""
+    ox, oy, ot = origin
+    x, y, t = pose
+    c, s = math.cos(ot), math.sin(ot)
+    dx, dy = x - ox, y - oy
+    return c * dx + s * dy, -s * dx + c * dy, math.atan2(math.sin(t - ot), math.cos(t - ot))
+
+
 @dataclass(frozen=True)
 class LaserScan:
     """A scan as vwg uses it: the angle (radians from the heading) and range (metres) of each beam
