@@ -1,11 +1,14 @@
 # The libraries of DESIGN.md. Used by the build (every one) and by the installed vwgConfig.cmake
 # (only those of the components asked for): VWG_DEPENDENCIES, when set, lists the ones to find
-# among Eigen3 box2d apriltag ompl OpenCV.
+# among Threads Eigen3 box2d apriltag ompl OpenCV.
 # Debian 12 ships OpenCVConfig.cmake only in the large libopencv-dev metapackage; with the split
 # packages (libopencv-core-dev, ...) the libraries and headers are found directly and given
 # imported targets of the same names.
 if(NOT DEFINED VWG_DEPENDENCIES)
-  set(VWG_DEPENDENCIES Eigen3 box2d apriltag ompl OpenCV)
+  set(VWG_DEPENDENCIES Threads Eigen3 box2d apriltag ompl OpenCV)
+endif()
+if(Threads IN_LIST VWG_DEPENDENCIES)
+  find_package(Threads REQUIRED)  # the frame's worker pool (parallel.hpp)
 endif()
 if(Eigen3 IN_LIST VWG_DEPENDENCIES)
   find_package(Eigen3 REQUIRED NO_MODULE)

@@ -3,6 +3,7 @@ loaded machine, for every planner (the OMPL planners are bounded by iterations, 
 
 from __future__ import annotations
 
+import math
 import subprocess
 import sys
 
@@ -55,3 +56,52 @@ def test_pinned_hash_of_the_string_and_the_platform_after_150_frames():
     assert run.engine.string.content_hash() == 0x6A0D244AE2158314
     state = b"".join(struct.pack("<i6d", r.id, *r.pose, *r.odometry) for r in run.sim.physics.robots())
     assert hashlib.sha256(state).hexdigest()[:16] == "498f6daf30afb66f"
+
+
+def crowd_world(tmp_path) -> str:
+    """The warehouse with eight robots, seven with a laser and one with a laser, a Kinect and a
+    camera (generators that do not run side by side, between those that do)."""
+    from pathlib import Path
+
+    import numpy as np
+    import yaml
+
+    import vwg
+
+    warehouse = vwg.robot.load_robot_world("warehouse")
+    shipped = Path(warehouse.path)
+    data = yaml.safe_load(shipped.read_text())
+    data["map"] = str((shipped.parent / data["map"]).resolve())
+    # Free places 2 m apart or more, from a fixed stream.
+    free = np.argwhere(~warehouse.grid.inflate(0.4))
+    starts: list[tuple[float, float]] = []
+    for k in np.random.default_rng(3).permutation(len(free)):
+        x, y = warehouse.grid.cell_to_world(*free[k])
+        if all(math.hypot(x - a, y - b) >= 2.0 for a, b in starts):
+            starts.append((float(x), float(y)))
+            if len(starts) == 8:
+                break
+    rooms = list(data["rooms"])
+    data["robots"] = [{"id": k + 1, "start": [x, y, 0.0],
+                       "sensors": ["laser", "kinect", "camera"] if k == 3 else ["laser"]}
+                      for k, (x, y) in enumerate(starts)]
+    data["orders"] = [{"time": 0.0, "robot": k + 1, "room": rooms[k % len(rooms)]} for k in range(len(starts))]
+    path = tmp_path / "crowd.yaml"
+    path.write_text(yaml.safe_dump(data))
+    return str(path)
+
+
+@pytest.mark.parametrize("planner", ["astar", "random"])
+def test_frame_logs_are_identical_for_one_two_and_four_threads(planner, tmp_path):
+    world = crowd_world(tmp_path)
+    logs = {}
+    for threads in (1, 2, 4):
+        path = tmp_path / f"{threads}.jsonl"
+        done = subprocess.run([*VWG, "run", world, "--planner", planner, "--threads", str(threads), "--frames", "120",
+                               "--allow-unreached", "-q", "--record", str(path)], capture_output=True, text=True,
+                              timeout=600)
+        assert done.returncode == 0, done.stderr
+        logs[threads] = path.read_bytes()
+    assert logs[2] == logs[1]
+    assert logs[4] == logs[1]
+    assert logs[1].count(b"\n") > 100  # a header and a line per frame

@@ -3,6 +3,7 @@
 #include <string>
 
 #include "common.hpp"
+#include "vwg/parallel.hpp"
 #include "vwg/robot/platform_sync.hpp"
 
 namespace vwg::bindings {
@@ -47,6 +48,7 @@ class PyStopCondition final : public StopCondition {
 };
 
 void init_engine(py::module_& m) {
+  m.def("default_threads", &default_threads, "The machine's cores: the threads a frame uses unless told (threads=0).");
   py::class_<StopCondition, PyStopCondition, std::shared_ptr<StopCondition>>(m, "StopCondition", R"doc(
 When a run has done its job: run() returns 'done' after a frame for which done(w, frame) is true.
 C++ conditions (vwg.ArrivalCondition) cost no call into Python; a Python subclass may define
@@ -95,7 +97,11 @@ w_next = η(w, S), v = π(w, Z), φ(v) on the backend, w = w_next. A frame is al
 a generator or the backend raises, the engine keeps the last complete frame and raises
 vwg.FrameError naming the frame, the stage, the actor and the event.)doc")
       .def(py::init([](const WorldString& initial, py::list generators, py::object backend, double dt, std::uint64_t seed,
-                       std::uint64_t first_frame, std::uint64_t max_symbols) {
+                       std::uint64_t first_frame, std::uint64_t max_symbols, std::int64_t threads) {
+             if (threads < 0 || threads > static_cast<std::int64_t>(kMaxThreads)) {
+               throw SchemaError("threads", "expected 0 (the machine's cores) to " + std::to_string(kMaxThreads) +
+                                                " threads, got " + std::to_string(threads));
+             }
              PyEngine e;
              std::vector<std::shared_ptr<Generator>> gens;
              std::size_t i = 0;
@@ -114,11 +120,11 @@ vwg.FrameError naming the frame, the stage, the actor and the event.)doc")
                b = backend.cast<std::shared_ptr<Backend>>();
                e.keep_alive.append(backend);
              }
-             e.engine = std::make_unique<Engine>(initial, std::move(gens), std::move(b), EngineOptions{dt, seed, first_frame, max_symbols});
+             e.engine = std::make_unique<Engine>(initial, std::move(gens), std::move(b), EngineOptions{dt, seed, first_frame, max_symbols, static_cast<unsigned>(threads)});
              return e;
            }),
            py::arg("initial"), py::arg("generators") = py::list(), py::arg("backend") = py::none(), py::arg("dt") = 0.1,
-           py::arg("seed") = 0, py::arg("first_frame") = 0, py::arg("max_symbols") = 0)
+           py::arg("seed") = 0, py::arg("first_frame") = 0, py::arg("max_symbols") = 0, py::arg("threads") = 0)
       .def("step", [](PyEngine& e) {
         py::gil_scoped_release release;
         return e.engine->step();
@@ -172,6 +178,8 @@ vwg.FrameError naming the frame, the stage, the actor and the event.)doc")
       .def_property_readonly("time", [](const PyEngine& e) { return e.engine->time(); }, "Simulated seconds: frame * dt.")
       .def_property_readonly("dt", [](const PyEngine& e) { return e.engine->options().dt; })
       .def_property_readonly("seed", [](const PyEngine& e) { return e.engine->options().seed; })
+      .def_property_readonly("threads", [](const PyEngine& e) { return e.engine->options().threads; },
+                             "Threads a frame uses for its robots' lasers and λ (0 given: the machine's cores).")
       .def_property_readonly("last_events", [](const PyEngine& e) {
         py::list out;
         const EventList& events = e.engine->last_events();

@@ -5,6 +5,7 @@
 
 #include "vwg/error.hpp"
 #include "vwg/geometry/pose.hpp"
+#include "vwg/unique_number.hpp"
 
 namespace vwg::robot {
 
@@ -72,8 +73,10 @@ std::vector<std::pair<std::string, Schema>> arobot_event_types() {
   };
 }
 
+struct ARobotSerials;
+
 ARobot::ARobot(const Alphabet& alphabet, ARobotConfig config, std::shared_ptr<Decider> decider)
-    : config_(std::move(config)), decider_(std::move(decider)) {
+    : config_(std::move(config)), decider_(std::move(decider)), serial_(next_unique_number<ARobotSerials>()) {
   if (!decider_) throw SchemaError("ARobot", "needs a decider (random, A*, OMPL or one written in Python)");
   if (config_.map.width <= 0 || config_.map.height <= 0 || !(config_.map.resolution > 0)) {
     throw SchemaError("ARobot.map", "expected the world map's geometry");
@@ -91,6 +94,21 @@ ARobot::ARobot(const Alphabet& alphabet, ARobotConfig config, std::shared_ptr<De
   // φ like its action, when the alphabet declares them (MOTION_SYMBOLS does).
   if (const auto p = alphabet.find_symbol("Path"); p && alphabet.symbol(*p).kind == SymbolKind::Primitive) sym_.path = p;
   if (const auto t = alphabet.find_symbol("Status"); t && alphabet.symbol(*t).kind == SymbolKind::Primitive) sym_.status = t;
+}
+
+SeenBlocks& ARobot::seen_of(std::int64_t robot) {
+  // A robot's laser events come one after another: the last entry this thread used is remembered,
+  // so the guard is taken about once per robot per frame, not once per beam. The ARobot's serial
+  // (never reused) keeps an entry of one that is gone from being taken for another's.
+  thread_local struct {
+    std::uint64_t owner = 0;
+    std::int64_t robot = 0;
+    SeenBlocks* seen = nullptr;
+  } last;
+  if (last.owner == serial_ && last.robot == robot) return *last.seen;
+  const std::lock_guard<std::mutex> lock(seen_mutex_);
+  last = {serial_, robot, &seen_[robot]};
+  return *last.seen;
 }
 
 void ARobot::evolve(ActorState& self, const EventView& e, const EvolutionContext& ctx, Replacement&) {

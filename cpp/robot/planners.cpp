@@ -83,11 +83,29 @@ bool path_clear(const DecisionInput& in, std::span<const double> path) {
   return true;
 }
 
+double GridDecider::search_seconds() const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  return stats_.seconds;
+}
+
+std::size_t GridDecider::searches() const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  return stats_.searches;
+}
+
+GridDecider::RobotState& GridDecider::state_of(int robot) {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  return robots_[robot];
+}
+
 plan::GridPath GridDecider::search(RobotState& s, geometry::Cell start, geometry::Cell goal) {
   const auto t0 = Clock::now();
   plan::GridPath path;
   if (algorithm_ == Algorithm::AStar) {
-    path = astar_.search(s.map.inflated(), start, goal);
+    // One A* per thread, kept for every search: its node arrays (the size of the map) are made
+    // once, not per search (they stay until the thread ends).
+    thread_local plan::AStar astar;
+    path = astar.search(s.map.inflated(), start, goal);
   } else {
     if (!s.dstar || !(s.goal == goal) || s.dstar->grid().rows() != s.map.inflated().rows()) {
       s.dstar.emplace(s.map.inflated(), start, goal);
@@ -110,14 +128,16 @@ plan::GridPath GridDecider::search(RobotState& s, geometry::Cell start, geometry
     path = s.dstar->path();
   }
   s.goal = goal;
-  stats_.seconds += seconds_since(t0);
+  const double seconds = seconds_since(t0);
+  const std::lock_guard<std::mutex> lock(mutex_);
+  stats_.seconds += seconds;
   ++stats_.searches;
   return path;
 }
 
 Decision GridDecider::decide(const DecisionInput& in) {
   const geometry::MapGeometry& g = *in.geometry;
-  RobotState& s = robots_[in.robot];
+  RobotState& s = state_of(in.robot);
   const bool changed = s.map.update(*in.map, g, in.radius);
   Decision d;
   // Keep the plan while it is still clear and still leads to this goal.

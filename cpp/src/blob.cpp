@@ -6,6 +6,7 @@
 
 #include "vwg/error.hpp"
 #include "vwg/hash.hpp"
+#include "vwg/unique_number.hpp"
 
 namespace vwg {
 
@@ -49,9 +50,8 @@ DType dtype_from_name(std::string_view name) {
 }
 
 namespace {
-// Revisions come from one process-wide counter, so no two contents ever share one.
-std::atomic<std::uint64_t> next_revision{1};
-std::uint64_t new_revision() { return next_revision.fetch_add(1, std::memory_order_relaxed); }
+struct BlobRevisions;
+std::uint64_t new_revision() { return next_unique_number<BlobRevisions>(); }
 
 std::size_t element_count(const std::vector<std::int64_t>& shape) {
   if (shape.size() > 4) throw SchemaError("shape", "a blob has at most 4 dimensions");

@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "vwg/error.hpp"
+#include "vwg/parallel.hpp"
 #include "vwg/random.hpp"
 #include "vwg/text.hpp"
 
@@ -40,6 +41,11 @@ Engine::Engine(WorldString initial, std::vector<std::shared_ptr<Generator>> gene
                std::shared_ptr<Backend> backend, EngineOptions options)
     : w_(std::move(initial)), generators_(std::move(generators)), backend_(std::move(backend)),
       options_(options), frame_(options.first_frame), last_events_(w_.alphabet_ptr()) {
+  if (options_.threads == 0) options_.threads = default_threads();
+  if (options_.threads > kMaxThreads) {
+    throw SchemaError("EngineOptions.threads", "expected 0 (the machine's cores) to " + std::to_string(kMaxThreads) +
+                                                   " threads, got " + std::to_string(options_.threads));
+  }
   if (!(options_.dt > 0.0) || !std::isfinite(options_.dt)) {
     throw SchemaError("EngineOptions.dt", "expected a finite time step > 0, got " + std::to_string(options_.dt));
   }
@@ -60,16 +66,33 @@ EventList Engine::collect_events() {
   return collect_events_unlocked();
 }
 
+void Engine::generate(std::size_t k, const FrameInfo& info, EventList& out) {
+  try {
+    generators_[k]->generate(info, out);
+  } catch (...) {
+    const std::exception_ptr cause = std::current_exception();
+    throw FrameError(frame_, "generate", "", "", "generator " + std::to_string(k) + " '" + generators_[k]->name() + "'",
+                     describe_exception(cause), cause);
+  }
+}
+
 EventList Engine::collect_events_unlocked() {
   EventList events(w_.alphabet_ptr());
   const FrameInfo info{frame_, time(), options_.dt, &w_};
-  for (std::size_t k = 0; k < generators_.size(); ++k) {
-    try {
-      generators_[k]->generate(info, events);
-    } catch (...) {
-      const std::exception_ptr cause = std::current_exception();
-      throw FrameError(frame_, "generate", "", "", "generator " + std::to_string(k) + " '" + generators_[k]->name() + "'",
-                       describe_exception(cause), cause);
+  const std::size_t n = generators_.size();
+  for (std::size_t k = 0; k < n;) {
+    // A run of concurrent generators (the robots' lasers) side by side, each into a list of its
+    // own, appended in priority order: S is the same as on one thread.
+    std::size_t end = k;
+    while (end < n && generators_[end]->concurrent()) ++end;
+    if (options_.threads > 1 && end - k >= 2) {
+      std::vector<EventList> parts(end - k, EventList(w_.alphabet_ptr()));
+      parallel_for(end - k, options_.threads, [&](std::size_t j) { generate(k + j, info, parts[j]); });
+      for (const EventList& part : parts) events.append(part);
+      k = end;
+    } else {
+      generate(k, info, events);
+      ++k;
     }
   }
   return events;
@@ -99,7 +122,7 @@ bool Engine::run_frame(const EventList& events) {
   journal_.clear();
   std::optional<WorldString> next;
   try {
-    next.emplace(has_actors ? evolve_in_place(w_, events, ctx, journal_) : w_);
+    next.emplace(has_actors ? evolve_in_place(w_, events, ctx, journal_, options_.threads) : w_);
     if (options_.max_symbols && next->symbol_count() > options_.max_symbols) {
       throw FrameError(frame_, "evolve", "", "", "", "the string grew to " + std::to_string(next->symbol_count()) +
                        " symbols, over the limit of " + std::to_string(options_.max_symbols) +

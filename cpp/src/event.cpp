@@ -5,6 +5,7 @@
 
 #include "vwg/error.hpp"
 #include "vwg/text.hpp"
+#include "vwg/unique_number.hpp"
 
 namespace vwg {
 
@@ -29,11 +30,9 @@ double EventView::number(std::size_t i) const {
   throw SchemaError(info().name + "." + info().fields.params[i].name, "is not a number");
 }
 
-namespace {
-std::atomic<std::uint64_t> next_serial{1};
-}
+struct EventListSerials;
 
-void EventList::touch() { serial_ = next_serial.fetch_add(1, std::memory_order_relaxed); }
+void EventList::touch() { serial_ = next_unique_number<EventListSerials>(); }
 
 EventList::EventList(std::shared_ptr<const Alphabet> alphabet) : alphabet_(std::move(alphabet)) {
   if (!alphabet_) throw Error("an event list needs an alphabet");
@@ -83,6 +82,16 @@ void EventList::emit(EventTypeId type, std::span<const Datum> fields, std::int64
 
 void EventList::emit(std::string_view type, std::initializer_list<Datum> fields, std::int64_t target) {
   emit(alphabet_->event_type_id(type), {fields.begin(), fields.end()}, target);
+}
+
+void EventList::append(const EventList& other) {
+  if (other.alphabet_ != alphabet_) throw Error("EventList.append: the events use another alphabet");
+  events_.reserve(events_.size() + other.events_.size());
+  for (const Record& r : other.events_) {
+    const std::uint32_t first = store_.push_range(other.store_, r.first_value, r.value_count);
+    events_.push_back(Record{r.type, first, r.value_count, r.target});
+  }
+  touch();
 }
 
 void EventList::append_from(const EventList& other, std::size_t i) {

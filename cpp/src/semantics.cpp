@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "vwg/error.hpp"
+#include "vwg/parallel.hpp"
 #include "vwg/random.hpp"
 #include "vwg/text.hpp"
 
@@ -21,50 +22,51 @@ namespace {
 /// For each actor type, the positions in S of the events it receives (type in H, and visual for
 /// π), computed once per type per call; and for one actor, those of its events that are for every
 /// actor merged with those addressed to its id, so an actor never scans the events addressed to
-/// the others (a hundred robots, each with 180 laser events a frame).
+/// the others (a hundred robots, each with 180 laser events a frame). Once a type is prepared,
+/// its lookups only read, so actors evolving on several threads share one routing.
 class EventRouting {
  public:
   EventRouting(const EventList& events, bool visual_only) : events_(events), visual_only_(visual_only) {}
 
   const std::vector<std::uint32_t>& for_type(const SymbolInfo& info) { return index(info).all; }
 
-  const std::vector<std::uint32_t>& for_actor(const SymbolInfo& info, const std::optional<std::int64_t>& id) {
-    TypeIndex& t = index(info);
+  /// The positions of the events for the actor with `id`, in S order: one of the index's lists,
+  /// or `scratch` when two lists have to be merged. Only reads once the type's index is built.
+  const std::vector<std::uint32_t>& for_actor(const SymbolInfo& info, const std::optional<std::int64_t>& id,
+                                              std::vector<std::uint32_t>& scratch) {
+    const TypeIndex& t = index(info);
     if (!id) return t.untargeted;
     const auto addressed = t.by_target.find(*id);
     if (addressed == t.by_target.end()) return t.untargeted;
-    auto [merged, fresh] = t.merged.try_emplace(*id);
-    if (fresh) {
-      merged->second.reserve(t.untargeted.size() + addressed->second.size());
-      std::merge(t.untargeted.begin(), t.untargeted.end(), addressed->second.begin(), addressed->second.end(),
-                 std::back_inserter(merged->second));
-    }
-    return merged->second;
+    if (t.untargeted.empty()) return addressed->second;
+    scratch.clear();
+    scratch.reserve(t.untargeted.size() + addressed->second.size());
+    std::merge(t.untargeted.begin(), t.untargeted.end(), addressed->second.begin(), addressed->second.end(),
+               std::back_inserter(scratch));
+    return scratch;
   }
 
  private:
   struct TypeIndex {
     std::vector<std::uint32_t> all, untargeted;
-    std::unordered_map<std::int64_t, std::vector<std::uint32_t>> by_target, merged;
+    std::unordered_map<std::int64_t, std::vector<std::uint32_t>> by_target;
   };
 
-  TypeIndex& index(const SymbolInfo& info) {
-    auto [found, fresh] = types_.try_emplace(info.id);  // node-based: references stay valid
-    TypeIndex& t = found->second;
-    if (fresh) {
-      const Alphabet& A = events_.alphabet();
-      for (std::size_t i = 0; i < events_.size(); ++i) {
-        const EventView e = events_[i];
-        const EventTypeId type = e.type();
-        if (!info.responds.contains(type)) continue;
-        if (visual_only_ && !A.event_type(type).visual) continue;
-        const auto pos = static_cast<std::uint32_t>(i);
-        t.all.push_back(pos);
-        if (e.has_target()) {
-          t.by_target[e.target()].push_back(pos);
-        } else {
-          t.untargeted.push_back(pos);
-        }
+  const TypeIndex& index(const SymbolInfo& info) {
+    if (const auto found = types_.find(info.id); found != types_.end()) return found->second;
+    TypeIndex& t = types_[info.id];  // node-based: references stay valid
+    const Alphabet& A = events_.alphabet();
+    for (std::size_t i = 0; i < events_.size(); ++i) {
+      const EventView e = events_[i];
+      const EventTypeId type = e.type();
+      if (!info.responds.contains(type)) continue;
+      if (visual_only_ && !A.event_type(type).visual) continue;
+      const auto pos = static_cast<std::uint32_t>(i);
+      t.all.push_back(pos);
+      if (e.has_target()) {
+        t.by_target[e.target()].push_back(pos);
+      } else {
+        t.untargeted.push_back(pos);
       }
     }
     return t;
@@ -96,8 +98,8 @@ bool reaches(const EventView& e, const std::optional<std::int64_t>& actor_id) {
 
 class Evolver {
  public:
-  Evolver(const EventList& events, const FrameContext& ctx, BlobJournal* journal = nullptr)
-      : events_(events), ctx_(ctx), routing_(events, false), journal_(journal) {}
+  Evolver(const EventList& events, const FrameContext& ctx, BlobJournal* journal = nullptr, unsigned threads = 1)
+      : events_(events), ctx_(ctx), routing_(events, false), journal_(journal), threads_(threads) {}
 
   WorldString run(const WorldString& w) {
     StringBuilder out(w.alphabet_ptr());
@@ -105,6 +107,7 @@ class Evolver {
     if (w.actor_count() == 0) {
       out.append_range(w, 0, w.nodes().size());
     } else {
+      if (threads_ > 1) evolve_concurrent(w);
       walk(w, 0, out, 0);
       apply_batches(w.alphabet(), out);
     }
@@ -116,10 +119,22 @@ class Evolver {
     explicit Level(std::shared_ptr<const Alphabet> a) : replacement(std::move(a)) {}
     ActorState state;
     Replacement replacement;
+    std::vector<std::uint32_t> scratch, scratch_other;  // merged event positions (EventRouting::for_actor)
   };
   struct BatchMember {
     std::size_t node;           // index in the output
     std::uint32_t first_event;  // the member receives events from this position of S on
+  };
+  /// λ of one actor of w, run on the pool before the walk: its state after its events, or the
+  /// string it replaced itself with and where in S that string's actors take over.
+  struct Evolved {
+    explicit Evolved(std::shared_ptr<const Alphabet> a) : level(std::move(a)) {}
+    std::size_t node = 0;
+    Level level;
+    std::optional<WorldString> replaced;
+    std::uint32_t resume = 0;
+    BlobJournal journal;
+    std::exception_ptr error;
   };
 
   /// Append η(w, S[first_event:]) to `out`.
@@ -135,34 +150,74 @@ class Evolver {
     out.append_range(w, run, nodes.size());
   }
 
-  Level& level(const Alphabet& A, std::size_t depth, const std::shared_ptr<const Alphabet>& ptr) {
-    (void)A;
+  Level& level(std::size_t depth, const std::shared_ptr<const Alphabet>& ptr) {
     while (levels_.size() <= depth) levels_.push_back(std::make_unique<Level>(ptr));
     return *levels_[depth];
   }
 
-  void evolve_actor(const WorldString& w, std::size_t i, std::uint32_t first_event, StringBuilder& out,
-                    std::size_t depth) {
+  std::optional<std::int64_t> id_of(const WorldString& w, std::size_t i, const SymbolInfo& info) const {
+    if (info.id_attribute < 0) return std::nullopt;
+    return w.node(i).value(static_cast<std::size_t>(info.id_attribute)).i;
+  }
+
+  /// The actors of the engine's own string whose behaviours may run side by side (concurrent(),
+  /// not batched) and that have events: λ for each on the pool, into slots in string order.
+  /// walk() then takes their results in string order, and runs the others (a Python actor, say)
+  /// itself, so the string and the first error are those of the one-thread fold.
+  void evolve_concurrent(const WorldString& w) {
+    const auto nodes = w.nodes();
+    std::vector<std::size_t> chosen;
+    std::vector<std::uint32_t> scratch;
+    for (std::size_t i = 0; i < nodes.size(); ++i) {
+      if (nodes[i].kind != NodeKind::Actor) continue;
+      const SymbolInfo& info = w.alphabet().symbol(nodes[i].symbol);
+      if (!info.behavior || info.behavior->batched() || !info.behavior->concurrent()) continue;
+      if (routing_.for_actor(info, id_of(w, i, info), scratch).empty()) continue;
+      chosen.push_back(i);
+    }
+    // Two actors of a type with the same id may share what their behaviour keeps per id: such a
+    // string runs on one thread.
+    std::vector<std::pair<SymbolId, std::int64_t>> ids;
+    for (std::size_t i : chosen) {
+      const SymbolInfo& info = w.alphabet().symbol(nodes[i].symbol);
+      if (const auto id = id_of(w, i, info)) ids.emplace_back(info.id, *id);
+    }
+    std::sort(ids.begin(), ids.end());
+    if (std::adjacent_find(ids.begin(), ids.end()) != ids.end()) return;
+    if (chosen.size() < 2) return;
+    evolved_.clear();
+    evolved_.reserve(chosen.size());
+    for (std::size_t i : chosen) {
+      evolved_.push_back(std::make_unique<Evolved>(w.alphabet_ptr()));
+      evolved_.back()->node = i;
+    }
+    parallel_for(chosen.size(), threads_, [&](std::size_t k) {
+      Evolved& e = *evolved_[k];
+      try {
+        lambda(w, e.node, 0, 0, e.level, journal_ ? &e.journal : nullptr, e.replaced, e.resume);
+      } catch (...) {
+        e.error = std::current_exception();
+      }
+    });
+    // Their in-place edits are undone with the frame's if it fails, reached by the walk or not
+    // (each blob edited in place belongs to one actor, so the order of the records is free).
+    if (journal_) {
+      for (auto& e : evolved_) journal_->absorb(std::move(e->journal));
+    }
+  }
+
+  /// λ for actor i of w over the events of S from `first_event` on, in `L.state`; if it replaced
+  /// itself, `replaced` is the string, whose actors take the events from `resume` on. Edits in
+  /// place (journaled in `journal`) when given one.
+  void lambda(const WorldString& w, std::size_t i, std::uint32_t first_event, std::size_t depth, Level& L,
+              BlobJournal* journal, std::optional<WorldString>& replaced, std::uint32_t& resume) {
     const SymbolInfo& info = w.alphabet().symbol(w.nodes()[i].symbol);
-    std::optional<std::int64_t> id;
-    if (info.id_attribute >= 0) id = w.node(i).value(static_cast<std::size_t>(info.id_attribute)).i;
-    const std::vector<std::uint32_t>* relevant = &routing_.for_actor(info, id);
+    std::optional<std::int64_t> id = id_of(w, i, info);
+    const std::vector<std::uint32_t>* relevant = &routing_.for_actor(info, id, L.scratch);
     auto it = std::lower_bound(relevant->begin(), relevant->end(), first_event);
-    if (!info.behavior || it == relevant->end()) {
-      out.append_node(w, i);  // no event in H reaches it: unchanged (eq. 4, last case)
-      return;
-    }
-    if (info.behavior->batched()) {
-      out.append_node(w, i);
-      batches_[info.id].push_back(BatchMember{out.node_count() - 1, first_event});
-      return;
-    }
-    Level& L = level(w.alphabet(), depth, w.alphabet_ptr());
     ActorState& state = L.state;
-    // Only the actors of the engine's own string (depth 0) are edited in place: a replacement
-    // string made this frame is not the engine's.
-    if (journal_ && depth == 0) {
-      state.load_in_place(w, i, *journal_);
+    if (journal) {
+      state.load_in_place(w, i, *journal);
     } else {
       state.load(w, i);
     }
@@ -176,21 +231,57 @@ class Evolver {
       }
       if (L.replacement.replaced()) {
         // The actors of the returned string take the remaining events (DESIGN.md choice 1).
-        WorldString replacement = L.replacement.finish();
-        walk(replacement, *it + 1, out, depth + 1);
+        replaced.emplace(L.replacement.finish());
+        resume = *it + 1;
         return;
       }
       // An actor that changes its own id from now on receives the events addressed to the new one.
       if (const std::optional<std::int64_t> now = state.id(); now != id) {
         const std::uint32_t done = *it;
         id = now;
-        relevant = &routing_.for_actor(info, id);
+        // Merged lists go to the other scratch, since `relevant` may be the one in use.
+        relevant = &routing_.for_actor(info, id, relevant == &L.scratch ? L.scratch_other : L.scratch);
         it = std::upper_bound(relevant->begin(), relevant->end(), done);
       } else {
         ++it;
       }
     }
-    out.actor(state);
+  }
+
+  void evolve_actor(const WorldString& w, std::size_t i, std::uint32_t first_event, StringBuilder& out,
+                    std::size_t depth) {
+    if (depth == 0 && next_evolved_ < evolved_.size() && evolved_[next_evolved_]->node == i) {
+      Evolved& e = *evolved_[next_evolved_++];
+      if (e.error) std::rethrow_exception(e.error);
+      if (e.replaced) {
+        walk(*e.replaced, e.resume, out, depth + 1);
+      } else {
+        out.actor(e.level.state);
+      }
+      return;
+    }
+    const SymbolInfo& info = w.alphabet().symbol(w.nodes()[i].symbol);
+    Level& L = level(depth, w.alphabet_ptr());
+    const auto& relevant = routing_.for_actor(info, id_of(w, i, info), L.scratch);
+    if (!info.behavior || std::lower_bound(relevant.begin(), relevant.end(), first_event) == relevant.end()) {
+      out.append_node(w, i);  // no event in H reaches it: unchanged (eq. 4, last case)
+      return;
+    }
+    if (info.behavior->batched()) {
+      out.append_node(w, i);
+      batches_[info.id].push_back(BatchMember{out.node_count() - 1, first_event});
+      return;
+    }
+    // Only the actors of the engine's own string (depth 0) are edited in place: a replacement
+    // string made this frame is not the engine's.
+    std::optional<WorldString> replaced;
+    std::uint32_t resume = 0;
+    lambda(w, i, first_event, depth, L, depth == 0 ? journal_ : nullptr, replaced, resume);
+    if (replaced) {
+      walk(*replaced, resume, out, depth + 1);
+      return;
+    }
+    out.actor(L.state);
   }
 
   /// Batch λ: for each batched actor type, the events it receives in S order, each over all the
@@ -306,7 +397,10 @@ class Evolver {
   const FrameContext& ctx_;
   EventRouting routing_;
   BlobJournal* journal_;
+  unsigned threads_;
   std::vector<std::unique_ptr<Level>> levels_;
+  std::vector<std::unique_ptr<Evolved>> evolved_;  // in string order
+  std::size_t next_evolved_ = 0;
   std::map<SymbolId, std::vector<BatchMember>> batches_;
 };
 
@@ -319,9 +413,9 @@ WorldString evolve(const WorldString& w, const EventList& events, const FrameCon
 }
 
 WorldString evolve_in_place(const WorldString& w, const EventList& events, const FrameContext& ctx,
-                            BlobJournal& journal) {
+                            BlobJournal& journal, unsigned threads) {
   if (events.alphabet_ptr() != w.alphabet_ptr()) throw Error("evolve: events and string use different alphabets");
-  Evolver evolver(events, ctx, &journal);
+  Evolver evolver(events, ctx, &journal, threads);
   return evolver.run(w);
 }
 

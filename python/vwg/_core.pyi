@@ -9,7 +9,7 @@ import numpy.typing
 import os
 import typing
 import vwg.maps
-__all__: list[str] = ['ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'ArrivalCondition', 'Backend', 'BackendGroup', 'Blob', 'CameraGenerator', 'CameraRenderer', 'CameraSpec', 'Collision', 'CollisionGenerator', 'DStarLite', 'Decider', 'DecisionInput', 'DepthCameraSpec', 'Engine', 'Event', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'FrameSink', 'Generator', 'GridDecider', 'GridRaycaster', 'ImageFiles', 'ImageSequence', 'ImageSource', 'KinectGenerator', 'LaserGenerator', 'LaserSpec', 'MotionBackend', 'MotionFollower', 'Node', 'NoiseModel', 'NullBackend', 'OdometryGenerator', 'OmplDecider', 'OmplPlan', 'OmplPlanner', 'OrderGenerator', 'OverviewCamera', 'PhysicsSettings', 'PhysicsWorld', 'PythonActor', 'RandomDecider', 'RangeScanner', 'ReceivedImages', 'RenderStyle', 'RobotPlatform', 'RobotSettings', 'RobotState', 'SimView', 'SimulatedCamera', 'StopCondition', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoSource', 'add_arobot', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'arobot_event_types', 'astar', 'backend_names', 'beam_layout', 'build_string', 'create_backend', 'create_decider', 'create_platform', 'create_sensor', 'decider_names', 'detect_apriltags', 'display', 'encode_image', 'estimate_tag_pose', 'evolve', 'grid_clearance', 'grid_inflate', 'log_message', 'overview_camera', 'plan_ompl', 'platform_names', 'quantize_pose', 'ranging_sensors', 'read_image', 'render_overview', 'robot_map', 'sensor_names', 'set_log_sink', 'visualize', 'walker_behavior', 'write_image']
+__all__: list[str] = ['ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'ArrivalCondition', 'Backend', 'BackendGroup', 'Blob', 'CameraGenerator', 'CameraRenderer', 'CameraSpec', 'Collision', 'CollisionGenerator', 'DStarLite', 'Decider', 'DecisionInput', 'DepthCameraSpec', 'Engine', 'Event', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'FrameSink', 'Generator', 'GridDecider', 'GridRaycaster', 'ImageFiles', 'ImageSequence', 'ImageSource', 'KinectGenerator', 'LaserGenerator', 'LaserSpec', 'MotionBackend', 'MotionFollower', 'Node', 'NoiseModel', 'NullBackend', 'OdometryGenerator', 'OmplDecider', 'OmplPlan', 'OmplPlanner', 'OrderGenerator', 'OverviewCamera', 'PhysicsSettings', 'PhysicsWorld', 'PythonActor', 'RandomDecider', 'RangeScanner', 'ReceivedImages', 'RenderStyle', 'RobotPlatform', 'RobotSettings', 'RobotState', 'SimView', 'SimulatedCamera', 'StopCondition', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoSource', 'add_arobot', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'arobot_event_types', 'astar', 'backend_names', 'beam_layout', 'build_string', 'create_backend', 'create_decider', 'create_platform', 'create_sensor', 'decider_names', 'default_threads', 'detect_apriltags', 'display', 'encode_image', 'estimate_tag_pose', 'evolve', 'grid_clearance', 'grid_inflate', 'log_message', 'overview_camera', 'plan_ompl', 'platform_names', 'quantize_pose', 'ranging_sensors', 'read_image', 'render_overview', 'robot_map', 'sensor_names', 'set_log_sink', 'visualize', 'walker_behavior', 'write_image']
 class Blob:
     """
     A large attribute value held by reference from world strings (an occupancy grid, an image, a path).
@@ -1191,7 +1191,7 @@ class Engine:
     a generator or the backend raises, the engine keeps the last complete frame and raises
     vwg.FrameError naming the frame, the stage, the actor and the event.
     """
-    def __init__(self, initial: String, generators: list = [], backend: typing.Any = None, dt: typing.SupportsFloat | typing.SupportsIndex = 0.1, seed: typing.SupportsInt | typing.SupportsIndex = 0, first_frame: typing.SupportsInt | typing.SupportsIndex = 0, max_symbols: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
+    def __init__(self, initial: String, generators: list = [], backend: typing.Any = None, dt: typing.SupportsFloat | typing.SupportsIndex = 0.1, seed: typing.SupportsInt | typing.SupportsIndex = 0, first_frame: typing.SupportsInt | typing.SupportsIndex = 0, max_symbols: typing.SupportsInt | typing.SupportsIndex = 0, threads: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
         ...
     def add_observer(self, observer: collections.abc.Callable) -> None:
         """
@@ -1255,6 +1255,11 @@ class Engine:
     def string(self) -> String:
         """
         The current string w (a copy).
+        """
+    @property
+    def threads(self) -> int:
+        """
+        Threads a frame uses for its robots' lasers and λ (0 given: the machine's cores).
         """
     @property
     def time(self) -> float:
@@ -2473,6 +2478,10 @@ def create_sensor(name: str, platform: RobotPlatform, alphabet: Alphabet, robot:
 def decider_names() -> list[str]:
     """
     The deciders registered in C++.
+    """
+def default_threads() -> int:
+    """
+    The machine's cores: the threads a frame uses unless told (threads=0).
     """
 def detect_apriltags(image: typing.Any, family: str = 'tag36h11', quad_decimate: typing.SupportsFloat | typing.SupportsIndex = 2.0, refine_edges: bool = True, *, quad_sigma: typing.SupportsFloat | typing.SupportsIndex = 0.0, decode_sharpening: typing.SupportsFloat | typing.SupportsIndex = 0.25, threads: typing.SupportsInt | typing.SupportsIndex = 1, max_hamming: typing.SupportsInt | typing.SupportsIndex = 2) -> list:
     """

@@ -166,12 +166,13 @@ class CaseStudy:
     ``video``/``images`` record a view; ``backends`` adds backends after the simulator (or factories
     given the Simulation);
     ``knows_map=False`` starts the robots with empty grids (eq. 13); ``platform`` names where the
-    robots run (default: the world file's ``platform``, the simulator)."""
+    robots run (default: the world file's ``platform``, the simulator); ``threads`` (0: the machine's
+    cores) run the robots' lasers and decisions side by side, with the same frames for any count."""
 
     def __init__(self, world: RobotWorld, planner: str | _core.Decider = "astar", *,
                  goals: Mapping[int, str] | None = None, seed: int | None = None, frames: int | None = None,
                  sensors: Iterable[str] | None = None, video: str | Path | None = None,
-                 images: str | Path | None = None, view_width: int = 800, max_symbols: int = 0,
+                 images: str | Path | None = None, view_width: int = 800, max_symbols: int = 0, threads: int = 0,
                  world_orders: bool | None = None, knows_map: bool = True,
                  backends: Iterable[_core.Backend | Callable[[Simulation], _core.Backend]] = (),
                  platform: str | PlatformSpec | None = None) -> None:
@@ -207,7 +208,7 @@ class CaseStudy:
             # The platform's motion backend first (it moves the robots), then what shows them.
             backend = _core.BackendGroup([self.sim.backend, *shown])
             self.engine = Engine(self.vworld, self.initial_string(), generators, backend, dt=world.dt, seed=self.seed,
-                                 max_symbols=max_symbols)
+                                 max_symbols=max_symbols, threads=threads)
             # Done when every robot sent somewhere is there: checked in C++ after each frame.
             self.engine.stop_when(_core.ArrivalCondition(alphabet, self.orders.generator))
             # A robot a λ spawns gets a body on the platform; one that leaves the string loses it.
@@ -373,7 +374,8 @@ class RobotRun:
             spec = PlatformSpec(spec.kind, {**spec.options, **extra})
         self.case = CaseStudy(world, options.planner or "astar", goals=goals,
                               platform=spec, seed=options.seed, frames=options.frames, video=options.video,
-                              images=options.images, max_symbols=options.max_symbols, backends=shown,
+                              images=options.images, max_symbols=options.max_symbols, threads=options.threads,
+                              backends=shown,
                               world_orders=False if options.no_world_orders else None)
         self.engine = self.case.engine
         self.record_data: dict[str, Any] = {"robot_world": str(Path(world.path).resolve()),

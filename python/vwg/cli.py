@@ -47,7 +47,7 @@ def _options(args: argparse.Namespace) -> Any:
     from .launch import RunOptions
 
     return RunOptions(frames=args.frames, seed=args.seed, dt=args.dt, max_symbols=args.max_symbols,
-                      backend=args.backend, record=args.record, summary_json=args.summary_json,
+                      threads=args.threads, backend=args.backend, record=args.record, summary_json=args.summary_json,
                       progress=args.progress, platform=args.platform, url=args.url, port=args.port,
                       planner=args.planner, goals=args.goal,
                       no_world_orders=args.no_world_orders, stdin_orders=args.stdin_orders, video=args.video,
@@ -143,6 +143,9 @@ def build_parser() -> argparse.ArgumentParser:
                                        "generic world, beside the simulator and its view in a robot world")
     run.add_argument("--max-symbols", type=int, default=10_000_000,
                      help="fail if the string grows past this many symbols (default 10 000 000; 0: no limit)")
+    run.add_argument("--threads", type=int, default=0,
+                     help="threads for the robots' lasers and decisions (default 0: the machine's cores); any "
+                          "count gives the same frames")
     robot = run.add_argument_group("robot worlds (the case study: world files that name a map)")
     robot.add_argument("--platform", help="where the robots run: sim (the Box2D simulator), rosbridge (a ROS "
                                            "robot through its rosbridge server) (default: the world file's "

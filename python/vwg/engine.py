@@ -24,7 +24,9 @@ class Engine(_core.Engine):
     v = π(w, Z), φ(v) on the backend, w = w_next. ``dt`` is the simulated time of a frame and
     ``seed`` fixes every random choice (same world, seed and generators: same trace);
     ``first_frame`` is the number of the first frame (replays start where their record did);
-    a frame that would grow the string past ``max_symbols`` (if not 0) fails with a FrameError."""
+    a frame that would grow the string past ``max_symbols`` (if not 0) fails with a FrameError;
+    ``threads`` (0: the machine's cores) run the robots' lasers and λ side by side, with the same
+    frames for any count."""
 
     def __init__(
         self,
@@ -37,11 +39,12 @@ class Engine(_core.Engine):
         seed: int = 0,
         first_frame: int = 0,
         max_symbols: int = 0,
+        threads: int = 0,
     ) -> None:
         if isinstance(initial, str):
             initial = world.parse(initial, source="<initial string>")
         super().__init__(initial, resolve_generators(world.alphabet, generators), backend, dt, seed, first_frame,
-                         max_symbols)
+                         max_symbols, threads)
         self.world = world
 
     def run(self, frames: int, progress: bool | None = False) -> str:  # type: ignore[override]

@@ -43,6 +43,7 @@ class RunOptions:
     seed: int | None = None
     dt: float | None = None
     max_symbols: int = 10_000_000
+    threads: int = 0                  # for the frame's independent work; 0: the machine's cores
     backend: str | None = None        # a registered backend, shown on beside the world's own
     record: Path | None = None        # JSON Lines record of every frame (vwg replay reads it)
     summary_json: Path | None = None  # the outcome's summary as JSON
@@ -75,13 +76,16 @@ class RunOptions:
             raise Error(f"--dt: expected a number of seconds in (0, 3600], got {self.dt}")
         if self.max_symbols < 0:
             raise Error(f"--max-symbols: expected a count >= 0 (0: no limit), got {self.max_symbols}")
+        if not 0 <= self.threads <= 256:
+            raise Error(f"--threads: expected 0 (the machine's cores) to 256 threads, got {self.threads}")
 
 
 #: How the command line spells an option whose name differs.
 _FLAGS = {"goals": "--goal"}
 
 #: Options every kind of world takes.
-COMMON_OPTIONS = frozenset({"frames", "seed", "dt", "max_symbols", "backend", "record", "summary_json", "progress"})
+COMMON_OPTIONS = frozenset({"frames", "seed", "dt", "max_symbols", "threads", "backend", "record", "summary_json",
+                            "progress"})
 
 
 @dataclass

@@ -214,12 +214,12 @@ class GenericRun:
     """A generic world started: its engine, recorded with the world file's YAML (replay rebuilds the
     alphabet from it)."""
 
-    def __init__(self, spec: WorldSpec, max_symbols: int) -> None:
+    def __init__(self, spec: WorldSpec, max_symbols: int, threads: int = 0) -> None:
         from .engine import Engine
 
         self.spec = spec
         self.engine = Engine(spec.world, spec.initial, spec.generators, spec.backend, dt=spec.dt, seed=spec.seed,
-                             max_symbols=max_symbols)
+                             max_symbols=max_symbols, threads=threads)
         self.record_data: dict[str, Any] = spec.data
 
     kind = "generic"
@@ -284,7 +284,7 @@ class GenericKind:
             # dt shapes the generators (schedule_times), so the file is read again with the overrides.
             spec = load_world(spec.path, seed=options.seed, frames=options.frames, dt=options.dt,
                               backend=options.backend)
-        return GenericRun(spec, options.max_symbols)
+        return GenericRun(spec, options.max_symbols, options.threads)
 
     def replay_world(self, header: dict[str, Any], path: Path | None, record_path: Path) -> World:
         if path is not None:

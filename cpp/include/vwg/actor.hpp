@@ -157,6 +157,11 @@ class ActorBehavior {
   /// True if λ runs over all actors of the type at once through evolve_batch. A batch behavior
   /// keeps every actor a single actor of its type and changes only Int, Real and Bool attributes.
   virtual bool batched() const { return false; }
+  /// True if λ may run for several actors of this behaviour at the same time, on the engine's
+  /// threads: λ then touches only its own actor's state and what it alone owns (or guards). The
+  /// engine's result is the same as one thread's. The default, false, runs λ on the engine's
+  /// thread in string order (a Python actor's, say).
+  virtual bool concurrent() const { return false; }
   /// Batch λ for one event over the actors in `batch` (those that receive it), in string order.
   virtual void evolve_batch(ActorBatch& batch, const EventView& e, const EvolutionContext& ctx) {
     (void)batch, (void)e, (void)ctx;

@@ -22,6 +22,8 @@ class BlobJournal {
   void record(Blob& blob, std::size_t offset, const void* old, std::size_t size);
   /// Put every recorded element back, newest first, and forget them.
   void rollback();
+  /// Take over `other`'s records, as if made after this journal's (a journal per thread, merged).
+  void absorb(BlobJournal&& other);
   /// Forget the records (the frame was committed).
   void clear() { entries_.clear(); }
   std::size_t size() const { return entries_.size(); }

@@ -29,6 +29,10 @@ struct EngineOptions {
   /// A frame whose next string would have more symbols than this fails with a FrameError instead
   /// of exhausting memory (a world that spawns without bound); 0: no limit.
   std::uint64_t max_symbols = 0;
+  /// Threads for the frame's independent work: the concurrent() generators (each robot's laser)
+  /// and the λ of concurrent() actors (each robot). 0: the machine's cores. Any count gives the
+  /// same frames.
+  unsigned threads = 0;
 };
 
 /// What one frame did, handed to frame observers (recorders, viewers) after the frame completes:
@@ -97,6 +101,7 @@ class Engine {
   class Use;  // holds the engine for one call; see the class comment
   bool run_frame(const EventList& events);
   EventList collect_events_unlocked();
+  void generate(std::size_t k, const FrameInfo& info, EventList& out);  // generator k, failures located
   WorldString w_;
   std::vector<std::shared_ptr<Generator>> generators_;
   std::shared_ptr<Backend> backend_;

@@ -53,6 +53,8 @@ class EventList {
   void emit(EventTypeId type, std::span<const Datum> fields = {}, std::int64_t target = kNoTarget);
   void emit(std::string_view type, std::initializer_list<Datum> fields = {},
             std::int64_t target = kNoTarget);
+  /// Append every event of another list of the same alphabet, in order (no re-check).
+  void append(const EventList& other);
   /// Append event `i` of another list (no re-check).
   void append_from(const EventList& other, std::size_t i);
 

@@ -28,6 +28,11 @@ class Generator {
   /// Called once before the first frame with a seed derived from the engine's seed and the
   /// generator's position, so random generators are reproducible.
   virtual void reset(std::uint64_t seed) { (void)seed; }
+  /// True if generate() may run at the same time as other concurrent generators' (on the engine's
+  /// threads): it reads only what no generator changes during the frame and writes only its own
+  /// state and `out`. A run of such generators fills S in the same order as on one thread. The
+  /// default, false, runs it alone on the engine's thread.
+  virtual bool concurrent() const { return false; }
   /// A short name for messages ("every_frame(tick)", "gLaser").
   virtual std::string name() const { return "generator"; }
 };

@@ -28,9 +28,10 @@ struct FrameContext {
 WorldString evolve(const WorldString& w, const EventList& events, const FrameContext& ctx);
 /// η as the engine runs it on its own string: λ may write in place into blobs that `w` alone holds
 /// (ActorState::edit_blob), so `w` is left changed; `journal` keeps what to put back if the frame
-/// fails. Call visualize(w, ...) first: θ reads w as it was.
+/// fails. Call visualize(w, ...) first: θ reads w as it was. With `threads` > 1, the actors whose
+/// behaviours are concurrent() evolve side by side on that many threads; the result is the same.
 WorldString evolve_in_place(const WorldString& w, const EventList& events, const FrameContext& ctx,
-                            BlobJournal& journal);
+                            BlobJournal& journal, unsigned threads = 1);
 
 /// π: the displayable string (no actors) for the visual events among `events`.
 WorldString visualize(const WorldString& w, const EventList& events, const FrameContext& ctx);

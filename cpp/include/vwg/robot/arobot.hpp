@@ -22,6 +22,7 @@
 
 #include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <unordered_map>
 #include <string>
@@ -68,6 +69,8 @@ class ARobot final : public ActorBehavior {
   ARobot(const Alphabet& alphabet, ARobotConfig config, std::shared_ptr<Decider> decider);
 
   void evolve(ActorState& self, const EventView& e, const EvolutionContext& ctx, Replacement& out) override;
+  /// Robots evolve side by side when their decider allows it (A*, D* Lite, random: yes).
+  bool concurrent() const override { return decider_->concurrent(); }
   void visualize(const ActorState& self, const EventView& e, const EvolutionContext& ctx, StringBuilder& out) override;
 
   const ARobotConfig& config() const { return config_; }
@@ -82,7 +85,7 @@ class ARobot final : public ActorBehavior {
   template <class Edit>
   void edit_map(ActorState& self, Edit&& edit) {
     MapEdit map = self.edit_blob<std::int16_t>(kGrid);
-    SeenBlocks& seen = seen_[self.get_int(kId)];
+    SeenBlocks& seen = seen_of(self.get_int(kId));
     seen.sync(map.blob(), config_.map);
     edit(map, seen);
     seen.keep(map.blob());
@@ -90,9 +93,14 @@ class ARobot final : public ActorBehavior {
 
   ARobotConfig config_;
   std::shared_ptr<Decider> decider_;
+  SeenBlocks& seen_of(std::int64_t robot);
+
   // Per robot id: which blocks of its map hold reported obstacles (a cache of the map, checked
-  // against its revision; see SeenBlocks).
-  std::unordered_map<std::int64_t, SeenBlocks> seen_;
+  // against its revision; see SeenBlocks). Robots evolve on several threads: the table is
+  // guarded, each robot's entry is its own.
+  std::mutex seen_mutex_;
+  std::unordered_map<std::int64_t, SeenBlocks> seen_;  // node-based: entries stay where they are
+  std::uint64_t serial_;  // this ARobot among all made in the process (seen_of's per-thread cache)
   struct Events {
     EventTypeId laser, camera, decide, execute, objective, odometry, collision;
   } ev_{};

@@ -48,6 +48,9 @@ class Decider {
   virtual ~Decider() = default;
   virtual Decision decide(const DecisionInput& in) = 0;
   virtual std::string name() const = 0;
+  /// True if decide() may run for several robots at the same time (the engine's threads); the
+  /// default, false, keeps every robot with this decider on the engine's thread.
+  virtual bool concurrent() const { return false; }
 };
 
 /// The paper's first algorithm: random moves (a random heading, then up to step_length ahead)
@@ -56,6 +59,7 @@ class RandomDecider final : public Decider {
  public:
   Decision decide(const DecisionInput& in) override;
   std::string name() const override { return "random"; }
+  bool concurrent() const override { return true; }  // no state: its randomness comes from in.seed
 };
 
 /// The motion towards the farthest point of `path` (x0, y0, ...) within `step_length` that the

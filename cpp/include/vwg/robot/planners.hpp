@@ -6,6 +6,7 @@
 #include <chrono>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 
@@ -29,8 +30,10 @@ class GridDecider final : public Decider {
   explicit GridDecider(Algorithm algorithm) : algorithm_(algorithm) {}
   Decision decide(const DecisionInput& in) override;
   std::string name() const override { return algorithm_ == Algorithm::AStar ? "astar" : "dstar"; }
-  double search_seconds() const { return stats_.seconds; }
-  std::size_t searches() const { return stats_.searches; }
+  /// Each robot's state is its own, and each thread has its own A* work area.
+  bool concurrent() const override { return true; }
+  double search_seconds() const;
+  std::size_t searches() const;
 
  private:
   struct RobotState {
@@ -39,11 +42,11 @@ class GridDecider final : public Decider {
     geometry::Cell goal{-1, -1};
   };
   plan::GridPath search(RobotState& s, geometry::Cell start, geometry::Cell goal);
+  RobotState& state_of(int robot);
   Algorithm algorithm_;
-  std::map<int, RobotState> robots_;
+  mutable std::mutex mutex_;          // robots_ (the map, not its states: each robot's is its own) and stats_
+  std::map<int, RobotState> robots_;  // node-based: a robot's state stays where it is
   SearchStats stats_;
-  // One A* kept for every search: its node arrays (the size of the map) are made once, not per search.
-  plan::AStar astar_;
 };
 
 class OmplDecider final : public Decider {

@@ -79,6 +79,8 @@ class LaserGenerator final : public Generator {
                  const std::string& event = "eLaser");
   void reset(std::uint64_t seed) override { rng_.reseed(derive_seed(seed, 0x6C61736572ULL, static_cast<std::uint64_t>(robot_))); }
   void generate(const FrameInfo& frame, EventList& out) override;
+  /// Reads the physics world (unchanged while events are collected); writes its own scan and rng.
+  bool concurrent() const override { return true; }
   std::string name() const override { return "gLaser(" + std::to_string(robot_) + ")"; }
 
   /// The last scan: ranges (max_range where nothing was hit), and the beam angles.
