@@ -212,7 +212,7 @@ void ARobot::decide(ActorState& self, const EvolutionContext& ctx) {
     return;
   }
   DecisionInput in;
-  in.robot = static_cast<int>(self.get_int(kId));
+  in.robot = self.get_int(kId);
   in.map = self.get_blob(kGrid);
   in.geometry = &config_.map;
   in.pose = geometry::Pose2{x, y, theta};

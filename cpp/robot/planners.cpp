@@ -93,7 +93,7 @@ std::size_t GridDecider::searches() const {
   return stats_.searches;
 }
 
-GridDecider::RobotState& GridDecider::state_of(int robot) {
+GridDecider::RobotState& GridDecider::state_of(std::int64_t robot) {
   const std::lock_guard<std::mutex> lock(mutex_);
   return robots_[robot];
 }

@@ -69,7 +69,7 @@ Blob::Blob(DType dtype, std::vector<std::int64_t> shape)
       bytes_(size_ * dtype_size(dtype)), revision_(new_revision()) {}
 
 void Blob::note_written() {
-  hash_valid_ = false;
+  hash_valid_.store(false, std::memory_order_relaxed);
   revision_ = new_revision();
 }
 
@@ -83,18 +83,26 @@ Blob::Blob(DType dtype, std::vector<std::int64_t> shape, const void* data, std::
 }
 
 std::uint64_t Blob::content_hash() const {
-  if (!hash_valid_) {
+  if (!hash_valid_.load(std::memory_order_acquire)) {
     std::uint64_t h = hash_combine(0x766567ULL, static_cast<std::uint64_t>(dtype_));
     for (std::int64_t extent : shape_) h = hash_combine(h, static_cast<std::uint64_t>(extent));
-    hash_ = hash_bytes(bytes_.data(), bytes_.size(), h);
-    hash_valid_ = true;
+    hash_.store(hash_bytes(bytes_.data(), bytes_.size(), h), std::memory_order_relaxed);
+    hash_valid_.store(true, std::memory_order_release);
   }
-  return hash_;
+  return hash_.load(std::memory_order_relaxed);
 }
 
 bool Blob::same_content(const Blob& other) const {
   if (this == &other) return true;
   return dtype_ == other.dtype_ && shape_ == other.shape_ && bytes_ == other.bytes_;
+}
+
+Blob::Blob(const Blob& other)
+    : dtype_(other.dtype_), shape_(other.shape_), size_(other.size_), bytes_(other.bytes_), revision_(other.revision_) {
+  if (other.hash_valid_.load(std::memory_order_acquire)) {
+    hash_.store(other.hash_.load(std::memory_order_relaxed), std::memory_order_relaxed);
+    hash_valid_.store(true, std::memory_order_relaxed);
+  }
 }
 
 std::shared_ptr<Blob> Blob::clone() const { return std::make_shared<Blob>(*this); }

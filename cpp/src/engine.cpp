@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <string>
+#include <unordered_map>
 #include <utility>
 
 #include "vwg/error.hpp"
@@ -49,8 +50,16 @@ Engine::Engine(WorldString initial, std::vector<std::shared_ptr<Generator>> gene
   if (!(options_.dt > 0.0) || !std::isfinite(options_.dt)) {
     throw SchemaError("EngineOptions.dt", "expected a finite time step > 0, got " + std::to_string(options_.dt));
   }
+  std::unordered_map<const Generator*, std::size_t> side_by_side;
   for (std::size_t k = 0; k < generators_.size(); ++k) {
     if (!generators_[k]) throw SchemaError("generators[" + std::to_string(k) + "]", "is null");
+    // One that runs side by side with others must not run beside itself.
+    if (generators_[k]->concurrent()) {
+      if (const auto [at, fresh] = side_by_side.try_emplace(generators_[k].get(), k); !fresh) {
+        throw SchemaError("generators[" + std::to_string(k) + "]", "'" + generators_[k]->name() +
+                          "' is listed twice (also as generators[" + std::to_string(at->second) + "]); list each sensor once");
+      }
+    }
     generators_[k]->reset(derive_seed(options_.seed, 0x67656EULL, k));
   }
 }
@@ -77,6 +86,7 @@ void Engine::generate(std::size_t k, const FrameInfo& info, EventList& out) {
 }
 
 EventList Engine::collect_events_unlocked() {
+  const Alphabet::FrameUse frozen(w_.alphabet());  // no names added while generators read them
   EventList events(w_.alphabet_ptr());
   const FrameInfo info{frame_, time(), options_.dt, &w_};
   const std::size_t n = generators_.size();

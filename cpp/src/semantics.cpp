@@ -175,12 +175,11 @@ class Evolver {
       if (routing_.for_actor(info, id_of(w, i, info), scratch).empty()) continue;
       chosen.push_back(i);
     }
-    // Two actors of a type with the same id may share what their behaviour keeps per id: such a
-    // string runs on one thread.
-    std::vector<std::pair<SymbolId, std::int64_t>> ids;
+    // Two actors with the same id may share what their behaviours keep per id (two actor types
+    // can share a decider): such a string runs on one thread.
+    std::vector<std::int64_t> ids;
     for (std::size_t i : chosen) {
-      const SymbolInfo& info = w.alphabet().symbol(nodes[i].symbol);
-      if (const auto id = id_of(w, i, info)) ids.emplace_back(info.id, *id);
+      if (const auto id = id_of(w, i, w.alphabet().symbol(nodes[i].symbol))) ids.push_back(*id);
     }
     std::sort(ids.begin(), ids.end());
     if (std::adjacent_find(ids.begin(), ids.end()) != ids.end()) return;

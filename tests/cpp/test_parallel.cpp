@@ -206,3 +206,15 @@ TEST(ParallelFrames, RefusesMoreThreadsThanTheLimit) {
   options.threads = kMaxThreads + 1;
   EXPECT_THROW(Engine(WorldString(a), {}, nullptr, options), SchemaError);
 }
+
+TEST(ParallelFrames, AGeneratorThatRunsSideBySideIsListedOnce) {
+  auto a = walker_alphabet();
+  auto laser = std::make_shared<StepGenerator>(1);
+  try {
+    Engine(WorldString(a), {laser, std::make_shared<EveryFrameGenerator>(*a, "tick"), laser}, nullptr);
+    FAIL() << "expected a SchemaError";
+  } catch (const SchemaError& e) {
+    EXPECT_NE(std::string(e.what()).find("generators[2]: 'generator' is listed twice (also as generators[0])"),
+              std::string::npos) << e.what();
+  }
+}

@@ -3,6 +3,7 @@
 // (DESIGN.md choice 4).
 #pragma once
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -29,6 +30,9 @@ class Blob {
   Blob(DType dtype, std::vector<std::int64_t> shape);
   /// An array initialised from `nbytes` bytes at `data`; `nbytes` must match dtype and shape.
   Blob(DType dtype, std::vector<std::int64_t> shape, const void* data, std::size_t nbytes);
+  /// A copy: the same content, revision and hash (see clone()).
+  Blob(const Blob& other);
+  Blob& operator=(const Blob&) = delete;
 
   DType dtype() const { return dtype_; }
   std::span<const std::int64_t> shape() const { return shape_; }
@@ -69,8 +73,10 @@ class Blob {
   std::vector<std::int64_t> shape_;
   std::size_t size_ = 0;
   std::vector<std::byte> bytes_;
-  mutable std::uint64_t hash_ = 0;
-  mutable bool hash_valid_ = false;
+  // The hash, computed when first asked for; atomics, since the threads of a frame may ask for the
+  // hash of a blob several actors share (any two compute the same value).
+  mutable std::atomic<std::uint64_t> hash_{0};
+  mutable std::atomic<bool> hash_valid_{false};
   std::uint64_t revision_;
 };
 

@@ -18,7 +18,7 @@ namespace vwg::robot {
 
 /// What the robot knows when it decides.
 struct DecisionInput {
-  int robot = 0;
+  std::int64_t robot = 0;  ///< the robot's id
   /// The robot's map (int16, see robot_map.hpp). Shared, so a view of it may outlive the call: the
   /// actor's next write then goes to a copy (copy-on-write), and the view keeps what it showed.
   std::shared_ptr<const Blob> map;

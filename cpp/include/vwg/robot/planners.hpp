@@ -42,10 +42,10 @@ class GridDecider final : public Decider {
     geometry::Cell goal{-1, -1};
   };
   plan::GridPath search(RobotState& s, geometry::Cell start, geometry::Cell goal);
-  RobotState& state_of(int robot);
+  RobotState& state_of(std::int64_t robot);
   Algorithm algorithm_;
   mutable std::mutex mutex_;          // robots_ (the map, not its states: each robot's is its own) and stats_
-  std::map<int, RobotState> robots_;  // node-based: a robot's state stays where it is
+  std::map<std::int64_t, RobotState> robots_;  // node-based: a robot's state stays where it is
   SearchStats stats_;
 };
 
@@ -63,7 +63,7 @@ class OmplDecider final : public Decider {
  private:
   std::string planner_;
   unsigned iterations_;
-  std::map<int, PlanningMap> maps_;
+  std::map<std::int64_t, PlanningMap> maps_;
   SearchStats stats_;
 };
 
