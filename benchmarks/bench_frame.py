@@ -31,16 +31,53 @@ RESULTS = Path(__file__).resolve().parent / "results" / "bench_frame.json"
 LASER = vwg.sim.LaserSpec(beams=180, fov=math.pi, max_range=10.0, noise=0.01)
 
 
-def crowd(n: int, seed: int = 0) -> vwg.robot.RobotWorld:
-    """The warehouse with `n` robots at seeded free places (0.6 m apart), each with a laser."""
-    world = vwg.robot.load_robot_world("warehouse")
+def rooms_world(cells: int = 500, per_side: int = 4) -> vwg.robot.RobotWorld:
+    """A square map of `cells` × `cells` (0.05 m each: 25 × 25 m for 500) divided into per_side ×
+    per_side rooms by 0.15 m walls, each wall with a 1.2 m door; a room in each, its goal at the
+    room's centre (its marker on the room's south wall). Big enough for a thousand robots."""
+    from vwg.maps import OccupancyGrid
+    from vwg.robotworld import Room
+
+    res, side = 0.05, cells * 0.05
+    occ = np.zeros((cells, cells), dtype=bool)
+    wall, door, room = round(0.15 / res), round(1.2 / res), cells / per_side
+    for k in range(per_side + 1):
+        at = min(round(k * room), cells - wall)
+        occ[at:at + wall, :] = True  # a wall along x (rows are y)
+        occ[:, at:at + wall] = True
+    for k in range(1, per_side):  # doors in the inner walls, in the middle of each room's side
+        at = round(k * room)
+        for j in range(per_side):
+            mid = round((j + 0.5) * room)
+            occ[at:at + wall, mid - door // 2:mid + door // 2] = False
+            occ[mid - door // 2:mid + door // 2, at:at + wall] = False
+    rooms = {}
+    for j in range(per_side):
+        for i in range(per_side):
+            name = f"room_{j}_{i}"
+            cx, cy = (i + 0.5) * side / per_side, (j + 0.5) * side / per_side
+            marker = 30 + j * per_side + i
+            rooms[name] = Room(name, marker, (cx, j * side / per_side + 0.15), math.pi / 2, goal=(cx, cy))
+    base = vwg.robot.load_robot_world("warehouse")
+    grid = OccupancyGrid(np.where(occ, 100, 0).astype(np.int8), res)
+    return dataclasses.replace(base, name=f"rooms{cells}", grid=grid, rooms=rooms, robots=[], orders=[])
+
+
+def crowd(n: int, seed: int = 0, world: vwg.robot.RobotWorld | None = None) -> vwg.robot.RobotWorld:
+    """`world` (default the warehouse) with `n` robots at seeded free places (0.6 m apart), each
+    with a laser; as many as fit if fewer do."""
+    world = vwg.robot.load_robot_world("warehouse") if world is None else world
     grid = world.grid
     free = np.argwhere(~grid.inflate(0.35))
     rng = np.random.default_rng(seed)
     starts: list[tuple[float, float]] = []
+    bins: dict[tuple[int, int], list[int]] = {}  # starts by 0.6 m bins: only the neighbours' are looked at
     for k in rng.permutation(len(free)):
         x, y = grid.cell_to_world(*free[k])
-        if all(math.hypot(x - a, y - b) >= 0.6 for a, b in starts):
+        bx, by = int(x // 0.6), int(y // 0.6)
+        near = [starts[j] for dx in (-1, 0, 1) for dy in (-1, 0, 1) for j in bins.get((bx + dx, by + dy), ())]
+        if all(math.hypot(x - a, y - b) >= 0.6 for a, b in near):
+            bins.setdefault((bx, by), []).append(len(starts))
             starts.append((x, y))
             if len(starts) == n:
                 break

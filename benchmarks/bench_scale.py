@@ -1,16 +1,18 @@
 """Scale, side by side with IR-SIM: N robots on the shipped warehouse (30 × 20 m), each with a
 180-beam, 180°, 10 m laser and an order to a room, 10 Hz frames, the full `vwg run` frame (the
-generators, η, π, φ on the Box2D platform, A* decisions) — and the same scenario in IR-SIM (the
-same map as a PNG, the same starts, a 180-beam `lidar2d` per robot, `dash` behaviour to the same
-goals, headless) in the same run.
+generators, η, π, φ on the Box2D platform, A* decisions), on one thread and on every core — and the
+same scenario in IR-SIM (the same map as a PNG, the same starts, a 180-beam `lidar2d` per robot,
+`dash` behaviour to the same goals, headless) in the same run. A thousand robots run on a 500 × 500
+cell map of rooms (25 × 25 m), which holds about 1,040 robots 0.6 m apart.
 
     python benchmarks/bench_scale.py [--quick]   (make bench-scale installs IR-SIM in its own venv)
 
 Prints a table and writes benchmarks/results/bench_scale.json: rows with engine ("vwg" or "irsim"),
-n_robots, threads, robot_steps_per_s, rays_per_s, ms_per_frame, realtime_factor, rss_mb; and the
-ratio vwg / IR-SIM for each N both ran. IR-SIM runs in a subprocess with the interpreter given by
---irsim-python (its own environment: its dependencies are not vwg's); without one, its rows are left
-out and the table says so.
+map, n_robots, threads, robot_steps_per_s, rays_per_s, ms_per_frame, realtime_factor, rss_mb (the
+process's resident memory after the run) and rss_per_robot_mb (what the run added, per robot); and
+the ratio vwg / IR-SIM for each N both ran (vwg on every core). IR-SIM runs in a subprocess with the
+interpreter given by --irsim-python (its own environment: its dependencies are not vwg's); without
+one, its rows are left out and the table says so.
 """
 
 from __future__ import annotations
@@ -20,7 +22,6 @@ import json
 import math
 import os
 import platform
-import resource
 import subprocess
 import sys
 import tempfile
@@ -33,8 +34,9 @@ BEAMS, FOV, RANGE, DT = 180, math.pi, 10.0, 0.1
 
 
 def rss_mb() -> float:
-    """The process's peak resident memory so far (the rows run from small N to large)."""
-    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    """The process's resident memory now."""
+    with open("/proc/self/status") as status:
+        return next(int(line.split()[1]) for line in status if line.startswith("VmRSS:")) / 1024
 
 
 # ---- IR-SIM, in its own interpreter ---------------------------------------------------------------------------------
@@ -89,28 +91,34 @@ def irsim_row(world: Any, frames: int, python: str) -> dict[str, Any] | None:
         print(f"IR-SIM failed:\n{done.stderr[-2000:]}", file=sys.stderr)
         return None
     out = json.loads(done.stdout.strip().splitlines()[-1])
-    return row("irsim", len(world.robots), 1, frames, out["wall"], out["rss_mb"])
+    return row("irsim", world, 1, frames, out["wall"], out["rss_mb"], None)
 
 
 # ---- vwg ----------------------------------------------------------------------------------------------------------
-def vwg_row(world: Any, frames: int) -> dict[str, Any]:
+def vwg_row(world: Any, frames: int, threads: int) -> dict[str, Any]:
     from vwg.casestudy import CaseStudy
 
     rooms = list(world.rooms)
     goals = {r.id: rooms[k % len(rooms)] for k, r in enumerate(world.robots)}
-    with CaseStudy(world, "astar", goals=goals, sensors=("laser",)) as run:
+    before = rss_mb()
+    with CaseStudy(world, "astar", goals=goals, sensors=("laser",), threads=threads) as run:
         run.run(frames=2)  # warm up: first plans, first scans
+        first = run.engine.frame
         t0 = time.perf_counter()
-        done = run.run(frames=frames).frames - 2
+        run.engine.run(frames)  # the frames alone (no summary)
         wall = time.perf_counter() - t0
-    return row("vwg", len(world.robots), 1, done, wall, rss_mb())
+        done = run.engine.frame - first
+        rss = rss_mb()
+    return row("vwg", world, threads, done, wall, rss, (rss - before) / len(world.robots))
 
 
-def row(engine: str, n: int, threads: int, frames: int, wall: float, rss: float) -> dict[str, Any]:
+def row(engine: str, world: Any, threads: int, frames: int, wall: float, rss: float,
+        rss_per_robot: float | None) -> dict[str, Any]:
+    n = len(world.robots)
     steps = n * frames / wall
-    return {"engine": engine, "n_robots": n, "threads": threads, "frames": frames,
+    return {"engine": engine, "map": world.name, "n_robots": n, "threads": threads, "frames": frames,
             "robot_steps_per_s": steps, "rays_per_s": steps * BEAMS, "ms_per_frame": 1000 * wall / frames,
-            "realtime_factor": frames * DT / wall, "rss_mb": rss}
+            "realtime_factor": frames * DT / wall, "rss_mb": rss, "rss_per_robot_mb": rss_per_robot}
 
 
 def main() -> None:
@@ -121,39 +129,53 @@ def main() -> None:
     args = parser.parse_args()
 
     sys.path.insert(0, str(Path(__file__).resolve().parent))
-    from bench_frame import crowd
+    from bench_frame import crowd, rooms_world
     from tqdm import tqdm
 
-    sizes = (1, 10, 100) if args.quick else (1, 10, 100, 1000)
-    frames = {1: 50, 10: 30, 100: 10, 1000: 5} if args.quick else {1: 300, 10: 100, 100: 30, 1000: 10}
+    import vwg
+
+    cores = vwg._core.default_threads()
+    thread_counts = sorted({1, cores})
+    # (map, robots): the warehouse up to 100, the rooms map for 1,000.
+    sizes = [("warehouse", 1), ("warehouse", 10), ("warehouse", 100)] + ([] if args.quick else [("rooms500", 1000)])
+    frames = {1: 50, 10: 30, 100: 10} if args.quick else {1: 300, 10: 100, 100: 30, 1000: 10}
     irsim_frames = {1: 50, 10: 20, 100: 5} if args.quick else {1: 200, 10: 50, 100: 10}
+    jobs = [(m, n, "vwg", t) for m, n in sizes for t in thread_counts]
+    jobs += [("warehouse", n, "irsim", 1) for n in irsim_frames if args.irsim_python]
     rows = []
-    jobs = [(n, "vwg") for n in sizes] + [(n, "irsim") for n in irsim_frames if args.irsim_python]
-    for n, engine in tqdm(jobs, desc="bench_scale", unit="run"):
-        world = crowd(n)
+    maps = {"warehouse": lambda: None, "rooms500": rooms_world}
+    for name, n, engine, threads in tqdm(jobs, desc="bench_scale", unit="run"):
+        world = crowd(n, world=maps[name]())
         if len(world.robots) < n:
-            print(f"the warehouse holds {len(world.robots)} robots 0.6 m apart, not {n}: left out", file=sys.stderr)
+            print(f"{name} holds {len(world.robots)} robots 0.6 m apart, not {n}: left out", file=sys.stderr)
             continue
-        r = vwg_row(world, frames[n]) if engine == "vwg" else irsim_row(world, irsim_frames[n], args.irsim_python)
-        if r:
+        if engine == "vwg":
+            rows.append(vwg_row(world, frames[n], threads))
+        elif r := irsim_row(world, irsim_frames[n], args.irsim_python):
             rows.append(r)
-    print(f"{'engine':>6} {'robots':>6} {'robot-steps/s':>14} {'rays/s':>12} {'ms/frame':>9} {'× real time':>11} "
-          f"{'RSS MB':>7}")
+    print(f"{'engine':>6} {'map':>9} {'robots':>6} {'threads':>7} {'robot-steps/s':>14} {'rays/s':>12} "
+          f"{'ms/frame':>9} {'× real time':>11} {'RSS MB':>7} {'MB/robot':>8}")
     for r in rows:
-        print(f"{r['engine']:>6} {r['n_robots']:>6} {r['robot_steps_per_s']:>14,.0f} {r['rays_per_s']:>12,.0f} "
-              f"{r['ms_per_frame']:>9.1f} {r['realtime_factor']:>11.2f} {r['rss_mb']:>7.0f}")
+        per = "" if r["rss_per_robot_mb"] is None else f"{r['rss_per_robot_mb']:.2f}"
+        print(f"{r['engine']:>6} {r['map']:>9} {r['n_robots']:>6} {r['threads']:>7} {r['robot_steps_per_s']:>14,.0f} "
+              f"{r['rays_per_s']:>12,.0f} {r['ms_per_frame']:>9.1f} {r['realtime_factor']:>11.2f} "
+              f"{r['rss_mb']:>7.0f} {per:>8}")
     ratios = {}
     for r in rows:
         peer = next((p for p in rows if p["engine"] == "irsim" and p["n_robots"] == r["n_robots"]), None)
-        if r["engine"] == "vwg" and peer:
+        if r["engine"] == "vwg" and r["threads"] == cores and peer:
             ratios[r["n_robots"]] = r["robot_steps_per_s"] / peer["robot_steps_per_s"]
-            print(f"{r['n_robots']} robots: vwg {ratios[r['n_robots']]:,.0f}× IR-SIM's robot-steps/s")
+            print(f"{r['n_robots']} robots: vwg on {cores} threads {ratios[r['n_robots']]:,.0f}× IR-SIM's "
+                  "robot-steps/s")
     if not args.irsim_python:
         print("IR-SIM not run: give --irsim-python (make bench-scale installs it in build/bench-irsim)")
+    print("10,000 robots: left out. A map that holds them 0.6 m apart is about 100 × 100 m (2,000 × 2,000 cells), and "
+          "each robot keeps its own map of it with its planning grids (the MB/robot column, for 500 × 500 cells): "
+          "far more memory than this machine has. Robot maps shared copy-on-write by tiles would lift this.")
     RESULTS.parent.mkdir(parents=True, exist_ok=True)
     RESULTS.write_text(json.dumps({"machine": platform.machine(), "processor": platform.processor(),
                                    "cores": os.cpu_count(), "python": platform.python_version(),
-                                   "quick": args.quick, "rows": rows,
+                                   "quick": args.quick, "threads_compared": thread_counts, "rows": rows,
                                    "ratio_vwg_to_irsim": {str(k): v for k, v in ratios.items()}}, indent=2) + "\n")
     print(f"wrote {RESULTS}")
 

@@ -52,15 +52,31 @@ void RangeScanner::scan(int self, const Pose2& pose, std::span<const double> ang
   // LaserGenerator's are; otherwise every beam is tested).
   const bool windowed = std::is_sorted(angles.begin(), angles.end()) && !angles.empty() &&
                         angles.front() >= -3 * M_PI && angles.back() <= 3 * M_PI;
+  thread_local std::vector<double> dir_x, dir_y;
+  thread_local std::vector<std::uint8_t> have;
+  dir_x.resize(angles.size());
+  dir_y.resize(angles.size());
+  have.assign(angles.size(), 0);
   for (const RobotState& other : world_->robots()) {
     if (other.id == self) continue;
     const double cx = other.pose.x - pose.x, cy = other.pose.y - pose.y;
+    // Far robots first by squared distance (a crowd is mostly far), with a margin well above
+    // rounding, so that every robot the exact test below keeps gets to it.
+    const double reach = max_range + other.radius;
+    if (cx * cx + cy * cy > reach * reach * (1 + 1e-9) + 1e-9) continue;
     const double dist = std::hypot(cx, cy);
     if (dist - other.radius > max_range) continue;
     const double r2 = other.radius * other.radius;
     auto test = [&](std::size_t i) {
-      const double a = pose.theta + angles[i];
-      const double dx = std::cos(a), dy = std::sin(a);
+      // A beam's direction is computed once per scan, when a robot first comes near it (in a
+      // crowd, dozens of robots fall within the same beams).
+      if (!have[i]) {
+        const double a = pose.theta + angles[i];
+        dir_x[i] = std::cos(a);
+        dir_y[i] = std::sin(a);
+        have[i] = 1;
+      }
+      const double dx = dir_x[i], dy = dir_y[i];
       const double along = cx * dx + cy * dy;
       const double across2 = cx * cx + cy * cy - along * along;
       if (across2 > r2) return;

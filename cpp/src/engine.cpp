@@ -98,6 +98,9 @@ EventList Engine::collect_events_unlocked() {
     if (options_.threads > 1 && end - k >= 2) {
       std::vector<EventList> parts(end - k, EventList(w_.alphabet_ptr()));
       parallel_for(end - k, options_.threads, [&](std::size_t j) { generate(k + j, info, parts[j]); });
+      std::size_t count = events.size(), values = events.value_count();
+      for (const EventList& part : parts) count += part.size(), values += part.value_count();
+      events.reserve(count, values);
       for (const EventList& part : parts) events.append(part);
       k = end;
     } else {
@@ -121,7 +124,7 @@ bool Engine::step_with(const EventList& events) {
   return run_frame(events);
 }
 
-bool Engine::run_frame(const EventList& events) {
+bool Engine::run_frame(EventList events) {
   const Alphabet::FrameUse frozen(w_.alphabet());  // no names added while the frame reads them
   const FrameContext ctx{frame_, time(), options_.seed};
   // η and π both read w. π runs first, since η may change w's large attributes in place; a
@@ -160,7 +163,7 @@ bool Engine::run_frame(const EventList& events) {
   // a frame the backend has already run).
   journal_.clear();
   w_ = std::move(*next);
-  last_events_ = events;
+  last_events_ = std::move(events);
   const std::uint64_t done = frame_++;
   const FrameRecord record{done, static_cast<double>(done) * options_.dt, last_events_, w_};
   for (const auto& observer : observers_) observer(record);

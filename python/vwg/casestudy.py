@@ -245,9 +245,10 @@ class CaseStudy:
         w = self.engine.string if w is None else w
         return {a["id"]: a for a in w.actors() if a.name == "ARobot"}
 
-    def status_of(self, robot: int, actor: _core.Node) -> str:
-        """The robot's status with its room by name ("to kitchen" rather than "to marker 1")."""
-        room = self.orders.last.get(robot)
+    def status_of(self, robot: int, actor: _core.Node, last: dict[int, str] | None = None) -> str:
+        """The robot's status with its room by name ("to kitchen" rather than "to marker 1");
+        `last` is orders.last if the caller has it already (it is made afresh on each call)."""
+        room = (self.orders.last if last is None else last).get(robot)
         status = str(actor["status"])
         return status.replace(f"marker {actor['objective']}", room) if room else status
 
@@ -286,10 +287,11 @@ class CaseStudy:
 
     def summary(self) -> RunSummary:
         actors = self.robot_actors()
+        last = self.orders.last  # once: it is made from the generator on each call
         robots = []
         for spec in self.world.robots:
             state = self.sim.robot(spec.id)
-            room = self.orders.last.get(spec.id)
+            room = last.get(spec.id)
             dist = math.inf
             if room is not None:
                 gx, gy = self.world.rooms[room].goal
@@ -301,7 +303,7 @@ class CaseStudy:
                 id=spec.id, room=room, reached=reached,
                 distance_to_goal_m=dist, path_length_m=state.travelled, collisions=int(state.collisions),
                 replans=int(actor["replans"]) if actor is not None else 0, commands=int(state.commands),
-                status=self.status_of(spec.id, actor) if actor is not None else "gone"))
+                status=self.status_of(spec.id, actor, last) if actor is not None else "gone"))
         ordered = [r for r in robots if r.room is not None]
         outputs = {"video": self.video} if self.video else {}
         return RunSummary(

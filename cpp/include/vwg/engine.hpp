@@ -99,7 +99,7 @@ class Engine {
 
  private:
   class Use;  // holds the engine for one call; see the class comment
-  bool run_frame(const EventList& events);
+  bool run_frame(EventList events);  // kept as last_events_ when the frame is done
   EventList collect_events_unlocked();
   void generate(std::size_t k, const FrameInfo& info, EventList& out);  // generator k, failures located
   WorldString w_;

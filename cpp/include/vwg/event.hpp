@@ -59,6 +59,13 @@ class EventList {
   void append_from(const EventList& other, std::size_t i);
 
   std::size_t size() const { return events_.size(); }
+  /// The fields of all events together.
+  std::size_t value_count() const { return store_.size(); }
+  /// Room for `events` events with `values` fields in all, so appending that many copies nothing.
+  void reserve(std::size_t events, std::size_t values) {
+    events_.reserve(events);
+    store_.reserve(values, 0);
+  }
   bool empty() const { return events_.empty(); }
   EventView operator[](std::size_t i) const { return EventView(*this, i); }
   const Alphabet& alphabet() const { return *alphabet_; }
