@@ -107,8 +107,60 @@ TEST(SeenBlocks, ClearingWithTheBlocksClearsWhatTheCellWalkClears) {
     seen.keep(fast);
     if (k % 20 == 0) mark_obstacle(b, g, x0, y0, &seen), mark_obstacle(a, g, x0, y0), seen.keep(fast);
   }
+  // Beams along the grid's lines, along diagonals and through block corners (where the block walk
+  // and the cell walk round apart).
+  for (int k = 0; k < 400; ++k) {
+    const double px = x(rng), py = y(rng);
+    if (k % 3 == 0) mark_obstacle(a, g, px, py), seen.sync(fast, g), mark_obstacle(b, g, px, py, &seen), seen.keep(fast);
+    const int kind = k % 4;
+    const double x0 = kind == 0 ? std::round(px * 10) / 10 : (kind == 1 ? 0.8 : px), y0 = kind == 0 ? std::round(py * 10) / 10 : py;
+    const double len = 0.5 + (k % 37) * 0.1, a0 = kind == 1 ? M_PI / 4 * (k % 8) : std::atan2(py - 2, px - 2.5) + (k % 5) * 0.3;
+    const double x1 = x0 + len * std::cos(a0), y1 = y0 + len * std::sin(a0);
+    const int n = carve_free(a, g, x0, y0, x1, y1);
+    seen.sync(fast, g);
+    ASSERT_EQ(carve_free(b, g, x0, y0, x1, y1, &seen), n) << "beam " << k;
+    seen.keep(fast);
+  }
   const auto pa = plain.view<std::int16_t>(), pb = fast.view<std::int16_t>();
   EXPECT_TRUE(std::equal(pa.begin(), pa.end(), pb.begin(), pb.end()));
   EXPECT_GT(std::count(pa.begin(), pa.end(), kSeenCell), 5) << "some are left";
   EXPECT_LT(std::count(pa.begin(), pa.end(), kSeenCell), 290) << "some were cleared";
+}
+
+TEST(SeenBlocks, OnALargeMapWithFewObstaclesTheBlocksClearWhatTheCellWalkClears) {
+  // A large map with few reported obstacles, so that most beams skip blocks; beams from cell
+  // centres and block corners, along the grid's lines and diagonals; new obstacles are marked as
+  // the beams go.
+  const geometry::MapGeometry g{200, 150, 0.05, {}};
+  Blob plain(DType::Int16, {150, 200}), fast(DType::Int16, {150, 200});
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> x(-0.2, 10.2), y(-0.2, 7.7), unit(0.0, 1.0);
+  BlobEdit<std::int16_t> a(plain), b(fast);
+  SeenBlocks seen;
+  auto mark = [&](double px, double py) {
+    mark_obstacle(a, g, px, py);
+    seen.sync(fast, g);
+    mark_obstacle(b, g, px, py, &seen);
+    seen.keep(fast);
+  };
+  for (int k = 0; k < 40; ++k) mark(x(rng), y(rng));
+  int cleared = 0;
+  for (int k = 0; k < 5000; ++k) {
+    // From cell centres, cell corners (on a block's corner every 8 cells) or anywhere.
+    double x0 = x(rng), y0 = y(rng);
+    if (k % 3 == 0) x0 = std::round(x0 / 0.05) * 0.05, y0 = std::round(y0 / 0.05) * 0.05;
+    if (k % 3 == 1) x0 = std::round(x0 / 0.4) * 0.4, y0 = std::round(y0 / 0.4) * 0.4;
+    const double angle = k % 2 ? std::round(unit(rng) * 16) * M_PI / 8 : unit(rng) * 2 * M_PI;
+    const double len = 0.1 + 9.0 * unit(rng);
+    const double x1 = x0 + len * std::cos(angle), y1 = y0 + len * std::sin(angle);
+    const int n = carve_free(a, g, x0, y0, x1, y1);
+    seen.sync(fast, g);
+    ASSERT_EQ(carve_free(b, g, x0, y0, x1, y1, &seen), n) << "beam " << k;
+    seen.keep(fast);
+    cleared += n;
+    if (k % 25 == 0) mark(x1, y1);
+  }
+  const auto pa = plain.view<std::int16_t>(), pb = fast.view<std::int16_t>();
+  EXPECT_TRUE(std::equal(pa.begin(), pa.end(), pb.begin(), pb.end()));
+  EXPECT_GT(cleared, 50) << "beams did clear reported obstacles";
 }
