@@ -33,6 +33,15 @@ RESULTS = Path(__file__).resolve().parent / "results" / "bench_scale.json"
 BEAMS, FOV, RANGE, DT = 180, math.pi, 10.0, 0.1
 
 
+def settle_memory() -> None:
+    """Give memory freed by earlier rows back to the system, so a row's growth is its own."""
+    import ctypes
+    import gc
+
+    gc.collect()
+    ctypes.CDLL("libc.so.6").malloc_trim(0)
+
+
 def rss_mb() -> float:
     """The process's resident memory now."""
     with open("/proc/self/status") as status:
@@ -100,6 +109,7 @@ def vwg_row(world: Any, frames: int, threads: int) -> dict[str, Any]:
 
     rooms = list(world.rooms)
     goals = {r.id: rooms[k % len(rooms)] for k, r in enumerate(world.robots)}
+    settle_memory()
     before = rss_mb()
     with CaseStudy(world, "astar", goals=goals, sensors=("laser",), threads=threads) as run:
         run.run(frames=2)  # warm up: first plans, first scans
