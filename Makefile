@@ -27,7 +27,7 @@ APT_PACKAGES := build-essential cmake pkg-config python3-dev python3-venv \
 BUILD := build
 STAMP := $(BUILD)/stamps
 
-.PHONY: help deps venv install demo test pytest lint stubs cpp-test cpp-package bench bench-scale irsim-env clean
+.PHONY: help deps venv install demo test pytest lint stubs cpp-test cpp-package tsan bench bench-scale irsim-env clean
 
 help:
 	@sed -n '1,5p' Makefile | sed 's/^# \{0,1\}//'
@@ -116,6 +116,21 @@ cpp-test: deps
 	cmake -S . -B $(BUILD)/cpp-asan -DCMAKE_BUILD_TYPE=Debug -DVWG_TESTS=ON -DVWG_SANITIZE=ON -DVWG_WERROR=ON > /dev/null
 	cmake --build $(BUILD)/cpp-asan -j $(JOBS)
 	cd $(BUILD)/cpp-asan && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure -j $(JOBS)
+
+## The frame's threads under ThreadSanitizer: the extension built with -fsanitize=thread, a run of
+## robots on four threads (tools/tsan_frames.py); fails on any data race TSan reports.
+TSAN_LIB = $(shell gcc -print-file-name=libtsan.so)
+tsan: install
+	@echo "ThreadSanitizer: building the extension in $(BUILD)/tsan (first time 5-6 min on 2 cores)"
+	cmake -S . -B $(BUILD)/tsan -DVWG_PYTHON=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+	  -DCMAKE_CXX_FLAGS="-fsanitize=thread -O1" -DCMAKE_MODULE_LINKER_FLAGS=-fsanitize=thread \
+	  -Dpybind11_DIR=$$($(PY) -m pybind11 --cmakedir) -DPython_EXECUTABLE=$(CURDIR)/$(PY) > /dev/null
+	cmake --build $(BUILD)/tsan -j $(JOBS) --target _core
+	rm -rf $(BUILD)/tsan/pkg && mkdir -p $(BUILD)/tsan/pkg
+	cp -r $$($(PY) -c "import vwg, os; print(os.path.dirname(vwg.__file__))") $(BUILD)/tsan/pkg/vwg
+	cp $(BUILD)/tsan/_core*.so $(BUILD)/tsan/pkg/vwg/
+	PYTHONPATH=$(BUILD)/tsan/pkg LD_PRELOAD=$(TSAN_LIB) \
+	  TSAN_OPTIONS="suppressions=$(CURDIR)/tools/tsan.supp halt_on_error=1 exitcode=66" $(PY) tools/tsan_frames.py
 
 ## Install the C++ package, then build and run the downstream project examples/cpp against it.
 cpp-package: deps
