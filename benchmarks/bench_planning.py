@@ -4,7 +4,8 @@ the robot's path — and grid A* itself, on the MovingAI benchmark maps.
     walk     a robot walks its shortest path on a 512×512 MovingAI map; every 25 cells a 5×5 block
              appears 8 cells ahead on the path; both planners replan from where the robot stands
              (their path lengths are checked equal at every replan)
-    astar    time of one A* search per scenario of the benchmark files (octile and Euclidean)
+    astar    time of one A* search and one Jump Point Search per scenario of the benchmark files
+             (octile and Euclidean), and A*'s time over JPS's
 
     python benchmarks/bench_planning.py [--quick]     prints tables, writes benchmarks/results/bench_planning.json
 """
@@ -87,16 +88,19 @@ def walk(name: str, events: int) -> dict:
 
 
 def astar_speed(name: str, limit: int | None) -> dict:
+    """A* and Jump Point Search (8-connected, no corner cutting) on every scenario, both heuristics."""
     blocked = movingai_blocked(name)
     scen = scenarios(name)[:limit]
-    out = {}
-    for heuristic in ("octile", "euclidean"):
-        t0 = time.perf_counter()
-        for start, goal, optimal in scen:
-            _, length = vwg.plan.astar(blocked, start, goal, heuristic=heuristic)
-            assert math.isclose(length, optimal, rel_tol=1e-4), (start, goal, length, optimal)
-        out[heuristic] = (time.perf_counter() - t0) / len(scen)
-    return {"map": name, "scenarios": len(scen), "ms_per_search": {k: v * 1e3 for k, v in out.items()}}
+    out: dict[str, dict[str, float]] = {"astar": {}, "jps": {}}
+    for planner, search in (("astar", vwg.plan.astar), ("jps", vwg.plan.jps)):
+        for heuristic in ("octile", "euclidean"):
+            t0 = time.perf_counter()
+            for start, goal, optimal in scen:
+                _, length = search(blocked, start, goal, heuristic=heuristic)
+                assert math.isclose(length, optimal, rel_tol=1e-4), (planner, start, goal, length, optimal)
+            out[planner][heuristic] = (time.perf_counter() - t0) / len(scen) * 1e3
+    return {"map": name, "scenarios": len(scen), "ms_per_search": out["astar"], "jps_ms_per_search": out["jps"],
+            "astar_over_jps": {h: out["astar"][h] / out["jps"][h] for h in out["jps"]}}
 
 
 def main() -> int:
@@ -111,11 +115,14 @@ def main() -> int:
         walks.append(w)
         print(f"  {name:<18} {w['replans']:>7} {w['dstar_s'] * 1e3:8.2f} ms {w['astar_s'] * 1e3:8.2f} ms "
               f"{w['ratio']:12.1f}x")
-    print("\nGrid A* per search on the benchmark scenarios (lengths checked against the published optima):")
+    print("\nGrid A* and Jump Point Search per search on the benchmark scenarios (lengths checked against the "
+          "published optima):")
     speeds = [astar_speed(n, 100 if args.quick else None) for n in ("random512-10-0.map", "8room_000.map")]
     for s in speeds:
-        print(f"  {s['map']:<18} {s['scenarios']:>5} scenarios  octile {s['ms_per_search']['octile']:.2f} ms, "
-              f"euclidean {s['ms_per_search']['euclidean']:.2f} ms")
+        a, j, r = s["ms_per_search"], s["jps_ms_per_search"], s["astar_over_jps"]
+        print(f"  {s['map']:<18} {s['scenarios']:>5} scenarios  A* octile {a['octile']:.2f} ms, euclidean "
+              f"{a['euclidean']:.2f} ms;  JPS octile {j['octile']:.2f} ms ({r['octile']:.1f}x), euclidean "
+              f"{j['euclidean']:.2f} ms ({r['euclidean']:.1f}x)")
     results = {
         "dstar_vs_astar_replan_ratio": min(w["ratio"] for w in walks),
         "walks": walks,

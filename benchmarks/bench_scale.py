@@ -8,10 +8,12 @@ cell map of rooms (25 × 25 m), which holds about 1,040 robots 0.6 m apart.
     python benchmarks/bench_scale.py [--quick]   (make bench-scale installs IR-SIM in its own venv)
 
 Prints a table and writes benchmarks/results/bench_scale.json: rows with engine ("vwg" or "irsim"),
-map, n_robots, threads, robot_steps_per_s, rays_per_s, ms_per_frame, realtime_factor, rss_mb (the
+planner (vwg: "astar" on one thread and every core, "jps" on every core; IR-SIM: "dash"), map,
+n_robots, threads, robot_steps_per_s, rays_per_s, ms_per_frame, realtime_factor, rss_mb (the
 process's resident memory after the run) and rss_per_robot_mb (what the run added, per robot); and
-the ratio vwg / IR-SIM for each N both ran (vwg on every core). IR-SIM runs in a subprocess with the
-interpreter given by --irsim-python (its own environment: its dependencies are not vwg's); without
+the ratio vwg / IR-SIM for each N and planner both ran (vwg on every core). IR-SIM runs in a
+subprocess with the interpreter given by --irsim-python (its own environment: its dependencies are
+not vwg's); without
 one, its rows are left out and the table says so.
 """
 
@@ -100,18 +102,18 @@ def irsim_row(world: Any, frames: int, python: str) -> dict[str, Any] | None:
         print(f"IR-SIM failed:\n{done.stderr[-2000:]}", file=sys.stderr)
         return None
     out = json.loads(done.stdout.strip().splitlines()[-1])
-    return row("irsim", world, 1, frames, out["wall"], out["rss_mb"], None)
+    return {**row("irsim", world, 1, frames, out["wall"], out["rss_mb"], None), "planner": "dash"}
 
 
 # ---- vwg ----------------------------------------------------------------------------------------------------------
-def vwg_row(world: Any, frames: int, threads: int) -> dict[str, Any]:
+def vwg_row(world: Any, frames: int, threads: int, planner: str) -> dict[str, Any]:
     from vwg.casestudy import CaseStudy
 
     rooms = list(world.rooms)
     goals = {r.id: rooms[k % len(rooms)] for k, r in enumerate(world.robots)}
     settle_memory()
     before = rss_mb()
-    with CaseStudy(world, "astar", goals=goals, sensors=("laser",), threads=threads) as run:
+    with CaseStudy(world, planner, goals=goals, sensors=("laser",), threads=threads) as run:
         run.run(frames=2)  # warm up: first plans, first scans
         first = run.engine.frame
         t0 = time.perf_counter()
@@ -119,7 +121,7 @@ def vwg_row(world: Any, frames: int, threads: int) -> dict[str, Any]:
         wall = time.perf_counter() - t0
         done = run.engine.frame - first
         rss = rss_mb()
-    return row("vwg", world, threads, done, wall, rss, (rss - before) / len(world.robots))
+    return {**row("vwg", world, threads, done, wall, rss, (rss - before) / len(world.robots)), "planner": planner}
 
 
 def row(engine: str, world: Any, threads: int, frames: int, wall: float, rss: float,
@@ -150,32 +152,37 @@ def main() -> None:
     sizes = [("warehouse", 1), ("warehouse", 10), ("warehouse", 100)] + ([] if args.quick else [("rooms500", 1000)])
     frames = {1: 50, 10: 30, 100: 10} if args.quick else {1: 300, 10: 100, 100: 30, 1000: 10}
     irsim_frames = {1: 50, 10: 20, 100: 5} if args.quick else {1: 200, 10: 50, 100: 10}
-    jobs = [(m, n, "vwg", t) for m, n in sizes for t in thread_counts]
-    jobs += [("warehouse", n, "irsim", 1) for n in irsim_frames if args.irsim_python]
+    # A* (the paper's decider) on one thread and every core; Jump Point Search (A*'s path lengths,
+    # fewer cells expanded) on every core.
+    jobs = [(m, n, "vwg", t, "astar") for m, n in sizes for t in thread_counts]
+    jobs += [(m, n, "vwg", cores, "jps") for m, n in sizes]
+    jobs += [("warehouse", n, "irsim", 1, "dash") for n in irsim_frames if args.irsim_python]
     rows = []
     maps = {"warehouse": lambda: None, "rooms500": rooms_world}
-    for name, n, engine, threads in tqdm(jobs, desc="bench_scale", unit="run"):
+    for name, n, engine, threads, planner in tqdm(jobs, desc="bench_scale", unit="run"):
         world = crowd(n, world=maps[name]())
         if len(world.robots) < n:
             print(f"{name} holds {len(world.robots)} robots 0.6 m apart, not {n}: left out", file=sys.stderr)
             continue
         if engine == "vwg":
-            rows.append(vwg_row(world, frames[n], threads))
+            rows.append(vwg_row(world, frames[n], threads, planner))
         elif r := irsim_row(world, irsim_frames[n], args.irsim_python):
             rows.append(r)
-    print(f"{'engine':>6} {'map':>9} {'robots':>6} {'threads':>7} {'robot-steps/s':>14} {'rays/s':>12} "
+    print(f"{'engine':>6} {'planner':>7} {'map':>9} {'robots':>6} {'threads':>7} {'robot-steps/s':>14} {'rays/s':>12} "
           f"{'ms/frame':>9} {'× real time':>11} {'RSS MB':>7} {'MB/robot':>8}")
     for r in rows:
         per = "" if r["rss_per_robot_mb"] is None else f"{r['rss_per_robot_mb']:.2f}"
-        print(f"{r['engine']:>6} {r['map']:>9} {r['n_robots']:>6} {r['threads']:>7} {r['robot_steps_per_s']:>14,.0f} "
+        print(f"{r['engine']:>6} {r['planner']:>7} {r['map']:>9} {r['n_robots']:>6} {r['threads']:>7} "
+              f"{r['robot_steps_per_s']:>14,.0f} "
               f"{r['rays_per_s']:>12,.0f} {r['ms_per_frame']:>9.1f} {r['realtime_factor']:>11.2f} "
               f"{r['rss_mb']:>7.0f} {per:>8}")
-    ratios = {}
+    ratios: dict[str, float] = {}
     for r in rows:
         peer = next((p for p in rows if p["engine"] == "irsim" and p["n_robots"] == r["n_robots"]), None)
         if r["engine"] == "vwg" and r["threads"] == cores and peer:
-            ratios[r["n_robots"]] = r["robot_steps_per_s"] / peer["robot_steps_per_s"]
-            print(f"{r['n_robots']} robots: vwg on {cores} threads {ratios[r['n_robots']]:,.0f}× IR-SIM's "
+            key = f"{r['n_robots']} {r['planner']}"
+            ratios[key] = r["robot_steps_per_s"] / peer["robot_steps_per_s"]
+            print(f"{r['n_robots']} robots: vwg ({r['planner']}, {cores} threads) {ratios[key]:,.0f}× IR-SIM's "
                   "robot-steps/s")
     if not args.irsim_python:
         print("IR-SIM not run: give --irsim-python (make bench-scale installs it in build/bench-irsim)")
@@ -186,7 +193,7 @@ def main() -> None:
     RESULTS.write_text(json.dumps({"machine": platform.machine(), "processor": platform.processor(),
                                    "cores": os.cpu_count(), "python": platform.python_version(),
                                    "quick": args.quick, "threads_compared": thread_counts, "rows": rows,
-                                   "ratio_vwg_to_irsim": {str(k): v for k, v in ratios.items()}}, indent=2) + "\n")
+                                   "ratio_vwg_to_irsim": ratios}, indent=2) + "\n")
     print(f"wrote {RESULTS}")
 
 

@@ -73,16 +73,17 @@ def test_decision_swaps_without_touching_anything_else():
         assert runs[p].run(frames=900).robots[0].reached, p
 
 
-def test_dstar_and_astar_take_paths_of_the_same_length():
+def test_dstar_jps_and_astar_take_paths_of_the_same_length():
     w = world("maze")
     lengths = {}
-    for planner in ("astar", "dstar"):
+    for planner in ("astar", "dstar", "jps"):
         run = CaseStudy(w, planner, goals={1: "dead_end_4" if "dead_end_4" in w.rooms else next(iter(w.rooms))},
                         sensors=("laser",), world_orders=False)
         summary = run.run(frames=3000)
         assert summary.reached
         lengths[planner] = summary.path_length_m
     assert lengths["astar"] == pytest.approx(lengths["dstar"], rel=0.05)
+    assert lengths["astar"] == pytest.approx(lengths["jps"], rel=0.05)
 
 
 def test_ompl_paths_never_cross_an_occupied_cell():

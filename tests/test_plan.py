@@ -130,6 +130,29 @@ def test_astar_movingai_512_maps_sampled(name):
             assert length == pytest.approx(optimal, rel=1e-4, abs=1e-4)
 
 
+@pytest.mark.parametrize("name", ["arena", "den312d", "8room_000"])
+def test_jps_finds_the_published_optimal_lengths(name):
+    # Every scenario of the small maps, one in 10 of the 512 × 512 one (the C++ tests take them all).
+    blocked = read_map(name)
+    scenarios = read_scenarios(name)
+    for i, (start, goal, optimal) in enumerate(scenarios[::10] if len(scenarios) > 1000 else scenarios):
+        path, length = vwg.plan.jps(blocked, start, goal)
+        assert length == pytest.approx(optimal, rel=1e-4, abs=1e-4), (name, i)
+        if i % 10 == 0:
+            assert check_legal(blocked, path, start, goal) == pytest.approx(length, abs=1e-9)
+
+
+def test_jps_no_path_start_is_goal_and_bad_input():
+    blocked = np.zeros((3, 3), dtype=bool)
+    blocked[:, 1] = True
+    assert vwg.plan.jps(blocked, (0, 0), (2, 2)) == (None, math.inf)
+    assert vwg.plan.jps(blocked, (0, 0), (0, 0)) == ([(0, 0)], 0.0)
+    with pytest.raises(vwg.SchemaError, match="start"):
+        vwg.plan.jps(blocked, (0, 1), (2, 2))
+    with pytest.raises(vwg.SchemaError, match="goal"):
+        vwg.plan.jps(blocked, (0, 0), (5, 2))
+
+
 def test_astar_row_order_does_not_matter():
     blocked = read_map("den312d")
     h = blocked.shape[0]

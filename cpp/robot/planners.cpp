@@ -106,6 +106,9 @@ plan::GridPath GridDecider::search(RobotState& s, geometry::Cell start, geometry
     // once, not per search (they stay until the thread ends).
     thread_local plan::AStar astar;
     path = astar.search(s.map.inflated(), start, goal);
+  } else if (algorithm_ == Algorithm::JumpPoint) {
+    thread_local plan::JumpPointSearch jps;  // as A*'s: one per thread
+    path = jps.search(s.map.inflated(), start, goal);
   } else {
     if (!s.dstar || !(s.goal == goal) || s.dstar->grid().rows() != s.map.inflated().rows()) {
       s.dstar.emplace(s.map.inflated(), start, goal);

@@ -17,6 +17,7 @@ Registry<Decider>& deciders() {
     r->add("random", [] { return std::make_shared<RandomDecider>(); });
     r->add("astar", [] { return std::make_shared<GridDecider>(GridDecider::Algorithm::AStar); });
     r->add("dstar", [] { return std::make_shared<GridDecider>(GridDecider::Algorithm::DStarLite); });
+    r->add("jps", [] { return std::make_shared<GridDecider>(GridDecider::Algorithm::JumpPoint); });
     // RRT-Connect stops at its first solution; RRT* improves its path for all its iterations; "prm" is
     // OMPL's LazyPRM (PRM proper builds its roadmap on a second thread and is not reproducible).
     r->add("rrtconnect", [] { return std::make_shared<OmplDecider>("RRTConnect", 20000); });

@@ -153,7 +153,7 @@ def build_parser() -> argparse.ArgumentParser:
     robot.add_argument("--url", help="the rosbridge server of --platform rosbridge (ws://HOST:PORT)")
     robot.add_argument("--port", help="the serial port of --platform serial (/dev/ttyUSB0, socket://HOST:PORT)")
     robot.add_argument("--planner",
-                       help="the decision inside eDecide: random, astar, dstar, rrtconnect, rrtstar, prm "
+                       help="the decision inside eDecide: random, astar, jps, dstar, rrtconnect, rrtstar, prm "
                             "(default astar)")
     robot.add_argument("--goal", action="append", metavar="[ROBOT:]ROOM",
                        help="send a robot (default the first) to a room at the start; repeatable; replaces "

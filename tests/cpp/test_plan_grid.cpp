@@ -1,5 +1,6 @@
 // Grid planners: A* on hand-worked grids and on every MovingAI benchmark scenario (published optimal
-// lengths), D* Lite against A* after changes, and the replanning comparison of the case study.
+// lengths), Jump Point Search on the same and against A*, D* Lite against A* after changes, and the
+// replanning comparison of the case study.
 #include <gtest/gtest.h>
 
 #include <cctype>
@@ -20,6 +21,7 @@
 #include "vwg/error.hpp"
 #include "vwg/plan/astar.hpp"
 #include "vwg/plan/dstar_lite.hpp"
+#include "vwg/plan/jps.hpp"
 #include "vwg/plan/movingai.hpp"
 
 using namespace vwg::plan;
@@ -350,6 +352,83 @@ INSTANTIATE_TEST_SUITE_P(AllMaps, MovingAiScenarios,
                            }
                            return n;
                          });
+
+// --- Jump Point Search: A*'s lengths ---
+
+TEST_P(MovingAiScenarios, JumpPointSearchFindsEveryPublishedOptimalLength) {
+  const auto [name, heuristic] = GetParam();
+  const MovingAiMap map = read_movingai_map(movingai_dir() / (std::string(name) + ".map"));
+  const auto scenarios = read_movingai_scenarios(movingai_dir() / (std::string(name) + ".map.scen"));
+  ASSERT_FALSE(scenarios.empty());
+  const GridSearchOptions o = opts(true, false, heuristic);
+  JumpPointSearch jps;
+  AStar astar_search;
+  std::size_t expanded = 0, astar_expanded = 0, searches = 0;
+  for (std::size_t i = 0; i < scenarios.size(); i += kScenarioStride) {
+    const MovingAiScenario& s = scenarios[i];
+    const GridPath p = jps.search(map.grid, s.start, s.goal, o);
+    expanded += jps.expanded();
+    ++searches;
+    ASSERT_TRUE(p.found()) << name << " scenario " << i;
+    ASSERT_NEAR(p.length, s.optimal_length, 1e-4 * std::max(1.0, s.optimal_length)) << name << " scenario " << i;
+    if (i % 25 == 0) {
+      expect_legal(map.grid, p, s.start, s.goal, o);
+      astar_search.search(map.grid, s.start, s.goal, o);
+      astar_expanded += astar_search.expanded() * 25;
+    }
+  }
+  std::printf("[ counts   ] JPS %s, %s heuristic: %.0f jump points expanded per search (A*: about %.0f cells)\n", name,
+              std::string(heuristic_name(heuristic)).c_str(), static_cast<double>(expanded) / searches,
+              static_cast<double>(astar_expanded) / searches);
+}
+
+TEST(JumpPointSearch, EqualsAStarOnRandomGrids) {
+  std::mt19937 rng(77);
+  JumpPointSearch jps;
+  AStar reference;
+  int found = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    const int rows = 2 + static_cast<int>(rng() % 40), cols = 2 + static_cast<int>(rng() % 40);
+    BlockedGrid g(rows, cols);
+    std::bernoulli_distribution wall(0.05 * (trial % 8));
+    for (int r = 0; r < rows; ++r) {
+      for (int c = 0; c < cols; ++c) g.set_blocked({r, c}, wall(rng));
+    }
+    const Cell start{static_cast<int>(rng() % rows), static_cast<int>(rng() % cols)};
+    const Cell goal{static_cast<int>(rng() % rows), static_cast<int>(rng() % cols)};
+    g.set_blocked(start, false);
+    const GridSearchOptions o = opts(true, false, trial % 2 ? Heuristic::Octile : Heuristic::Euclidean);
+    const GridPath full = reference.search(g, start, goal, o);
+    const GridPath jumped = jps.search(g, start, goal, o);
+    ASSERT_EQ(jumped.found(), full.found()) << "trial " << trial;
+    if (!full.found()) continue;
+    ++found;
+    ASSERT_NEAR(jumped.length, full.length, 1e-9) << "trial " << trial;
+    expect_legal(g, jumped, start, goal, o);
+  }
+  EXPECT_GT(found, 250);
+}
+
+TEST(JumpPointSearch, HandWorkedGrids) {
+  // The wall with one gap (see AStar.WallWithOneGap): 8 + 2√2, through (2, 4).
+  const BlockedGrid g = grid_of({".....", ".....", "####.", ".....", "....."});
+  JumpPointSearch jps;
+  const GridPath p = jps.search(g, {0, 0}, {4, 0});
+  EXPECT_NEAR(p.length, 8.0 + 2.0 * kSqrt2, 1e-12);
+  expect_legal(g, p, {0, 0}, {4, 0}, opts(true, false));
+  // No corner is cut; two cells touching at a corner only are apart; a start that is its goal.
+  EXPECT_EQ(jps.search(grid_of({".#", ".."}), {0, 0}, {1, 1}).cells, (std::vector<Cell>{{0, 0}, {1, 0}, {1, 1}}));
+  EXPECT_FALSE(jps.search(grid_of({".#", "#."}), {0, 0}, {1, 1}).found());
+  EXPECT_EQ(jps.search(g, {1, 2}, {1, 2}).cells, (std::vector<Cell>{{1, 2}}));
+  EXPECT_FALSE(jps.search(g, {0, 0}, {2, 0}).found());  // a blocked goal
+  // An open grid: one diagonal run and one straight run.
+  EXPECT_NEAR(jps.search(BlockedGrid(10, 10), {0, 0}, {3, 9}).length, 3.0 * kSqrt2 + 6.0, 1e-12);
+  // It is for 8-connected moves without corner cutting only; bad cells are named.
+  EXPECT_EQ(schema_field([&] { jps.search(g, {0, 0}, {4, 0}, opts(false, false, Heuristic::Manhattan)); }), "options");
+  EXPECT_EQ(schema_field([&] { jps.search(g, {0, 0}, {4, 0}, opts(true, true)); }), "options");
+  EXPECT_EQ(schema_field([&] { jps.search(g, {2, 0}, {4, 0}); }), "start");
+  EXPECT_EQ(schema_field([&] { jps.search(g, {0, 0}, {9, 0}); }), "goal");
+}
 
 // --- D* Lite ---
 

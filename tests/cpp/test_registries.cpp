@@ -34,17 +34,18 @@ geometry::OccupancyGrid room(int cells, double res) {
 
 TEST(Registries, BuiltInDecidersAreMadeByName) {
   const auto names = robot::deciders().names();
-  for (const char* name : {"random", "astar", "dstar", "rrtconnect", "rrtstar", "prm"}) {
+  for (const char* name : {"random", "astar", "jps", "dstar", "rrtconnect", "rrtstar", "prm"}) {
     EXPECT_NE(std::find(names.begin(), names.end(), name), names.end()) << name;
   }
   EXPECT_EQ(robot::deciders().create("astar")->name(), "astar");
   EXPECT_EQ(robot::deciders().create("dstar")->name(), "dstar");
+  EXPECT_EQ(robot::deciders().create("jps")->name(), "jps");
   EXPECT_NE(robot::deciders().create("astar"), robot::deciders().create("astar"));  // a new one each time
 }
 
 TEST(Registries, UnknownAndDuplicateNamesAreRefusedWithTheKnownOnes) {
   const std::string unknown = error_of([] { robot::deciders().create("dijkstra"); });
-  EXPECT_NE(unknown.find("unknown decider 'dijkstra' (known: astar, dstar, prm, random, rrtconnect, rrtstar"),
+  EXPECT_NE(unknown.find("unknown decider 'dijkstra' (known: astar, dstar, jps, prm, random, rrtconnect, rrtstar"),
             std::string::npos) << unknown;
   const std::string twice = error_of([] { backends().add("trace", [] { return std::make_shared<NullBackend>(); }); });
   EXPECT_NE(twice.find("backend 'trace': is already registered"), std::string::npos) << twice;

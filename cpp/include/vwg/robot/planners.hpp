@@ -1,5 +1,5 @@
-// Deciders that plan: shortest grid paths (A*, or D* Lite repairing its search as obstacles
-// appear) and sampling-based motion planning (OMPL), on the robot's own map inflated by its
+// Deciders that plan: shortest grid paths (A*, Jump Point Search, or D* Lite repairing its search
+// as obstacles appear) and sampling-based motion planning (OMPL), on the robot's own map inflated by its
 // radius. A plan is kept while it stays clear; when the map blocks it, a new one is made (a replan).
 #pragma once
 
@@ -13,6 +13,7 @@
 #include "vwg/plan/astar.hpp"
 #include "vwg/plan/dstar_lite.hpp"
 #include "vwg/plan/grid_graph.hpp"
+#include "vwg/plan/jps.hpp"
 #include "vwg/robot/decider.hpp"
 #include "vwg/robot/planning_map.hpp"
 
@@ -26,10 +27,12 @@ struct SearchStats {
 
 class GridDecider final : public Decider {
  public:
-  enum class Algorithm { AStar, DStarLite };
+  enum class Algorithm { AStar, DStarLite, JumpPoint };
   explicit GridDecider(Algorithm algorithm) : algorithm_(algorithm) {}
   Decision decide(const DecisionInput& in) override;
-  std::string name() const override { return algorithm_ == Algorithm::AStar ? "astar" : "dstar"; }
+  std::string name() const override {
+    return algorithm_ == Algorithm::AStar ? "astar" : algorithm_ == Algorithm::DStarLite ? "dstar" : "jps";
+  }
   /// Each robot's state is its own, and each thread has its own A* work area.
   bool concurrent() const override { return true; }
   double search_seconds() const;

@@ -23,7 +23,7 @@
 
 namespace vwg::robot {
 
-/// Deciders by name: random, astar, dstar, and the OMPL planners rrtconnect, rrtstar and prm
+/// Deciders by name: random, astar, jps (Jump Point Search), dstar, and the OMPL planners rrtconnect, rrtstar and prm
 /// (LazyPRM), bounded by iterations so that a run is the same on any machine.
 Registry<Decider>& deciders();
 
