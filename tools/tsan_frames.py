@@ -1,7 +1,7 @@
 """Robots' frames on four threads under ThreadSanitizer: run by `make tsan` with the extension built
 with -fsanitize=thread (build/tsan) and libtsan preloaded; it fails when TSan reports a data race.
 
-Twelve robots on the warehouse, each with a laser, for each decider that runs side by side (A*,
+Twelve robots on the warehouse, each with a laser, for each decider that runs side by side (A*, JPS,
 D* Lite, random): 40 frames on four threads, the parallel frame path with every shared table of
 ARobot and the deciders in use.
 """
@@ -22,7 +22,7 @@ def main() -> None:
     world = crowd(12)
     rooms = list(world.rooms)
     goals = {r.id: rooms[k % len(rooms)] for k, r in enumerate(world.robots)}
-    for planner in ("astar", "dstar", "random"):
+    for planner in ("astar", "jps", "dstar", "random"):
         with CaseStudy(world, planner, goals=goals, sensors=("laser",), threads=4) as run:
             run.run(frames=40)
             print(f"{planner}: {run.engine.frame} frames on {run.engine.threads} threads", flush=True)

@@ -52,6 +52,11 @@ void RangeScanner::scan(int self, const Pose2& pose, std::span<const double> ang
   // LaserGenerator's are; otherwise every beam is tested).
   const bool windowed = std::is_sorted(angles.begin(), angles.end()) && !angles.empty() &&
                         angles.front() >= -3 * M_PI && angles.back() <= 3 * M_PI;
+  // Beams spanning at most half a turn all lie in the half-plane ahead of their middle direction:
+  // a robot wholly behind that line (its disc, with a margin well above rounding) meets none.
+  const bool half_plane = windowed && angles.back() - angles.front() <= M_PI;
+  const double mid = pose.theta + 0.5 * (windowed ? angles.front() + angles.back() : 0.0);
+  const double mid_x = std::cos(mid), mid_y = std::sin(mid);
   thread_local std::vector<double> dir_x, dir_y;
   thread_local std::vector<std::uint8_t> have;
   dir_x.resize(angles.size());
@@ -64,6 +69,7 @@ void RangeScanner::scan(int self, const Pose2& pose, std::span<const double> ang
     // rounding, so that every robot the exact test below keeps gets to it.
     const double reach = max_range + other.radius;
     if (cx * cx + cy * cy > reach * reach * (1 + 1e-9) + 1e-9) continue;
+    if (half_plane && cx * mid_x + cy * mid_y < -(other.radius + 1e-9 * (std::abs(cx) + std::abs(cy) + 1.0))) continue;
     const double dist = std::hypot(cx, cy);
     if (dist - other.radius > max_range) continue;
     const double r2 = other.radius * other.radius;

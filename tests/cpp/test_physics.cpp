@@ -2,10 +2,16 @@
 // Expected values are worked out by hand in the comments.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <memory>
+#include <random>
+#include <vector>
 
 #include "vwg/error.hpp"
+#include "vwg/sim/laser.hpp"
 #include "vwg/sim/physics.hpp"
+#include "vwg/sim/raycast.hpp"
 
 using namespace vwg::sim;
 
@@ -202,4 +208,49 @@ TEST(Physics, BadRobotsAreRefusedWithTheirField) {
   RobotSettings slow = robot_at(1, 1.0, 1.0);
   slow.limits.max_speed = 0.0;
   refuse({slow}, "max_speed");
+}
+
+TEST(RangeScanner, SkippingRobotsOutOfReachChangesNoRange) {
+  // A crowd in an open 10 × 10 m room. The scanner's shortcuts (far robots by squared distance,
+  // robots behind a scan of at most half a turn, only the beams a disc subtends) must give the
+  // ranges of testing every beam against every robot, which it does when the angles are not
+  // sorted: each scan is compared with the same beams in reverse order, taken back.
+  OccupancyGrid g = make_grid(200, 200, 0.05);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> at(0.6, 9.4), turn(-M_PI, M_PI);
+  std::vector<RobotSettings> robots;
+  while (robots.size() < 60) {
+    RobotSettings r = robot_at(static_cast<int>(robots.size()) + 1, at(rng), at(rng));
+    r.start.theta = turn(rng);
+    r.radius = 0.1 + 0.05 * (r.id % 4);
+    const bool apart = std::all_of(robots.begin(), robots.end(), [&](const RobotSettings& o) {
+      return std::hypot(o.start.x - r.start.x, o.start.y - r.start.y) > o.radius + r.radius + 0.01;
+    });
+    if (apart) robots.push_back(r);
+  }
+  auto world = std::make_shared<PhysicsWorld>(g, robots, PhysicsSettings{});
+  const RangeScanner scanner(std::make_shared<GridRaycaster>(g), world);
+  int nearer_than_walls = 0;
+  for (const double fov : {M_PI / 3, M_PI, 1.5 * M_PI, 2 * M_PI}) {
+    for (const double range : {1.5, 4.0, 12.0}) {
+      LaserSpec spec;
+      spec.beams = 181;
+      spec.fov = fov;
+      spec.max_range = range;
+      const std::vector<double> angles = beam_angles(spec);
+      const std::vector<double> reversed(angles.rbegin(), angles.rend());
+      for (const RobotSettings& r : robots) {
+        std::vector<float> fast(angles.size()), full(angles.size()), walls(angles.size());
+        const Pose2 pose = world->robot(r.id).pose;
+        scanner.scan(r.id, pose, angles, range, fast);
+        scanner.scan(r.id, pose, reversed, range, full);
+        scanner.raycaster().scan(pose, angles, range, walls);
+        for (std::size_t i = 0; i < angles.size(); ++i) {
+          ASSERT_EQ(fast[i], full[angles.size() - 1 - i]) << "robot " << r.id << " beam " << i << " fov " << fov;
+          nearer_than_walls += fast[i] < walls[i];
+        }
+      }
+    }
+  }
+  EXPECT_GT(nearer_than_walls, 1000) << "robots were seen";
 }
