@@ -30,6 +30,17 @@ class EventRouting {
 
   const std::vector<std::uint32_t>& for_type(const SymbolInfo& info) { return index(info).all; }
 
+  /// Whether any event for the actor with `id` is at position `first` of S or later (what
+  /// for_actor would list from there, without merging the lists).
+  bool any_from(const SymbolInfo& info, const std::optional<std::int64_t>& id, std::uint32_t first) {
+    const TypeIndex& t = index(info);
+    auto reaches_first = [first](const std::vector<std::uint32_t>& v) { return !v.empty() && v.back() >= first; };
+    if (reaches_first(t.untargeted)) return true;
+    if (!id) return false;
+    const auto addressed = t.by_target.find(*id);
+    return addressed != t.by_target.end() && reaches_first(addressed->second);
+  }
+
   /// The positions of the events for the actor with `id`, in S order: one of the index's lists,
   /// or `scratch` when two lists have to be merged. Only reads once the type's index is built.
   const std::vector<std::uint32_t>& for_actor(const SymbolInfo& info, const std::optional<std::int64_t>& id,
@@ -167,23 +178,21 @@ class Evolver {
   void evolve_concurrent(const WorldString& w) {
     const auto nodes = w.nodes();
     std::vector<std::size_t> chosen;
-    std::vector<std::uint32_t> scratch;
+    std::vector<std::int64_t> ids;
     for (std::size_t i = 0; i < nodes.size(); ++i) {
       if (nodes[i].kind != NodeKind::Actor) continue;
       const SymbolInfo& info = w.alphabet().symbol(nodes[i].symbol);
       if (!info.behavior || info.behavior->batched() || !info.behavior->concurrent()) continue;
-      if (routing_.for_actor(info, id_of(w, i, info), scratch).empty()) continue;
+      const std::optional<std::int64_t> id = id_of(w, i, info);
+      if (!routing_.any_from(info, id, 0)) continue;
       chosen.push_back(i);
+      if (id) ids.push_back(*id);
     }
+    if (chosen.size() < 2) return;
     // Two actors with the same id may share what their behaviours keep per id (two actor types
     // can share a decider): such a string runs on one thread.
-    std::vector<std::int64_t> ids;
-    for (std::size_t i : chosen) {
-      if (const auto id = id_of(w, i, w.alphabet().symbol(nodes[i].symbol))) ids.push_back(*id);
-    }
     std::sort(ids.begin(), ids.end());
     if (std::adjacent_find(ids.begin(), ids.end()) != ids.end()) return;
-    if (chosen.size() < 2) return;
     evolved_.clear();
     evolved_.reserve(chosen.size());
     for (std::size_t i : chosen) {
@@ -260,9 +269,7 @@ class Evolver {
       return;
     }
     const SymbolInfo& info = w.alphabet().symbol(w.nodes()[i].symbol);
-    Level& L = level(depth, w.alphabet_ptr());
-    const auto& relevant = routing_.for_actor(info, id_of(w, i, info), L.scratch);
-    if (!info.behavior || std::lower_bound(relevant.begin(), relevant.end(), first_event) == relevant.end()) {
+    if (!info.behavior || !routing_.any_from(info, id_of(w, i, info), first_event)) {
       out.append_node(w, i);  // no event in H reaches it: unchanged (eq. 4, last case)
       return;
     }
@@ -273,6 +280,7 @@ class Evolver {
     }
     // Only the actors of the engine's own string (depth 0) are edited in place: a replacement
     // string made this frame is not the engine's.
+    Level& L = level(depth, w.alphabet_ptr());
     std::optional<WorldString> replaced;
     std::uint32_t resume = 0;
     lambda(w, i, first_event, depth, L, depth == 0 ? journal_ : nullptr, replaced, resume);
