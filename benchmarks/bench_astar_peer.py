@@ -14,13 +14,12 @@ of steps of every path is checked equal.
 from __future__ import annotations
 
 import argparse
-import json
-import platform
 import sys
 import time
 from pathlib import Path
 
 import numpy as np
+from machine import write_results
 from tqdm import tqdm
 
 import vwg
@@ -91,10 +90,7 @@ def main() -> int:
     for r in rows:
         print(f"{r['map']:<20} {r['queries']:>7} {r['vwg_ms']:8.3f} {r['dstar_first_plan_ms']:11.3f} "
               f"{r['pyastar2d_ms']:13.3f} {r['speed_ratio']:16.2f} {r['dstar_speed_ratio']:21.2f}")
-    RESULTS.parent.mkdir(parents=True, exist_ok=True)
-    RESULTS.write_text(json.dumps({"machine": platform.machine(), "python": platform.python_version(),
-                                   "quick": args.quick, "rows": rows}, indent=2) + "\n")
-    print(f"wrote {RESULTS}")
+    write_results(RESULTS, quick=args.quick, rows=rows)
     return 0
 
 

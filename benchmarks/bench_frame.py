@@ -14,13 +14,12 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
-import json
 import math
-import platform
 import time
 from pathlib import Path
 
 import numpy as np
+from machine import write_results
 from tqdm import tqdm
 
 import vwg
@@ -136,12 +135,7 @@ def main() -> None:
         print(f"{r['robots']:>6} {r['planner']:>8} {r['robot_steps_per_s']:>14,.0f} "
               f"{r['plain_robot_steps_per_s']:>11,.0f} {r['ratio_to_plain']:>6.2f}")
     out = RESULTS.with_name("bench_frame_long.json") if args.long else RESULTS
-    out.parent.mkdir(parents=True, exist_ok=True)
-    out.write_text(json.dumps({"machine": platform.machine(), "processor": platform.processor(),
-                                   "python": platform.python_version(), "quick": args.quick, "long": args.long,
-                                   "rows": rows},
-                                  indent=2) + "\n")
-    print(f"wrote {out}")
+    write_results(out, quick=args.quick, long=args.long, rows=rows)
 
 
 if __name__ == "__main__":

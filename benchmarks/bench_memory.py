@@ -12,9 +12,6 @@ from __future__ import annotations
 
 import argparse
 import gc
-import json
-import os
-import platform
 import sys
 from pathlib import Path
 
@@ -22,15 +19,11 @@ from tqdm import tqdm
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from bench_frame import crowd
+from machine import rss_mb, write_results
 
 from vwg.casestudy import CaseStudy
 
 RESULTS = Path(__file__).resolve().parent / "results" / "bench_memory.json"
-
-
-def rss_mb() -> float:
-    pages = int(Path("/proc/self/statm").read_text().split()[1])
-    return pages * os.sysconf("SC_PAGE_SIZE") / 2**20
 
 
 def main() -> int:
@@ -60,10 +53,7 @@ def main() -> int:
     for r in rows:
         print(f"{r['robots']:>6} {r['frames']:>6} {r['mb_per_robot']:9.2f} {r['map_cells'] * 2 / 2**20:10.2f} MB "
               f"{r['growth_after_20_frames_mb']:11.1f} MB")
-    RESULTS.parent.mkdir(parents=True, exist_ok=True)
-    RESULTS.write_text(json.dumps({"machine": platform.machine(), "python": platform.python_version(),
-                                   "quick": args.quick, "rows": rows}, indent=2) + "\n")
-    print(f"wrote {RESULTS}")
+    write_results(RESULTS, quick=args.quick, rows=rows)
     return 0
 
 

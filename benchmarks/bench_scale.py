@@ -23,13 +23,14 @@ import argparse
 import json
 import math
 import os
-import platform
 import subprocess
 import sys
 import tempfile
 import time
 from pathlib import Path
 from typing import Any
+
+from machine import rss_mb, write_results
 
 RESULTS = Path(__file__).resolve().parent / "results" / "bench_scale.json"
 BEAMS, FOV, RANGE, DT = 180, math.pi, 10.0, 0.1
@@ -42,12 +43,6 @@ def settle_memory() -> None:
 
     gc.collect()
     ctypes.CDLL("libc.so.6").malloc_trim(0)
-
-
-def rss_mb() -> float:
-    """The process's resident memory now."""
-    with open("/proc/self/status") as status:
-        return next(int(line.split()[1]) for line in status if line.startswith("VmRSS:")) / 1024
 
 
 # ---- IR-SIM, in its own interpreter ---------------------------------------------------------------------------------
@@ -140,7 +135,6 @@ def main() -> None:
                         help="the interpreter of an environment with ir-sim installed")
     args = parser.parse_args()
 
-    sys.path.insert(0, str(Path(__file__).resolve().parent))
     from bench_frame import crowd, rooms_world
     from tqdm import tqdm
 
@@ -189,12 +183,7 @@ def main() -> None:
     print("10,000 robots: left out. A map that holds them 0.6 m apart is about 100 × 100 m (2,000 × 2,000 cells), and "
           "each robot keeps its own map of it with its planning grids (the MB/robot column, for 500 × 500 cells): "
           "far more memory than this machine has. Robot maps shared copy-on-write by tiles would lift this.")
-    RESULTS.parent.mkdir(parents=True, exist_ok=True)
-    RESULTS.write_text(json.dumps({"machine": platform.machine(), "processor": platform.processor(),
-                                   "cores": os.cpu_count(), "python": platform.python_version(),
-                                   "quick": args.quick, "threads_compared": thread_counts, "rows": rows,
-                                   "ratio_vwg_to_irsim": ratios}, indent=2) + "\n")
-    print(f"wrote {RESULTS}")
+    write_results(RESULTS, quick=args.quick, threads_compared=thread_counts, rows=rows, ratio_vwg_to_irsim=ratios)
 
 
 if __name__ == "__main__":
