@@ -35,6 +35,11 @@ std::int32_t JumpPointSearch::jump(std::int32_t at, int dc, int dr) const {
   }
 }
 
+void JumpPointSearch::direction(std::int32_t from, std::int32_t to, int& dc, int& dr) const {
+  dr = (to / stride_ > from / stride_) - (to / stride_ < from / stride_);
+  dc = (to % stride_ > from % stride_) - (to % stride_ < from % stride_);
+}
+
 void JumpPointSearch::relax(std::int32_t from, std::int32_t to) {
   const std::uint32_t open = stamp_, closed = stamp_ + 1;
   if (marks_[to] == closed) return;
@@ -112,8 +117,8 @@ GridPath JumpPointSearch::search(const BlockedGrid& grid, Cell start, Cell goal,
         }
       }
     } else {
-      const int dr = (u / stride_ > p / stride_) - (u / stride_ < p / stride_);
-      const int dc = (u % stride_ > p % stride_) - (u % stride_ < p % stride_);
+      int dc, dr;
+      direction(p, u, dc, dr);
       if (dc != 0 && dr != 0) {
         const bool across = free(u + dc), along = free(u + dr * stride_);
         if (along) add(0, dr);
@@ -147,26 +152,22 @@ GridPath JumpPointSearch::search(const BlockedGrid& grid, Cell start, Cell goal,
   }
   if (!found) return result;
 
-  // The jump points, from the goal back; then every cell between them (straight or diagonal runs).
+  // The jump points, from the goal back; then every cell between them (straight or diagonal runs),
+  // and the length as A* adds it up, move by move from the start (a diagonal run's k·√2 would
+  // differ from k additions of √2 in the last bits).
   std::vector<std::int32_t> points;
   for (std::int32_t v = goal_; v != -1; v = parent_[v]) points.push_back(v);
   std::reverse(points.begin(), points.end());
   result.cells.push_back(grid.cell(points.front()));
+  result.length = 0.0;
   for (std::size_t i = 1; i < points.size(); ++i) {
-    const std::int32_t from = points[i - 1], to = points[i];
-    const int dr = (to / stride_ > from / stride_) - (to / stride_ < from / stride_);
-    const int dc = (to % stride_ > from % stride_) - (to % stride_ < from % stride_);
-    for (std::int32_t at = from; at != to;) {
+    int dc, dr;
+    direction(points[i - 1], points[i], dc, dr);
+    for (std::int32_t at = points[i - 1]; at != points[i];) {
       at += dc + dr * stride_;
       result.cells.push_back(grid.cell(at));
+      result.length += dc != 0 && dr != 0 ? kDiagonalCost : 1.0;
     }
-  }
-  // The length as A* adds it up, move by move from the start (a diagonal run's k·√2 would differ
-  // from k additions of √2 in the last bits).
-  result.length = 0.0;
-  for (std::size_t i = 1; i < result.cells.size(); ++i) {
-    const bool diagonal = result.cells[i].row != result.cells[i - 1].row && result.cells[i].col != result.cells[i - 1].col;
-    result.length += diagonal ? kDiagonalCost : 1.0;
   }
   return result;
 }

@@ -30,6 +30,8 @@ class JumpPointSearch {
   std::int32_t jump(std::int32_t from, int dc, int dr) const;
   std::int32_t jump_straight(std::int32_t from, std::int32_t step, int dc) const;
   void relax(std::int32_t from, std::int32_t to);
+  /// The step (-1, 0 or 1 in columns and rows) from padded index `from` towards `to`.
+  void direction(std::int32_t from, std::int32_t to, int& dc, int& dr) const;
   bool free(std::int32_t i) const { return blocked_[i] == 0; }
 
   struct Entry {
