@@ -28,6 +28,7 @@ from . import _core
 from .engine import Engine
 from .errors import SchemaError
 from .generators import every_frame
+from .maps import OccupancyGrid
 from .registry import deciders, platforms
 from .robotworld import PlatformSpec, RobotWorld
 from .sim import MOTION_SYMBOLS, Simulation
@@ -165,7 +166,9 @@ class CaseStudy:
     a robot without a Kinect in the world file gets none; sensors come from vwg.registry.sensors);
     ``video``/``images`` record a view; ``backends`` adds backends after the simulator (or factories
     given the Simulation);
-    ``knows_map=False`` starts the robots with empty grids (eq. 13); ``platform`` names where the
+    ``knows_map=False`` starts the robots with empty grids (eq. 13); ``known_map`` is the map they start
+    with instead of the world's (the world changed since it was drawn: they find out with their sensors);
+    ``platform`` names where the
     robots run (default: the world file's ``platform``, the simulator); ``threads`` (0: the machine's
     cores) run the robots' lasers and decisions side by side, with the same frames for any count."""
 
@@ -173,11 +176,15 @@ class CaseStudy:
                  goals: Mapping[int, str] | None = None, seed: int | None = None, frames: int | None = None,
                  sensors: Iterable[str] | None = None, video: str | Path | None = None,
                  images: str | Path | None = None, view_width: int = 800, max_symbols: int = 0, threads: int = 0,
-                 world_orders: bool | None = None, knows_map: bool = True,
+                 world_orders: bool | None = None, knows_map: bool = True, known_map: OccupancyGrid | None = None,
                  backends: Iterable[_core.Backend | Callable[[Simulation], _core.Backend]] = (),
                  platform: str | PlatformSpec | None = None) -> None:
         self.world = world
         self.knows_map = knows_map
+        if known_map is not None and known_map.data.shape != world.grid.data.shape:
+            raise SchemaError(f"known_map: expected a map of the world's size {world.grid.data.shape}, "
+                              f"got {known_map.data.shape}")
+        self.known_map = world.grid if known_map is None else known_map
         self.seed = world.seed if seed is None else seed
         self.frames = world.frames if frames is None else frames
         self.decider = make_decider(planner)
@@ -236,7 +243,7 @@ class CaseStudy:
         for robot in self.world.robots:
             x, y, yaw = robot.start
             row, col = self.world.grid.world_to_cell(x, y)
-            grid = _core.robot_map(self.world.grid, self.knows_map)
+            grid = _core.robot_map(self.known_map, self.knows_map)
             parts.append(Sym("ARobot", id=robot.id, grid=grid, row=row, column=col, angle=float(yaw), x=float(x),
                              y=float(y)))
         return self.vworld.string(*parts)

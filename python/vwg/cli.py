@@ -1,5 +1,6 @@
 """The ``vwg`` command: ``run`` a world file (or a shipped world by name), ``replay`` a record, ``check``
-a world file, draw a robot world in 3D (``overview``), list the shipped ``worlds``.
+a world file, draw a robot world in 3D (``overview``), list the shipped ``worlds``, run a ``sweep``
+of many runs on Dask.
 
 Exit status: 0 on success; 1 when a frame failed (an error in an actor, generator or backend); 2 for
 bad input (a file, an option); 3 when ``vwg run`` finished but a robot with an order did not reach
@@ -99,6 +100,18 @@ def _cmd_check(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_sweep(args: argparse.Namespace) -> int:
+    from .sweep import load_spec, run_sweep
+
+    spec = load_spec(args.spec)
+    if args.workers is not None and not 1 <= args.workers <= 1024:
+        raise Error(f"--workers: expected 1 to 1024 worker processes, got {args.workers}")
+    result = run_sweep(spec, args.output, scheduler=args.scheduler, workers=args.workers, progress=args.progress)
+    print(f"vwg sweep {args.spec}: {result.cells} cells, {result.done_before} already in {result.out}, "
+          f"{result.ran} run now" + (f" ({result.failed} with a failed frame)" if result.failed else ""))
+    return 0
+
+
 def _cmd_overview(args: argparse.Namespace) -> int:
     from .overview import render_world_overview
     from .robotworld import load_robot_world
@@ -180,6 +193,18 @@ def build_parser() -> argparse.ArgumentParser:
     rep.add_argument("--world", type=Path, help="the world file (default: the one the record names)")
     rep.add_argument("--backend", help="show the replay on this backend (e.g. trace)")
     rep.set_defaults(func=_cmd_replay)
+
+    swp = sub.add_parser("sweep", help="run worlds × planners × seeds × parameters on Dask, into a CSV",
+                         description="Run every cell of a sweep SPEC (YAML: worlds, planners, seeds, frames, "
+                                     "params) on Dask, appending a CSV row per cell as it finishes; a rerun skips "
+                                     "the cells the CSV holds.")
+    swp.add_argument("spec", type=Path, help="the sweep's SPEC file (YAML)")
+    swp.add_argument("-o", "--output", type=Path, required=True, help="the results CSV (appended to; resumable)")
+    swp.add_argument("--scheduler", help="a running Dask scheduler (tcp://HOST:PORT); default: a local cluster")
+    swp.add_argument("--workers", type=int, help="worker processes of the local cluster (default: the cores)")
+    swp.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
+                     help="show a progress bar (default: on a terminal)")
+    swp.set_defaults(func=_cmd_sweep)
 
     ovw = sub.add_parser("overview", help="draw a robot world's map in 3D (the paper's Fig. 5)",
                          description="Draw a robot world in 3D: walls extruded, markers, robots at their starts.")

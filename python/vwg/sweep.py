@@ -1,0 +1,249 @@
+"""Sweeps: the cartesian product of worlds × planners × seeds × parameter grids, run on Dask.
+
+    vwg sweep SPEC.yaml -o results.csv [--scheduler tcp://HOST:PORT] [--workers N]
+
+A SPEC is YAML::
+
+    worlds: [office, maze]          # shipped names, or files (relative to the SPEC's folder)
+    planners: [random, astar]
+    seeds: 10                       # 0..9; or a list: [3, 7]
+    frames: 600                     # the frame limit of every run
+    params:                         # optional: each key a list of values (vwg.trial.KNOWN_PARAMS)
+      task: [random]
+      sensors: [[laser], [kinect]]
+
+Each cell is a vwg.trial.Trial, sent to a worker as plain data (the worker builds its own engine);
+each worker runs one cell at a time on one thread. Dask (``dask.distributed``) does the distributing:
+a local cluster of one process per core by default, or the scheduler given. Rows are appended to
+the CSV as cells finish (vwg.trial.COLUMNS); a rerun reads the CSV, skips the cells it holds and
+finishes at once when none is left, so a stopped sweep resumes where it was.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import csv
+import itertools
+import math
+import os
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from .errors import Error, SchemaError
+from .trial import COLUMNS, KNOWN_PARAMS, Trial, check_params, run_trial
+from .yamldoc import YamlDoc
+
+__all__ = ["SweepResult", "SweepSpec", "finished_keys", "load_spec", "run_sweep"]
+
+SPEC_KEYS = ("worlds", "planners", "seeds", "frames", "params")
+MAX_CELLS = 1_000_000
+
+
+@dataclass
+class SweepSpec:
+    """What a sweep runs; ``trials()`` lists its cells in a fixed order."""
+
+    worlds: list[str]
+    planners: list[str]
+    seeds: list[int]
+    frames: int
+    params: dict[str, list[Any]] = field(default_factory=dict)
+
+    def trials(self) -> list[Trial]:
+        names = list(self.params)
+        grids = [self.params[n] for n in names]
+        return [Trial(world, planner, seed, self.frames, dict(zip(names, values, strict=True)))
+                for world, planner, values, seed in itertools.product(self.worlds, self.planners,
+                                                                      itertools.product(*grids), self.seeds)]
+
+    def __len__(self) -> int:
+        return len(self.worlds) * len(self.planners) * len(self.seeds) * math.prod(len(v) for v in self.params.values())
+
+
+def load_spec(path: str | Path) -> SweepSpec:
+    """Read and check a SPEC file; errors name the file, line and field."""
+    from .registry import deciders
+
+    doc = YamlDoc(path)
+    base = Path(path).resolve().parent
+    if not isinstance(doc.data, dict):
+        raise doc.error((), f"expected a mapping with {', '.join(SPEC_KEYS)}, got {type(doc.data).__name__}")
+    for key in doc.data:
+        if key not in SPEC_KEYS:
+            raise doc.error((key,), f"unknown key (expected: {', '.join(SPEC_KEYS)})")
+    worlds = []
+    for i, name in enumerate(_nonempty_list(doc, ("worlds",))):
+        if not isinstance(name, str):
+            raise doc.error(("worlds", i), f"expected a world file or a shipped world's name, got {name!r}")
+        try:
+            worlds.append(_world_name(name, base))
+        except Error as e:
+            raise doc.error(("worlds", i), str(e)) from None
+    planners = []
+    for i, name in enumerate(_nonempty_list(doc, ("planners",))):
+        if not isinstance(name, str) or name.lower() not in deciders:
+            raise doc.error(("planners", i), f"unknown planner {name!r} (known: {', '.join(deciders)})")
+        planners.append(name.lower())
+    raw_seeds = doc.get(("seeds",), (int, list))
+    if isinstance(raw_seeds, int):
+        if not 1 <= raw_seeds <= MAX_CELLS:
+            raise doc.error(("seeds",), f"expected a count of seeds from 1 to {MAX_CELLS} (or a list), got {raw_seeds}")
+        seeds = list(range(raw_seeds))
+    else:
+        seeds = [doc.number(("seeds", i), integer=True, minimum=0, maximum=2**63 - 1) for i in range(len(raw_seeds))]
+        if not seeds:
+            raise doc.error(("seeds",), "expected at least one seed")
+    frames = doc.number(("frames",), integer=True, minimum=1, maximum=10_000_000)
+    params: dict[str, list[Any]] = {}
+    for name in doc.get(("params",), dict, default={}):
+        if name not in KNOWN_PARAMS:
+            raise doc.error(("params", name), f"unknown parameter (known: {', '.join(KNOWN_PARAMS)})")
+        values = _nonempty_list(doc, ("params", name))
+        for i, value in enumerate(values):
+            try:
+                check_params({name: value}, "params")
+            except SchemaError as e:
+                raise doc.error(("params", name, i), str(e).split(": ", 1)[1]) from None
+        params[name] = values
+    spec = SweepSpec(worlds, planners, seeds, frames, params)
+    if len(spec) > MAX_CELLS:
+        raise doc.error((), f"{len(spec)} cells: more than {MAX_CELLS}")
+    return spec
+
+
+def _nonempty_list(doc: YamlDoc, path: tuple[Any, ...]) -> list[Any]:
+    value = doc.get(path, list)
+    if not value:
+        raise doc.error(path, "expected a non-empty list")
+    return value
+
+
+def _world_name(name: str, base: Path) -> str:
+    """How a cell names its world: a file's absolute path (relative names are taken from the SPEC's
+    folder), or a shipped world's name (it travels by name: a worker may have vwg installed elsewhere)."""
+    from .worlds import shipped_world, shipped_worlds
+
+    local = base / Path(name).expanduser()
+    if local.is_file():
+        return str(local)
+    if local.exists():
+        raise Error(f"{local}: is not a file (expected a robot world file, .yaml)")
+    if Path(name).parent == Path(".") and shipped_world(name) is not None:
+        return name.removesuffix(".yaml")
+    raise Error(f"{name}: no file {local}, and no shipped world of that name (shipped: {', '.join(shipped_worlds())})")
+
+
+def finished_keys(out: Path) -> set[tuple[str, ...]]:
+    """The cells a results file holds already (their first five columns)."""
+    if not out.exists() or out.stat().st_size == 0:
+        return set()
+    with out.open(newline="", encoding="utf-8") as f:
+        reader = csv.reader(f)
+        header = next(reader, None)
+        if header != list(COLUMNS):
+            raise Error(f"{out}: not a results file of vwg sweep (its header is not {','.join(COLUMNS)}); "
+                        "name another file with -o")
+        # A row cut short by a stop in the middle of writing is not finished: it runs again.
+        return {tuple(row[:5]) for row in reader if len(row) == len(COLUMNS)}
+
+
+@dataclass
+class SweepResult:
+    cells: int      # in the spec
+    done_before: int  # found in the results file
+    ran: int        # run now
+    failed: int     # of those, rows with an error
+    out: Path
+
+
+def run_sweep(spec: SweepSpec, out: str | Path, *, scheduler: str | None = None, workers: int | None = None,
+              progress: bool | None = None, on_row: Callable[[dict[str, Any]], None] | None = None) -> SweepResult:
+    """Run the cells of `spec` not yet in `out` on Dask, appending a row per cell as it finishes."""
+    out = Path(out)
+    trials = spec.trials()
+    done = finished_keys(out)
+    todo = [t for t in trials if t.key not in done]
+    result = SweepResult(len(trials), len(trials) - len(todo), 0, 0, out)
+    if not todo:
+        return result
+    _repair_tail(out)
+    new_file = not out.exists() or out.stat().st_size == 0
+    out.parent.mkdir(parents=True, exist_ok=True)
+    with out.open("a", newline="", encoding="utf-8") as f, _client(scheduler, workers) as client:
+        writer = csv.DictWriter(f, fieldnames=COLUMNS)
+        if new_file:
+            writer.writeheader()
+            f.flush()
+        for row in _progress(_results(client, todo), len(todo), progress):
+            writer.writerow(row)
+            f.flush()  # a stop loses no finished cell
+            result.ran += 1
+            result.failed += bool(row["error"])
+            if on_row is not None:
+                on_row(row)
+    return result
+
+
+def _repair_tail(out: Path) -> None:
+    """End a results file cut in the middle of a line with a newline, so the next row starts on its own."""
+    if out.exists() and out.stat().st_size:
+        with out.open("rb+") as f:
+            f.seek(-1, os.SEEK_END)
+            if f.read(1) != b"\n":
+                f.write(b"\n")
+
+
+def _results(client: Any, trials: list[Trial]) -> Iterator[dict[str, Any]]:
+    from dask.distributed import as_completed
+
+    # Plain dicts go to the workers; each cell is its own task (pure=False: never merged or cached).
+    futures = [client.submit(run_trial, _plain(t), pure=False, key=f"vwg-cell-{i}") for i, t in enumerate(trials)]
+    for future in as_completed(futures):
+        yield future.result()
+        future.release()
+
+
+def _plain(trial: Trial) -> dict[str, Any]:
+    return {"world": trial.world, "planner": trial.planner, "seed": trial.seed, "frames": trial.frames,
+            "params": dict(trial.params)}
+
+
+@contextlib.contextmanager
+def _client(scheduler: str | None, workers: int | None) -> Iterator[Any]:
+    """A Dask client: on the scheduler given, or on a local cluster of `workers` processes (default:
+    the machine's cores) of one thread each, on 127.0.0.1, closed afterwards."""
+    try:
+        from dask.distributed import Client, LocalCluster
+    except ImportError:
+        raise Error("vwg sweep runs on Dask: pip install 'vwg[sweep]' (dask[distributed])") from None
+    if scheduler:
+        try:
+            client = Client(scheduler, timeout="10s")
+        except OSError as e:
+            raise Error(f"--scheduler {scheduler}: cannot reach the Dask scheduler ({e})") from None
+        with client:
+            yield client
+        return
+    n = workers or os.cpu_count() or 1
+    with LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None, host="127.0.0.1",
+                      silence_logs=40) as cluster, Client(cluster) as client:
+        yield client
+
+
+def _progress(rows: Iterator[dict[str, Any]], total: int, show: bool | None) -> Iterator[dict[str, Any]]:
+    import sys
+
+    from tqdm import tqdm
+
+    disable = not sys.stderr.isatty() if show is None else not show
+    with tqdm(total=total, desc="cells", unit="cell", disable=disable) as bar:
+        for row in rows:
+            yield row
+            bar.update(1)
+
+
+def describe_params() -> str:
+    """The parameters a SPEC's params may set, one per line."""
+    return "\n".join(f"  {name}: {meaning}" for name, (_, meaning) in KNOWN_PARAMS.items())

@@ -1,0 +1,328 @@
+"""One run of a robot world from a plain configuration: a sweep's cell (vwg.sweep) and an experiment's
+unit (vwg.experiments). A Trial is plain data (strings, numbers, lists), so it travels to a Dask worker
+as it is and the worker builds its own engine from it; the same Trial gives the same row anywhere
+(every column but the timings).
+
+    row = run_trial(Trial(world="office", planner="astar", seed=3, frames=600,
+                          params={"task": "random", "robots": 2, "sensors": ["laser"]}))
+
+Parameters (``params``; all optional):
+
+- ``task``: ``world`` (default) runs the world file's robots and orders; ``random`` puts the robots at
+  free places drawn from the seed and sends each to a room drawn from the seed (one it can reach).
+- ``robots``: how many robots: the world file's first N, or with ``task: random`` N new ones.
+- ``sensors``: the sensors every robot carries (``[laser]``, ``[kinect]``, ``[laser, kinect]``, ...).
+- ``odometry_noise``, ``motor_noise``: the simulator's noise (vwg.sim.NoiseModel's fields).
+- ``knows_map``: false starts the robots with empty maps (they learn the walls with their sensors).
+- ``obstacles``: boxes (0.5 m) put on the first robot's shortest way after the map was drawn: the
+  robots start with the map without them and find them with their sensors (the world changed).
+
+The row: ``world, planner, seed, frames_limit, params`` (the cell), then ``reached`` (every ordered robot
+reached its room), ``frames``, ``path_length_m`` (driven, all robots), ``optimal_m`` (the sum of the
+ordered robots' shortest ways from start to room, by vwg.shortest; empty when a robot has several
+orders), ``collisions``, ``replans``, ``robots``, ``reached_robots``, ``planning_s`` (the decider's
+search time, where it counts it), ``wall_s`` and ``error`` (a failed frame's message; empty if none).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import json
+import math
+import time
+from collections import OrderedDict
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from .errors import Error, SchemaError
+
+__all__ = ["COLUMNS", "KNOWN_PARAMS", "Trial", "run_trial", "trial_world"]
+
+#: The columns of a trial's row, in order (the first five name the cell).
+COLUMNS = ("world", "planner", "seed", "frames_limit", "params", "reached", "frames", "path_length_m", "optimal_m",
+           "collisions", "replans", "robots", "reached_robots", "planning_s", "wall_s", "error")
+
+#: Parameter -> (accepted types, meaning).
+KNOWN_PARAMS: dict[str, tuple[tuple[type, ...], str]] = {
+    "task": ((str,), "world (the file's robots and orders) or random (seeded starts and rooms)"),
+    "robots": ((int,), "number of robots"),
+    "sensors": ((list,), "the sensors every robot carries"),
+    "odometry_noise": ((int, float), "odometry drift per metre and per radian"),
+    "motor_noise": ((int, float), "relative noise of each commanded motion"),
+    "knows_map": ((bool,), "whether the robots start with the map"),
+    "obstacles": ((int,), "boxes added on the first robot's way, not on its map"),
+}
+
+BOX_M = 0.5  # the side of an added obstacle
+SPACING_M = 0.6  # the least distance between two random starts
+
+
+@dataclass(frozen=True)
+class Trial:
+    """One run: a world (a file or a shipped world's name), a planner, a seed, a frame limit, parameters."""
+
+    world: str
+    planner: str
+    seed: int
+    frames: int
+    params: dict[str, Any] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        check_params(self.params, "params")
+        if isinstance(self.seed, bool) or not isinstance(self.seed, int) or not 0 <= self.seed < 2**63:
+            raise SchemaError(f"seed: expected an integer from 0 to 2**63 - 1, got {self.seed!r}")
+        if isinstance(self.frames, bool) or not isinstance(self.frames, int) or not 1 <= self.frames <= 10_000_000:
+            raise SchemaError(f"frames: expected an integer from 1 to 10000000, got {self.frames!r}")
+
+    @property
+    def params_text(self) -> str:
+        """The parameters as canonical JSON (sorted keys): the cell's name for them in a CSV."""
+        return json.dumps(self.params, sort_keys=True, separators=(",", ":"))
+
+    @property
+    def key(self) -> tuple[str, str, str, str, str]:
+        """What names the cell in a results file (the row's first five columns, as text)."""
+        return (self.world, self.planner, str(self.seed), str(self.frames), self.params_text)
+
+
+def check_params(params: dict[str, Any], where: str) -> None:
+    """Refuse unknown parameters and values of the wrong kind, naming them (`where` says whose)."""
+    for name, value in params.items():
+        if name not in KNOWN_PARAMS:
+            raise SchemaError(f"{where}.{name}: unknown parameter (known: {', '.join(KNOWN_PARAMS)})")
+        kinds, meaning = KNOWN_PARAMS[name]
+        if (isinstance(value, bool) and bool not in kinds) or not isinstance(value, kinds):
+            raise SchemaError(f"{where}.{name}: expected {meaning} ({' or '.join(k.__name__ for k in kinds)}), "
+                              f"got {value!r}")
+    task = params.get("task", "world")
+    if task not in ("world", "random"):
+        raise SchemaError(f"{where}.task: expected world or random, got {task!r}")
+    for name in ("robots", "obstacles"):
+        if name in params and not 0 <= params[name] <= 100_000:
+            raise SchemaError(f"{where}.{name}: expected 0 to 100000, got {params[name]!r}")
+    if params.get("robots") == 0:
+        raise SchemaError(f"{where}.robots: expected at least 1 robot")
+    for name in ("odometry_noise", "motor_noise"):
+        if name in params and not (math.isfinite(params[name]) and 0 <= params[name] <= 1):
+            raise SchemaError(f"{where}.{name}: expected a number from 0 to 1, got {params[name]!r}")
+    if "sensors" in params:
+        from .registry import sensors
+
+        if not params["sensors"]:
+            raise SchemaError(f"{where}.sensors: expected at least one sensor")
+        for s in params["sensors"]:
+            if s not in sensors:
+                raise SchemaError(f"{where}.sensors: unknown sensor {s!r} (registered: {', '.join(sensors)})")
+
+
+# ---- the world of a trial ------------------------------------------------------------------------------
+@functools.lru_cache(maxsize=8)
+def _world(path: str) -> Any:
+    from .robotworld import load_robot_world
+    from .worlds import resolve_world
+
+    return load_robot_world(resolve_world(path))
+
+
+_fields: OrderedDict[tuple[bytes, float, tuple[float, float]], Any] = OrderedDict()
+_graph: dict[tuple[bytes, float], Any] = {}
+
+
+def _field(grid: Any, radius: float, goal: tuple[float, float]) -> Any:
+    """The distance field to `goal` on `grid` for a robot of `radius`, cached (the last 64): a sweep
+    runs many cells on the same maps and rooms."""
+    import hashlib
+
+    from .shortest import DistanceField, grid_graph
+
+    grid_key = hashlib.sha1(grid.data.tobytes() + repr((grid.resolution, grid.origin)).encode()).digest()
+    key = (grid_key, radius, goal)
+    if key in _fields:
+        _fields.move_to_end(key)
+        return _fields[key]
+    blocked = grid.inflate(radius)
+    graph = _graph.get((grid_key, radius))
+    if graph is None:
+        _graph.clear()  # one graph kept: they are large (Willow's has 11 M edges)
+        graph = _graph[(grid_key, radius)] = grid_graph(blocked)
+    field_ = _fields[key] = DistanceField(blocked, grid.world_to_cell(*goal), graph=graph)
+    if len(_fields) > 64:
+        _fields.popitem(last=False)
+    return field_
+
+
+def shortest_m(grid: Any, radius: float, start: tuple[float, float], goal: tuple[float, float]) -> float:
+    """The shortest way from `start` to `goal` in metres on `grid` for a robot of `radius` (inf: none)."""
+    dist = _field(grid, radius, goal).to(grid.world_to_cell(*start))
+    return dist * grid.resolution
+
+
+def trial_world(trial: Trial) -> tuple[Any, dict[int, str], Any]:
+    """The robot world a trial runs (its robots, sensors and noise set by the parameters), the orders
+    at the start (robot -> room; empty: the world file's), and the map the robots start with."""
+    from ._core import NoiseModel, RobotSettings
+
+    world = _world(trial.world)
+    p = trial.params
+    rng = np.random.default_rng(trial.seed)
+    goals: dict[int, str] = {}
+    if p.get("task", "world") == "random":
+        world, goals = _random_task(world, p.get("robots", 1), rng)
+    elif "robots" in p:
+        if p["robots"] > len(world.robots):
+            raise SchemaError(f"params.robots: {trial.world} has {len(world.robots)} robots, {p['robots']} asked "
+                              "(task: random places as many as asked)")
+        kept = {r.id for r in world.robots[:p["robots"]]}
+        world = dataclasses.replace(world, robots=world.robots[:p["robots"]],
+                                    orders=[o for o in world.orders if o.robot in kept])
+    if "sensors" in p:
+        robots = [RobotSettings(id=r.id, start=r.start, radius=r.radius, max_speed=r.max_speed,
+                                max_turn_rate=r.max_turn_rate, max_accel=r.max_accel, max_turn_accel=r.max_turn_accel,
+                                sensors=tuple(p["sensors"])) for r in world.robots]
+        world = dataclasses.replace(world, robots=robots)
+    if "odometry_noise" in p or "motor_noise" in p:
+        noise = NoiseModel(odometry=float(p.get("odometry_noise", world.noise.odometry)),
+                           motors=float(p.get("motor_noise", world.noise.motors)))
+        world = dataclasses.replace(world, noise=noise)
+    known = world.grid
+    if p.get("obstacles", 0):
+        world = _add_obstacles(world, goals, p["obstacles"], rng)
+    return world, goals, known
+
+
+def _random_task(world: Any, n: int, rng: np.random.Generator) -> tuple[Any, dict[int, str]]:
+    """`n` robots at seeded free places SPACING_M apart, each sent to a seeded room it can reach."""
+    from ._core import RobotSettings
+
+    grid = world.grid
+    template = world.robots[0]
+    radius = template.radius
+    free = np.argwhere(~grid.inflate(radius + 0.1))
+    rooms = list(world.rooms.values())
+    robots: list[Any] = []
+    goals: dict[int, str] = {}
+    for k in rng.permutation(len(free)):
+        x, y = grid.cell_to_world(*free[k])
+        if any(math.hypot(x - r.start[0], y - r.start[1]) < SPACING_M for r in robots):
+            continue
+        # A room it can reach and is not in already (drawn in a seeded order).
+        for j in rng.permutation(len(rooms)):
+            room = rooms[j]
+            far = math.hypot(room.goal[0] - x, room.goal[1] - y) > 2 * world.goal_tolerance
+            if far and math.isfinite(shortest_m(grid, radius, (x, y), room.goal)):
+                rid = len(robots) + 1
+                robots.append(RobotSettings(id=rid, start=(float(x), float(y), float(rng.uniform(-math.pi, math.pi))),
+                                            radius=radius, max_speed=template.max_speed,
+                                            max_turn_rate=template.max_turn_rate, max_accel=template.max_accel,
+                                            max_turn_accel=template.max_turn_accel, sensors=template.sensors))
+                goals[rid] = room.name
+                break
+        if len(robots) == n:
+            break
+    if len(robots) < n:
+        raise Error(f"{world.name}: room for {len(robots)} robots {SPACING_M} m apart that can reach a room, "
+                    f"{n} asked")
+    return dataclasses.replace(world, robots=robots, orders=[]), goals
+
+
+def _add_obstacles(world: Any, goals: dict[int, str], count: int, rng: np.random.Generator) -> Any:
+    """The world with `count` boxes on its first robot's shortest way to its room (each where the way
+    stays open around it), put after the map was drawn."""
+    from .maps import OccupancyGrid
+
+    robot = world.robots[0]
+    room = goals.get(robot.id) or next((o.room for o in world.orders if o.robot == robot.id), None)
+    if room is None:
+        raise SchemaError(f"params.obstacles: robot {robot.id} of {world.name} has no order to put boxes on the way of")
+    goal = world.rooms[room].goal
+    grid = world.grid
+    data = grid.data.copy()
+    half = max(1, round(BOX_M / grid.resolution / 2))
+    start = robot.start[:2]
+    placed = 0
+    for _ in range(50 * count):
+        if placed == count:
+            break
+        changed = OccupancyGrid(data, grid.resolution, grid.origin)
+        field_ = _field(changed, robot.radius, goal)
+        # Walk down the distance field from the start: the way; a box at a seeded point of its middle.
+        way = _descend(field_.distance, changed.world_to_cell(*start))
+        if len(way) < 20:
+            break
+        r, c = way[int(rng.uniform(0.3, 0.7) * len(way))]
+        trial_data = data.copy()
+        trial_data[max(0, r - half):r + half, max(0, c - half):c + half] = 100
+        trial_grid = OccupancyGrid(trial_data, grid.resolution, grid.origin)
+        if math.isfinite(shortest_m(trial_grid, robot.radius, start, goal)):
+            data = trial_data
+            placed += 1
+    return dataclasses.replace(world, grid=OccupancyGrid(data, grid.resolution, grid.origin))
+
+
+def _descend(distance: np.ndarray, cell: tuple[int, int]) -> list[tuple[int, int]]:
+    """The cells from `cell` down a distance field to its goal (empty when cut off)."""
+    rows, cols = distance.shape
+    r, c = cell
+    if not (0 <= r < rows and 0 <= c < cols) or not math.isfinite(distance[r, c]):
+        return []
+    way = [(r, c)]
+    while distance[r, c] > 0:
+        best = min(((distance[r + dr, c + dc], r + dr, c + dc) for dr in (-1, 0, 1) for dc in (-1, 0, 1)
+                    if (dr or dc) and 0 <= r + dr < rows and 0 <= c + dc < cols), default=(math.inf, r, c))
+        if not best[0] < distance[r, c]:
+            break
+        r, c = best[1], best[2]
+        way.append((r, c))
+    return way
+
+
+# ---- running it ----------------------------------------------------------------------------------------
+def run_trial(trial: Trial | dict[str, Any]) -> dict[str, Any]:
+    """Run a trial (or its dict, as a Dask worker gets it) on one thread; its row (COLUMNS). A frame
+    that fails gives a row with ``error`` set rather than an exception: a sweep goes on."""
+    from .casestudy import CaseStudy
+    from .errors import FrameError
+
+    if isinstance(trial, dict):
+        trial = Trial(**trial)
+    row: dict[str, Any] = dict(zip(COLUMNS[:5], trial.key, strict=True))
+    row["seed"], row["frames_limit"] = trial.seed, trial.frames
+    start = time.perf_counter()
+    world, goals, known = trial_world(trial)
+    case = CaseStudy(world, trial.planner, goals=goals or None, seed=trial.seed, frames=trial.frames,
+                     threads=1, knows_map=trial.params.get("knows_map", True), known_map=known)
+    error = ""
+    try:
+        try:
+            summary = case.run()
+        except FrameError as e:
+            error = str(e)
+            summary = case.summary()
+    finally:
+        case.close()
+    ordered = [r for r in summary.robots if r.room is not None]
+    row.update(
+        reached=summary.reached and not error, frames=summary.frames, path_length_m=round(summary.path_length_m, 6),
+        optimal_m=_optimal(world, goals), collisions=summary.collisions, replans=summary.replans,
+        robots=len(summary.robots), reached_robots=sum(r.reached for r in ordered),
+        planning_s=round(float(getattr(case.decider, "search_seconds", math.nan)), 6),
+        wall_s=round(time.perf_counter() - start, 3), error=error)
+    return row
+
+
+def _optimal(world: Any, goals: dict[int, str]) -> float:
+    """The sum of the ordered robots' shortest ways to their rooms (NaN when a robot has several orders)."""
+    orders = dict(goals)
+    if not orders:
+        for o in world.orders:
+            if o.robot in orders:
+                return math.nan  # a second order: its way starts wherever the first one ended
+            orders[o.robot] = o.room
+    total = 0.0
+    for rid, room in orders.items():
+        robot = world.robot(rid)
+        total += shortest_m(world.grid, robot.radius, robot.start[:2], world.rooms[room].goal)
+    return round(total, 6)
