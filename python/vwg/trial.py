@@ -39,7 +39,8 @@ import numpy as np
 
 from .errors import Error, SchemaError
 
-__all__ = ["COLUMNS", "KNOWN_PARAMS", "Trial", "run_trial", "trial_world"]
+__all__ = ["COLUMNS", "KNOWN_PARAMS", "Trial", "cached_world", "random_task", "replace_robot", "run_trial",
+           "shortest_m", "trial_world"]
 
 #: The columns of a trial's row, in order (the first five name the cell).
 COLUMNS = ("world", "planner", "seed", "frames_limit", "params", "reached", "frames", "path_length_m", "optimal_m",
@@ -120,7 +121,8 @@ def check_params(params: dict[str, Any], where: str) -> None:
 
 # ---- the world of a trial ------------------------------------------------------------------------------
 @functools.lru_cache(maxsize=8)
-def _world(path: str) -> Any:
+def cached_world(path: str) -> Any:
+    """The robot world of a file (or a shipped world's name), loaded once per process."""
     from .robotworld import load_robot_world
     from .worlds import resolve_world
 
@@ -163,14 +165,14 @@ def shortest_m(grid: Any, radius: float, start: tuple[float, float], goal: tuple
 def trial_world(trial: Trial) -> tuple[Any, dict[int, str], Any]:
     """The robot world a trial runs (its robots, sensors and noise set by the parameters), the orders
     at the start (robot -> room; empty: the world file's), and the map the robots start with."""
-    from ._core import NoiseModel, RobotSettings
+    from ._core import NoiseModel
 
-    world = _world(trial.world)
+    world = cached_world(trial.world)
     p = trial.params
     rng = np.random.default_rng(trial.seed)
     goals: dict[int, str] = {}
     if p.get("task", "world") == "random":
-        world, goals = _random_task(world, p.get("robots", 1), rng)
+        world, goals = random_task(world, p.get("robots", 1), rng)
     elif "robots" in p:
         if p["robots"] > len(world.robots):
             raise SchemaError(f"params.robots: {trial.world} has {len(world.robots)} robots, {p['robots']} asked "
@@ -179,10 +181,7 @@ def trial_world(trial: Trial) -> tuple[Any, dict[int, str], Any]:
         world = dataclasses.replace(world, robots=world.robots[:p["robots"]],
                                     orders=[o for o in world.orders if o.robot in kept])
     if "sensors" in p:
-        robots = [RobotSettings(id=r.id, start=r.start, radius=r.radius, max_speed=r.max_speed,
-                                max_turn_rate=r.max_turn_rate, max_accel=r.max_accel, max_turn_accel=r.max_turn_accel,
-                                sensors=tuple(p["sensors"])) for r in world.robots]
-        world = dataclasses.replace(world, robots=robots)
+        world = dataclasses.replace(world, robots=[replace_robot(r, sensors=tuple(p["sensors"])) for r in world.robots])
     if "odometry_noise" in p or "motor_noise" in p:
         noise = NoiseModel(odometry=float(p.get("odometry_noise", world.noise.odometry)),
                            motors=float(p.get("motor_noise", world.noise.motors)))
@@ -193,10 +192,16 @@ def trial_world(trial: Trial) -> tuple[Any, dict[int, str], Any]:
     return world, goals, known
 
 
-def _random_task(world: Any, n: int, rng: np.random.Generator) -> tuple[Any, dict[int, str]]:
-    """`n` robots at seeded free places SPACING_M apart, each sent to a seeded room it can reach."""
+def replace_robot(robot: Any, **changes: Any) -> Any:
+    """A robot's settings with these fields changed (vwg.robot.RobotSettings is immutable from Python)."""
     from ._core import RobotSettings
 
+    fields = {name: getattr(robot, name) for name, *_ in RobotSettings.fields()}
+    return RobotSettings(**{**fields, **changes})
+
+
+def random_task(world: Any, n: int, rng: np.random.Generator) -> tuple[Any, dict[int, str]]:
+    """`n` robots at seeded free places SPACING_M apart, each sent to a seeded room it can reach."""
     grid = world.grid
     template = world.robots[0]
     radius = template.radius
@@ -214,10 +219,8 @@ def _random_task(world: Any, n: int, rng: np.random.Generator) -> tuple[Any, dic
             far = math.hypot(room.goal[0] - x, room.goal[1] - y) > 2 * world.goal_tolerance
             if far and math.isfinite(shortest_m(grid, radius, (x, y), room.goal)):
                 rid = len(robots) + 1
-                robots.append(RobotSettings(id=rid, start=(float(x), float(y), float(rng.uniform(-math.pi, math.pi))),
-                                            radius=radius, max_speed=template.max_speed,
-                                            max_turn_rate=template.max_turn_rate, max_accel=template.max_accel,
-                                            max_turn_accel=template.max_turn_accel, sensors=template.sensors))
+                start = (float(x), float(y), float(rng.uniform(-math.pi, math.pi)))
+                robots.append(replace_robot(template, id=rid, start=start))
                 goals[rid] = room.name
                 break
         if len(robots) == n:
