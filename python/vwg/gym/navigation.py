@@ -125,10 +125,15 @@ class Navigation:
         platform = self.case.sim.platform
         for _ in range(self.frames_per_step):
             self._frames(1)
-            if all(rid not in self.decider.moves and not platform.robot(rid).busy for rid in moving):
+            if all(self._done(platform.robot(rid)) for rid in moving):
                 break
         self.decider.moves.clear()  # a move not taken in time is dropped, not kept for the next step
         return {rid: self._reward(rid) for rid in moves}
+
+    def _done(self, state: Any) -> bool:
+        """Whether the robot took its move and the motors have received and finished it."""
+        return (state.id not in self.decider.moves and state.commands >= int(self.actors[state.id]["sent"])
+                and not state.busy)
 
     def _frames(self, n: int) -> None:
         assert self.case is not None
