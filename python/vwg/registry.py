@@ -158,5 +158,12 @@ def _register_builtins() -> None:
     for name in _core.decider_names():
         deciders.register(name, lambda n=name: _core.create_decider(n))
 
+    def wavefront() -> Any:
+        from .wavefront import WavefrontDecider
+
+        return WavefrontDecider()
+
+    deciders.register("wavefront", wavefront)  # a decider written in Python (paper test 1)
+
 
 _register_builtins()
