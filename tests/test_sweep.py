@@ -31,7 +31,7 @@ params:
   robots: [1, 2]
 """
 
-TIMINGS = ("wall_s", "planning_s")
+TIMINGS = ("wall_s", "run_s", "planning_s")
 
 
 def read_rows(path):

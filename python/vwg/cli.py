@@ -1,6 +1,6 @@
 """The ``vwg`` command: ``run`` a world file (or a shipped world by name), ``replay`` a record, ``check``
 a world file, draw a robot world in 3D (``overview``), list the shipped ``worlds``, run a ``sweep``
-of many runs on Dask.
+of many runs on Dask, measure the paper's five tests (``experiments``).
 
 Exit status: 0 on success; 1 when a frame failed (an error in an actor, generator or backend); 2 for
 bad input (a file, an option); 3 when ``vwg run`` finished but a robot with an order did not reach
@@ -112,6 +112,20 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_experiments(args: argparse.Namespace) -> int:
+    from .experiments import run_experiments
+
+    if args.workers is not None and not 1 <= args.workers <= 1024:
+        raise Error(f"--workers: expected 1 to 1024 worker processes, got {args.workers}")
+    if args.output.exists() and not args.output.is_dir():
+        raise Error(f"{args.output}: is not a folder (expected the folder to write the report in)")
+    size = "quick" if args.quick else "full"
+    report = run_experiments(args.output, size, workers=args.workers, scheduler=args.scheduler, resume=args.resume,
+                             progress=args.progress)
+    print(f"vwg experiments ({size}): {report}")
+    return 0
+
+
 def _cmd_overview(args: argparse.Namespace) -> int:
     from .overview import render_world_overview
     from .robotworld import load_robot_world
@@ -205,6 +219,20 @@ def build_parser() -> argparse.ArgumentParser:
     swp.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
                      help="show a progress bar (default: on a terminal)")
     swp.set_defaults(func=_cmd_sweep)
+
+    exp = sub.add_parser("experiments", help="the paper's five tests, measured, into a Markdown report",
+                         description="Run the paper's five tests (§III.F) and write OUT_DIR/report.md with tables "
+                                     "(and their CSVs) and plots. The full size takes hours on 2 cores; --quick "
+                                     "takes a few minutes.")
+    exp.add_argument("output", type=Path, metavar="OUT_DIR", help="the folder for the report, its tables and plots")
+    exp.add_argument("--quick", action="store_true", help="a small configuration (a few minutes)")
+    exp.add_argument("--scheduler", help="a running Dask scheduler (tcp://HOST:PORT); default: a local cluster")
+    exp.add_argument("--workers", type=int, help="worker processes of the local cluster (default: the cores)")
+    exp.add_argument("--resume", action="store_true",
+                     help="keep the sweep cells of an earlier run in OUT_DIR/sweeps (the report says how many)")
+    exp.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
+                     help="show progress bars (default: on a terminal)")
+    exp.set_defaults(func=_cmd_experiments)
 
     ovw = sub.add_parser("overview", help="draw a robot world's map in 3D (the paper's Fig. 5)",
                          description="Draw a robot world in 3D: walls extruded, markers, robots at their starts.")

@@ -35,7 +35,7 @@ from .errors import Error, SchemaError
 from .trial import COLUMNS, KNOWN_PARAMS, Trial, check_params, run_trial
 from .yamldoc import YamlDoc
 
-__all__ = ["SweepResult", "SweepSpec", "finished_keys", "load_spec", "run_sweep"]
+__all__ = ["SweepResult", "SweepSpec", "dask_client", "finished_keys", "load_spec", "run_sweep"]
 
 SPEC_KEYS = ("worlds", "planners", "seeds", "frames", "params")
 MAX_CELLS = 1_000_000
@@ -159,8 +159,10 @@ class SweepResult:
 
 
 def run_sweep(spec: SweepSpec, out: str | Path, *, scheduler: str | None = None, workers: int | None = None,
-              progress: bool | None = None, on_row: Callable[[dict[str, Any]], None] | None = None) -> SweepResult:
-    """Run the cells of `spec` not yet in `out` on Dask, appending a row per cell as it finishes."""
+              progress: bool | None = None, on_row: Callable[[dict[str, Any]], None] | None = None,
+              client: Any = None) -> SweepResult:
+    """Run the cells of `spec` not yet in `out` on Dask, appending a row per cell as it finishes;
+    on `client` if given (several sweeps on one cluster), else on a cluster of its own (dask_client)."""
     out = Path(out)
     trials = spec.trials()
     done = finished_keys(out)
@@ -171,7 +173,8 @@ def run_sweep(spec: SweepSpec, out: str | Path, *, scheduler: str | None = None,
     _repair_tail(out)
     new_file = not out.exists() or out.stat().st_size == 0
     out.parent.mkdir(parents=True, exist_ok=True)
-    with out.open("a", newline="", encoding="utf-8") as f, _client(scheduler, workers) as client:
+    with out.open("a", newline="", encoding="utf-8") as f, \
+            (contextlib.nullcontext(client) if client is not None else dask_client(scheduler, workers)) as client:
         writer = csv.DictWriter(f, fieldnames=COLUMNS)
         if new_file:
             writer.writeheader()
@@ -198,8 +201,9 @@ def _repair_tail(out: Path) -> None:
 def _results(client: Any, trials: list[Trial]) -> Iterator[dict[str, Any]]:
     from dask.distributed import as_completed
 
-    # Plain dicts go to the workers; each cell is its own task (pure=False: never merged or cached).
-    futures = [client.submit(run_trial, _plain(t), pure=False, key=f"vwg-cell-{i}") for i, t in enumerate(trials)]
+    # Plain dicts go to the workers; each cell is its own task under a fresh key (pure=False: never
+    # merged with another, nor with a cell of an earlier sweep on the same client).
+    futures = [client.submit(run_trial, _plain(t), pure=False) for t in trials]
     for future in as_completed(futures):
         yield future.result()
         future.release()
@@ -211,7 +215,7 @@ def _plain(trial: Trial) -> dict[str, Any]:
 
 
 @contextlib.contextmanager
-def _client(scheduler: str | None, workers: int | None) -> Iterator[Any]:
+def dask_client(scheduler: str | None, workers: int | None) -> Iterator[Any]:
     """A Dask client: on the scheduler given, or on a local cluster of `workers` processes (default:
     the machine's cores) of one thread each, on 127.0.0.1, closed afterwards."""
     try:

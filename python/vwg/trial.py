@@ -21,7 +21,9 @@ The row: ``world, planner, seed, frames_limit, params`` (the cell), then ``reach
 reached its room), ``frames``, ``path_length_m`` (driven, all robots), ``optimal_m`` (the sum of the
 ordered robots' shortest ways from start to room, by vwg.shortest; empty when a robot has several
 orders), ``collisions``, ``replans``, ``robots``, ``reached_robots``, ``planning_s`` (the decider's
-search time, where it counts it), ``wall_s`` and ``error`` (a failed frame's message; empty if none).
+search time, where it counts it), ``map_precision`` and ``map_recall`` (with ``knows_map: false``: how
+the maps the robots made agree with the true one, vwg.map_quality), ``run_s`` (the frames' time),
+``wall_s`` (the whole cell's, set-up included) and ``error`` (a failed frame's message; empty if none).
 """
 
 from __future__ import annotations
@@ -44,7 +46,8 @@ __all__ = ["COLUMNS", "KNOWN_PARAMS", "Trial", "cached_world", "random_task", "r
 
 #: The columns of a trial's row, in order (the first five name the cell).
 COLUMNS = ("world", "planner", "seed", "frames_limit", "params", "reached", "frames", "path_length_m", "optimal_m",
-           "collisions", "replans", "robots", "reached_robots", "planning_s", "wall_s", "error")
+           "collisions", "replans", "robots", "reached_robots", "planning_s", "map_precision", "map_recall", "run_s",
+           "wall_s", "error")
 
 #: Parameter -> (accepted types, meaning).
 KNOWN_PARAMS: dict[str, tuple[tuple[type, ...], str]] = {
@@ -304,6 +307,12 @@ def run_trial(trial: Trial | dict[str, Any]) -> dict[str, Any]:
         except FrameError as e:
             error = str(e)
             summary = case.summary()
+        quality = (math.nan, math.nan)
+        if not trial.params.get("knows_map", True):
+            from .map_quality import map_quality
+
+            grids = [actor["grid"] for actor in case.robot_actors().values()]
+            quality = map_quality(world.grid, grids, case.view.trajectories.values())
     finally:
         case.close()
     ordered = [r for r in summary.robots if r.room is not None]
@@ -312,6 +321,7 @@ def run_trial(trial: Trial | dict[str, Any]) -> dict[str, Any]:
         optimal_m=_optimal(world, goals), collisions=summary.collisions, replans=summary.replans,
         robots=len(summary.robots), reached_robots=sum(r.reached for r in ordered),
         planning_s=round(float(getattr(case.decider, "search_seconds", math.nan)), 6),
+        map_precision=round(quality[0], 4), map_recall=round(quality[1], 4), run_s=round(case.wall_time, 3),
         wall_s=round(time.perf_counter() - start, 3), error=error)
     return row
 

@@ -1,0 +1,48 @@
+"""Test 2, device independence: gLaser, gKinect or both feed the same eLaser events to the same robot
+(paper §III.F.2)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+from . import plots
+from .section import Section
+from .tables import Table, fmt, group, median, number, share
+
+__all__ = ["section"]
+
+METHOD = """
+The robot starts with an empty map (eq. 13) and learns the walls from its range sensor: the laser
+(gLaser), the Kinect (gKinect, a depth image turned into the same eLaser<dist, angle> events), or
+both; the world string and the robot are the same in all three. **map precision**: of the cells the
+robot marked occupied, the share within one cell of a true wall; **map recall**: of the wall surface
+within 2 m of where the robot went, the share it marked (vwg.map_quality). Success and path as in test 1.
+"""
+
+
+def _sensors(row: dict[str, Any]) -> str:
+    return " + ".join(json.loads(row["params"])["sensors"])
+
+
+def section(rows: list[dict[str, Any]], folder: Path) -> Section:
+    out = Section(2, "Test of device independence", METHOD)
+    table = Table("devices", "The robot's own map and its navigation, by sensor",
+                  ["sensors", "runs", "success", "map precision (median)", "map recall (median)",
+                   "path / optimal (median)"])
+    quality: dict[str, dict[str, float]] = {}
+    for sensors, runs in group(rows, _sensors).items():
+        arrived = [r for r in runs if r["reached"] == "True"]
+        precision = median(number(r["map_precision"]) for r in runs)
+        recall = median(number(r["map_recall"]) for r in runs)
+        quality[sensors] = {"precision": precision, "recall": recall}
+        table.add(sensors, str(len(runs)), fmt(share(r["reached"] == "True" for r in runs), 2), fmt(precision, 3),
+                  fmt(recall, 3), fmt(median(number(r["path_length_m"]) / number(r["optimal_m"]) for r in arrived), 3))
+    out.tables.append(table)
+    out.plots.append(plots.bars(folder / "devices_map.png", "The robot's map against the true map", "share",
+                                quality))
+    worst = min(quality, key=lambda s: quality[s]["recall"])
+    out.findings.append(f"The narrowest view of the walls was with {worst} (recall "
+                        f"{fmt(quality[worst]['recall'], 3)}).")
+    return out

@@ -1,0 +1,54 @@
+"""Test 1, the evolution function: the same world with the decision inside λ(ARobot, eDecide) swapped,
+nothing else changed (paper §III.F.1)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+from . import plots
+from .section import Section
+from .tables import Table, fmt, group, median, number, share
+
+__all__ = ["section"]
+
+METHOD = """
+Each planner drives one robot from a free place to a room, both drawn from the seed (a start/room
+pair per seed), on each map, with everything else the same: the robot, its laser, the map it knows.
+**success** is the share of runs that reached the room within the frame limit; **path / optimal** is
+the distance driven over the shortest way for the robot's radius (SciPy's Dijkstra on the grid,
+vwg.shortest: independent of the planners), for the runs that arrived; **frames to goal** likewise;
+**planning** is the decider's own search time per run (A*, JPS, D* Lite and the Python wavefront count
+it; the random decider does not search, and OMPL's planners do not report it). `wavefront` is a
+decider written in Python (vwg.wavefront).
+"""
+
+
+def section(rows: list[dict[str, Any]], folder: Path) -> Section:
+    out = Section(1, "Test of the evolution function", METHOD)
+    table = Table("evolution", "Planners over every map and start/room pair",
+                  ["planner", "runs", "success", "path / optimal (median)", "frames to goal (median)",
+                   "planning ms per run (median)"])
+    by_planner = group(rows, lambda r: r["planner"])
+    ratios: dict[str, list[float]] = {}
+    frames: dict[str, list[float]] = {}
+    for planner, runs in by_planner.items():
+        arrived = [r for r in runs if r["reached"] == "True"]
+        ratios[planner] = [number(r["path_length_m"]) / number(r["optimal_m"]) for r in arrived]
+        frames[planner] = [number(r["frames"]) for r in arrived]
+        table.add(planner, str(len(runs)), fmt(share(r["reached"] == "True" for r in runs), 2),
+                  fmt(median(ratios[planner]), 3), fmt(median(frames[planner]), 0),
+                  fmt(median(number(r["planning_s"]) * 1000 for r in runs), 2))
+    out.tables.append(table)
+    maps = Table("evolution_by_map", "Success by map and planner", ["map", *by_planner])
+    for world, runs in group(rows, lambda r: r["world"]).items():
+        per = group(runs, lambda r: r["planner"])
+        maps.add(Path(world).stem, *(fmt(share(r["reached"] == "True" for r in per.get(p, [])), 2) for p in by_planner))
+    out.tables.append(maps)
+    out.plots.append(plots.boxes(folder / "evolution_path_ratio.png",
+                                 "Path driven over the shortest way (arrived runs)", "path / optimal", ratios))
+    out.plots.append(plots.boxes(folder / "evolution_frames.png", "Frames to reach the room (arrived runs)", "frames",
+                                 frames))
+    best = max(by_planner, key=lambda p: (share(r["reached"] == "True" for r in by_planner[p]), -median(frames[p])))
+    out.findings.append(f"{best} reached the most rooms ({table.rows[list(by_planner).index(best)][2]} of the runs).")
+    return out

@@ -1,0 +1,166 @@
+"""Test 3, simulation and real robot: the same world string through the simulator platform and through
+the rosbridge link to a robot (paper §III.F.3).
+
+The robot here is vwg.fake_robot's: a rosbridge v2 server on 127.0.0.1 with its own Box2D simulator,
+driven only by the Twists vwg publishes and seen only through the Odometry and LaserScan it publishes.
+It runs in lockstep (it steps when vwg asks), so the two runs can be compared frame by frame.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Iterator
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from . import plots
+from .section import Section
+from .tables import Table, fmt, group, mean, median, share
+
+__all__ = ["SimulationConfig", "section"]
+
+WORLD = "office"
+
+METHOD = """
+**Same frames.** One robot, a start and a room drawn from the seed, noise off: the world runs (a) on
+the simulator platform and (b) through rosbridge to a robot that is only reachable through its ROS
+topics (vwg.fake_robot, stepped in lockstep). Both runs are recorded; **identical** says whether the two
+frame logs are the same byte for byte (header included).
+
+**Odometry noise.** The same through rosbridge, the robot's odometry drifting (a random walk per metre
+and per radian, the level below): vwg knows the robot only by its odometry, so where it believes the
+robot is parts from where the robot is. **trajectory error**: the distance between the two, sampled
+every 5 frames (mean over the run, and at the end); **truly there**: the share of runs in which the
+robot, believing it had arrived, really stood within the goal tolerance of its room.
+"""
+
+
+@dataclass
+class SimulationConfig:
+    seeds: list[int]
+    frames: int
+    noise_levels: list[float]
+    noise_seeds: list[int]
+    noise_frames: int
+
+    @property
+    def pairs(self) -> int:
+        """Tasks run on both platforms."""
+        return len(self.seeds)
+
+    @property
+    def noisy(self) -> int:
+        """Runs with odometry noise."""
+        return len(self.noise_levels) * len(self.noise_seeds)
+
+    @property
+    def runs(self) -> int:
+        return 2 * self.pairs + self.noisy
+
+
+def _task(seed: int, frames: int) -> tuple[Any, dict[int, str]]:
+    from ..trial import Trial, trial_world
+
+    world, goals, _ = trial_world(Trial(WORLD, "astar", seed, frames, {"task": "random", "sensors": ["laser"]}))
+    from .._core import NoiseModel
+
+    return dataclasses.replace(world, laser=world.laser.replace(noise=0.0), noise=NoiseModel()), goals
+
+
+def _on_ros(world: Any, url: str) -> Any:
+    from ..robotworld import PlatformSpec
+
+    return dataclasses.replace(world, platform=PlatformSpec("rosbridge", {"url": url, "lockstep": "/vwg/step",
+                                                                         "control_rate": 100}))
+
+
+def same_frames(seed: int, frames: int, records: Path) -> dict[str, Any]:
+    """Run one task on the simulator and through rosbridge, recording both; compare the records."""
+    from .. import launch
+    from ..fake_robot import FakeRosbridgeRobot
+
+    world, goals = _task(seed, frames)
+    orders = [f"{robot}:{room}" for robot, room in goals.items()]
+    sim, ros = records / f"sim_seed{seed}.jsonl", records / f"rosbridge_seed{seed}.jsonl"
+    with launch.start(world, launch.RunOptions(goals=orders, frames=frames, record=sim)) as run:
+        a = run.execute().summary
+    with FakeRosbridgeRobot(world, lockstep=True) as fake, \
+            launch.start(_on_ros(world, fake.url), launch.RunOptions(goals=orders, frames=frames, record=ros)) as run:
+        b = run.execute().summary
+    return {"seed": seed, "room": next(iter(goals.values())), "frames_sim": a["frames"], "frames_ros": b["frames"],
+            "reached_sim": a["reached"], "reached_ros": b["reached"], "bytes": sim.stat().st_size,
+            "identical": sim.read_bytes() == ros.read_bytes()}
+
+
+def drift(level: float, seed: int, frames: int) -> dict[str, Any]:
+    """Run one task through rosbridge with odometry noise; vwg's belief against the robot's true pose."""
+    from .. import _core
+    from ..casestudy import CaseStudy
+    from ..fake_robot import FakeRosbridgeRobot
+
+    world, goals = _task(seed, frames)
+    physics = _core.PhysicsSettings(noise=_core.NoiseModel(odometry=level), seed=seed)
+    errors: list[float] = []
+    with FakeRosbridgeRobot(world, lockstep=True, physics=physics) as fake:
+        case = CaseStudy(_on_ros(world, fake.url), "astar", goals=goals, seed=seed, threads=1)
+        try:
+            rid = world.robots[0].id
+            while case.engine.frame < frames:
+                summary = case.run(frames=min(5, frames - case.engine.frame))
+                believed, truth = case.sim.robot(rid).pose, fake.pose(rid)
+                errors.append(math.hypot(believed[0] - truth[0], believed[1] - truth[1]))
+                if summary.reached:
+                    break
+        finally:
+            case.close()
+        gx, gy = world.rooms[goals[rid]].goal
+        truth = fake.pose(rid)
+    return {"level": level, "seed": seed, "reached": summary.reached, "frames": summary.frames,
+            "mean_error": sum(errors) / len(errors), "final_error": errors[-1],
+            "truly_there": summary.reached and math.hypot(truth[0] - gx, truth[1] - gy) <= world.goal_tolerance}
+
+
+def runs(config: SimulationConfig, records: Path) -> Iterator[tuple[str, dict[str, Any]]]:
+    """Every run of the test, as ("same", row) or ("noise", row), as each finishes."""
+    records.mkdir(parents=True, exist_ok=True)
+    for seed in config.seeds:
+        yield "same", same_frames(seed, config.frames, records)
+    for level in config.noise_levels:
+        for seed in config.noise_seeds:
+            yield "noise", drift(level, seed, config.noise_frames)
+
+
+def section(same: list[dict[str, Any]], noise: list[dict[str, Any]], folder: Path) -> Section:
+    out = Section(3, "Test to validate the simulation", METHOD)
+    table = Table("simulation_same_frames", "The simulator and the robot through rosbridge, noise off",
+                  ["seed", "room", "frames (simulator)", "frames (rosbridge)", "reached (simulator)",
+                   "reached (rosbridge)", "record bytes", "identical"])
+    for r in same:
+        table.add(str(r["seed"]), r["room"], str(r["frames_sim"]), str(r["frames_ros"]), _yes(r["reached_sim"]),
+                  _yes(r["reached_ros"]), str(r["bytes"]), _yes(r["identical"]))
+    out.tables.append(table)
+    noisy = Table("simulation_odometry_noise", "Through rosbridge with odometry noise",
+                  ["odometry noise", "runs", "believed arrived", "truly there", "trajectory error m (mean)",
+                   "final error m (median)"])
+    xs, ys, px, py = [], [], [], []
+    for level, rows in group(noise, lambda r: r["level"]).items():
+        noisy.add(f"{level:g}", str(len(rows)), fmt(share(r["reached"] for r in rows), 2),
+                  fmt(share(r["truly_there"] for r in rows), 2), fmt(mean(r["mean_error"] for r in rows), 3),
+                  fmt(median(r["final_error"] for r in rows), 3))
+        xs.append(level)
+        ys.append(mean(r["mean_error"] for r in rows))
+        px += [level] * len(rows)
+        py += [r["mean_error"] for r in rows]
+    out.tables.append(noisy)
+    out.plots.append(plots.lines(folder / "simulation_odometry_noise.png", "Where vwg believes the robot is, against "
+                                 "where it is", "odometry noise (per metre and radian)", "trajectory error (m)",
+                                 {"mean over runs": (xs, ys)}, points={"one run": (px, py)}))
+    identical = sum(r["identical"] for r in same)
+    out.findings.append(f"{identical} of {len(same)} pairs of frame logs were identical byte for byte.")
+    return out
+
+
+def _yes(flag: bool) -> str:
+    return "yes" if flag else "no"
