@@ -255,3 +255,17 @@ def test_distance_fields_match_a_plain_dijkstra_on_random_grids():
         blocked = rng.random(shape) < rng.uniform(0.0, 0.45)
         goal = (int(rng.integers(shape[0])), int(rng.integers(shape[1])))
         np.testing.assert_allclose(DistanceField(blocked, goal).distance, plain_dijkstra(blocked, goal))
+
+
+def test_two_sweeps_on_one_client_keep_their_own_cells(tmp_path):
+    from vwg.sweep import SweepSpec, dask_client
+
+    first = SweepSpec(["office"], ["astar"], [1, 2], 20, {"task": ["random"]})
+    second = SweepSpec(["maze"], ["random"], [1, 2], 20, {"task": ["random"]})
+    with dask_client(None, 1) as client:
+        run_sweep(first, tmp_path / "a.csv", client=client, progress=False)
+        run_sweep(second, tmp_path / "b.csv", client=client, progress=False)
+    for spec, name in ((first, "a.csv"), (second, "b.csv")):
+        rows = read_rows(tmp_path / name)
+        assert sorted((r["world"], r["planner"], r["seed"]) for r in rows) == \
+            sorted((t.world, t.planner, str(t.seed)) for t in spec.trials())
