@@ -71,11 +71,11 @@ def _config(name: str, maps: list[str], planners: list[str], seeds: int, frames:
 #: The sizes: ``full`` (every map and planner, 20 start/room pairs), ``quick`` (a few minutes),
 #: ``tiny`` (the tests': a minute).
 CONFIGS: dict[str, Config] = {
-    "full": _config("full", ALL_MAPS, PLANNERS, 20, 3000, SimulationConfig([0, 1, 2, 3, 4], 800,
-                    [0.0, 0.01, 0.02, 0.05, 0.1], [0, 1, 2, 3, 4], 600), [1, 2, 4, 8, 16, 32, 64], [0, 1, 3],
+    "full": _config("full", ALL_MAPS, PLANNERS, 20, 3000, SimulationConfig([0, 1, 2, 3, 4], 1500,
+                    [0.0, 0.01, 0.02, 0.05, 0.1], [0, 1, 2, 3, 4], 1500), [1, 2, 4, 8, 16, 32, 64], [0, 1, 3],
                     ["office", "maze", "warehouse"]),
     "quick": _config("quick", ["office", "maze"], PLANNERS, 3, 1500, SimulationConfig([0], 600, [0.0, 0.02, 0.05],
-                     [0], 400), [1, 2, 4, 8], [0, 2], ["office"]),
+                     [0], 800), [1, 2, 4, 8], [0, 2], ["office"]),
     "tiny": Config(
         "tiny",
         evolution=SweepSpec(["office"], ["astar", "random", "wavefront"], [1, 3], 500, {"task": ["random"]}),
