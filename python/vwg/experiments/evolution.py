@@ -54,6 +54,7 @@ def section(rows: list[dict[str, Any]], folder: Path) -> Section:
     medians = {p: median(v) for p, v in ratios.items() if v}
     if medians:
         shortest = min(medians, key=lambda p: medians[p])
-        out.findings.append(f"Against the optimum, {shortest} drove the shortest paths (median {fmt(medians[shortest], 3)}"
-                            "; below 1 where the robot cuts the corners of the grid's 8-connected path).")
+        best = fmt(medians[shortest], 3)
+        out.findings.append(f"Against the optimum, {shortest} drove the shortest paths (median {best}; below 1 where "
+                            "the robot cuts the corners of the grid's 8-connected path).")
     return out
