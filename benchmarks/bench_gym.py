@@ -44,9 +44,9 @@ def rate(envs: gymnasium.Env | gymnasium.vector.VectorEnv, steps: int, n: int) -
 def total_frames(envs: object) -> int | None:
     """Frames run so far by the environments in this process (None for other processes')."""
     if isinstance(envs, gymnasium.vector.SyncVectorEnv):
-        return sum(e.unwrapped.nav.case.engine.frame for e in envs.envs)
+        return sum(e.unwrapped.nav.frames_run for e in envs.envs)
     if isinstance(envs, gymnasium.Env):
-        return envs.unwrapped.nav.case.engine.frame
+        return envs.unwrapped.nav.frames_run
     return None
 
 

@@ -4,9 +4,12 @@ generated cases."""
 
 from __future__ import annotations
 
+import heapq
+import math
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import vwg
@@ -87,3 +90,28 @@ def make_world() -> vwg.World:
 @pytest.fixture
 def world() -> vwg.World:
     return make_world()
+
+
+def plain_dijkstra(blocked, goal):
+    """A textbook Dijkstra on the 8-connected grid without corner cutting, written out here."""
+    rows, cols = blocked.shape
+    dist = np.full(blocked.shape, math.inf)
+    if blocked[goal]:
+        return dist
+    dist[goal] = 0.0
+    heap = [(0.0, goal)]
+    while heap:
+        d, (r, c) = heapq.heappop(heap)
+        if d > dist[r, c]:
+            continue
+        for dr in (-1, 0, 1):
+            for dc in (-1, 0, 1):
+                nr, nc = r + dr, c + dc
+                if (dr or dc) and 0 <= nr < rows and 0 <= nc < cols and not blocked[nr, nc]:
+                    if dr and dc and (blocked[r + dr, c] or blocked[r, c + dc]):
+                        continue
+                    nd = d + (math.sqrt(2) if dr and dc else 1.0)
+                    if nd < dist[nr, nc]:
+                        dist[nr, nc] = nd
+                        heapq.heappush(heap, (nd, (nr, nc)))
+    return dist

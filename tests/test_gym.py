@@ -13,6 +13,7 @@ from gymnasium.utils.env_checker import check_env
 from pettingzoo.test import parallel_api_test
 
 import vwg.gym
+from conftest import plain_dijkstra
 from vwg.shortest import DistanceField
 
 
@@ -130,7 +131,16 @@ def guide(nav):
 def test_a_guided_robot_arrives_and_the_reward_adds_up():
     env = gymnasium.make(vwg.gym.ENV_ID, world="office")
     _, info = env.reset(seed=1)
-    way0 = info["way_left_m"]
+    nav = env.unwrapped.nav
+    grid = nav.world.grid
+    # The way left, worked out here: a plain Dijkstra round the walls from the room's goal.
+    distance = plain_dijkstra(grid.blocked(), grid.world_to_cell(*nav.world.rooms[info["room"]].goal))
+
+    def way_left():
+        return distance[grid.world_to_cell(*nav.case.sim.robot(nav.robots[0]).pose[:2])] * grid.resolution
+
+    way0 = way_left()
+    assert info["way_left_m"] == pytest.approx(way0)
     total, steps = 0.0, 0
     while True:
         _, reward, terminated, truncated, info = env.step(guide(env.unwrapped.nav))
@@ -140,7 +150,7 @@ def test_a_guided_robot_arrives_and_the_reward_adds_up():
             break
     assert terminated and not truncated and info["reached"]
     # The documented reward: metres come nearer, -0.01 a step, -1 a collision, +10 on arrival.
-    expected = (way0 - info["way_left_m"]) - 0.01 * steps - 1.0 * info["collisions"] + 10.0
+    expected = (way0 - way_left()) - 0.01 * steps - 1.0 * info["collisions"] + 10.0
     assert total == pytest.approx(expected, abs=1e-6)
     # The robot drove about as far as the way was long.
     assert way0 * 0.8 < info["travelled_m"] < way0 * 1.3

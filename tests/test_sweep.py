@@ -4,7 +4,6 @@ resuming, the SPEC's errors; the trials it runs; the independent shortest paths 
 from __future__ import annotations
 
 import csv
-import heapq
 import io
 import json
 import math
@@ -15,6 +14,7 @@ import time
 import numpy as np
 import pytest
 
+from conftest import plain_dijkstra
 from vwg.casestudy import CaseStudy
 from vwg.errors import Error, SchemaError, WorldFileError
 from vwg.shortest import DistanceField
@@ -96,13 +96,12 @@ def test_a_rerun_runs_only_what_is_missing(sweep, tmp_path):
     resumed = run_sweep(load_spec(folder / "spec.yaml"), cut, workers=1, progress=False, on_row=ran.append)
     assert (resumed.done_before, resumed.ran) == (10, 6)
     rows = read_rows(cut)
-    whole = [r for r in rows if r["error"] is not None]  # the torn line stays, as a row with fields missing
-    assert (len(rows), len(whole)) == (17, 16)
+    assert len(rows) == 16  # the torn row was cut off: its cell ran again
 
     def untimed(r):
         return tuple(r[c] for c in COLUMNS if c not in TIMINGS)
 
-    assert sorted(map(untimed, whole)) == sorted(map(untimed, read_rows(out)))
+    assert sorted(map(untimed, rows)) == sorted(map(untimed, read_rows(out)))
 
 
 def test_the_command_line(sweep, tmp_path):
@@ -111,6 +110,10 @@ def test_the_command_line(sweep, tmp_path):
                           capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr
     assert "16 cells, 16 already in" in done.stdout and "0 run now" in done.stdout
+    done = subprocess.run([sys.executable, "-m", "vwg.cli", "sweep", str(folder / "spec.yaml"), "-o", str(out),
+                           "--workers", "2", "--scheduler", "tcp://127.0.0.1:1"], capture_output=True, text=True,
+                          timeout=120)
+    assert done.returncode == 2 and "--workers sizes the local cluster" in done.stderr
     bad = tmp_path / "bad.yaml"
     bad.write_text("worlds: [office]\nplanners: [astar, teleport]\nseeds: 1\nframes: 10\n")
     done = subprocess.run([sys.executable, "-m", "vwg.cli", "sweep", str(bad), "-o", str(tmp_path / "r.csv")],
@@ -126,6 +129,10 @@ def test_the_command_line(sweep, tmp_path):
     ("worlds: [office]\nplanners: [astar]\nseeds: -1\nframes: 10\n", 3, "seeds", "count of seeds"),
     ("worlds: [office]\nplanners: [astar]\nseeds: [1, x]\nframes: 10\n", 3, "seeds[1]", "integer"),
     ("worlds: [office]\nplanners: [astar]\nseeds: 1\nframes: 0\n", 4, "frames", ">= 1"),
+    ("worlds: [office]\nplanners: [astar, jps, astar]\nseeds: 1\nframes: 9\n", 2, "planners[2]", "listed twice"),
+    ("worlds: [office]\nplanners: [astar]\nseeds: [4, 4]\nframes: 9\n", 3, "seeds[1]", "listed twice"),
+    ("worlds: [office]\nplanners: [astar]\nseeds: 1\nframes: 9\nparams:\n  sensors: [[[laser]]]\n", 6,
+     "params.sensors[0]", "expected sensor names"),
     ("worlds: [office]\nplanners: [astar]\nseeds: 1\nframes: 10\nparams:\n  speed: [1]\n", 6, "params.speed",
      "unknown parameter"),
     ("worlds: [office]\nplanners: [astar]\nseeds: 1\nframes: 10\nparams:\n  task: [random, chaos]\n", 6,
@@ -168,6 +175,19 @@ def test_a_random_task_is_drawn_from_the_seed():
         assert math.isfinite(shortest_m(a.grid, r.radius, r.start[:2], a.rooms[goals_a[r.id]].goal))
 
 
+def test_a_trial_that_cannot_be_set_up_gives_a_row_with_its_error():
+    row = run_trial(Trial("office", "astar", 1, 10, {"robots": 5}))
+    assert row["reached"] is False and "office has 2 robots, 5 asked" in row["error"]
+    assert row["frames"] == "" and row["wall_s"] != ""
+
+
+def test_trials_name_their_cells_one_way():
+    a = Trial("office", "astar", 1, 10, {"odometry_noise": 0})
+    b = Trial("office", "astar", 1, 10, {"odometry_noise": 0.0})
+    assert a.key == b.key and hash(a) == hash(b) and a == b
+    assert len({a, b, Trial("office", "astar", 2, 10, {})}) == 2
+
+
 def test_trial_parameters_reach_the_run():
     world, _, known = trial_world(Trial("office", "astar", 1, 10, {"robots": 1, "sensors": ["kinect"],
                                                                    "odometry_noise": 0.02, "motor_noise": 0.01}))
@@ -206,31 +226,6 @@ def test_added_obstacles_are_on_the_way_and_not_on_the_robots_map():
 
 
 # ---- the independent shortest paths -----------------------------------------------------------------------
-def plain_dijkstra(blocked, goal):
-    """A textbook Dijkstra on the 8-connected grid without corner cutting, written out here."""
-    rows, cols = blocked.shape
-    dist = np.full(blocked.shape, math.inf)
-    if blocked[goal]:
-        return dist
-    dist[goal] = 0.0
-    heap = [(0.0, goal)]
-    while heap:
-        d, (r, c) = heapq.heappop(heap)
-        if d > dist[r, c]:
-            continue
-        for dr in (-1, 0, 1):
-            for dc in (-1, 0, 1):
-                nr, nc = r + dr, c + dc
-                if (dr or dc) and 0 <= nr < rows and 0 <= nc < cols and not blocked[nr, nc]:
-                    if dr and dc and (blocked[r + dr, c] or blocked[r, c + dc]):
-                        continue
-                    nd = d + (math.sqrt(2) if dr and dc else 1.0)
-                    if nd < dist[nr, nc]:
-                        dist[nr, nc] = nd
-                        heapq.heappush(heap, (nd, (nr, nc)))
-    return dist
-
-
 def test_distance_fields_by_hand():
     open3 = np.zeros((3, 3), bool)
     field = DistanceField(open3, (0, 0))
@@ -246,6 +241,17 @@ def test_distance_fields_by_hand():
     wall[:, 1] = True
     assert DistanceField(wall, (0, 0)).to((0, 2)) == math.inf
     assert DistanceField(wall, (0, 1)).to((0, 0)) == math.inf  # a blocked goal
+
+
+def test_a_goal_reached_within_a_tolerance():
+    open_row = np.zeros((1, 10), bool)
+    # From cell 0 to within 2.5 cells of cell 9: cell 7 is the nearest that counts (7 steps).
+    assert DistanceField(open_row, (0, 9), within=2.5).to((0, 0)) == pytest.approx(7.0)
+    assert DistanceField(open_row, (0, 9), within=0.0).to((0, 0)) == pytest.approx(9.0)
+    walled = open_row.copy()
+    walled[0, 7:9] = True  # the cells near the goal are blocked: only the goal's own cell counts
+    assert DistanceField(walled, (0, 9), within=2.5).to((0, 0)) == math.inf
+    assert DistanceField(walled, (0, 9), within=2.5).to((0, 9)) == 0.0
 
 
 def test_distance_fields_match_a_plain_dijkstra_on_random_grids():

@@ -100,12 +100,19 @@ def _cmd_check(args: argparse.Namespace) -> int:
     return 0
 
 
+def _check_workers(args: argparse.Namespace) -> None:
+    """--workers sizes the local cluster: 1 to 1024, and not with --scheduler (whose cluster is sized already)."""
+    if args.workers is not None and not 1 <= args.workers <= 1024:
+        raise Error(f"--workers: expected 1 to 1024 worker processes, got {args.workers}")
+    if args.workers is not None and args.scheduler:
+        raise Error("--workers sizes the local cluster; with --scheduler the scheduler's workers run the cells")
+
+
 def _cmd_sweep(args: argparse.Namespace) -> int:
     from .sweep import load_spec, run_sweep
 
     spec = load_spec(args.spec)
-    if args.workers is not None and not 1 <= args.workers <= 1024:
-        raise Error(f"--workers: expected 1 to 1024 worker processes, got {args.workers}")
+    _check_workers(args)
     result = run_sweep(spec, args.output, scheduler=args.scheduler, workers=args.workers, progress=args.progress)
     print(f"vwg sweep {args.spec}: {result.cells} cells, {result.done_before} already in {result.out}, "
           f"{result.ran} run now" + (f" ({result.failed} with a failed frame)" if result.failed else ""))
@@ -115,8 +122,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
 def _cmd_experiments(args: argparse.Namespace) -> int:
     from .experiments import run_experiments
 
-    if args.workers is not None and not 1 <= args.workers <= 1024:
-        raise Error(f"--workers: expected 1 to 1024 worker processes, got {args.workers}")
+    _check_workers(args)
     if args.output.exists() and not args.output.is_dir():
         raise Error(f"{args.output}: is not a folder (expected the folder to write the report in)")
     size = "quick" if args.quick else "full"

@@ -7,6 +7,7 @@ blocked corner, the moves vwg's A* and JPS make; it is searched by SciPy's Dijks
 (``scipy.sparse.csgraph.dijkstra``), so the figures it gives are an independent check of theirs.
 
     field = DistanceField(blocked, goal=(row, col))   # every cell's distance to the goal, in cells
+    DistanceField(blocked, (row, col), within=5)        # to the nearest cell within 5 cells of it
     field.to((r, c)) * grid.resolution                  # metres from (r, c); inf when cut off
 """
 
@@ -50,10 +51,12 @@ def grid_graph(blocked: np.ndarray) -> object:
 
 
 class DistanceField:
-    """Every cell's shortest distance (in cells) to `goal` over the free cells of `blocked`; `graph`
-    reuses one made by grid_graph for the same mask (several goals on one map)."""
+    """Every cell's shortest distance (in cells) to `goal` over the free cells of `blocked`, or with
+    `within` > 0 to the nearest free cell whose centre is at most `within` cells from the goal's (a goal
+    reached within a tolerance); `graph` reuses one made by grid_graph for the same mask."""
 
-    def __init__(self, blocked: np.ndarray, goal: tuple[int, int], graph: object | None = None) -> None:
+    def __init__(self, blocked: np.ndarray, goal: tuple[int, int], graph: object | None = None,
+                 within: float = 0.0) -> None:
         from scipy.sparse.csgraph import dijkstra
 
         blocked = np.asarray(blocked, dtype=bool)
@@ -62,11 +65,15 @@ class DistanceField:
         r, c = goal
         if not (0 <= r < rows and 0 <= c < cols):
             raise ValueError(f"DistanceField: the goal {goal} is outside the {rows}×{cols} grid")
-        if blocked[r, c]:
+        k = math.floor(within)
+        rr, cc = np.mgrid[max(0, r - k):min(rows, r + k + 1), max(0, c - k):min(cols, c + k + 1)]
+        near = ((rr - r) ** 2 + (cc - c) ** 2 <= within * within) & ~blocked[rr, cc]
+        sources = (rr[near] * cols + cc[near]).tolist()
+        if not sources:
             self.distance = np.full(self.shape, math.inf)
             return
         graph = grid_graph(blocked) if graph is None else graph
-        self.distance = dijkstra(graph, directed=False, indices=r * cols + c).reshape(self.shape)
+        self.distance = dijkstra(graph, directed=False, indices=sources, min_only=True).reshape(self.shape)
 
     def to(self, cell: tuple[int, int]) -> float:
         """The distance from `cell` to the goal, in cells (inf when cut off or outside the grid)."""

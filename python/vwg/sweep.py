@@ -95,6 +95,7 @@ def load_spec(path: str | Path) -> SweepSpec:
         seeds = [doc.number(("seeds", i), integer=True, minimum=0, maximum=2**63 - 1) for i in range(len(raw_seeds))]
         if not seeds:
             raise doc.error(("seeds",), "expected at least one seed")
+        _nonempty_list(doc, ("seeds",))
     frames = doc.number(("frames",), integer=True, minimum=1, maximum=10_000_000)
     params: dict[str, list[Any]] = {}
     for name in doc.get(("params",), dict, default={}):
@@ -114,9 +115,15 @@ def load_spec(path: str | Path) -> SweepSpec:
 
 
 def _nonempty_list(doc: YamlDoc, path: tuple[Any, ...]) -> list[Any]:
+    """A non-empty list without repeats (a repeat would run the same cells twice)."""
     value = doc.get(path, list)
     if not value:
         raise doc.error(path, "expected a non-empty list")
+    seen: list[Any] = []
+    for i, item in enumerate(value):
+        if item in seen and type(item) is type(seen[seen.index(item)]):
+            raise doc.error((*path, i), f"{item!r} is listed twice")
+        seen.append(item)
     return value
 
 
@@ -190,12 +197,13 @@ def run_sweep(spec: SweepSpec, out: str | Path, *, scheduler: str | None = None,
 
 
 def _repair_tail(out: Path) -> None:
-    """End a results file cut in the middle of a line with a newline, so the next row starts on its own."""
+    """Cut a row a stop left half-written off the end of a results file (its cell runs again): a quote
+    it left open would swallow the next row."""
     if out.exists() and out.stat().st_size:
-        with out.open("rb+") as f:
-            f.seek(-1, os.SEEK_END)
-            if f.read(1) != b"\n":
-                f.write(b"\n")
+        data = out.read_bytes()
+        if not data.endswith(b"\n"):
+            with out.open("rb+") as f:
+                f.truncate(data.rfind(b"\n") + 1)
 
 
 def _results(client: Any, trials: list[Trial]) -> Iterator[dict[str, Any]]:

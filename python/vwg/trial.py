@@ -60,6 +60,7 @@ KNOWN_PARAMS: dict[str, tuple[tuple[type, ...], str]] = {
     "obstacles": ((int,), "boxes added on the first robot's way, not on its map"),
 }
 
+FLOAT_PARAMS = ("odometry_noise", "motor_noise")
 BOX_M = 0.5  # the side of an added obstacle
 SPACING_M = 0.6  # the least distance between two random starts
 
@@ -76,10 +77,16 @@ class Trial:
 
     def __post_init__(self) -> None:
         check_params(self.params, "params")
+        # 0 and 0.0 name one cell: the noise levels are numbers, whichever way they were written.
+        normal = {k: float(v) if k in FLOAT_PARAMS else v for k, v in self.params.items()}
+        object.__setattr__(self, "params", normal)
         if isinstance(self.seed, bool) or not isinstance(self.seed, int) or not 0 <= self.seed < 2**63:
             raise SchemaError(f"seed: expected an integer from 0 to 2**63 - 1, got {self.seed!r}")
         if isinstance(self.frames, bool) or not isinstance(self.frames, int) or not 1 <= self.frames <= 10_000_000:
             raise SchemaError(f"frames: expected an integer from 1 to 10000000, got {self.frames!r}")
+
+    def __hash__(self) -> int:
+        return hash(self.key)
 
     @property
     def params_text(self) -> str:
@@ -118,6 +125,8 @@ def check_params(params: dict[str, Any], where: str) -> None:
         if not params["sensors"]:
             raise SchemaError(f"{where}.sensors: expected at least one sensor")
         for s in params["sensors"]:
+            if not isinstance(s, str):
+                raise SchemaError(f"{where}.sensors: expected sensor names, got {s!r}")
             if s not in sensors:
                 raise SchemaError(f"{where}.sensors: unknown sensor {s!r} (registered: {', '.join(sensors)})")
 
@@ -132,19 +141,19 @@ def cached_world(path: str) -> Any:
     return load_robot_world(resolve_world(path))
 
 
-_fields: OrderedDict[tuple[bytes, float, tuple[float, float]], Any] = OrderedDict()
+_fields: OrderedDict[tuple[bytes, float, tuple[float, float], float], Any] = OrderedDict()
 _graph: dict[tuple[bytes, float], Any] = {}
 
 
-def _field(grid: Any, radius: float, goal: tuple[float, float]) -> Any:
-    """The distance field to `goal` on `grid` for a robot of `radius`, cached (the last 64): a sweep
-    runs many cells on the same maps and rooms."""
+def _field(grid: Any, radius: float, goal: tuple[float, float], tolerance: float = 0.0) -> Any:
+    """The distance field to `goal` (to within `tolerance` metres of it) on `grid` for a robot of
+    `radius`, cached (the last 64): a sweep runs many cells on the same maps and rooms."""
     import hashlib
 
     from .shortest import DistanceField, grid_graph
 
     grid_key = hashlib.sha1(grid.data.tobytes() + repr((grid.resolution, grid.origin)).encode()).digest()
-    key = (grid_key, radius, goal)
+    key = (grid_key, radius, goal, tolerance)
     if key in _fields:
         _fields.move_to_end(key)
         return _fields[key]
@@ -153,15 +162,18 @@ def _field(grid: Any, radius: float, goal: tuple[float, float]) -> Any:
     if graph is None:
         _graph.clear()  # one graph kept: they are large (Willow's has 11 M edges)
         graph = _graph[(grid_key, radius)] = grid_graph(blocked)
-    field_ = _fields[key] = DistanceField(blocked, grid.world_to_cell(*goal), graph=graph)
+    field_ = _fields[key] = DistanceField(blocked, grid.world_to_cell(*goal), graph=graph,
+                                          within=tolerance / grid.resolution)
     if len(_fields) > 64:
         _fields.popitem(last=False)
     return field_
 
 
-def shortest_m(grid: Any, radius: float, start: tuple[float, float], goal: tuple[float, float]) -> float:
-    """The shortest way from `start` to `goal` in metres on `grid` for a robot of `radius` (inf: none)."""
-    dist = _field(grid, radius, goal).to(grid.world_to_cell(*start))
+def shortest_m(grid: Any, radius: float, start: tuple[float, float], goal: tuple[float, float],
+               tolerance: float = 0.0) -> float:
+    """The shortest way from `start` to `goal` (to within `tolerance` metres of it) in metres on `grid`
+    for a robot of `radius` (inf: none)."""
+    dist = _field(grid, radius, goal, tolerance).to(grid.world_to_cell(*start))
     return dist * grid.resolution
 
 
@@ -265,6 +277,9 @@ def _add_obstacles(world: Any, goals: dict[int, str], count: int, rng: np.random
         if math.isfinite(shortest_m(trial_grid, robot.radius, start, goal)):
             data = trial_data
             placed += 1
+    if placed < count:
+        raise Error(f"params.obstacles: room for {placed} of {count} boxes of {BOX_M} m on robot {robot.id}'s way "
+                    f"to {room} in {world.name} (each must leave the way open)")
     return dataclasses.replace(world, grid=OccupancyGrid(data, grid.resolution, grid.origin))
 
 
@@ -287,16 +302,26 @@ def _descend(distance: np.ndarray, cell: tuple[int, int]) -> list[tuple[int, int
 
 # ---- running it ----------------------------------------------------------------------------------------
 def run_trial(trial: Trial | dict[str, Any]) -> dict[str, Any]:
-    """Run a trial (or its dict, as a Dask worker gets it) on one thread; its row (COLUMNS). A frame
-    that fails gives a row with ``error`` set rather than an exception: a sweep goes on."""
-    from .casestudy import CaseStudy
-    from .errors import FrameError
-
+    """Run a trial (or its dict, as a Dask worker gets it) on one thread; its row (COLUMNS, a number
+    that does not apply left empty). A trial that cannot be set up or whose frame fails gives a row
+    with ``error`` set rather than an exception: a sweep goes on."""
     if isinstance(trial, dict):
         trial = Trial(**trial)
     row: dict[str, Any] = dict(zip(COLUMNS[:5], trial.key, strict=True))
     row["seed"], row["frames_limit"] = trial.seed, trial.frames
     start = time.perf_counter()
+    try:
+        row.update(_run(trial))
+    except Error as e:  # the set-up failed (no room for the robots, a planner unknown on this world, ...)
+        row.update({c: "" for c in COLUMNS[5:]}, reached=False, error=str(e))
+    row["wall_s"] = round(time.perf_counter() - start, 3)
+    return {k: "" if isinstance(v, float) and math.isnan(v) else v for k, v in row.items()}
+
+
+def _run(trial: Trial) -> dict[str, Any]:
+    from .casestudy import CaseStudy
+    from .errors import FrameError
+
     world, goals, known = trial_world(trial)
     case = CaseStudy(world, trial.planner, goals=goals or None, seed=trial.seed, frames=trial.frames,
                      threads=1, knows_map=trial.params.get("knows_map", True), known_map=known)
@@ -316,26 +341,28 @@ def run_trial(trial: Trial | dict[str, Any]) -> dict[str, Any]:
     finally:
         case.close()
     ordered = [r for r in summary.robots if r.room is not None]
-    row.update(
+    return dict(
         reached=summary.reached and not error, frames=summary.frames, path_length_m=round(summary.path_length_m, 6),
         optimal_m=_optimal(world, goals), collisions=summary.collisions, replans=summary.replans,
         robots=len(summary.robots), reached_robots=sum(r.reached for r in ordered),
         planning_s=round(float(getattr(case.decider, "search_seconds", math.nan)), 6),
-        map_precision=round(quality[0], 4), map_recall=round(quality[1], 4), run_s=round(case.wall_time, 3),
-        wall_s=round(time.perf_counter() - start, 3), error=error)
-    return row
+        map_precision=round(quality[0], 4), map_recall=round(quality[1], 4), run_s=round(case.wall_time, 6),
+        error=error)
 
 
 def _optimal(world: Any, goals: dict[int, str]) -> float:
-    """The sum of the ordered robots' shortest ways to their rooms (NaN when a robot has several orders)."""
+    """The sum of the ordered robots' shortest ways to their rooms, each to within the goal tolerance (where
+    a robot counts as arrived); NaN when a robot has several orders, or none has one."""
     orders = dict(goals)
     if not orders:
         for o in world.orders:
             if o.robot in orders:
                 return math.nan  # a second order: its way starts wherever the first one ended
             orders[o.robot] = o.room
+    if not orders:
+        return math.nan
     total = 0.0
     for rid, room in orders.items():
         robot = world.robot(rid)
-        total += shortest_m(world.grid, robot.radius, robot.start[:2], world.rooms[room].goal)
+        total += shortest_m(world.grid, robot.radius, robot.start[:2], world.rooms[room].goal, world.goal_tolerance)
     return round(total, 6)

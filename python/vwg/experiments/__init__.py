@@ -135,6 +135,11 @@ def run_experiments(out_dir: str | Path, config: str | Config = "full", *, worke
         extensibility.section(rows["extensibility"], out),
         environment.section(rows["environment"], out),
     ]
+    for section, name in zip((sections[0], sections[1], sections[3], sections[4]), rows, strict=True):
+        failed = [r for r in rows[name] if r["error"]]
+        if failed:
+            section.findings.append(f"{len(failed)} of {len(rows[name])} runs failed (counted as not reached); the "
+                                    f"first: {failed[0]['error']}")
     elapsed = time.perf_counter() - started
     report = out / "report.md"
     report.write_text(_report(config, sections, elapsed, reused, workers, scheduler), encoding="utf-8")

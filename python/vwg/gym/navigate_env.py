@@ -9,7 +9,7 @@ import gymnasium as gym
 import numpy as np
 
 from .navigation import REWARD, Navigation, Reward
-from .spaces import action_space, flatten, move_of, observation_space
+from .spaces import action_space, check_move, flatten, move_of, observation_space
 
 __all__ = ["NavigateEnv"]
 
@@ -30,13 +30,12 @@ class NavigateEnv(gym.Env[Any, Any]):
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 10}
 
-    def __init__(self, world: str = "office", *, beams: int = 36, discrete: bool = False, flat: bool = False,
+    def __init__(self, world: str | Any = "office", *, beams: int = 36, discrete: bool = False, flat: bool = False,
                  max_turn: float = math.pi / 2, step_length: float = 0.5, frames_per_step: int = 50,
                  reward: Reward = REWARD, render_mode: str | None = None) -> None:
         if render_mode not in (None, "rgb_array"):
             raise ValueError(f"render_mode: expected None or 'rgb_array', got {render_mode!r}")
-        if not (0 < max_turn <= math.pi and 0 < step_length <= 10):
-            raise ValueError(f"max_turn (0..π) and step_length (0..10 m): got {max_turn!r}, {step_length!r}")
+        check_move(max_turn, step_length)
         self.nav = Navigation(world, robots=1, beams=beams, frames_per_step=frames_per_step, reward=reward)
         self.discrete, self.flat = discrete, flat
         self.max_turn, self.step_length = max_turn, step_length

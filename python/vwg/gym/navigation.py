@@ -85,6 +85,7 @@ class Navigation:
         self._last_way: dict[int, float] = {}
         self._last_collisions: dict[int, int] = {}
         self._arrived: dict[int, bool] = {}
+        self.frames_run = 0  # over every episode (an engine's own count starts again at each reset)
 
     # ---- episodes ---------------------------------------------------------------------------------------
     def reset(self, seed: int) -> None:
@@ -139,6 +140,7 @@ class Navigation:
         assert self.case is not None
         for _ in range(n):
             self.case.engine.step()
+        self.frames_run += n
         self.actors = self.case.robot_actors()
 
     def _reward(self, rid: int) -> float:

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import functools
 import math
 from typing import Any
 
@@ -10,7 +9,7 @@ import numpy as np
 from pettingzoo import ParallelEnv
 
 from .navigation import REWARD, Navigation, Reward
-from .spaces import action_space, flatten, move_of, observation_space
+from .spaces import action_space, check_move, flatten, move_of, observation_space
 
 __all__ = ["NavigateParallelEnv", "parallel_env"]
 
@@ -23,12 +22,15 @@ class NavigateParallelEnv(ParallelEnv):  # type: ignore[misc]
 
     metadata = {"name": "vwg_navigate_v0", "render_modes": [], "is_parallelizable": True}
 
-    def __init__(self, world: str = "office", *, robots: int | None = None, beams: int = 36, discrete: bool = False,
-                 flat: bool = False, max_turn: float = math.pi / 2, step_length: float = 0.5,
+    def __init__(self, world: str | Any = "office", *, robots: int | None = None, beams: int = 36,
+                 discrete: bool = False, flat: bool = False, max_turn: float = math.pi / 2, step_length: float = 0.5,
                  frames_per_step: int = 50, max_steps: int = 500, reward: Reward = REWARD) -> None:
+        from ..robotworld import RobotWorld
         from ..trial import cached_world
 
-        count = robots if robots is not None else len(cached_world(world).robots)
+        check_move(max_turn, step_length)
+        loaded = world if isinstance(world, RobotWorld) else cached_world(str(world))
+        count = robots if robots is not None else len(loaded.robots)
         self.nav = Navigation(world, robots=count, beams=beams, frames_per_step=frames_per_step, reward=reward)
         self.discrete, self.flat = discrete, flat
         self.max_turn, self.step_length, self.max_steps = max_turn, step_length, max_steps
@@ -38,11 +40,9 @@ class NavigateParallelEnv(ParallelEnv):  # type: ignore[misc]
         self._observation_space = observation_space(beams, self.nav.laser.max_range, self.nav.max_distance, flat)
         self._action_space = action_space(discrete)
 
-    @functools.cache  # noqa: B019 — PettingZoo asks for the same object each time
     def observation_space(self, agent: str) -> Any:
-        return self._observation_space
+        return self._observation_space  # the same object each time, as PettingZoo asks
 
-    @functools.cache  # noqa: B019
     def action_space(self, agent: str) -> Any:
         return self._action_space
 

@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 from gymnasium import spaces
 
-__all__ = ["DISCRETE_MOVES", "action_space", "move_of", "observation_space"]
+__all__ = ["DISCRETE_MOVES", "action_space", "check_move", "flatten", "move_of", "observation_space"]
 
 #: The discrete moves (turn in radians, then drive in step lengths): ahead, left and ahead, right and
 #: ahead, turn left, turn right.
@@ -39,6 +39,14 @@ def action_space(discrete: bool) -> spaces.Space[Any]:
     if discrete:
         return spaces.Discrete(len(DISCRETE_MOVES))
     return spaces.Box(np.array([-1.0, 0.0], np.float32), np.array([1.0, 1.0], np.float32), dtype=np.float32)
+
+
+def check_move(max_turn: float, step_length: float) -> None:
+    """The largest turn (0..π rad) and drive (0..10 m) of a move."""
+    if not (math.isfinite(max_turn) and 0 < max_turn <= math.pi):
+        raise ValueError(f"max_turn: expected 0 < max_turn <= π radians, got {max_turn!r}")
+    if not (math.isfinite(step_length) and 0 < step_length <= 10):
+        raise ValueError(f"step_length: expected 0 < step_length <= 10 m, got {step_length!r}")
 
 
 def move_of(action: Any, discrete: bool, max_turn: float, step_length: float) -> tuple[float, float]:
