@@ -275,3 +275,26 @@ def test_two_sweeps_on_one_client_keep_their_own_cells(tmp_path):
         rows = read_rows(tmp_path / name)
         assert sorted((r["world"], r["planner"], r["seed"]) for r in rows) == \
             sorted((t.world, t.planner, str(t.seed)) for t in spec.trials())
+
+
+def test_a_sweep_on_a_running_scheduler(tmp_path):
+    # A cluster of its own, as a user would start one (dask scheduler + workers), here on 127.0.0.1.
+    from dask.distributed import LocalCluster
+
+    (tmp_path / "spec.yaml").write_text("worlds: [office]\nplanners: [jps]\nseeds: [2, 3]\nframes: 30\n"
+                                        "params:\n  task: [random]\n")
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=":0", host="127.0.0.1",
+                      silence_logs=40) as cluster:
+        done = subprocess.run([sys.executable, "-m", "vwg.cli", "sweep", str(tmp_path / "spec.yaml"), "-o",
+                               str(tmp_path / "r.csv"), "--scheduler", cluster.scheduler_address],
+                              capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert "2 cells, 0 already in" in done.stdout and "2 run now" in done.stdout
+    rows = read_rows(tmp_path / "r.csv")
+    again = {tuple(as_csv_row(run_trial(Trial("office", "jps", s, 30, {"task": "random"})))[c]
+                   for c in ("seed", "frames", "path_length_m")) for s in (2, 3)}
+    assert {(r["seed"], r["frames"], r["path_length_m"]) for r in rows} == again
+    unreachable = subprocess.run([sys.executable, "-m", "vwg.cli", "sweep", str(tmp_path / "spec.yaml"), "-o",
+                                  str(tmp_path / "s.csv"), "--scheduler", "tcp://127.0.0.1:9"],
+                                 capture_output=True, text=True, timeout=120)
+    assert unreachable.returncode == 2 and "cannot reach the Dask scheduler" in unreachable.stderr

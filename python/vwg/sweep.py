@@ -239,7 +239,8 @@ def dask_client(scheduler: str | None, workers: int | None) -> Iterator[Any]:
             yield client
         return
     n = workers or os.cpu_count() or 1
-    with LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None, host="127.0.0.1",
+    # Everything on 127.0.0.1; the scheduler's status page on a free port (two sweeps at once do not clash).
+    with LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0", host="127.0.0.1",
                       silence_logs=40) as cluster, Client(cluster) as client:
         yield client
 
