@@ -24,10 +24,13 @@ APT_PACKAGES := build-essential cmake pkg-config python3-dev python3-venv \
 	libboost-serialization-dev libboost-filesystem-dev libboost-system-dev \
 	libgtest-dev ffmpeg
 
+# What the tests need beyond that: a browser for the viewer's tests (driven by Playwright).
+TEST_APT_PACKAGES := chromium
+
 BUILD := build
 STAMP := $(BUILD)/stamps
 
-.PHONY: help deps venv install demo test pytest lint stubs cpp-test cpp-package tsan bench bench-scale irsim-env clean
+.PHONY: help deps test-deps venv install demo test pytest lint stubs cpp-test cpp-package tsan bench bench-scale irsim-env clean
 
 help:
 	@sed -n '1,5p' Makefile | sed 's/^# \{0,1\}//'
@@ -97,10 +100,23 @@ demo: install
 	@echo "  . $(VENV)/bin/activate        then: vwg worlds; vwg run warehouse --video w.mp4; python -c 'import vwg'"
 	@echo "or call it by its full path: $(VENV)/bin/vwg"
 
-test: install lint pytest cpp-test cpp-package
+## Debian packages the tests need (only when missing).
+test-deps:
+	@missing=""; for p in $(TEST_APT_PACKAGES); do \
+	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "ok installed" || missing="$$missing $$p"; \
+	done; \
+	if [ -n "$$missing" ]; then \
+	  mkdir -p $(BUILD); \
+	  echo "Installing Debian packages for the tests (1-2 min; log in $(BUILD)/apt-test.log):$$missing"; \
+	  { $(SUDO) apt-get update -qq && DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq \
+	      --no-install-recommends $$missing; } > $(BUILD)/apt-test.log 2>&1 \
+	    || { tail -n 30 $(BUILD)/apt-test.log; echo "apt-get failed: see $(BUILD)/apt-test.log"; exit 1; }; \
+	fi
+
+test: install test-deps lint pytest cpp-test cpp-package
 	@echo "make test: all passed"
 
-pytest:
+pytest: test-deps
 	$(PY) -m pytest -q
 
 lint:

@@ -1,6 +1,7 @@
 """The ``vwg`` command: ``run`` a world file (or a shipped world by name), ``replay`` a record, ``check``
 a world file, draw a robot world in 3D (``overview``), list the shipped ``worlds``, run a ``sweep``
-of many runs on Dask, measure the paper's five tests (``experiments``).
+of many runs on Dask, measure the paper's five tests (``experiments``), show a run live in the
+browser (``serve``).
 
 Exit status: 0 on success; 1 when a frame failed (an error in an actor, generator or backend); 2 for
 bad input (a file, an option); 3 when ``vwg run`` finished but a robot with an order did not reach
@@ -132,6 +133,43 @@ def _cmd_experiments(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_serve(args: argparse.Namespace) -> int:
+    from .robotworld import PlatformSpec, load_robot_world
+
+    try:
+        from .serve.live import LiveRun
+        from .serve.server import serve
+    except ImportError as e:
+        raise Error(f"vwg serve needs aiohttp: pip install 'vwg[serve]' ({e})") from None
+    path = _world_file(args.world, "serve", expected="robot")
+    world = load_robot_world(path)
+    if not 0 <= args.port <= 65535:
+        raise Error(f"--port: expected 0 to 65535 (0: any free port), got {args.port}")
+    if args.dt is not None:
+        import dataclasses
+
+        world = dataclasses.replace(world, dt=args.dt)
+    spec = world.platform
+    if args.platform and args.platform != spec.kind:
+        spec = PlatformSpec(args.platform)
+    extra = {k: v for k, v in (("url", args.url), ("port", args.serial_port)) if v is not None}
+    if extra:
+        spec = PlatformSpec(spec.kind, {**spec.options, **extra})
+    live = LiveRun(world, planner=args.planner, platform=spec, speed=args.speed, seed=args.seed, threads=args.threads,
+                   world_orders=not args.no_world_orders, paused=args.paused)
+    if args.host not in ("127.0.0.1", "localhost", "::1"):
+        print(f"vwg serve: listening on {args.host}: anyone who can reach it can drive the robots", file=sys.stderr)
+
+    def ready(url: str) -> None:
+        print(f"vwg serve {args.world}: {url} (Ctrl-C stops)", flush=True)
+
+    try:
+        serve(live, host=args.host, port=args.port, on_ready=ready)
+    finally:
+        live.stop()
+    return 0
+
+
 def _cmd_overview(args: argparse.Namespace) -> int:
     from .overview import render_world_overview
     from .robotworld import load_robot_world
@@ -239,6 +277,25 @@ def build_parser() -> argparse.ArgumentParser:
     exp.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
                      help="show progress bars (default: on a terminal)")
     exp.set_defaults(func=_cmd_experiments)
+
+    srv = sub.add_parser("serve", help="run a robot world live in the browser; click a room to send a robot",
+                         description="Run a robot world and show it live on a web page (127.0.0.1 unless --host): "
+                                     "the map, robots, lasers, paths, markers, the selected robot's camera, string and "
+                                     "a 3D view; orders by clicking a room or its marker; pause, step, speed, reset.")
+    srv.add_argument("world", type=Path, help="a robot world file, or a shipped world's name")
+    srv.add_argument("--port", type=int, default=8765, help="the port (default 8765; 0: any free port)")
+    srv.add_argument("--host", default="127.0.0.1", help="the address to listen on (default 127.0.0.1: this machine)")
+    srv.add_argument("--planner", default="astar", help="the decision inside eDecide (default astar)")
+    srv.add_argument("--platform", help="sim (default), rosbridge or serial")
+    srv.add_argument("--url", help="the rosbridge server of --platform rosbridge")
+    srv.add_argument("--serial-port", help="the serial port of --platform serial")
+    srv.add_argument("--speed", type=float, default=1.0, help="times real time (default 1; 0: as fast as it goes)")
+    srv.add_argument("--seed", type=int, help="random seed (default: the file's)")
+    srv.add_argument("--dt", type=float, help="seconds per frame (default: the file's)")
+    srv.add_argument("--threads", type=int, default=0, help="threads for the lasers and decisions (default: cores)")
+    srv.add_argument("--no-world-orders", action="store_true", help="ignore the orders scripted in the world file")
+    srv.add_argument("--paused", action="store_true", help="start paused (Run starts the frames)")
+    srv.set_defaults(func=_cmd_serve)
 
     ovw = sub.add_parser("overview", help="draw a robot world's map in 3D (the paper's Fig. 5)",
                          description="Draw a robot world in 3D: walls extruded, markers, robots at their starts.")

@@ -1,0 +1,7 @@
+"""A robot world live in the browser (``vwg serve``): vwg.serve.live runs it, vwg.serve.server shows it."""
+
+from __future__ import annotations
+
+from .live import LiveRun, Snapshot
+
+__all__ = ["LiveRun", "Snapshot"]

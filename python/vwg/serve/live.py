@@ -1,0 +1,235 @@
+"""A robot world running live for a viewer: its frames on a thread of their own, paced to the clock
+(or as fast as they go), with pause, step, speed, reset, orders and a selected robot.
+
+The run's thread is the only one that touches the engine. After each frame it makes a snapshot (plain
+data: poses, objectives, paths, scans, the selected robot's string and camera image) and hands it to
+``on_frame``, which must not block (the server keeps the latest snapshot and tells its clients).
+Commands from other threads go through a queue the run's thread empties between frames; orders go
+straight to gObjective (vwg.casestudy.Orders), which takes them from any thread at the next frame.
+"""
+
+from __future__ import annotations
+
+import math
+import queue
+import threading
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..casestudy import CaseStudy
+from ..errors import SchemaError
+from ..robotworld import PlatformSpec, RobotWorld
+
+__all__ = ["MAX_SPEED", "LiveRun", "Snapshot"]
+
+MAX_SPEED = 0.0  # the speed that means "as fast as the frames go"
+SCAN_ROBOTS = 50  # robots whose laser is shown (beyond this the view shows robots and paths only)
+STRING_CHARS = 4000  # the selected robot's string is clipped to this
+
+
+@dataclass
+class Snapshot:
+    """What the viewer shows of one frame (plain data, safe to read from any thread)."""
+
+    frame: int
+    time: float
+    status: str  # running, paused, stopped
+    speed: float
+    selected: int | None
+    robots: list[dict[str, Any]]
+    string: str = ""  # the selected robot's string
+    camera: np.ndarray | None = None  # the selected robot's last camera image (H×W×3), if it has a camera
+    serial: int = 0  # counts snapshots: a viewer tells a new one from the last
+    errors: list[str] = field(default_factory=list)
+
+    def state(self) -> dict[str, Any]:
+        """GET /api/state: frame, time, status and each robot's id, pose, objective and reached."""
+        keys = ("id", "x", "y", "angle", "objective", "reached")
+        return {"frame": self.frame, "time": self.time, "status": self.status, "speed": self.speed,
+                "selected": self.selected, "robots": [{k: r[k] for k in keys} for r in self.robots]}
+
+    def message(self) -> dict[str, Any]:
+        """The WebSocket message of this frame: the state with paths, scans, statuses and the string."""
+        return {"type": "frame", **self.state(), "robots": self.robots, "string": self.string}
+
+
+class LiveRun:
+    """A robot world run live: ``start()``, then ``pause()``, ``resume()``, ``step()``, ``set_speed()``,
+    ``reset()``, ``order(robot, room)``, ``select(robot)``; ``stop()`` ends it."""
+
+    def __init__(self, world: RobotWorld, *, planner: str = "astar", platform: PlatformSpec | None = None,
+                 speed: float = 1.0, seed: int | None = None, threads: int = 0, world_orders: bool = True,
+                 paused: bool = False, on_frame: Callable[[Snapshot], None] = lambda s: None) -> None:
+        self.world = world
+        self.planner = planner
+        self.platform = platform
+        self.seed = seed
+        self.threads = threads
+        self.world_orders = world_orders
+        self.on_frame = on_frame
+        self._commands: queue.Queue[tuple[str, Any]] = queue.Queue()
+        self._stop = threading.Event()
+        self._speed = self._checked_speed(speed)
+        self._paused = paused
+        self._steps = 0
+        self._selected: int | None = world.robots[0].id if world.robots else None
+        self._serial = 0
+        self._errors: list[str] = []
+        self.case = self._new_case()
+        self.rooms_by_marker = {room.marker: name for name, room in world.rooms.items()}
+        self.thread = threading.Thread(target=self._loop, name="vwg-live-run", daemon=True)
+        self.latest = self._snapshot()
+
+    # ---- commands (any thread) ---------------------------------------------------------------------------
+    def start(self) -> None:
+        self.thread.start()
+
+    def stop(self) -> None:
+        self._stop.set()
+        self._commands.put(("wake", None))
+        if self.thread.is_alive() and threading.current_thread() is not self.thread:
+            self.thread.join(timeout=10)
+        self.case.close()
+
+    def pause(self) -> None:
+        self._commands.put(("pause", None))
+
+    def resume(self) -> None:
+        self._commands.put(("resume", None))
+
+    def step(self) -> None:
+        """One frame, when paused."""
+        self._commands.put(("step", None))
+
+    def reset(self) -> None:
+        """Start the world again from its first frame (orders given so far are dropped)."""
+        self._commands.put(("reset", None))
+
+    def set_speed(self, speed: float) -> None:
+        self._commands.put(("speed", self._checked_speed(speed)))
+
+    def select(self, robot: int) -> None:
+        self.check_robot(robot)
+        self._commands.put(("select", robot))
+
+    def order(self, robot: int, room: str) -> None:
+        """Send `robot` to `room` through gObjective (an eObjective<marker> event at the next frame)."""
+        self.case.orders.order(robot, room)  # checks the robot and the room, naming them
+
+    @staticmethod
+    def _checked_speed(speed: float) -> float:
+        if not isinstance(speed, (int, float)) or isinstance(speed, bool) or not math.isfinite(speed) \
+                or not (speed == MAX_SPEED or 0.05 <= speed <= 100):
+            raise SchemaError(f"speed: expected 0.05 to 100 times real time, or 0 for as fast as it goes; "
+                              f"got {speed!r}")
+        return float(speed)
+
+    def check_robot(self, robot: Any) -> None:
+        if isinstance(robot, bool) or not isinstance(robot, int) or robot not in {r.id for r in self.world.robots}:
+            raise SchemaError(f"robot: no robot {robot!r} (robots: {', '.join(str(r.id) for r in self.world.robots)})")
+
+    # ---- the run's thread ------------------------------------------------------------------------------
+    def _new_case(self) -> CaseStudy:
+        return CaseStudy(self.world, self.planner, seed=self.seed, frames=2**62, platform=self.platform,
+                         threads=self.threads, world_orders=self.world_orders)
+
+    def _loop(self) -> None:
+        next_time = time.monotonic()
+        while not self._stop.is_set():
+            self._apply_commands(block=self._paused and self._steps == 0)
+            if self._stop.is_set():
+                break
+            if self._paused and self._steps == 0:
+                continue
+            try:
+                self.case.engine.step()
+            except Exception as e:  # a frame that failed: the run stops and says why (the viewer stays up)
+                self._errors.append(f"frame {self.case.engine.frame}: {e}")
+                self._paused = True
+            if self._steps:
+                self._steps -= 1
+            self._publish()
+            if self._speed != MAX_SPEED and not self._paused:
+                next_time = max(next_time + self.world.dt / self._speed, time.monotonic() - 0.5)
+                self._stop.wait(max(0.0, next_time - time.monotonic()))
+            else:
+                next_time = time.monotonic()
+
+    def _apply_commands(self, block: bool) -> None:
+        try:
+            command = self._commands.get(timeout=0.5) if block else self._commands.get_nowait()
+        except queue.Empty:
+            return
+        while True:
+            kind, value = command
+            if kind == "pause":
+                self._paused = True
+            elif kind == "resume":
+                self._paused, self._steps = False, 0
+            elif kind == "step":
+                self._paused, self._steps = True, self._steps + 1
+            elif kind == "speed":
+                self._speed = value
+            elif kind == "select":
+                self._selected = value
+            elif kind == "reset":
+                self.case.close()
+                self.case = self._new_case()
+                self._errors.clear()
+            self._publish()
+            try:
+                command = self._commands.get_nowait()
+            except queue.Empty:
+                return
+
+    def _publish(self) -> None:
+        self.latest = self._snapshot()
+        self.on_frame(self.latest)
+
+    def _snapshot(self) -> Snapshot:
+        case = self.case
+        actors = case.robot_actors()
+        last = case.orders.last
+        robots = []
+        lasers = {g.robot: g for g in getattr(case.sim, "lasers", [])}
+        for n, spec in enumerate(self.world.robots):
+            actor = actors.get(spec.id)
+            x, y, angle = case.sim.robot(spec.id).pose
+            entry: dict[str, Any] = {
+                "id": spec.id, "x": round(x, 4), "y": round(y, 4), "angle": round(angle, 4),
+                "radius": spec.radius, "objective": last.get(spec.id),
+                "reached": bool(actor is not None and actor["reached"] and spec.id in last),
+                "status": case.status_of(spec.id, actor, last) if actor is not None else "gone",
+                "path": [], "scan": [],
+            }
+            if actor is not None:
+                path = np.asarray(actor["path"])
+                if path.size:
+                    entry["path"] = np.round(path[:: max(1, len(path) // 200)], 3).tolist()
+            laser = lasers.get(spec.id)
+            if laser is not None and n < SCAN_ROBOTS:
+                ranges = np.asarray(laser.ranges, dtype=float)
+                hit = ranges < laser.max_range
+                a = angle + np.asarray(laser.angles)[hit]
+                entry["scan"] = np.round(np.stack([x + ranges[hit] * np.cos(a), y + ranges[hit] * np.sin(a)], 1),
+                                         3).tolist()
+            robots.append(entry)
+        string = ""
+        camera = None
+        if self._selected is not None:
+            actor = actors.get(self._selected)
+            if actor is not None:
+                string = str(actor)
+                string = string if len(string) <= STRING_CHARS else string[:STRING_CHARS] + " …"
+            for gen in getattr(case.sim, "cameras", []):
+                if gen.robot == self._selected and gen.image is not None:
+                    camera = np.asarray(gen.image)
+        status = "paused" if self._paused else "running"
+        self._serial += 1
+        return Snapshot(frame=case.engine.frame, time=round(case.engine.time, 6), status=status, speed=self._speed,
+                        selected=self._selected, robots=robots, string=string, camera=camera, serial=self._serial,
+                        errors=list(self._errors))

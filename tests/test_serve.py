@@ -1,0 +1,262 @@
+"""vwg serve: the page in a real browser (Debian's chromium, headless, driven by Playwright): the map is
+drawn, a room button and a click on a marker send the robot there and it arrives; the JSON API; the
+WebSocket's refusals, several clients, a client that goes away, a slow client that skips frames;
+pause, step and reset; the command's bad input and Ctrl-C. Every server here listens on 127.0.0.1
+and stops with its test."""
+
+from __future__ import annotations
+
+import asyncio
+import json
+import shutil
+import signal
+import subprocess
+import sys
+import time
+import urllib.request
+
+import pytest
+import websockets
+
+from conftest import ROOT
+
+CHROMIUM = shutil.which("chromium") or "/usr/bin/chromium"
+ARTIFACTS = ROOT / "build" / "test-artifacts"
+
+
+class Server:
+    """`vwg serve WORLD --port 0 ...` in a process of its own, its URL read from what it prints."""
+
+    def __init__(self, *args: str) -> None:
+        self.process = subprocess.Popen([sys.executable, "-m", "vwg.cli", "serve", *args, "--port", "0"],
+                                        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        line = self.process.stdout.readline()  # "vwg serve office: http://127.0.0.1:PORT/ (Ctrl-C stops)"
+        if "http://" not in line:
+            self.process.kill()
+            _, err = self.process.communicate()
+            raise AssertionError(f"vwg serve did not start: {line}{err}")
+        self.url = line.split()[3]
+        assert self.url.startswith("http://127.0.0.1:")
+        self.ws = self.url.replace("http://", "ws://") + "ws"
+
+    def get(self, path: str) -> bytes:
+        with urllib.request.urlopen(self.url + path.lstrip("/"), timeout=10) as response:
+            return response.read()
+
+    def state(self) -> dict:
+        return json.loads(self.get("/api/state"))
+
+    def wait_for(self, test, timeout: float = 60.0) -> dict:
+        end = time.monotonic() + timeout
+        while time.monotonic() < end:
+            state = self.state()
+            if test(state):
+                return state
+            time.sleep(0.05)
+        raise AssertionError(f"not reached in {timeout} s; last state: {state}")
+
+    def stop(self) -> tuple[int, str]:
+        if self.process.poll() is None:
+            self.process.send_signal(signal.SIGINT)  # Ctrl-C
+        try:
+            _, err = self.process.communicate(timeout=20)
+        except subprocess.TimeoutExpired:
+            self.process.kill()
+            _, err = self.process.communicate()
+        return self.process.returncode, err
+
+
+@pytest.fixture
+def server(request):
+    args = getattr(request, "param", ("office", "--no-world-orders", "--speed", "0"))
+    s = Server(*args)
+    yield s
+    s.stop()
+
+
+def robot(state: dict, rid: int) -> dict:
+    return next(r for r in state["robots"] if r["id"] == rid)
+
+
+def test_the_page_in_a_browser_orders_by_button_and_by_marker(server):
+    playwright = pytest.importorskip("playwright.sync_api")
+    world = json.loads(server.get("/api/world"))
+    with playwright.sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=CHROMIUM, args=["--no-sandbox"])
+        page = browser.new_page(viewport={"width": 1500, "height": 1000})
+        page.goto(server.url)
+        page.wait_for_function("document.getElementById('map').dataset.drawn === 'true'")
+        page.wait_for_function("document.getElementById('status').textContent.startsWith('frame')")
+        # The map is drawn: the canvas holds the map's pixels, not a blank element.
+        colours = page.evaluate("""() => {
+            const c = document.getElementById('map');
+            const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+            const seen = new Set();
+            let dark = 0;
+            for (let i = 0; i < d.length; i += 4) {
+                seen.add((d[i] << 16) | (d[i + 1] << 8) | d[i + 2]);
+                if (d[i] + d[i + 1] + d[i + 2] < 200) dark++;
+            }
+            return [seen.size, dark / (d.length / 4)];
+        }""")
+        assert colours[0] > 20 and 0.02 < colours[1] < 0.6, colours  # walls (dark) on a light floor, and colour
+        assert sorted(page.eval_on_selector_all("button[data-room]", "bs => bs.map(b => b.dataset.room)")) == \
+            sorted(r["name"] for r in world["rooms"])
+        # A room's button sends the selected robot (1) there through gObjective; it arrives.
+        page.click('button[data-room="library"]')
+        server.wait_for(lambda s: robot(s, 1)["objective"] == "library", timeout=20)
+        server.wait_for(lambda s: robot(s, 1)["reached"], timeout=90)
+        page.wait_for_function("document.getElementById('objective').textContent.includes('(reached)')")
+        ARTIFACTS.mkdir(parents=True, exist_ok=True)
+        page.screenshot(path=str(ARTIFACTS / "serve_office.png"))
+        # Robot 2 selected from the list, then a click on the kitchen's marker on the map sends it there.
+        page.select_option("#robot", "2")
+        server.wait_for(lambda s: s["selected"] == 2, timeout=20)
+        kitchen = next(r for r in world["rooms"] if r["name"] == "kitchen")
+        m = world["map"]
+        box = page.locator("#map").bounding_box()
+        u, v = m["ax"] * kitchen["x"] + m["bx"], m["ay"] * kitchen["y"] + m["by"]
+        page.mouse.click(box["x"] + u * box["width"] / m["width"], box["y"] + v * box["height"] / m["height"])
+        server.wait_for(lambda s: robot(s, 2)["objective"] == "kitchen", timeout=20)
+        assert robot(server.state(), 1)["objective"] == "library"
+        # A bad order is refused with the error shown on the page.
+        page.evaluate("send({type: 'order', robot: 1, room: 'nowhere'})")
+        page.wait_for_function("document.getElementById('errors').textContent.includes(\"unknown room 'nowhere'\")")
+        browser.close()
+    assert (ARTIFACTS / "serve_office.png").stat().st_size > 10_000
+
+
+def test_the_api_state_and_images(server):
+    state = server.state()
+    assert set(state) >= {"frame", "time", "robots"} and isinstance(state["frame"], int)
+    assert [r["id"] for r in state["robots"]] == [1, 2]
+    for r in state["robots"]:
+        assert set(r) >= {"id", "x", "y", "angle", "objective", "reached"}
+        assert r["objective"] is None and r["reached"] is False  # --no-world-orders: no order yet
+        assert all(isinstance(r[k], float) for k in ("x", "y", "angle"))
+    assert robot(state, 1)["x"] == pytest.approx(1.5, abs=0.05) and robot(state, 1)["y"] == pytest.approx(9.0, abs=0.05)
+    assert server.get("/api/map.png")[:8] == b"\x89PNG\r\n\x1a\n"
+    assert server.get("/api/overview.png")[:8] == b"\x89PNG\r\n\x1a\n"
+    server.wait_for(lambda s: s["frame"] > 5)
+    assert server.get("/api/camera/1.jpg")[:2] == b"\xff\xd8"  # the office's robots carry a camera
+    with pytest.raises(urllib.error.HTTPError, match="404"):
+        server.get("/api/camera/2.jpg")  # not the selected robot
+
+
+async def _exchange(url: str, *messages: str) -> list[dict]:
+    replies = []
+    async with websockets.connect(url, max_size=None) as ws:
+        for text in messages:
+            await ws.send(text)
+            while True:
+                reply = json.loads(await asyncio.wait_for(ws.recv(), 10))
+                if reply["type"] != "frame":
+                    replies.append(reply)
+                    break
+    return replies
+
+
+def test_bad_messages_are_refused_by_name_and_the_server_goes_on(server):
+    replies = asyncio.run(_exchange(
+        server.ws, "{not json", json.dumps([1, 2]), json.dumps({"type": "teleport"}),
+        json.dumps({"type": "order", "robot": 1, "room": "nowhere"}),
+        json.dumps({"type": "order", "robot": 9, "room": "kitchen"}),
+        json.dumps({"type": "speed", "value": -3}), json.dumps({"type": "select", "robot": "one"}),
+        json.dumps({"type": "order", "robot": 1, "room": "kitchen"})))
+    kinds = [r["type"] for r in replies]
+    assert kinds == ["error"] * 7 + ["ok"], replies
+    messages = [r.get("message", "") for r in replies]
+    assert "malformed JSON at line 1, column 2" in messages[0]
+    assert "expected a JSON object" in messages[1]
+    assert "unknown message type 'teleport'" in messages[2]
+    assert "unknown room 'nowhere'" in messages[3]
+    assert "no robot 9" in messages[4]
+    assert "speed: expected" in messages[5]
+    assert "no robot 'one'" in messages[6]
+    server.wait_for(lambda s: robot(s, 1)["objective"] == "kitchen", timeout=20)
+
+    async def oversize() -> int:
+        async with websockets.connect(server.ws) as ws:
+            await ws.send(json.dumps({"type": "order", "room": "x" * 10_000}))
+            with pytest.raises(websockets.ConnectionClosed) as info:
+                while True:
+                    await asyncio.wait_for(ws.recv(), 10)
+            return info.value.rcvd.code
+
+    assert asyncio.run(oversize()) == 1009  # message too big: that connection only
+    assert server.state()["frame"] >= 0  # the server is still there
+
+
+def test_several_clients_a_client_gone_mid_stream_and_a_slow_one(server):
+    async def clients() -> tuple[list[int], int, int, int]:
+        frames = []
+        many = [await websockets.connect(server.ws, max_queue=1) for _ in range(4)]
+        for ws in many:
+            frames.append(json.loads(await asyncio.wait_for(ws.recv(), 10))["frame"])
+        # Two go away without a word, in the middle of the stream.
+        many[0].transport.abort()
+        await many[1].close()
+        # A slow one: reads nothing while the run goes on, as fast as it can, for 3,000 frames (more than
+        # the sockets' buffers hold of its messages).
+        slow = many[2]
+        start = server.state()["frame"]
+        while server.state()["frame"] < start + 3000:
+            await asyncio.sleep(0.2)
+        end = server.state()["frame"]
+        received = 0
+        latest = 0
+        while True:
+            try:
+                message = json.loads(await asyncio.wait_for(slow.recv(), 0.5))
+            except asyncio.TimeoutError:
+                break
+            received += 1
+            latest = message["frame"]
+            if latest >= end:
+                break
+        # The one that kept reading still gets frames.
+        fresh = json.loads(await asyncio.wait_for(many[3].recv(), 10))["frame"]
+        for ws in many[2:]:
+            await ws.close()
+        return frames, end - start, received, fresh
+
+    frames, advanced, received, fresh = asyncio.run(clients())
+    assert len(frames) == 4
+    # The run went on while the slow client read nothing; it got the newest frames, not every one.
+    assert received < advanced / 2, (advanced, received)
+    assert fresh > max(frames)
+    assert server.state()["frame"] > 0
+
+
+@pytest.mark.parametrize("server", [("maze", "--paused", "--speed", "1")], indirect=True)
+def test_pause_step_and_reset(server):
+    state = server.state()
+    assert state["status"] == "paused" and state["frame"] == 0
+
+    async def send(*messages: dict) -> None:
+        async with websockets.connect(server.ws) as ws:
+            for m in messages:
+                await ws.send(json.dumps(m))
+            await asyncio.sleep(0.3)
+
+    asyncio.run(send({"type": "step"}, {"type": "step"}, {"type": "step"}))
+    server.wait_for(lambda s: s["frame"] == 3)
+    time.sleep(0.5)
+    assert server.state()["frame"] == 3  # paused: three steps, three frames
+    asyncio.run(send({"type": "speed", "value": 0}, {"type": "resume"}))
+    server.wait_for(lambda s: s["frame"] > 50 and s["status"] == "running")
+    asyncio.run(send({"type": "reset"}, {"type": "pause"}))
+    after = server.wait_for(lambda s: s["status"] == "paused")
+    assert after["frame"] < 50  # started again from frame 0
+
+
+def test_the_command_refuses_bad_input_and_stops_on_ctrl_c(tmp_path):
+    for args, words in ((["office", "--port", "70000"], "--port"), (["office", "--planner", "teleport"], "teleport"),
+                        ([str(ROOT / "examples" / "01_fireflies" / "world.yaml")], "takes a robot world")):
+        done = subprocess.run([sys.executable, "-m", "vwg.cli", "serve", *args], capture_output=True, text=True,
+                              timeout=60)
+        assert done.returncode == 2 and words in done.stderr, done.stderr
+    s = Server("office", "--speed", "1")
+    s.wait_for(lambda st: st["frame"] > 2)
+    code, err = s.stop()
+    assert code == 130 and "interrupted" in err
