@@ -122,7 +122,11 @@ def test_the_page_in_a_browser_orders_by_button_and_by_marker(server):
         # A bad order is refused with the error shown on the page.
         page.evaluate("send({type: 'order', robot: 1, room: 'nowhere'})")
         page.wait_for_function("document.getElementById('errors').textContent.includes(\"unknown room 'nowhere'\")")
+        # A message over the size limit: the server closes that connection, and the page says so.
+        page.evaluate("send({type: 'order', robot: 1, room: 'x'.repeat(10000)})")
+        page.wait_for_function("document.getElementById('errors').textContent.includes('code 1009')")
         browser.close()
+    assert server.state()["frame"] > 0  # the server goes on
     assert (ARTIFACTS / "serve_office.png").stat().st_size > 10_000
 
 

@@ -20,6 +20,7 @@ from typing import Any
 
 import numpy as np
 
+from .. import _core
 from ..casestudy import CaseStudy
 from ..errors import SchemaError
 from ..robotworld import PlatformSpec, RobotWorld
@@ -80,6 +81,12 @@ class LiveRun:
         self._serial = 0
         self._errors: list[str] = []
         self.case = self._new_case()
+        # A real robot's platform keeps the frames to the clock itself (vwg.real_robot); the simulator's
+        # frames are paced here, at the chosen speed.
+        self.real_time_platform = not isinstance(self.case.sim.platform, _core.PhysicsWorld)
+        if self.real_time_platform and speed != 1.0:
+            self.case.close()
+            raise SchemaError(f"speed: a real robot runs at real time (1), got {speed!r}")
         self.rooms_by_marker = {room.marker: name for name, room in world.rooms.items()}
         self.thread = threading.Thread(target=self._loop, name="vwg-live-run", daemon=True)
         self.latest = self._snapshot()
@@ -110,7 +117,10 @@ class LiveRun:
         self._commands.put(("reset", None))
 
     def set_speed(self, speed: float) -> None:
-        self._commands.put(("speed", self._checked_speed(speed)))
+        speed = self._checked_speed(speed)
+        if self.real_time_platform and speed != 1.0:
+            raise SchemaError(f"speed: a real robot runs at real time (1), got {speed!r}")
+        self._commands.put(("speed", speed))
 
     def select(self, robot: int) -> None:
         self.check_robot(robot)
@@ -153,7 +163,7 @@ class LiveRun:
             if self._steps:
                 self._steps -= 1
             self._publish()
-            if self._speed != MAX_SPEED and not self._paused:
+            if self._speed != MAX_SPEED and not self._paused and not self.real_time_platform:
                 next_time = max(next_time + self.world.dt / self._speed, time.monotonic() - 0.5)
                 self._stop.wait(max(0.0, next_time - time.monotonic()))
             else:

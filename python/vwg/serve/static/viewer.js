@@ -82,6 +82,13 @@ function showFrame(message) {
     (selected.objective ? `to ${selected.objective}${selected.reached ? " (reached)" : ""}` : "no order") : "";
   document.getElementById("string").textContent = frame.string;
   if (String(frame.selected) !== robotSelect.value) robotSelect.value = String(frame.selected);
+  const speed = document.getElementById("speed");
+  if (document.activeElement !== speed && Number(speed.value) !== frame.speed) {
+    if (![...speed.options].some((o) => Number(o.value) === frame.speed)) {
+      speed.add(new Option(`${frame.speed}×`, String(frame.speed)));
+    }
+    speed.value = [...speed.options].find((o) => Number(o.value) === frame.speed).value;
+  }
   if (frame.errors && frame.errors.length) showError(frame.errors.join("\n"));
   draw();
 }
