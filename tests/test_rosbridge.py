@@ -231,7 +231,9 @@ def test_a_serial_base_silent_or_cut_is_stopped_and_ends_the_run():
                     platform.advance(0.1)
             assert time.monotonic() - cut_at < 0.5 + 0.5  # the fault ended it promptly
             assert any("no odometry" in f.what for f in platform.faults)
-            assert platform.faults[-1].robot == 0
+            # The link's own fault (robot 0: the whole link) is reported too; a watchdog stop may come
+            # just before or after it, as the threads' timing has it on a loaded machine.
+            assert any(f.robot == 0 and "did not come back" in f.what for f in platform.faults), platform.faults
         finally:
             platform.close()
         # The firmware's own timeout stops the motors once commands stop coming.

@@ -8,10 +8,12 @@ from __future__ import annotations
 
 import asyncio
 import json
+import select
 import shutil
 import signal
 import subprocess
 import sys
+import tempfile
 import time
 import urllib.request
 
@@ -28,13 +30,15 @@ class Server:
     """`vwg serve WORLD --port 0 ...` in a process of its own, its URL read from what it prints."""
 
     def __init__(self, *args: str) -> None:
+        # A file, not a pipe: nothing waits for the test to read what the server prints on stderr.
+        self.errors = tempfile.TemporaryFile("w+")  # noqa: SIM115 (closed by stop())
         self.process = subprocess.Popen([sys.executable, "-m", "vwg.cli", "serve", *args, "--port", "0"],
-                                        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-        line = self.process.stdout.readline()  # "vwg serve office: http://127.0.0.1:PORT/ (Ctrl-C stops)"
+                                        stdout=subprocess.PIPE, stderr=self.errors, text=True)
+        ready, _, _ = select.select([self.process.stdout], [], [], 120)
+        line = self.process.stdout.readline() if ready else ""  # "vwg serve office: http://127.0.0.1:PORT/ ..."
         if "http://" not in line:
             self.process.kill()
-            _, err = self.process.communicate()
-            raise AssertionError(f"vwg serve did not start: {line}{err}")
+            raise AssertionError(f"vwg serve did not start: {line}{self.stop()[1]}")
         self.url = line.split()[3]
         assert self.url.startswith("http://127.0.0.1:")
         self.ws = self.url.replace("http://", "ws://") + "ws"
@@ -59,10 +63,13 @@ class Server:
         if self.process.poll() is None:
             self.process.send_signal(signal.SIGINT)  # Ctrl-C
         try:
-            _, err = self.process.communicate(timeout=20)
+            self.process.communicate(timeout=30)
         except subprocess.TimeoutExpired:
             self.process.kill()
-            _, err = self.process.communicate()
+            self.process.communicate()
+        self.errors.seek(0)
+        err = self.errors.read()
+        self.errors.close()
         return self.process.returncode, err
 
 
@@ -79,7 +86,8 @@ def robot(state: dict, rid: int) -> dict:
 
 
 def test_the_page_in_a_browser_orders_by_button_and_by_marker(server):
-    playwright = pytest.importorskip("playwright.sync_api")
+    from playwright import sync_api as playwright
+
     world = json.loads(server.get("/api/world"))
     with playwright.sync_playwright() as p:
         browser = p.chromium.launch(executable_path=CHROMIUM, args=["--no-sandbox"])
@@ -107,6 +115,16 @@ def test_the_page_in_a_browser_orders_by_button_and_by_marker(server):
         server.wait_for(lambda s: robot(s, 1)["objective"] == "library", timeout=20)
         server.wait_for(lambda s: robot(s, 1)["reached"], timeout=90)
         page.wait_for_function("document.getElementById('objective').textContent.includes('(reached)')")
+        # The selected robot's camera and the 3D view are images the page shows.
+        page.wait_for_function("document.getElementById('camera').naturalWidth > 0")
+        page.wait_for_function("document.getElementById('overview').naturalWidth > 0")
+        # Pause, then one step: one frame.
+        page.click("#pause")
+        paused = server.wait_for(lambda s: s["status"] == "paused", timeout=20)
+        page.click("#step")
+        server.wait_for(lambda s: s["frame"] == paused["frame"] + 1, timeout=20)
+        page.click("#resume")
+        server.wait_for(lambda s: s["status"] == "running", timeout=20)
         ARTIFACTS.mkdir(parents=True, exist_ok=True)
         page.screenshot(path=str(ARTIFACTS / "serve_office.png"))
         # Robot 2 selected from the list, then a click on the kitchen's marker on the map sends it there.
@@ -166,9 +184,10 @@ def test_bad_messages_are_refused_by_name_and_the_server_goes_on(server):
         json.dumps({"type": "order", "robot": 1, "room": "nowhere"}),
         json.dumps({"type": "order", "robot": 9, "room": "kitchen"}),
         json.dumps({"type": "speed", "value": -3}), json.dumps({"type": "select", "robot": "one"}),
+        "[" * 3000, '{"type": "speed", "value": 1' + "0" * 400 + "}",
         json.dumps({"type": "order", "robot": 1, "room": "kitchen"})))
     kinds = [r["type"] for r in replies]
-    assert kinds == ["error"] * 7 + ["ok"], replies
+    assert kinds == ["error"] * 9 + ["ok"], replies
     messages = [r.get("message", "") for r in replies]
     assert "malformed JSON at line 1, column 2" in messages[0]
     assert "expected a JSON object" in messages[1]
@@ -177,6 +196,8 @@ def test_bad_messages_are_refused_by_name_and_the_server_goes_on(server):
     assert "no robot 9" in messages[4]
     assert "speed: expected" in messages[5]
     assert "no robot 'one'" in messages[6]
+    assert "nested too deeply" in messages[7]
+    assert "speed: expected" in messages[8]
     server.wait_for(lambda s: robot(s, 1)["objective"] == "kitchen", timeout=20)
 
     async def oversize() -> int:
@@ -189,6 +210,53 @@ def test_bad_messages_are_refused_by_name_and_the_server_goes_on(server):
 
     assert asyncio.run(oversize()) == 1009  # message too big: that connection only
     assert server.state()["frame"] >= 0  # the server is still there
+
+
+def test_only_its_own_page_and_name(server):
+    port = server.url.rsplit(":", 1)[1].rstrip("/")
+    # Another web site open in the browser cannot open the WebSocket (its Origin is not this server).
+    with pytest.raises(websockets.InvalidStatus) as info:
+        asyncio.run(_exchange_with_origin(server.ws, "http://evil.example"))
+    assert info.value.response.status_code == 403
+    # A request that reaches this server under another name (DNS rebinding) is refused.
+    request = urllib.request.Request(server.url + "api/state", headers={"Host": f"evil.example:{port}"})
+    with pytest.raises(urllib.error.HTTPError, match="403"):
+        urllib.request.urlopen(request, timeout=10)
+    assert server.state()["frame"] >= 0  # by its own name it answers
+
+
+async def _exchange_with_origin(url: str, origin: str) -> None:
+    async with websockets.connect(url, origin=origin):
+        pass
+
+
+def test_a_live_run_on_a_robot_through_rosbridge():
+    # The viewer's run on a real robot's platform (the fake ROS robot on 127.0.0.1): its frames keep
+    # the robot's clock, its scans are the LaserScans' points, and stopping stops the robot.
+    import dataclasses
+
+    from vwg.fake_robot import FakeRosbridgeRobot
+    from vwg.robotworld import PlatformSpec, load_robot_world
+    from vwg.serve.live import LiveRun
+
+    office = load_robot_world("office")
+    world = dataclasses.replace(office, orders=[], robots=[office.robots[0].replace(sensors=["laser"])])
+    with FakeRosbridgeRobot(world) as fake:
+        with pytest.raises(Exception, match="a real robot runs at real time"):
+            LiveRun(world, platform=PlatformSpec("rosbridge", {"url": fake.url}), speed=5)
+        live = LiveRun(world, platform=PlatformSpec("rosbridge", {"url": fake.url}))
+        live.start()
+        live.order(1, "office")
+        end = time.monotonic() + 30
+        while time.monotonic() < end and not (live.latest.frame > 10 and live.latest.robots[0]["scan"]):
+            time.sleep(0.05)
+        snapshot = live.latest
+        assert snapshot.status == "running" and snapshot.robots[0]["objective"] == "office"
+        assert len(snapshot.robots[0]["scan"]) > 20  # the LaserScan's points that met a wall
+        live.stop()
+        assert live.case is None  # closed by the run's own thread
+        commands = fake.commands[1]
+        assert commands and commands[-1][1:] == (0.0, 0.0)  # the last Twist stops the robot
 
 
 def test_several_clients_a_client_gone_mid_stream_and_a_slow_one(server):

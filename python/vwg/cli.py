@@ -147,7 +147,10 @@ def _cmd_serve(args: argparse.Namespace) -> int:
         raise Error(f"--port: expected 0 to 65535 (0: any free port), got {args.port}")
     if args.dt is not None:
         import dataclasses
+        import math
 
+        if not (math.isfinite(args.dt) and 0 < args.dt <= 10):
+            raise Error(f"--dt: expected 0 < dt <= 10 seconds per frame, got {args.dt}")
         world = dataclasses.replace(world, dt=args.dt)
     spec = world.platform
     if args.platform and args.platform != spec.kind:

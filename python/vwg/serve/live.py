@@ -10,7 +10,8 @@ straight to gObjective (vwg.casestudy.Orders), which takes them from any thread 
 
 from __future__ import annotations
 
-import math
+import dataclasses
+import json
 import queue
 import threading
 import time
@@ -46,6 +47,7 @@ class Snapshot:
     camera: np.ndarray | None = None  # the selected robot's last camera image (H×W×3), if it has a camera
     serial: int = 0  # counts snapshots: a viewer tells a new one from the last
     errors: list[str] = field(default_factory=list)
+    text: str | None = field(default=None, repr=False)  # message() as JSON, made once for every client
 
     def state(self) -> dict[str, Any]:
         """GET /api/state: frame, time, status and each robot's id, pose, objective and reached."""
@@ -54,13 +56,20 @@ class Snapshot:
                 "selected": self.selected, "robots": [{k: r[k] for k in keys} for r in self.robots]}
 
     def message(self) -> dict[str, Any]:
-        """The WebSocket message of this frame: the state with paths, scans, statuses and the string."""
-        return {"type": "frame", **self.state(), "robots": self.robots, "string": self.string}
+        """The WebSocket message of this frame: the state with paths, scans, statuses, the string, errors."""
+        return {"type": "frame", **self.state(), "robots": self.robots, "string": self.string, "errors": self.errors}
+
+    def encode(self) -> str:
+        """message() as JSON text, kept: made once however many clients are sent it."""
+        if self.text is None:
+            self.text = json.dumps(self.message())
+        return self.text
 
 
 class LiveRun:
     """A robot world run live: ``start()``, then ``pause()``, ``resume()``, ``step()``, ``set_speed()``,
-    ``reset()``, ``order(robot, room)``, ``select(robot)``; ``stop()`` ends it."""
+    ``reset()``, ``order(robot, room)``, ``select(robot)``; ``stop()`` ends it. Each command is checked
+    where it is given (an error names what is wrong) and done by the run's thread between frames."""
 
     def __init__(self, world: RobotWorld, *, planner: str = "astar", platform: PlatformSpec | None = None,
                  speed: float = 1.0, seed: int | None = None, threads: int = 0, world_orders: bool = True,
@@ -80,27 +89,34 @@ class LiveRun:
         self._selected: int | None = world.robots[0].id if world.robots else None
         self._serial = 0
         self._errors: list[str] = []
-        self.case = self._new_case()
-        # A real robot's platform keeps the frames to the clock itself (vwg.real_robot); the simulator's
-        # frames are paced here, at the chosen speed.
-        self.real_time_platform = not isinstance(self.case.sim.platform, _core.PhysicsWorld)
-        if self.real_time_platform and speed != 1.0:
-            self.case.close()
-            raise SchemaError(f"speed: a real robot runs at real time (1), got {speed!r}")
-        self.rooms_by_marker = {room.marker: name for name, room in world.rooms.items()}
-        self.thread = threading.Thread(target=self._loop, name="vwg-live-run", daemon=True)
-        self.latest = self._snapshot()
+        self._failed = False  # the run stopped on an error (a frame, a reset): it says so and waits
+        self.case: CaseStudy | None = self._new_case()
+        try:
+            # A real robot's platform keeps the frames to the clock itself (vwg.real_robot); the
+            # simulator's frames are paced here, at the chosen speed.
+            self.real_time_platform = not isinstance(self.case.sim.platform, _core.PhysicsWorld)
+            if self.real_time_platform and speed != 1.0:
+                raise SchemaError(f"speed: a real robot runs at real time (1), got {speed!r}")
+            self.thread = threading.Thread(target=self._loop, name="vwg-live-run", daemon=True)
+            self.latest = self._snapshot()
+        except BaseException:
+            self.case.close()  # a real robot's link is open: it is stopped and closed
+            raise
 
     # ---- commands (any thread) ---------------------------------------------------------------------------
     def start(self) -> None:
         self.thread.start()
 
     def stop(self) -> None:
+        """End the run; the run's thread closes its case (a real robot is sent a stop)."""
         self._stop.set()
         self._commands.put(("wake", None))
-        if self.thread.is_alive() and threading.current_thread() is not self.thread:
-            self.thread.join(timeout=10)
-        self.case.close()
+        if self.thread.is_alive():
+            if threading.current_thread() is not self.thread:
+                self.thread.join(timeout=30)
+        elif self.case is not None:  # never started: nothing else touches the case
+            self.case.close()
+            self.case = None
 
     def pause(self) -> None:
         self._commands.put(("pause", None))
@@ -128,12 +144,16 @@ class LiveRun:
 
     def order(self, robot: int, room: str) -> None:
         """Send `robot` to `room` through gObjective (an eObjective<marker> event at the next frame)."""
-        self.case.orders.order(robot, room)  # checks the robot and the room, naming them
+        self.check_robot(robot)
+        if not isinstance(room, str) or room not in self.world.rooms:
+            raise SchemaError(f"order: unknown room {room!r} (rooms: {', '.join(self.world.rooms)})")
+        self._commands.put(("order", (robot, room)))
 
     @staticmethod
-    def _checked_speed(speed: float) -> float:
-        if not isinstance(speed, (int, float)) or isinstance(speed, bool) or not math.isfinite(speed) \
-                or not (speed == MAX_SPEED or 0.05 <= speed <= 100):
+    def _checked_speed(speed: Any) -> float:
+        ok = isinstance(speed, (int, float)) and not isinstance(speed, bool)
+        ok = ok and (speed == MAX_SPEED or 0.05 <= speed <= 100)  # (a huge int compares without overflow)
+        if not ok:
             raise SchemaError(f"speed: expected 0.05 to 100 times real time, or 0 for as fast as it goes; "
                               f"got {speed!r}")
         return float(speed)
@@ -147,68 +167,117 @@ class LiveRun:
         return CaseStudy(self.world, self.planner, seed=self.seed, frames=2**62, platform=self.platform,
                          threads=self.threads, world_orders=self.world_orders)
 
-    def _loop(self) -> None:
-        next_time = time.monotonic()
-        while not self._stop.is_set():
-            self._apply_commands(block=self._paused and self._steps == 0)
-            if self._stop.is_set():
-                break
-            if self._paused and self._steps == 0:
-                continue
-            try:
-                self.case.engine.step()
-            except Exception as e:  # a frame that failed: the run stops and says why (the viewer stays up)
-                self._errors.append(f"frame {self.case.engine.frame}: {e}")
-                self._paused = True
-            if self._steps:
-                self._steps -= 1
-            self._publish()
-            if self._speed != MAX_SPEED and not self._paused and not self.real_time_platform:
-                next_time = max(next_time + self.world.dt / self._speed, time.monotonic() - 0.5)
-                self._stop.wait(max(0.0, next_time - time.monotonic()))
-            else:
-                next_time = time.monotonic()
+    def _waiting(self) -> bool:
+        return self._failed or (self._paused and self._steps == 0)
 
-    def _apply_commands(self, block: bool) -> None:
+    def _loop(self) -> None:
         try:
-            command = self._commands.get(timeout=0.5) if block else self._commands.get_nowait()
+            next_time = time.monotonic()
+            while not self._stop.is_set():
+                # Between frames: the commands, waiting for one while paused or until the next frame is due.
+                wait = None if self._waiting() else max(0.0, next_time - time.monotonic())
+                self._apply_commands(timeout=0.5 if wait is None else wait)
+                if self._stop.is_set():
+                    break
+                if self._waiting() or time.monotonic() < next_time:
+                    continue
+                self._frame()
+                if self._speed != MAX_SPEED and not self._paused and not self.real_time_platform:
+                    next_time = max(next_time + self.world.dt / self._speed, time.monotonic() - 0.5)
+                else:
+                    next_time = time.monotonic()
+        finally:
+            if self.case is not None:
+                self.case.close()  # on this thread, the only one that touches it (a real robot is stopped)
+                self.case = None
+
+    def _frame(self) -> None:
+        assert self.case is not None
+        try:
+            self.case.engine.step()
+        except Exception as e:  # a frame that failed: the run stops and says why; the viewer stays up
+            self._fail(f"frame {self.case.engine.frame}: {e}")
+        if self._steps:
+            self._steps -= 1
+        self._publish()
+
+    def _fail(self, message: str) -> None:
+        self._errors.append(message)
+        self._failed = True
+        if self.real_time_platform and self.case is not None:
+            self.case.sim.platform.stop_all()
+
+    def _apply_commands(self, timeout: float) -> None:
+        try:
+            command = self._commands.get(timeout=timeout) if timeout > 0 else self._commands.get_nowait()
         except queue.Empty:
             return
         while True:
-            kind, value = command
-            if kind == "pause":
-                self._paused = True
-            elif kind == "resume":
-                self._paused, self._steps = False, 0
-            elif kind == "step":
-                self._paused, self._steps = True, self._steps + 1
-            elif kind == "speed":
-                self._speed = value
-            elif kind == "select":
-                self._selected = value
-            elif kind == "reset":
-                self.case.close()
-                self.case = self._new_case()
-                self._errors.clear()
+            self._apply(*command)
             self._publish()
             try:
                 command = self._commands.get_nowait()
             except queue.Empty:
                 return
 
+    def _apply(self, kind: str, value: Any) -> None:
+        if kind == "pause":
+            self._paused = True
+            if self.real_time_platform and self.case is not None:
+                self.case.sim.platform.stop_all()  # a real robot stops where it is, not at the end of its move
+        elif kind == "resume":
+            self._paused, self._steps = False, 0
+        elif kind == "step":
+            self._paused, self._steps = True, self._steps + 1
+        elif kind == "speed":
+            self._speed = value
+        elif kind == "select":
+            self._selected = value
+        elif kind == "order" and self.case is not None:
+            self.case.orders.order(*value)
+        elif kind == "reset":
+            if self.case is not None:
+                self.case.close()
+                self.case = None
+            self._errors.clear()
+            self._failed = False
+            try:
+                self.case = self._new_case()
+            except Exception as e:  # a link refused, ...: said on the page; Reset tries again
+                self._fail(f"reset: {e}")
+
     def _publish(self) -> None:
-        self.latest = self._snapshot()
+        try:
+            self.latest = self._snapshot()
+        except Exception as e:
+            self._fail(f"showing frame: {e}")
+            self.latest = dataclasses.replace(self.latest, status="stopped", errors=list(self._errors),
+                                              serial=self._next_serial())
         self.on_frame(self.latest)
+
+    def _next_serial(self) -> int:
+        self._serial += 1
+        return self._serial
+
+    def _status(self) -> str:
+        return "stopped" if self._failed else "paused" if self._paused else "running"
 
     def _snapshot(self) -> Snapshot:
         case = self.case
+        if case is None:
+            return Snapshot(frame=0, time=0.0, status="stopped", speed=self._speed, selected=self._selected,
+                            robots=[], serial=self._next_serial(), errors=list(self._errors))
         actors = case.robot_actors()
         last = case.orders.last
+        platform = case.sim.platform
+        present = {r.id for r in platform.robots()}
         robots = []
         lasers = {g.robot: g for g in getattr(case.sim, "lasers", [])}
         for n, spec in enumerate(self.world.robots):
+            if spec.id not in present:
+                continue  # gone from the world (a λ took it away)
             actor = actors.get(spec.id)
-            x, y, angle = case.sim.robot(spec.id).pose
+            x, y, angle = platform.robot(spec.id).pose
             entry: dict[str, Any] = {
                 "id": spec.id, "x": round(x, 4), "y": round(y, 4), "angle": round(angle, 4),
                 "radius": spec.radius, "objective": last.get(spec.id),
@@ -220,13 +289,8 @@ class LiveRun:
                 path = np.asarray(actor["path"])
                 if path.size:
                     entry["path"] = np.round(path[:: max(1, len(path) // 200)], 3).tolist()
-            laser = lasers.get(spec.id)
-            if laser is not None and n < SCAN_ROBOTS:
-                ranges = np.asarray(laser.ranges, dtype=float)
-                hit = ranges < laser.max_range
-                a = angle + np.asarray(laser.angles)[hit]
-                entry["scan"] = np.round(np.stack([x + ranges[hit] * np.cos(a), y + ranges[hit] * np.sin(a)], 1),
-                                         3).tolist()
+            if n < SCAN_ROBOTS and spec.id in lasers:
+                entry["scan"] = _scan_points(lasers[spec.id], (x, y, angle))
             robots.append(entry)
         string = ""
         camera = None
@@ -238,8 +302,24 @@ class LiveRun:
             for gen in getattr(case.sim, "cameras", []):
                 if gen.robot == self._selected and gen.image is not None:
                     camera = np.asarray(gen.image)
-        status = "paused" if self._paused else "running"
-        self._serial += 1
-        return Snapshot(frame=case.engine.frame, time=round(case.engine.time, 6), status=status, speed=self._speed,
-                        selected=self._selected, robots=robots, string=string, camera=camera, serial=self._serial,
-                        errors=list(self._errors))
+        return Snapshot(frame=case.engine.frame, time=round(case.engine.time, 6), status=self._status(),
+                        speed=self._speed, selected=self._selected, robots=robots, string=string, camera=camera,
+                        serial=self._next_serial(), errors=list(self._errors))
+
+
+def _scan_points(laser: Any, pose: tuple[float, float, float]) -> list[list[float]]:
+    """The world points where a robot's last scan met something: the simulator's laser (all its beams,
+    those at max_range left out) or a real robot's (its latest LaserScan's beams that met something)."""
+    x, y, angle = pose
+    if hasattr(laser, "ranges"):
+        ranges = np.asarray(laser.ranges, dtype=np.float32)
+        hit = ranges < np.float32(laser.max_range)  # compared as the float32 the laser stores
+        angles = np.asarray(laser.angles)[hit]
+        ranges = ranges[hit].astype(float)
+    else:
+        scan = laser.platform.latest_scan(laser.robot)
+        if scan is None:
+            return []
+        angles, ranges = np.asarray(scan.angles, dtype=float), np.asarray(scan.ranges, dtype=float)
+    a = angle + angles
+    return np.round(np.stack([x + ranges * np.cos(a), y + ranges * np.sin(a)], 1), 3).tolist()

@@ -22,6 +22,7 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import json
+import threading
 import time
 from importlib import resources
 from pathlib import Path
@@ -51,6 +52,8 @@ class Viewer:
         self.clients: set[web.WebSocketResponse] = set()
         self.dropped = 0
         self._wake: asyncio.Event | None = None
+        self._wake_pending = threading.Event()
+        self._overview_lock: asyncio.Lock | None = None
         world = live.world
         self.renderer = _core.TopDownRenderer(world.grid, width=MAP_WIDTH, header=0)
         self.renderer.begin()
@@ -58,7 +61,8 @@ class Viewer:
             self.renderer.draw_marker(room.at[0], room.at[1], room.facing, room.name, room.marker)
         self.map_png = _core.encode_image(self.renderer.image(), "png")
         self._overview: tuple[float, bytes] | None = None
-        self.app = web.Application(client_max_size=MAX_MESSAGE)
+        self.app = web.Application(client_max_size=MAX_MESSAGE, middlewares=[self._same_origin])
+        self.hosts: set[str] = set()  # the Host headers this server answers to (set by serve() once it listens)
         self.app.add_routes([
             web.get("/", self.index), web.get("/api/world", self.world), web.get("/api/map.png", self.map_image),
             web.get("/api/state", self.state), web.get("/api/camera/{robot}.jpg", self.camera),
@@ -72,19 +76,39 @@ class Viewer:
     # ---- the run's side: never blocks ------------------------------------------------------------------
     def _on_frame(self, snapshot: Snapshot) -> None:
         loop, wake = self.loop, self._wake
-        if loop is not None and wake is not None and not loop.is_closed():
-            with contextlib.suppress(RuntimeError):  # the loop closed meanwhile
-                loop.call_soon_threadsafe(wake.set)
+        if loop is None or wake is None or self._wake_pending.is_set():
+            return  # a wake-up is on its way already (at full speed frames come faster than the loop turns)
+        self._wake_pending.set()
+        with contextlib.suppress(RuntimeError):  # the loop closed meanwhile
+            loop.call_soon_threadsafe(self._wake_up)
+
+    def _wake_up(self) -> None:
+        self._wake_pending.clear()
+        if self._wake is not None:
+            self._wake.set()
 
     async def _started(self, app: web.Application) -> None:
         self.loop = asyncio.get_running_loop()
         self._wake = asyncio.Event()
-        self.live.start()
 
     async def _closing(self, app: web.Application) -> None:
-        for ws in list(self.clients):
-            await ws.close(code=WSCloseCode.GOING_AWAY, message=b"the server is stopping")
+        async def close(ws: web.WebSocketResponse) -> None:
+            with contextlib.suppress(Exception):
+                await asyncio.wait_for(ws.close(code=WSCloseCode.GOING_AWAY, message=b"the server is stopping"), 2)
+
+        await asyncio.gather(*(close(ws) for ws in list(self.clients)))
         await asyncio.to_thread(self.live.stop)
+
+    @web.middleware
+    async def _same_origin(self, request: web.Request, handler: Any) -> web.StreamResponse:
+        """Only requests for this server by its own name (no DNS rebinding), and WebSockets only from
+        its own page (another site open in the browser cannot drive the robots)."""
+        if self.hosts and request.host not in self.hosts:
+            raise web.HTTPForbidden(text=f"vwg serve answers to {', '.join(sorted(self.hosts))}, not {request.host}")
+        origin = request.headers.get("Origin")
+        if origin is not None and origin not in {f"http://{h}" for h in self.hosts | {request.host}}:
+            raise web.HTTPForbidden(text=f"vwg serve takes orders from its own page, not from {origin}")
+        return await handler(request)
 
     # ---- pages and the API -----------------------------------------------------------------------------
     async def index(self, request: web.Request) -> web.StreamResponse:
@@ -125,10 +149,13 @@ class Viewer:
         return web.Response(body=body, content_type="image/jpeg", headers={"Cache-Control": "no-store"})
 
     async def overview(self, request: web.Request) -> web.Response:
-        now = time.monotonic()
-        if self._overview is None or now - self._overview[0] > OVERVIEW_SECONDS:
-            body = await asyncio.to_thread(self._render_overview, self.live.latest)
-            self._overview = (now, body)
+        if self._overview_lock is None:
+            self._overview_lock = asyncio.Lock()
+        async with self._overview_lock:  # one drawing at a time, shared by every client asking meanwhile
+            now = time.monotonic()
+            if self._overview is None or now - self._overview[0] > OVERVIEW_SECONDS:
+                body = await asyncio.to_thread(self._render_overview, self.live.latest)
+                self._overview = (time.monotonic(), body)
         return web.Response(body=self._overview[1], content_type="image/png", headers={"Cache-Control": "no-store"})
 
     def _render_overview(self, snapshot: Snapshot) -> bytes:
@@ -175,10 +202,9 @@ class Viewer:
                 if sent and snapshot.serial > sent + 1:
                     self.dropped += snapshot.serial - sent - 1
                 sent = snapshot.serial
-                message = snapshot.message()
-                message["errors"] = snapshot.errors
+                text = snapshot.text if snapshot.text is not None else await asyncio.to_thread(snapshot.encode)
                 try:
-                    await ws.send_str(json.dumps(message))
+                    await ws.send_str(text)
                 except (ConnectionError, RuntimeError):
                     return
                 continue
@@ -193,6 +219,8 @@ class Viewer:
             message = json.loads(text)
         except json.JSONDecodeError as e:
             return {"type": "error", "message": f"malformed JSON at line {e.lineno}, column {e.colno}: {e.msg}"}
+        except RecursionError:
+            return {"type": "error", "message": "malformed JSON: nested too deeply"}
         if not isinstance(message, dict) or not isinstance(message.get("type"), str):
             return {"type": "error", "message": "expected a JSON object with a \"type\" (order, select, pause, "
                                                 "resume, step, speed, reset)"}
@@ -200,11 +228,8 @@ class Viewer:
         try:
             if kind == "order":
                 robot = message.get("robot", self.live.latest.selected)
+                self.live.order(robot, message.get("room"))
                 room = message.get("room")
-                if not isinstance(room, str):
-                    raise Error(f"order: expected \"room\": a room's name, got {room!r}")
-                self.live.check_robot(robot)
-                self.live.order(robot, room)
                 return {"type": "ok", "what": f"robot {robot} to {room}"}
             if kind == "select":
                 self.live.select(message.get("robot"))
@@ -223,6 +248,8 @@ class Viewer:
                                                     "resume, step, speed, reset)"}
         except Error as e:
             return {"type": "error", "message": str(e)}
+        except Exception as e:  # anything else a message could provoke is refused, and the connection stays
+            return {"type": "error", "message": f"{kind}: {type(e).__name__}: {e}"}
         return None
 
 
@@ -241,8 +268,12 @@ def serve(live: LiveRun, host: str = "127.0.0.1", port: int = 8765,
             await runner.cleanup()
             raise Error(f"--port {port}: cannot listen on {host}:{port} ({e.strerror})") from None
         bound = site._server.sockets[0].getsockname()[1] if site._server else port  # type: ignore[union-attr]
+        name = f"[{host}]" if ":" in host else host
+        loopback = host in ("127.0.0.1", "localhost", "::1")
+        viewer.hosts = ({f"127.0.0.1:{bound}", f"localhost:{bound}", f"[::1]:{bound}"} if loopback else set())
+        viewer.live.start()  # the frames start once the page can be served
         if on_ready is not None:
-            on_ready(f"http://{host}:{bound}/")
+            on_ready(f"http://{name}:{bound}/")
         try:
             await asyncio.Event().wait()
         finally:

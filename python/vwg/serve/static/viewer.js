@@ -11,6 +11,7 @@ let world = null;
 let mapImage = null;
 let frame = null;
 let socket = null;
+let selecting = null;  // a robot chosen here that the server's frames do not show as selected yet
 
 function px(x, y) {
   const m = world.map;
@@ -81,7 +82,8 @@ function showFrame(message) {
   document.getElementById("objective").textContent = selected ?
     (selected.objective ? `to ${selected.objective}${selected.reached ? " (reached)" : ""}` : "no order") : "";
   document.getElementById("string").textContent = frame.string;
-  if (String(frame.selected) !== robotSelect.value) robotSelect.value = String(frame.selected);
+  if (selecting !== null && frame.selected === selecting) selecting = null;
+  if (selecting === null && String(frame.selected) !== robotSelect.value) robotSelect.value = String(frame.selected);
   const speed = document.getElementById("speed");
   if (document.activeElement !== speed && Number(speed.value) !== frame.speed) {
     if (![...speed.options].some((o) => Number(o.value) === frame.speed)) {
@@ -136,20 +138,29 @@ canvas.addEventListener("click", (event) => {
   const room = markerAt(u, v);
   if (room) { send({ type: "order", robot: Number(robotSelect.value), room: room.name }); return; }
   const robot = robotAt(u, v);
-  if (robot) send({ type: "select", robot: robot.id });
+  if (robot) select(robot.id);
 });
 
 for (const name of ["pause", "resume", "step", "reset"]) {
   document.getElementById(name).addEventListener("click", () => send({ type: name }));
 }
-document.getElementById("speed").addEventListener("change", (e) => send({ type: "speed", value: Number(e.target.value) }));
-robotSelect.addEventListener("change", () => send({ type: "select", robot: Number(robotSelect.value) }));
+document.getElementById("speed").addEventListener("change", (e) => {
+  send({ type: "speed", value: Number(e.target.value) });
+  e.target.blur();  // from now on the menu shows the speed the server runs at
+});
+function select(id) {
+  selecting = id;
+  robotSelect.value = String(id);
+  send({ type: "select", robot: id });
+}
+robotSelect.addEventListener("change", () => select(Number(robotSelect.value)));
 
 function refreshImages() {
   if (frame && frame.selected !== null) {
     const camera = document.getElementById("camera");
     const next = new Image();
-    next.onload = () => { camera.src = next.src; };
+    next.onload = () => { camera.src = next.src; camera.dataset.robot = String(frame.selected); };
+    next.onerror = () => { camera.removeAttribute("src"); camera.alt = `robot ${frame.selected}: no camera image`; };
     next.src = `/api/camera/${frame.selected}.jpg?t=${Date.now()}`;
   }
   const overview = document.getElementById("overview");
