@@ -13,7 +13,6 @@ VENV ?= .venv
 PY := $(VENV)/bin/python
 PIP := $(VENV)/bin/pip
 JOBS ?= $(shell nproc)
-SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
 # Debian packages: compilers and tools, then the libraries of DESIGN.md. Videos are encoded by PyAV
 # (a Python dependency); the ffmpeg package is here for its ffprobe and ffmpeg programs, with which
@@ -40,16 +39,7 @@ $(STAMP):
 
 ## Debian packages, installed only when missing; apt's output goes to build/apt.log.
 deps:
-	@missing=""; for p in $(APT_PACKAGES); do \
-	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "ok installed" || missing="$$missing $$p"; \
-	done; \
-	if [ -n "$$missing" ]; then \
-	  mkdir -p $(BUILD); \
-	  echo "Installing Debian packages (2-4 min; log in $(BUILD)/apt.log):$$missing"; \
-	  { $(SUDO) apt-get update -qq && DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq \
-	      --no-install-recommends $$missing; } > $(BUILD)/apt.log 2>&1 \
-	    || { tail -n 30 $(BUILD)/apt.log; echo "apt-get failed: see $(BUILD)/apt.log"; exit 1; }; \
-	fi
+	@tools/apt_install.sh $(BUILD)/apt.log "Debian packages (2-4 min)" $(APT_PACKAGES)
 
 # The build requirements live in the venv and the build is not isolated, so the CMake cache in
 # build/ keeps stable paths and a rebuild compiles only what changed.
@@ -102,16 +92,7 @@ demo: install
 
 ## Debian packages the tests need (only when missing).
 test-deps:
-	@missing=""; for p in $(TEST_APT_PACKAGES); do \
-	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "ok installed" || missing="$$missing $$p"; \
-	done; \
-	if [ -n "$$missing" ]; then \
-	  mkdir -p $(BUILD); \
-	  echo "Installing Debian packages for the tests (1-2 min; log in $(BUILD)/apt-test.log):$$missing"; \
-	  { $(SUDO) apt-get update -qq && DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq \
-	      --no-install-recommends $$missing; } > $(BUILD)/apt-test.log 2>&1 \
-	    || { tail -n 30 $(BUILD)/apt-test.log; echo "apt-get failed: see $(BUILD)/apt-test.log"; exit 1; }; \
-	fi
+	@tools/apt_install.sh $(BUILD)/apt-test.log "Debian packages for the tests (1-2 min)" $(TEST_APT_PACKAGES)
 
 test: install test-deps lint pytest cpp-test cpp-package
 	@echo "make test: all passed"

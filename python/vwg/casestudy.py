@@ -375,12 +375,7 @@ class RobotRun:
         shown = [lambda sim: backend_registry.create(options.backend, world=None)] if options.backend else []
         goals = _goals(options.goals, [r.id for r in world.robots])
         # The platform: the world file's, or the one named; --url and --port are options of it.
-        spec = world.platform
-        if options.platform and options.platform != spec.kind:
-            spec = PlatformSpec(options.platform)
-        extra = {k: v for k, v in (("url", options.url), ("port", options.port)) if v is not None}
-        if extra:
-            spec = PlatformSpec(spec.kind, {**spec.options, **extra})
+        spec = world.platform.given(options.platform, url=options.url, port=options.port)
         self.case = CaseStudy(world, options.planner or "astar", goals=goals,
                               platform=spec, seed=options.seed, frames=options.frames, video=options.video,
                               images=options.images, max_symbols=options.max_symbols, threads=options.threads,

@@ -134,7 +134,7 @@ def _cmd_experiments(args: argparse.Namespace) -> int:
 
 
 def _cmd_serve(args: argparse.Namespace) -> int:
-    from .robotworld import PlatformSpec, load_robot_world
+    from .robotworld import load_robot_world
 
     try:
         from .serve.live import LiveRun
@@ -152,12 +152,7 @@ def _cmd_serve(args: argparse.Namespace) -> int:
         if not (math.isfinite(args.dt) and 0 < args.dt <= 10):
             raise Error(f"--dt: expected 0 < dt <= 10 seconds per frame, got {args.dt}")
         world = dataclasses.replace(world, dt=args.dt)
-    spec = world.platform
-    if args.platform and args.platform != spec.kind:
-        spec = PlatformSpec(args.platform)
-    extra = {k: v for k, v in (("url", args.url), ("port", args.serial_port)) if v is not None}
-    if extra:
-        spec = PlatformSpec(spec.kind, {**spec.options, **extra})
+    spec = world.platform.given(args.platform, url=args.url, port=args.serial_port)
     live = LiveRun(world, planner=args.planner, platform=spec, speed=args.speed, seed=args.seed, threads=args.threads,
                    world_orders=not args.no_world_orders, paused=args.paused)
     if args.host not in ("127.0.0.1", "localhost", "::1"):
@@ -198,6 +193,14 @@ def _cmd_worlds(args: argparse.Namespace) -> int:
                            f"{w.grid.width_m:g} × {w.grid.height_m:g} m. {w.description}"))
     _print_summary(rows)
     return 0
+
+
+def _dask_options(command: argparse.ArgumentParser) -> None:
+    """Where a command's runs go: a running Dask scheduler, or a local cluster of --workers processes."""
+    command.add_argument("--scheduler", help="a running Dask scheduler (tcp://HOST:PORT); default: a local cluster")
+    command.add_argument("--workers", type=int, help="worker processes of the local cluster (default: the cores)")
+    command.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
+                         help="show progress bars (default: on a terminal)")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -261,10 +264,7 @@ def build_parser() -> argparse.ArgumentParser:
                                      "the cells the CSV holds.")
     swp.add_argument("spec", type=Path, help="the sweep's SPEC file (YAML)")
     swp.add_argument("-o", "--output", type=Path, required=True, help="the results CSV (appended to; resumable)")
-    swp.add_argument("--scheduler", help="a running Dask scheduler (tcp://HOST:PORT); default: a local cluster")
-    swp.add_argument("--workers", type=int, help="worker processes of the local cluster (default: the cores)")
-    swp.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
-                     help="show a progress bar (default: on a terminal)")
+    _dask_options(swp)
     swp.set_defaults(func=_cmd_sweep)
 
     exp = sub.add_parser("experiments", help="the paper's five tests, measured, into a Markdown report",
@@ -273,12 +273,9 @@ def build_parser() -> argparse.ArgumentParser:
                                      "takes a few minutes.")
     exp.add_argument("output", type=Path, metavar="OUT_DIR", help="the folder for the report, its tables and plots")
     exp.add_argument("--quick", action="store_true", help="a small configuration (a few minutes)")
-    exp.add_argument("--scheduler", help="a running Dask scheduler (tcp://HOST:PORT); default: a local cluster")
-    exp.add_argument("--workers", type=int, help="worker processes of the local cluster (default: the cores)")
     exp.add_argument("--resume", action="store_true",
                      help="keep the sweep cells of an earlier run in OUT_DIR/sweeps (the report says how many)")
-    exp.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
-                     help="show progress bars (default: on a terminal)")
+    _dask_options(exp)
     exp.set_defaults(func=_cmd_experiments)
 
     srv = sub.add_parser("serve", help="run a robot world live in the browser; click a room to send a robot",

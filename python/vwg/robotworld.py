@@ -116,6 +116,13 @@ class PlatformSpec:
     kind: str = "sim"
     options: dict[str, Any] = field(default_factory=dict)
 
+    def given(self, kind: str | None, **options: Any) -> PlatformSpec:
+        """This platform as the command line changes it: another `kind` (with its defaults), and the
+        `options` given (url, port, ...; None: not given) over the file's."""
+        spec = PlatformSpec(kind) if kind and kind != self.kind else self
+        extra = {k: v for k, v in options.items() if v is not None}
+        return PlatformSpec(spec.kind, {**spec.options, **extra}) if extra else spec
+
 
 @dataclass(eq=False)
 class RobotWorld:
