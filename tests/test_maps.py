@@ -409,8 +409,8 @@ def test_missing_key(tmp_path: Path, key: str) -> None:
 
 @pytest.mark.parametrize(("key", "value", "message", "field"), [
     ("resolution", '"fine"', "expected an integer or a number", "resolution"),
-    ("resolution", "0", "> 0", "resolution"),
-    ("resolution", "-0.05", "> 0", "resolution"),
+    ("resolution", "0", ">= 0.0001", "resolution"),
+    ("resolution", "-0.05", ">= 0.0001", "resolution"),
     ("resolution", ".nan", "finite", "resolution"),
     ("origin", "[1.0, 2.0]", "x, y, yaw", "origin"),
     ("origin", "[1.0, .nan, 0.0]", "finite", "origin[1]"),

@@ -1,8 +1,11 @@
 // The Box2D physics world (the simulator's RobotPlatform) in Python.
+#include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "sim_convert.hpp"
 #include "vwg/sim/physics.hpp"
+#include "vwg/text.hpp"
 
 namespace vwg::bindings {
 
@@ -20,8 +23,16 @@ sim::OccupancyGrid grid_from_python(py::handle grid) {
   g.width = static_cast<int>(c.shape(1));
   g.data.assign(c.data(), c.data() + c.size());
   g.resolution = grid.attr("resolution").cast<double>();
-  if (!std::isfinite(g.resolution) || g.resolution <= 0) throw SchemaError("grid.resolution", "expected a finite value > 0");
+  // Metres per cell, and the map's extent, within what Box2D's floats hold (platform::kMaxCoordinate).
+  if (!std::isfinite(g.resolution) || g.resolution < 1e-4 || g.resolution > 100) {
+    throw SchemaError("grid.resolution", "expected 0.0001 to 100 metres per cell, got " + format_real(g.resolution));
+  }
   g.origin = pose_from_python(grid.attr("origin"), "grid.origin");
+  const double extent = std::max(g.width, g.height) * g.resolution;
+  if (std::abs(g.origin.x) + extent > platform::kMaxCoordinate || std::abs(g.origin.y) + extent > platform::kMaxCoordinate ||
+      std::abs(g.origin.theta) > platform::kMaxAngle) {
+    throw SchemaError("grid.origin", "expected a map within ±" + format_real(platform::kMaxCoordinate) + " m");
+  }
   return g;
 }
 

@@ -97,7 +97,13 @@ std::vector<cv::Point2d> points_of(py::handle obj, const std::string& field) {
   if (a.ndim() != 2 || a.shape(1) != 2) throw SchemaError(field, "expected an N×2 array of (x, y) points in metres");
   std::vector<cv::Point2d> pts(static_cast<std::size_t>(a.shape(0)));
   const double* d = a.data();
-  for (std::size_t i = 0; i < pts.size(); ++i) pts[i] = {d[2 * i], d[2 * i + 1]};
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    if (!std::isfinite(d[2 * i]) || !std::isfinite(d[2 * i + 1])) {
+      throw SchemaError(field, "expected finite points; point " + std::to_string(i) + " is (" + format_real(d[2 * i]) +
+                                   ", " + format_real(d[2 * i + 1]) + ")");
+    }
+    pts[i] = {d[2 * i], d[2 * i + 1]};
+  }
   return pts;
 }
 

@@ -72,6 +72,19 @@ void init_errors(py::module_&) {
     if (!p) return;
     try {
       std::rethrow_exception(p);
+    } catch (const FrameError& e) {
+      // Ctrl-C (KeyboardInterrupt) or exit() (SystemExit) inside a λ, a generator or a backend is not a
+      // failed frame: it goes on as itself (the engine has kept its last complete frame).
+      if (e.cause()) {
+        py::object cause = exception_object(e.cause());
+        if (!cause.is_none() && PyExceptionInstance_Check(cause.ptr()) &&
+            !PyObject_IsInstance(cause.ptr(), PyExc_Exception)) {
+          PyErr_SetObject(reinterpret_cast<PyObject*>(Py_TYPE(cause.ptr())), cause.ptr());
+          return;
+        }
+      }
+      py::object exc = exception_object(p);
+      PyErr_SetObject(reinterpret_cast<PyObject*>(Py_TYPE(exc.ptr())), exc.ptr());
     } catch (const Error&) {
       py::object exc = exception_object(p);
       PyErr_SetObject(reinterpret_cast<PyObject*>(Py_TYPE(exc.ptr())), exc.ptr());

@@ -13,14 +13,25 @@ void check_settings(const RobotSettings& r, const std::string& owner) {
   if (!std::isfinite(r.start.x) || !std::isfinite(r.start.y) || !std::isfinite(r.start.theta)) {
     throw SchemaError(owner + ".start", "expected finite x, y, yaw");
   }
-  auto positive = [&](double v, const char* field) {
-    if (!std::isfinite(v) || v <= 0.0) throw SchemaError(owner + "." + field, "expected a finite number > 0, got " + format_real(v));
+  // Box2D holds these as float, and asserts (aborting the process) on what a float cannot hold.
+  if (std::abs(r.start.x) > kMaxCoordinate || std::abs(r.start.y) > kMaxCoordinate) {
+    throw SchemaError(owner + ".start", "expected x and y within ±" + format_real(kMaxCoordinate) + " m, got (" +
+                                            format_real(r.start.x) + ", " + format_real(r.start.y) + ")");
+  }
+  if (std::abs(r.start.theta) > kMaxAngle) {
+    throw SchemaError(owner + ".start", "expected a yaw within ±" + format_real(kMaxAngle) + " rad, got " +
+                                            format_real(r.start.theta));
+  }
+  auto positive = [&](double v, const char* field, double most) {
+    if (!std::isfinite(v) || v <= 0.0 || v > most) {
+      throw SchemaError(owner + "." + field, "expected a number > 0 and <= " + format_real(most) + ", got " + format_real(v));
+    }
   };
-  positive(r.radius, "radius");
-  positive(r.limits.max_speed, "max_speed");
-  positive(r.limits.max_turn_rate, "max_turn_rate");
-  positive(r.limits.max_accel, "max_accel");
-  positive(r.limits.max_turn_accel, "max_turn_accel");
+  positive(r.radius, "radius", 100.0);
+  positive(r.limits.max_speed, "max_speed", 1000.0);
+  positive(r.limits.max_turn_rate, "max_turn_rate", 1000.0);
+  positive(r.limits.max_accel, "max_accel", 1e4);
+  positive(r.limits.max_turn_accel, "max_turn_accel", 1e4);
   for (std::size_t i = 0; i < r.sensors.size(); ++i) {
     const std::string where = owner + ".sensors[" + std::to_string(i) + "]";
     if (r.sensors[i].empty()) throw SchemaError(where, "expected a sensor's name");

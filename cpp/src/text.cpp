@@ -18,6 +18,9 @@ namespace vwg {
 std::string format_real(double r) {
   // Python's repr(float): the shortest digits that round-trip, in fixed notation when the decimal
   // exponent is in [-5, 15] (a ".0" added to integers), otherwise d.ddde±XX.
+  // Not a number and the infinities as Python spells them (to_chars gives them no exponent to read).
+  if (std::isnan(r)) return "nan";
+  if (std::isinf(r)) return r < 0 ? "-inf" : "inf";
   char buf[64];
   auto res = std::to_chars(buf, buf + sizeof buf, r, std::chars_format::scientific);
   std::string_view sci(buf, static_cast<std::size_t>(res.ptr - buf));
@@ -331,6 +334,37 @@ class Parser {
     }
   }
 
+  // ---- public: the first check of any text parsed -----------------------------------------------
+ public:
+  /// Refuse text that is not UTF-8 (a byte that starts no character, a cut or overlong sequence, an
+  /// encoded surrogate), naming the line and column of the first bad byte: what is parsed must print.
+  void check_utf8() {
+    std::size_t line = 1, column = 1;  // column in characters, as advance() counts it
+    const auto* b = reinterpret_cast<const unsigned char*>(text_.data());
+    for (std::size_t i = 0; i < text_.size();) {
+      const unsigned char c = b[i];
+      std::size_t n = c < 0x80 ? 1 : (c & 0xE0) == 0xC0 ? 2 : (c & 0xF0) == 0xE0 ? 3 : (c & 0xF8) == 0xF0 ? 4 : 0;
+      bool ok = n != 0 && i + n <= text_.size();
+      for (std::size_t k = 1; ok && k < n; ++k) ok = (b[i + k] & 0xC0) == 0x80;
+      if (ok && n == 2) ok = c >= 0xC2;                                    // overlong
+      if (ok && n == 3) ok = !(c == 0xE0 && b[i + 1] < 0xA0) && !(c == 0xED && b[i + 1] >= 0xA0);  // overlong, surrogate
+      if (ok && n == 4) ok = !(c == 0xF0 && b[i + 1] < 0x90) && (c < 0xF4 || (c == 0xF4 && b[i + 1] < 0x90));
+      if (!ok) {
+        char found[32];
+        std::snprintf(found, sizeof found, "the byte 0x%02X", static_cast<unsigned>(c));
+        throw ParseError(std::string(source_), line, column, found, "text in UTF-8", "");
+      }
+      if (c == '\n') {
+        ++line;
+        column = 1;
+      } else {
+        ++column;
+      }
+      i += n;
+    }
+  }
+
+ private:
   std::string_view read_name() {
     const std::size_t start = pos_.offset;
     while (!at_end() && is_name_char(peek())) advance(1);
@@ -343,7 +377,12 @@ class Parser {
     std::size_t end = at.offset;
     while (end < text_.size() && text_[end] != '\n' && text_[end] != '\r') ++end;
     std::string line(text_.substr(begin, end - begin));
-    if (line.size() > 200) line = line.substr(0, 200) + "...";
+    if (line.size() > 200) {
+      // Cut before a character, not inside one: the excerpt stays valid UTF-8.
+      std::size_t cut = 200;
+      while (cut > 0 && (static_cast<unsigned char>(line[cut]) & 0xC0) == 0x80) --cut;
+      line = line.substr(0, cut) + "...";
+    }
     return line;
   }
 
@@ -536,6 +575,9 @@ class Parser {
         case 'f': out += '\f'; break;
         case 'u': {
           std::uint32_t cp = read_hex4(esc);
+          if (cp >= 0xDC00 && cp <= 0xDFFF) {
+            fail(esc, "a character (a low surrogate \\uDC00-\\uDFFF comes only after a high one)");
+          }
           if (cp >= 0xD800 && cp <= 0xDBFF) {
             if (pos_.offset + 1 < text_.size() && peek() == '\\' && text_[pos_.offset + 1] == 'u') {
               advance(2);
@@ -671,11 +713,13 @@ class Parser {
 WorldString parse_string(std::shared_ptr<const Alphabet> alphabet, std::string_view text,
                          std::string_view source, const BlobTable* blobs) {
   Parser p(text, source, blobs);
+  p.check_utf8();
   return p.parse_world(std::move(alphabet));
 }
 
 void parse_event(EventList& out, std::string_view text, std::string_view source, const BlobTable* blobs) {
   Parser p(text, source, blobs);
+  p.check_utf8();
   p.parse_event_into(out);
 }
 

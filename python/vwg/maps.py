@@ -48,6 +48,7 @@ import numpy as np
 
 from . import _core
 from .errors import Error, WorldFileError
+from .files import MAX_IMAGE_BYTES, MAX_MAP_BYTES, check_regular_file, read_bytes
 from .yamldoc import YamlDoc
 
 __all__ = ["FREE", "OCCUPIED", "UNKNOWN", "OccupancyGrid", "load_map", "load_map_server", "load_movingai",
@@ -287,7 +288,7 @@ def _map_server(doc: YamlDoc, base: Path) -> OccupancyGrid:
     image_ref = doc.get(("image",), str)
     if not image_ref.strip():
         raise doc.error(("image",), "empty image path")
-    resolution = float(doc.number(("resolution",), minimum=0.0, exclusive_minimum=True))
+    resolution = float(doc.number(("resolution",), minimum=1e-4, maximum=100.0))  # metres per cell
     origin = _origin(doc, ("origin",))
     negate_raw = doc.get(("negate",), (int, bool))
     if negate_raw not in (0, 1):
@@ -304,6 +305,10 @@ def _map_server(doc: YamlDoc, base: Path) -> OccupancyGrid:
         image_path = base / image_path
     if not image_path.is_file():
         raise doc.error(("image",), f"image file {str(image_path)!r} not found")
+    try:
+        check_regular_file(image_path, MAX_IMAGE_BYTES)
+    except WorldFileError as e:
+        raise doc.error(("image",), str(e)) from None
     try:
         img = _core.read_image(str(image_path))
     except Error as e:
@@ -333,12 +338,7 @@ def load_movingai(path: str | Path, resolution: float = 1.0,
     def bad(field: str, message: str, line: int) -> WorldFileError:
         return WorldFileError(p, field, message, line)
 
-    try:
-        raw = Path(path).read_bytes()
-    except FileNotFoundError:
-        raise WorldFileError(p, "", "file not found") from None
-    except OSError as e:
-        raise WorldFileError(p, "", f"cannot read the file: {e}") from None
+    raw = read_bytes(path, MAX_MAP_BYTES)
     try:
         text = raw.decode("ascii")
     except UnicodeDecodeError as e:

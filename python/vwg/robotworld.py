@@ -356,12 +356,13 @@ def _settings(doc: YamlDoc, path: tuple[Any, ...], spec: Any, *, fixed: dict[str
     names = tuple(name for name, *_ in type(spec).fields() if name not in fixed)
     _check_keys(doc, path, {k: v for k, v in section.items() if k not in skip}, (*names, *skip))
     owner = type(spec).__name__
-    try:
-        for key, value in section.items():
-            if key not in skip:
-                setattr(spec, key, value)
-        for key, value in fixed.items():
+    kinds = {name: kind for name, kind, *_ in type(spec).fields()}
+    for key, value in [*((k, v) for k, v in section.items() if k not in skip), *fixed.items()]:
+        try:
             setattr(spec, key, value)
+        except (TypeError, ValueError, OverflowError):  # a value of the wrong kind, or too big for it
+            raise doc.error((*path, key), f"expected {kinds.get(key, 'a value of the field')}, got {value!r}") from None
+    try:
         owner = field_text(path)
         spec.check(owner)
     except SchemaError as e:
@@ -429,16 +430,10 @@ def load_robot_world(path: str | Path) -> RobotWorld:
     name (``"office"``); errors are WorldFileError naming the file, the line and the field."""
     path = Path(path)
     path = shipped_world(path) or path
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise WorldFileError(str(path), "", "file not found") from None
-    except (OSError, UnicodeDecodeError) as e:
-        raise WorldFileError(str(path), "", f"cannot read the file: {e}") from None
-    doc = YamlDoc(path, text)
+    doc = YamlDoc(path)
     if not isinstance(doc.data, dict):
         raise doc.error((), "expected a mapping with map and robots")
-    _duplicate_keys(path, text)
+    _duplicate_keys(path, doc.text)
     _check_keys(doc, (), doc.data, _TOP_KEYS)
     base = path.parent
     name = doc.get(("name",), str, default=path.stem)
@@ -449,7 +444,7 @@ def load_robot_world(path: str | Path) -> RobotWorld:
     rooms = _rooms(doc, grid, wall_height, max(r.radius for r in robots))
     laser, kinect, camera, noise = _sensors(doc, wall_height)
     frames = int(doc.number(("frames",), 3000, minimum=0, integer=True))
-    dt = float(doc.number(("dt",), 0.1, minimum=0.0, exclusive_minimum=True))
+    dt = float(doc.number(("dt",), 0.1, minimum=0.0, exclusive_minimum=True, maximum=3600.0))
     seed = int(doc.number(("seed",), 0, minimum=0, integer=True))
     orders = _orders(doc, rooms, robots)
     platform = _platform(doc)

@@ -192,7 +192,7 @@ def load_world(path: str | Path, *, seed: int | None = None, frames: int | None 
     world = build_world(doc)
     initial_text = doc.get(("initial",), str)
     initial = _wrap(doc, ("initial",), world.parse, initial_text, f"{doc.path}:initial")
-    dt_value = dt if dt is not None else doc.number(("dt",), 0.1, minimum=0.0, exclusive_minimum=True)
+    dt_value = dt if dt is not None else doc.number(("dt",), 0.1, minimum=0.0, exclusive_minimum=True, maximum=3600.0)
     gens = [_generator(doc, world, i, g, dt_value) for i, g in enumerate(doc.get(("generators",), list, default=[]))]
     backend_obj = _wrap(doc, ("backend",), backends.create, backend, world=world) if backend else _backend(doc, world)
     return WorldSpec(

@@ -13,6 +13,7 @@ from .errors import WorldFileError
 __all__ = ["REQUIRED", "YamlDoc", "field_text"]
 
 REQUIRED: Any = object()
+MAX_NODES = 1_000_000  # values in a document, aliases expanded
 Path_ = tuple[Any, ...]
 
 
@@ -30,12 +31,10 @@ class YamlDoc:
     def __init__(self, path: str | Path, text: str | None = None) -> None:
         self.path = Path(path)
         if text is None:
-            try:
-                text = self.path.read_text(encoding="utf-8")
-            except FileNotFoundError:
-                raise WorldFileError(str(self.path), "", "file not found") from None
-            except (OSError, UnicodeDecodeError) as e:
-                raise WorldFileError(str(self.path), "", f"cannot read the file: {e}") from None
+            from .files import read_text
+
+            text = read_text(self.path)
+        self.text = text
         try:
             self.data = yaml.safe_load(text)
             node = yaml.compose(text, Loader=yaml.SafeLoader)
@@ -45,10 +44,17 @@ class YamlDoc:
             raise WorldFileError(str(self.path), "", f"not valid YAML: {problem}",
                                  line=mark.line + 1 if mark else 0) from None
         self.lines: dict[Path_, int] = {}
+        self._budget = MAX_NODES
         if node is not None:
             self._walk(node, ())
 
     def _walk(self, node: yaml.Node, path: Path_) -> None:
+        # Aliases make a document's tree exponentially bigger than its text ("billion laughs"): a
+        # world file has a few thousand nodes at most.
+        self._budget -= 1
+        if self._budget < 0:
+            raise WorldFileError(str(self.path), "", f"more than {MAX_NODES} values once its aliases (*name) are "
+                                                     "expanded", line=node.start_mark.line + 1)
         self.lines.setdefault(path, node.start_mark.line + 1)
         if isinstance(node, yaml.MappingNode):
             for key, value in node.value:

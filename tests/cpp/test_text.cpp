@@ -1,3 +1,4 @@
+#include <cmath>
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -69,6 +70,9 @@ TEST(Text, RealsPrintAsPythonRepr) {
       {2.0 / 3.0, "0.6666666666666666"}, {5e-324, "5e-324"},     {1.7976931348623157e308, "1.7976931348623157e+308"},
       {-12345678.9, "-12345678.9"},       {1234567890123456.0, "1234567890123456.0"},
       {12345678901234567.0, "1.2345678901234568e+16"},
+      // repr(float("nan")), repr(float("inf")), repr(float("-inf")): messages print them (they read
+      // past the end of the text before).
+      {std::nan(""), "nan"}, {HUGE_VAL, "inf"}, {-HUGE_VAL, "-inf"},
   };
   for (auto [value, text] : cases) EXPECT_EQ(format_real(value), text) << value;
 }

@@ -49,8 +49,14 @@ void visit_settings(S& s, F&& field) {
   field("sensors", s.sensors, "the sensors it carries, by registered name (laser, kinect, camera, ...)");
 }
 
-/// Throws SchemaError naming `owner.field` for an id < 1, a start that is not finite, a radius or
-/// limit that is not finite and > 0, or a sensor named twice or empty.
+/// The largest map coordinate (metres) and angle (radians) a platform takes: Box2D keeps them as float
+/// and aborts the process on what a float cannot hold, so they are refused where they are read.
+inline constexpr double kMaxCoordinate = 1e6;
+inline constexpr double kMaxAngle = 1e3;
+
+/// Throws SchemaError naming `owner.field` for an id < 1, a start that is not finite or beyond
+/// kMaxCoordinate / kMaxAngle, a radius (<= 100 m) or limit that is not finite, > 0 and within its
+/// bound, or a sensor named twice or empty.
 void check_settings(const RobotSettings& robot, const std::string& owner);
 
 /// One step of a motion command, in the robot's own frame.
