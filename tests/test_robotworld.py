@@ -335,7 +335,7 @@ def test_missing_and_malformed(world_dir: Path) -> None:
 def test_error_in_the_map_file_names_the_map(world_dir: Path) -> None:
     (world_dir / "room" / "map.yaml").write_text("image: map.pgm\nresolution: 0\norigin: [0, 0, 0]\nnegate: 0\n"
                                                  "occupied_thresh: 0.65\nfree_thresh: 0.196\n")
-    with pytest.raises(WorldFileError, match="> 0") as e:
+    with pytest.raises(WorldFileError, match=r">= 0\.0001") as e:
         load_robot_world(write(world_dir, BASE))
     assert (e.value.path, e.value.field, e.value.line) == (str(world_dir / "room" / "map.yaml"), "resolution", 2)
 
@@ -398,5 +398,5 @@ def test_settings_copy_pickle_and_refuse_unknown_fields() -> None:
         LaserSpec(beamz=3)
     with pytest.raises(SchemaError, match=r"RobotSettings\.start: expected \[x, y, yaw\]"):
         RobotSettings(start=(1.0, 2.0))
-    with pytest.raises(SchemaError, match=r"robot\.radius: expected a finite number > 0, got -1"):
+    with pytest.raises(SchemaError, match=r"robot\.radius: expected a finite number > 0 and <= 100\.0, got -1"):
         RobotSettings(radius=-1.0).check("robot")

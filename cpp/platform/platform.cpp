@@ -24,7 +24,7 @@ void check_settings(const RobotSettings& r, const std::string& owner) {
   }
   auto positive = [&](double v, const char* field, double most) {
     if (!std::isfinite(v) || v <= 0.0 || v > most) {
-      throw SchemaError(owner + "." + field, "expected a number > 0 and <= " + format_real(most) + ", got " + format_real(v));
+      throw SchemaError(owner + "." + field, "expected a finite number > 0 and <= " + format_real(most) + ", got " + format_real(v));
     }
   };
   positive(r.radius, "radius", 100.0);

@@ -356,13 +356,9 @@ def _settings(doc: YamlDoc, path: tuple[Any, ...], spec: Any, *, fixed: dict[str
     names = tuple(name for name, *_ in type(spec).fields() if name not in fixed)
     _check_keys(doc, path, {k: v for k, v in section.items() if k not in skip}, (*names, *skip))
     owner = type(spec).__name__
-    kinds = {name: kind for name, kind, *_ in type(spec).fields()}
-    for key, value in [*((k, v) for k, v in section.items() if k not in skip), *fixed.items()]:
-        try:
-            setattr(spec, key, value)
-        except (TypeError, ValueError, OverflowError):  # a value of the wrong kind, or too big for it
-            raise doc.error((*path, key), f"expected {kinds.get(key, 'a value of the field')}, got {value!r}") from None
     try:
+        for key, value in [*((k, v) for k, v in section.items() if k not in skip), *fixed.items()]:
+            setattr(spec, key, value)  # the struct refuses a value of the wrong kind or size by field
         owner = field_text(path)
         spec.check(owner)
     except SchemaError as e:
