@@ -240,8 +240,10 @@ def dask_client(scheduler: str | None, workers: int | None) -> Iterator[Any]:
         return
     n = workers or os.cpu_count() or 1
     # Everything on 127.0.0.1; the scheduler's status page on a free port (two sweeps at once do not clash).
+    # Dask's own messages only when critical: a worker's heartbeat cut short as the cluster closes
+    # logs a traceback that is not a fault of the sweep.
     with LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0", host="127.0.0.1",
-                      silence_logs=40) as cluster, Client(cluster) as client:
+                      silence_logs=50) as cluster, Client(cluster) as client:
         yield client
 
 
