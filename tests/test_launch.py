@@ -75,8 +75,8 @@ def test_a_backend_by_name_shows_a_robot_world_beside_its_simulator():
 @pytest.mark.parametrize(("world", "kind"), [("office", "robot"), (FIREFLIES, "generic")])
 def test_records_name_their_kind_and_replay_through_one_path(tmp_path, world, kind):
     record = tmp_path / "run.jsonl"
-    options = vwg.RunOptions(frames=5, record=record, allow_unreached=True) if kind == "robot" else \
-        vwg.RunOptions(frames=5, record=record)
+    # One writer of the record: this test's own Recorder (the run's options ask for none).
+    options = vwg.RunOptions(frames=5, allow_unreached=True) if kind == "robot" else vwg.RunOptions(frames=5)
     loaded = vwg.load(world)
     with vwg.start(loaded, options) as run:
         recorder = vwg.Recorder(record, run.engine, world_file=loaded.path, world_data=run.record_data,

@@ -20,6 +20,26 @@ from vwg.worldfile import load_world
 FIREFLIES = ROOT / "examples" / "01_fireflies" / "world.yaml"
 
 
+
+def chained(objects) -> str:
+    """Record lines for these objects, each after the first holding the hash of the line before (as the
+    writer makes them): a record edited by hand, or by someone who knows the format."""
+    from vwg.record import line_hash
+
+    out, prev = [], None
+    for obj in objects:
+        obj = {k: v for k, v in obj.items() if k != "prev"}
+        if prev is not None:
+            obj["prev"] = prev
+        text = json.dumps(obj)
+        out.append(text + "\n")
+        prev = line_hash(text)
+    return "".join(out)
+
+
+def rechain(path) -> None:
+    path.write_text(chained(json.loads(x) for x in path.read_text().splitlines()))
+
 def run_recorded(tmp_path, seed=7, frames=40):
     spec = load_world(FIREFLIES, seed=seed, backend="trace")  # the trace of φ, not the file's GIF
     engine = vwg.Engine(spec.world, spec.initial, spec.generators, spec.backend, seed=spec.seed)
@@ -53,9 +73,15 @@ def test_replay_detects_a_changed_record(tmp_path):
     frame["events"] = [e for e in frame["events"] if e != "tick"]
     lines[6] = json.dumps(frame)
     path.write_text("\n".join(lines) + "\n")
-    with pytest.raises(vwg.ReplayError) as info:
+    # The chain names the change at once: the next line's hash of frame 5's line does not match.
+    with pytest.raises(vwg.WorldFileError, match=r"chain is broken here: frame 5's line \(line 7\)") as info:
+        read_record(path)
+    assert info.value.line == 8
+    # Made to look whole again (the hashes recomputed), the change is still found: by replaying it.
+    rechain(path)
+    with pytest.raises(vwg.ReplayError) as replayed:
         replay(path)
-    assert info.value.frame == 6
+    assert replayed.value.frame == 6
 
 
 def test_same_seed_same_record_bit_for_bit(tmp_path):
@@ -69,7 +95,7 @@ def test_same_seed_same_record_bit_for_bit(tmp_path):
 
 def test_bad_record_files(tmp_path):
     bad = tmp_path / "bad.jsonl"
-    bad.write_text('{"vwg_record": 2, "initial": "", "seed": 0, "dt": 0.1}\n{"t": 0, "events": [], "string": ""\n')
+    bad.write_text('{"vwg_record": 3, "initial": "", "seed": 0, "dt": 0.1}\n{"t": 0, "events": [], "string": ""\n')
     with pytest.raises(vwg.WorldFileError, match="not valid JSON") as info:
         read_record(bad)
     assert info.value.line == 2
@@ -245,7 +271,7 @@ def rewrite_events(path, world, edit):
             texts = _decode_events(reader, obj["events"])
             edit(obj["t"], texts)
             obj["events"] = _encode_events(writer, [world.event(t) for t in texts], texts)
-    path.write_text("".join(json.dumps(obj) + "\n" for obj in lines))
+    path.write_text(chained(lines))
 
 
 def test_replay_detects_a_changed_event_value(tmp_path):
@@ -292,9 +318,9 @@ def test_blob_change_round_trip(dtype, shape, changes):
 
 
 def write_record(path, header_blobs, frames=()):
-    header = {"vwg_record": 2, "initial": "", "seed": 0, "dt": 0.1, "blobs": header_blobs}
+    header = {"vwg_record": 3, "initial": "", "seed": 0, "dt": 0.1, "blobs": header_blobs}
     lines = [header, *({"t": t, "events": [], "string": "", "blobs": b} for t, b in enumerate(frames))]
-    path.write_text("".join(json.dumps(x) + "\n" for x in lines))
+    path.write_text(chained(lines))
 
 
 def test_a_recorded_robot_grid_is_stored_as_changes(tmp_path):
@@ -331,7 +357,7 @@ def test_a_damaged_blob_change_is_detected(tmp_path):
 def test_a_format_1_record_is_refused(tmp_path):
     old = tmp_path / "old.jsonl"
     old.write_text('{"vwg_record": 1, "initial": "", "seed": 0, "dt": 0.1}\n{"t": 0, "events": [], "string": ""}\n')
-    with pytest.raises(vwg.WorldFileError, match="this record is format 1; this vwg reads format 2 only") as info:
+    with pytest.raises(vwg.WorldFileError, match="this record is format 1; this vwg reads format 3 only") as info:
         read_record(old)
     assert info.value.line == 1 and info.value.field == "vwg_record"
     with pytest.raises(vwg.WorldFileError, match="format 1"):
@@ -351,6 +377,7 @@ def test_a_damaged_run_names_the_file_and_line(tmp_path):
     else:
         pytest.fail("no run in the fireflies record")
     path.write_text("\n".join(lines) + "\n")
+    rechain(path)  # past the chain: the run's own check names it
     with pytest.raises(vwg.WorldFileError, match=f"events\\[{runs[0]}\\]: cannot decode") as info:
         read_record(path)
     assert info.value.line == n
@@ -379,3 +406,100 @@ def test_the_demo_run_record_is_small_and_replays(tmp_path):
 
     replayed = replay(path, world=case_study_world(load_robot_world(world.path), make_decider("astar")))
     assert str(replayed.string) == record.end["string"]
+
+
+# ---- crash-safe records: the chain, a cut run, a torn last line --------------------------------------
+@pytest.mark.parametrize(("damage", "line", "before"), [
+    ("drop", 6, "frame 3's line (line 5)"),          # frame 4's line taken out
+    ("swap", 6, "frame 3's line (line 5)"),          # frames 4 and 5 change places
+    ("renumber", 7, "frame 14's line (line 6)"),     # frame 4 says it is frame 14
+    ("seed", 2, "the header (line 1)"),              # the header's seed changed
+    ("dt", 2, "the header (line 1)"),                # the header's dt changed
+])
+def test_the_chain_names_any_edit_drop_or_reorder(tmp_path, damage, line, before):
+    path = tmp_path / "folder.jsonl"
+    run_folder(path)
+    lines = path.read_text().splitlines()
+    if damage == "drop":
+        del lines[5]
+    elif damage == "swap":
+        lines[5], lines[6] = lines[6], lines[5]
+    elif damage == "renumber":
+        lines[5] = lines[5].replace('"t":4,', '"t":14,', 1)
+    else:
+        header = json.loads(lines[0])
+        header[damage] += 1
+        lines[0] = json.dumps(header, separators=(",", ":"))
+    assert "\n".join(lines) + "\n" != path.read_text()
+    path.write_text("\n".join(lines) + "\n")
+    with pytest.raises(vwg.WorldFileError) as info:
+        read_record(path)
+    assert info.value.line == line and f"chain is broken here: {before}" in str(info.value), str(info.value)
+
+
+def test_a_flipped_byte_in_a_blob_is_named(tmp_path):
+    from vwg.casestudy import CaseStudy
+    from vwg.robotworld import load_robot_world
+
+    case = CaseStudy(load_robot_world("office"), "astar", goals={1: "kitchen"}, world_orders=False)
+    path = tmp_path / "office.jsonl"
+    with Recorder(path, case.engine):
+        case.run(frames=3)
+    case.close()
+    lines = path.read_text().splitlines()
+    header = json.loads(lines[0])
+    blob = next(iter(header["blobs"].values()))  # a robot's grid
+    text = blob["zlib_base85"]
+    blob["zlib_base85"] = text[:40] + ("A" if text[40] != "A" else "B") + text[41:]
+    lines[0] = json.dumps(header, separators=(",", ":"), ensure_ascii=False)
+    path.write_text("\n".join(lines) + "\n")
+    # Named where it is: the blob no longer decodes to its content (the chain would name it at line 2).
+    with pytest.raises(vwg.WorldFileError, match=r"blobs\.[0-9a-f]{16}: (cannot decode|decodes to blob)") as info:
+        read_record(path)
+    assert info.value.line == 1
+
+
+def test_a_run_killed_mid_way_replays_and_says_it_was_cut(tmp_path):
+    import signal
+    import time
+
+    record = tmp_path / "run.jsonl"
+    run = subprocess.Popen([sys.executable, "-m", "vwg.cli", "run", "office", "--frames", "3000", "--goal", "kitchen",
+                            "--record", str(record), "--allow-unreached", "--no-progress"],
+                           stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        while not record.exists() or record.read_bytes().count(b"\n") < 30:
+            assert run.poll() is None, "the run ended before it could be killed"
+            time.sleep(0.05)
+    finally:
+        run.send_signal(signal.SIGKILL)  # no chance to write anything more
+        run.wait()
+    # A kill between two lines, or in the middle of one: both replay what is whole, and say what is missing.
+    data = record.read_bytes()
+    whole = data[:data.rindex(b"\n") + 1]
+    for name, content in (("between.jsonl", whole), ("torn.jsonl", whole + data[len(whole):] + b'{"t":9999,"ti')):
+        path = tmp_path / name
+        path.write_bytes(content)
+        done = subprocess.run([sys.executable, "-m", "vwg.cli", "replay", str(path)], capture_output=True, text=True,
+                              timeout=300)
+        frames = whole.count(b"\n") - 1
+        assert done.returncode == 0, done.stderr
+        assert f"{frames} frames replayed, every string as recorded" in done.stdout
+        assert f"the run was cut after {frames} frames of the 3000 planned" in done.stdout
+        torn = "the last line is cut short" in done.stderr
+        assert torn == (name == "torn.jsonl"), done.stderr
+
+
+def test_a_replay_that_differs_shows_where_with_context():
+    from vwg.errors import ReplayError
+
+    record = "ARobot<id=1, " + "x" * 500 + "status=\"to kitchen\", wait=0>"
+    got = record.replace("kitchen", "kitchem")
+    message = str(ReplayError(12, record, got))
+    at = record.index("kitchen") + 6
+    assert f"frame 12: the replay's string differs from the record's at character {at + 1}:" in message
+    lines = message.splitlines()
+    replay_line, record_line, caret = lines[1], lines[2], lines[3]
+    assert "kitchem" in replay_line and "kitchen" in record_line and len(replay_line) < 150
+    column = caret.index("^")
+    assert replay_line[column] == "m" and record_line[column] == "n"

@@ -85,8 +85,12 @@ def _cmd_replay(args: argparse.Namespace) -> int:
     start = time.perf_counter()
     engine = replay(args.record, world=world, backend=backend, record=record)
     wall = time.perf_counter() - start
+    for warning in record.warnings:
+        print(f"vwg: warning: {warning}", file=sys.stderr)
     print(f"vwg replay {args.record}: {len(record.frames)} frames replayed, every string as recorded "
           f"({wall:.1f} s)")
+    if record.cut:
+        print(f"  incomplete: {record.cut}")
     print(f"  final string: {clip(str(engine.string)) or 'ε'}")
     return 0
 

@@ -57,10 +57,18 @@ class ReplayError(Error):
     """A replay did not give the recorded string at ``frame``."""
 
     def __init__(self, frame: int, expected: str, got: str) -> None:
-        def clip(s: str) -> str:
-            return s if len(s) <= 300 else s[:297] + "..."
+        # Where the two first differ, with some text either side and a caret under the place.
+        pairs = enumerate(zip(got, expected, strict=False))
+        at = next((i for i, (a, b) in pairs if a != b), min(len(got), len(expected)))
+        start = max(0, at - 60)
 
-        super().__init__(f"frame {frame}: replay gave\n  {clip(got)}\nbut the record has\n  {clip(expected)}")
+        def window(s: str) -> str:
+            part = s[start:at + 60]
+            return ("…" if start else "") + part + ("…" if at + 60 < len(s) else "")
+
+        caret = " " * (at - start + (1 if start else 0)) + "^"
+        super().__init__(f"frame {frame}: the replay's string differs from the record's at character {at + 1}:\n"
+                         f"  replay: {window(got)}\n  record: {window(expected)}\n          {caret}")
         self.frame = frame
         self.expected = expected
         self.got = got

@@ -38,14 +38,19 @@ def check_regular_file(path: str | Path, limit: int) -> Path:
 
 def read_bytes(path: str | Path, limit: int) -> bytes:
     path = check_regular_file(path, limit)
+    chunks: list[bytes] = []
+    size = 0
     try:
         with path.open("rb") as f:
-            data = f.read(limit + 1)  # the file may have grown since it was looked at
+            # In pieces, to the limit: the file may have grown since it was looked at.
+            while chunk := f.read(min(2**24, limit + 1 - size)):
+                chunks.append(chunk)
+                size += len(chunk)
+                if size > limit:
+                    raise WorldFileError(str(path), "", f"more than the {limit // 2**20} MB such a file may have")
     except OSError as e:
         raise WorldFileError(str(path), "", f"cannot read the file: {e.strerror}") from None
-    if len(data) > limit:
-        raise WorldFileError(str(path), "", f"more than the {limit // 2**20} MB such a file may have")
-    return data
+    return b"".join(chunks)
 
 
 def read_text(path: str | Path, limit: int = MAX_TEXT_BYTES) -> str:

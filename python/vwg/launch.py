@@ -192,8 +192,9 @@ class RecordedRun:
         self.run = run
         self.options = options
         try:
+            planned = options.frames if options.frames is not None else getattr(world, "frames", None)
             self.recorder = (Recorder(options.record, run.engine, world_file=world.path, world_data=run.record_data,
-                                      world_kind=run.kind) if options.record else None)
+                                      world_kind=run.kind, frames_planned=planned) if options.record else None)
         except BaseException:
             run.close()
             raise

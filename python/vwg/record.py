@@ -1,12 +1,20 @@
 """Recording a run as JSON Lines and replaying it exactly.
 
-A record (format 2) is one JSON object per line, read in order:
+A record (format 3) is one JSON object per line, read in order:
 
-    {"vwg_record": 2, "version": ..., "world_file": ..., "world": {...}, "seed": 0, "dt": 0.1,
-     "frame": 0, "initial": "<text>", "blobs": {...}}                       the header
-    {"t": 0, "time": 0.0, "events": [...], "string": "<text of w at the start of frame t>", "blobs": {...}}
+    {"vwg_record": 3, "version": ..., "world_file": ..., "world": {...}, "seed": 0, "dt": 0.1,
+     "frame": 0, "frames_planned": 100, "initial": "<text>", "blobs": {...}}       the header
+    {"t": 0, "time": 0.0, "events": [...], "string": "<text of w at the start of frame t>", "blobs": {...},
+     "prev": "<hash>"}
     ...
-    {"end": true, "t": 10, "string": "<text of the last string>"}
+    {"end": true, "t": 10, "string": "<text of the last string>", "frames": 10, "prev": "<hash>"}
+
+Every line is written and flushed as its frame ends; the end line is written when the run ends,
+however it ends. Every line after the header carries ``prev``, the first 32 hex digits of the
+SHA-256 of the line before it (its text, without the newline): a line changed, dropped, added or
+moved breaks the chain at the next line, which a reader names. A record without its end line was
+cut (the process was killed): a reader says so and how many frames it holds (of ``frames_planned``,
+when the run knew); a last line cut short in the middle is skipped with a warning.
 
 ``events`` is S, the frame's events in order. An item is either one event's text, as the engine
 writes it (``"eOdometry<to=1, x=3.25, y=10.5, angle=1.5, busy=false, commands=3>"``), or a *run*
@@ -57,6 +65,7 @@ a replay is a bit-for-bit determinism check as well.
 
 from __future__ import annotations
 
+import hashlib
 import json
 import zlib
 from collections import deque
@@ -73,7 +82,8 @@ from .world import World
 
 __all__ = ["Record", "Recorder", "decode_blob", "encode_blob", "read_record", "replay"]
 
-FORMAT = 2
+FORMAT = 3
+MAX_RECORD_BYTES = 2**40  # a record is read whole; it is as big as the run made it
 MIN_RUN = 8  # shorter runs cost less as text than their columns' framing
 BASE_CANDIDATES = 4  # a new blob is stored against the closest of the last few of its dtype and shape
 
@@ -408,7 +418,8 @@ class Recorder:
     nothing that completed). Use as a context manager, or call close() to write the end line."""
 
     def __init__(self, path: str | Path, engine: _core.Engine, *, world_file: str | Path | None = None,
-                 world_data: dict[str, Any] | None = None, world_kind: str | None = None) -> None:
+                 world_data: dict[str, Any] | None = None, world_kind: str | None = None,
+                 frames_planned: int | None = None) -> None:
         self.path = Path(path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self._file: IO[str] | None = self.path.open("w", encoding="utf-8")
@@ -420,6 +431,7 @@ class Recorder:
         # A frame's line holds the string at its start: the previous frame's result, kept as text
         # (its blobs were written with that frame, while they had that content).
         self._before_text = str(initial)
+        self._prev: str | None = None  # the hash of the last line written (the chain)
         self._write({
             "vwg_record": FORMAT,
             "version": _core.__version__,
@@ -429,6 +441,7 @@ class Recorder:
             "seed": engine.seed,
             "dt": engine.dt,
             "frame": engine.frame,
+            "frames_planned": frames_planned,
             "initial": str(initial),
             "blobs": {name: self._blobs.encode(name, b) for name, b in initial.blobs().items()},
         })
@@ -438,8 +451,12 @@ class Recorder:
     def _write(self, obj: dict[str, Any]) -> None:
         if self._file is None:
             return
-        self._file.write(json.dumps(obj, ensure_ascii=False, allow_nan=False, separators=(",", ":")) + "\n")
+        if self._prev is not None:
+            obj["prev"] = self._prev
+        text = json.dumps(obj, ensure_ascii=False, allow_nan=False, separators=(",", ":"))
+        self._file.write(text + "\n")
         self._file.flush()
+        self._prev = line_hash(text)
 
     def _on_frame(self, record: _core.FrameRecord) -> None:
         if self._file is None:
@@ -458,7 +475,7 @@ class Recorder:
     def close(self) -> None:
         if self._file is None:
             return
-        self._write({"end": True, "t": self._engine.frame, "string": str(self._engine.string)})
+        self._write({"end": True, "t": self._engine.frame, "string": str(self._engine.string), "frames": self.frames})
         self._file.close()
         self._file = None
 
@@ -471,33 +488,68 @@ class Recorder:
 
 # --- reading ----------------------------------------------------------------------------------
 
+def line_hash(text: str) -> str:
+    """A line's link in the chain: the first 32 hex digits of the SHA-256 of its text."""
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()[:32]
+
+
 @dataclass
 class Record:
     """A record as read: the header, each frame's line with ``events`` as the events' texts (runs
-    expanded, in order), the end line (None if the run did not finish) and every blob by name."""
+    expanded, in order), the end line (None if the run was cut before it ended), every blob by
+    name, and warnings (a last line cut short, skipped)."""
 
     header: dict[str, Any]
     frames: list[dict[str, Any]]
     end: dict[str, Any] | None
     blobs: dict[str, _core.Blob]
+    warnings: list[str]
+
+    @property
+    def cut(self) -> str:
+        """Why the record is incomplete ("" when it ended with its end line)."""
+        if self.end is not None:
+            return ""
+        planned = self.header.get("frames_planned")
+        held = f"{len(self.frames)} frames" + (f" of the {planned} planned" if isinstance(planned, int) else "")
+        return f"the record has no end line: the run was cut after {held} (killed, or the machine stopped)"
 
 
-def _lines(path: Path) -> Iterator[tuple[int, dict[str, Any]]]:
-    try:
-        f = path.open(encoding="utf-8")
-    except FileNotFoundError:
-        raise WorldFileError(str(path), "", "file not found") from None
-    with f:
-        for n, text in enumerate(f, start=1):
-            if not text.strip():
-                continue
-            try:
-                obj = json.loads(text)
-            except json.JSONDecodeError as e:
-                raise WorldFileError(str(path), f"column {e.colno}", f"not valid JSON: {e.msg}", line=n) from None
-            if not isinstance(obj, dict):
-                raise WorldFileError(str(path), "", "expected a JSON object on each line", line=n)
-            yield n, obj
+def _lines(path: Path, warnings: list[str]) -> Iterator[tuple[int, dict[str, Any]]]:
+    """The JSON objects of a record's lines, each checked against the chain (the hash of the line
+    before it). A last line cut short (no newline, not JSON) is skipped with a warning."""
+    from .files import read_bytes
+
+    data = read_bytes(path, MAX_RECORD_BYTES)
+    chained = False  # the header's format says whether lines carry the chain
+    prev: tuple[int, str, dict[str, Any]] | None = None  # the line before: number, text, object
+    lines = data.split(b"\n") if data else []
+    for n, raw in enumerate(lines, start=1):
+        torn = n == len(lines) and not data.endswith(b"\n")  # the last line, with no newline after it
+        if not raw.strip():
+            continue
+        try:
+            text = raw.decode("utf-8")
+            obj = json.loads(text)
+        except (UnicodeDecodeError, json.JSONDecodeError) as e:
+            if torn:
+                warnings.append(f"{path}:{n}: the last line is cut short ({len(raw)} bytes; the run was stopped "
+                                "while writing it): skipped")
+                return
+            if isinstance(e, UnicodeDecodeError):
+                raise WorldFileError(str(path), f"byte {e.start + 1}", "not UTF-8 text", line=n) from None
+            raise WorldFileError(str(path), f"column {e.colno}", f"not valid JSON: {e.msg}", line=n) from None
+        if not isinstance(obj, dict):
+            raise WorldFileError(str(path), "", "expected a JSON object on each line", line=n)
+        if prev is None:
+            chained = obj.get("vwg_record") == FORMAT
+        elif chained and obj.get("prev") != line_hash(prev[1]):
+            before = "the header" if "vwg_record" in prev[2] else f"frame {prev[2].get('t')}'s line"
+            raise WorldFileError(str(path), "prev", f"the chain is broken here: {before} (line {prev[0]}) does not "
+                                 "match the hash this line holds of it: a line was changed, dropped, added or moved",
+                                 line=n)
+        prev = (n, text, obj)
+        yield n, obj
 
 
 def _check_format(path: Path, obj: dict[str, Any], line: int) -> None:
@@ -533,16 +585,24 @@ def read_record(path: str | Path) -> Record:
     end = None
     blobs: dict[str, _core.Blob] = {}
     columns = _Columns()
-    for n, obj in _lines(path):
+    warnings: list[str] = []
+    frames_seen = 0
+    for n, obj in _lines(path, warnings):
         if header is None:
             _check_format(path, obj, n)
             for key in ("initial", "seed", "dt"):
                 if key not in obj:
                     raise WorldFileError(str(path), key, "missing from the header", line=n)
             header = obj
+        elif end is not None:
+            raise WorldFileError(str(path), "", "a line after the end line", line=n)
         elif obj.get("end"):
+            if obj.get("frames") != frames_seen:
+                raise WorldFileError(str(path), "frames", f"the end line counts {obj.get('frames')} frames; the "
+                                     f"record holds {frames_seen}", line=n)
             end = obj
         else:
+            frames_seen += 1
             for key, kind in (("t", int), ("events", list), ("string", str)):
                 if not isinstance(obj.get(key), kind):
                     raise WorldFileError(str(path), key, f"missing or not a {kind.__name__}", line=n)
@@ -554,7 +614,7 @@ def read_record(path: str | Path) -> Record:
         _read_blobs(path, obj, n, blobs)
     if header is None:
         raise WorldFileError(str(path), "", "empty record")
-    return Record(header, frames, end, blobs)
+    return Record(header, frames, end, blobs, warnings)
 
 
 def world_of_record(header: dict[str, Any], path: Path) -> World:
