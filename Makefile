@@ -2,7 +2,7 @@
 #   make demo    install what is missing, build, and run the main example
 #   make test    install what is missing, build, and run every test (Python, C++ with sanitizers,
 #                the installed C++ package through a downstream project)
-# Other targets: install, bench, stubs, lint, cpp-test, cpp-package, clean.
+# Other targets: install, bench, stubs, lint, cpp-test, cpp-package, fuzz, tsan, clean.
 
 SHELL := /bin/bash
 .SHELLFLAGS := -eu -o pipefail -c
@@ -29,7 +29,7 @@ TEST_APT_PACKAGES := chromium
 BUILD := build
 STAMP := $(BUILD)/stamps
 
-.PHONY: help deps test-deps venv install demo test pytest lint stubs cpp-test cpp-package tsan bench bench-scale irsim-env clean
+.PHONY: help deps test-deps venv install demo test pytest fuzz lint stubs cpp-test cpp-package tsan bench bench-scale irsim-env clean
 
 help:
 	@sed -n '1,5p' Makefile | sed 's/^# \{0,1\}//'
@@ -102,6 +102,10 @@ pytest: test-deps
 
 lint:
 	$(VENV)/bin/ruff check python tests examples benchmarks
+
+## The readers fuzzed longer than make test does (tests/test_fuzz.py, 20,000 inputs a reader; ~5 min).
+fuzz: install
+	VWG_FUZZ_EXAMPLES=20000 $(PY) -m pytest -q tests/test_fuzz.py
 
 ## Stubs of the compiled module (tests/test_stubs.py fails when they drift from the module).
 stubs:

@@ -24,6 +24,7 @@ from __future__ import annotations
 import contextlib
 import logging
 import math
+import re
 import threading
 import time
 from typing import Any
@@ -33,12 +34,24 @@ from .errors import SchemaError
 from .real_robot import RealRobotPlatform
 from .ros_messages import Odometry
 
-__all__ = ["OPTIONS", "SerialBase", "SerialPlatform"]
+__all__ = ["OPTIONS", "SerialBase", "SerialPlatform", "encoder_counts"]
 
 log = logging.getLogger("vwg.serial")
 
 OPTIONS = ("port", "baud", "wheel_radius", "track_width", "ticks_per_rev", "pid_rate", "watchdog", "reconnect",
            "control_rate", "odometry_rate")
+
+
+def encoder_counts(reply: str) -> tuple[int, int]:
+    """The two wheel counts of the base's answer to ``e`` ("LEFT RIGHT", decimal): ValueError for anything
+    else, counts beyond a 32-bit long (the firmware's type) included."""
+    words = reply.split()
+    if len(words) != 2 or not all(re.fullmatch(r"[+-]?[0-9]+", w) for w in words):
+        raise ValueError(f"encoders: expected two whole numbers, got {reply[:40]!r}")
+    left, right = int(words[0]), int(words[1])
+    if not (-(2**31) <= left < 2**31 and -(2**31) <= right < 2**31):
+        raise ValueError(f"encoders: counts beyond a 32-bit long: {reply[:40]!r}")
+    return left, right
 
 
 class SerialBase:
@@ -146,8 +159,7 @@ class SerialPlatform(RealRobotPlatform):
         start = time.monotonic()
         while self._running:
             try:
-                reply = self.base.ask("e").split()
-                left, right = int(reply[0]), int(reply[1])
+                left, right = encoder_counts(self.base.ask("e"))
                 self._integrate(left, right, time.monotonic() - start)
                 self._lost_at = None
             except (OSError, ValueError, IndexError) as e:
