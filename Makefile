@@ -29,7 +29,7 @@ TEST_APT_PACKAGES := chromium
 BUILD := build
 STAMP := $(BUILD)/stamps
 
-.PHONY: help deps test-deps venv install demo test pytest fuzz lint stubs cpp-test cpp-package tsan bench bench-scale irsim-env clean
+.PHONY: help deps test-deps venv install demo test pytest fuzz asan-python lint stubs cpp-test cpp-package tsan bench bench-scale irsim-env clean
 
 help:
 	@sed -n '1,5p' Makefile | sed 's/^# \{0,1\}//'
@@ -132,6 +132,27 @@ tsan: install
 	cp $(BUILD)/tsan/_core*.so $(BUILD)/tsan/pkg/vwg/
 	PYTHONPATH=$(BUILD)/tsan/pkg LD_PRELOAD=$(TSAN_LIB) \
 	  TSAN_OPTIONS="suppressions=$(CURDIR)/tools/tsan.supp halt_on_error=1 exitcode=66" $(PY) tools/tsan_frames.py
+
+## The Python tests against the extension built with AddressSanitizer and UndefinedBehaviorSanitizer:
+## the core's memory errors and undefined behaviour as Python drives it (any report fails the run).
+ASAN_LIB = $(shell gcc -print-file-name=libasan.so)
+ASAN_TESTS ?= tests/test_text.py tests/test_engine.py tests/test_engine_contracts.py tests/test_semantics.py \
+	tests/test_record.py tests/test_hostile_input.py tests/test_fuzz.py tests/test_sim.py tests/test_plan.py \
+	tests/test_arobot.py tests/test_sensors.py tests/test_actors.py
+asan-python: install
+	@echo "The Python tests under ASan/UBSan: building the extension in $(BUILD)/asan-python (first time 5-7 min)"
+	cmake -S . -B $(BUILD)/asan-python -DVWG_PYTHON=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+	  -DCMAKE_CXX_FLAGS="-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer -O1" \
+	  -DCMAKE_MODULE_LINKER_FLAGS="-fsanitize=address,undefined" \
+	  -Dpybind11_DIR=$$($(PY) -m pybind11 --cmakedir) -DPython_EXECUTABLE=$(CURDIR)/$(PY) > /dev/null
+	cmake --build $(BUILD)/asan-python -j $(JOBS) --target _core
+	rm -rf $(BUILD)/asan-python/pkg && mkdir -p $(BUILD)/asan-python/pkg
+	cp -r $$($(PY) -c "import vwg, os; print(os.path.dirname(vwg.__file__))") $(BUILD)/asan-python/pkg/vwg
+	cp $(BUILD)/asan-python/_core*.so $(BUILD)/asan-python/pkg/vwg/
+	@# CPython keeps memory to the end by design: leaks are not reported; every other finding stops the run.
+	PYTHONPATH=$(BUILD)/asan-python/pkg LD_PRELOAD=$(ASAN_LIB) \
+	  ASAN_OPTIONS=detect_leaks=0:halt_on_error=1:exitcode=66 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+	  $(PY) -m pytest -q -p no:cacheprovider $(ASAN_TESTS)
 
 ## Install the C++ package, then build and run the downstream project examples/cpp against it.
 cpp-package: deps

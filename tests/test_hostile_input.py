@@ -207,3 +207,37 @@ def test_a_frame_time_too_long_is_refused_with_its_line(tmp_path):
     with pytest.raises(WorldFileError) as info:
         vwg.robot.load_robot_world(path)
     assert f"{path}:{line_of(text, 'dt: 1.0e+300')}: dt" in str(info.value) and "<= 3600" in str(info.value)
+
+
+class Slow(vwg.Actor):
+    events = ("tick",)
+
+    def on_tick(self, e):
+        time.sleep(0.25)
+        return self
+
+
+def test_a_python_part_over_its_time_budget_is_reported_by_name(caplog):
+    import logging
+
+    w = vwg.World(primitives={"Lamp": None}, events={"tick": None}, actors=[Slow])
+
+    def run(budget: float) -> str:
+        vwg.set_python_budget(budget)
+        try:
+            engine = vwg.Engine(w, "Slow . Lamp", generators=[vwg.every_frame("tick")], backend=vwg.NullBackend())
+            with caplog.at_level(logging.WARNING, logger="vwg"):
+                engine.run(2)
+            return str(engine.string)
+        finally:
+            vwg.set_python_budget(1.0)
+
+    reported = run(0.1)
+    messages = [r.getMessage() for r in caplog.records if r.name == "vwg.python"]
+    assert len(messages) == 2, messages  # one call a frame, each over the budget
+    assert all("the Python actor's λ Slow.on_tick took 0.2" in m and "budget of 0.100 s" in m for m in messages)
+    caplog.clear()
+    assert run(0) == reported  # only reported: the frames are the same without the budget
+    assert not [r for r in caplog.records if r.name == "vwg.python"]
+    with pytest.raises(vwg.SchemaError, match="python_budget"):
+        vwg.set_python_budget(-1)

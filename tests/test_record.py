@@ -503,3 +503,28 @@ def test_a_replay_that_differs_shows_where_with_context():
     assert "kitchem" in replay_line and "kitchen" in record_line and len(replay_line) < 150
     column = caret.index("^")
     assert replay_line[column] == "m" and record_line[column] == "n"
+
+
+@pytest.mark.parametrize(("world", "args"), [
+    (str(FIREFLIES), ["--frames", "40"]),
+    ("office", ["--frames", "60", "--goal", "kitchen", "--allow-unreached"]),  # the robot world, on the simulator
+])
+def test_a_run_goes_on_from_a_recorded_frame_as_it_went_the_first_time(tmp_path, world, args):
+    first, resumed = tmp_path / "first.jsonl", tmp_path / "resumed.jsonl"
+    assert main(["run", world, *args, "--record", str(first), "--quiet"]) == 0
+    a = read_record(first)
+    at = len(a.frames) // 2 + 3
+    assert main(["replay", str(first), "--from", str(at), "--record", str(resumed)]) == 0
+    b = read_record(resumed)
+    # The frames from `at` on again, live with the world's generators from there (their state carried
+    # through the frames before): the same events, the same strings, the same end.
+    assert [f["t"] for f in b.frames] == [f["t"] for f in a.frames[at:]]
+    assert [(f["events"], f["string"]) for f in b.frames] == [(f["events"], f["string"]) for f in a.frames[at:]]
+    assert b.end["string"] == a.end["string"]
+
+
+def test_going_on_from_a_frame_the_record_does_not_hold_is_refused(tmp_path, capsys):
+    first = tmp_path / "first.jsonl"
+    assert main(["run", str(FIREFLIES), "--frames", "10", "--record", str(first), "--quiet"]) == 0
+    assert main(["replay", str(first), "--from", "99"]) == 2
+    assert "--from: the record holds frames 0 to 9; got 99" in capsys.readouterr().err

@@ -3,6 +3,7 @@
 #include <string>
 
 #include "common.hpp"
+#include "python_budget.hpp"
 
 namespace vwg::bindings {
 
@@ -25,11 +26,13 @@ class PyBackend : public Backend {
  private:
   void call_node(const char* method, const NodeView& node) {
     py::gil_scoped_acquire gil;
+    PythonCallTimer timer([&] { return "the Python backend " + name() + "." + method; });
     py::function fn = py::get_override(static_cast<const Backend*>(this), method);
     if (fn) fn(node_to_python(node));
   }
   void call_frame(const char* method, const FrameInfo& info) {
     py::gil_scoped_acquire gil;
+    PythonCallTimer timer([&] { return "the Python backend " + name() + "." + method; });
     py::function fn = py::get_override(static_cast<const Backend*>(this), method);
     if (!fn) return;
     std::shared_ptr<PyFrame> holder;

@@ -2,6 +2,7 @@
 #include <string>
 
 #include "common.hpp"
+#include "python_budget.hpp"
 
 namespace vwg::bindings {
 
@@ -12,6 +13,7 @@ class PyGenerator : public Generator {
  public:
   void generate(const FrameInfo& info, EventList& out) override {
     py::gil_scoped_acquire gil;
+    PythonCallTimer timer([this] { return "the Python generator " + name(); });
     py::function fn = py::get_override(static_cast<const Generator*>(this), "generate");
     if (!fn) throw Error("a vwg.Generator subclass must define generate(self, frame)");
     std::shared_ptr<PyFrame> holder;

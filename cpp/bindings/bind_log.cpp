@@ -1,9 +1,11 @@
 // vwg's log sink in Python: set_log_sink(fn) makes fn(level, source, message) receive what vwg and
 // the libraries it wraps (OMPL) say; vwg/logs.py forwards it to the `logging` module.
+#include <cmath>
 #include <memory>
 #include <string>
 
 #include "common.hpp"
+#include "python_budget.hpp"
 #include "vwg/log.hpp"
 
 namespace vwg::bindings {
@@ -34,6 +36,19 @@ void init_log(py::module_& m) {
       py::arg("sink"),
       "Send vwg's and its libraries' messages to sink(level, source, message) (levels as in `logging`); "
       "None drops them. Used by vwg.logs; called from any thread.");
+  m.def(
+      "set_python_budget",
+      [](double seconds) {
+        if (!std::isfinite(seconds) || seconds < 0 || seconds > 86400) {
+          throw SchemaError("python_budget", "expected 0 (no reports) to 86400 seconds, got " + format_real(seconds));
+        }
+        set_python_budget(seconds);
+      },
+      py::arg("seconds"),
+      "The time one call of a Python part (an actor's λ or θ, a generator, a backend, a decider) may take "
+      "before a warning names it and its time (logger `vwg`); 0 turns the reports off; default 1 s. Only "
+      "reported: the frames never depend on a clock.");
+  m.def("python_budget", &python_budget, "The time budget of one call of a Python part, seconds (0: off).");
   m.def(
       "log_message",
       [](int level, const std::string& source, const std::string& message) {

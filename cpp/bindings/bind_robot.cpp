@@ -1,6 +1,7 @@
 // The case-study actor ARobot and its deciders in Python; deciders may be written in Python.
 #include <string>
 
+#include "python_budget.hpp"
 #include "sim_convert.hpp"
 #include "vwg/robot/arobot.hpp"
 #include "vwg/robot/decider.hpp"
@@ -25,6 +26,7 @@ class PyDecider : public robot::Decider {
  public:
   robot::Decision decide(const robot::DecisionInput& in) override {
     py::gil_scoped_acquire gil;
+    PythonCallTimer timer([this] { return "the Python decider " + name() + ".decide"; });
     py::function fn = py::get_override(static_cast<const robot::Decider*>(this), "decide");
     if (!fn) throw Error("a vwg.Decider subclass must define decide(self, robot)");
     auto holder = std::make_shared<PyDecisionInput>(PyDecisionInput{&in});

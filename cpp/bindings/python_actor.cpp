@@ -4,6 +4,7 @@
 #include <string>
 
 #include "common.hpp"
+#include "python_budget.hpp"
 
 namespace vwg::bindings {
 
@@ -63,6 +64,7 @@ class PythonActor final : public ActorBehavior {
     const Handler* h = e.type() < on_.size() && on_[e.type()].fn ? &on_[e.type()] : nullptr;
     if (!h) return;  // responds to the type but defines no λ for it: unchanged
     py::gil_scoped_acquire gil;
+    PythonCallTimer timer([&] { return "the Python actor's λ " + name_ + ".on_" + std::string(e.info().name); });
     py::object instance = make_instance(self);
     py::object event = event_to_python(e);
     py::object result = h->wants_context ? h->fn(instance, event, make_context(ctx)) : h->fn(instance, event);
@@ -88,6 +90,7 @@ class PythonActor final : public ActorBehavior {
     const Handler* h = e.type() < show_.size() && show_[e.type()].fn ? &show_[e.type()] : nullptr;
     if (!h) return;  // ε
     py::gil_scoped_acquire gil;
+    PythonCallTimer timer([&] { return "the Python actor's θ " + name_ + ".show_" + std::string(e.info().name); });
     py::object instance = make_instance(self);
     py::object event = event_to_python(e);
     py::object result = h->wants_context ? h->fn(instance, event, make_context(ctx)) : h->fn(instance, event);

@@ -9,7 +9,7 @@ import numpy.typing
 import os
 import typing
 import vwg.maps
-__all__: list[str] = ['ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'ArrivalCondition', 'Backend', 'BackendGroup', 'Blob', 'CameraGenerator', 'CameraRenderer', 'CameraSpec', 'Collision', 'CollisionGenerator', 'DStarLite', 'Decider', 'DecisionInput', 'DepthCameraSpec', 'Engine', 'Event', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'FrameSink', 'Generator', 'GridDecider', 'GridRaycaster', 'ImageFiles', 'ImageSequence', 'ImageSource', 'KinectGenerator', 'LaserGenerator', 'LaserSpec', 'MotionBackend', 'MotionFollower', 'Node', 'NoiseModel', 'NullBackend', 'OdometryGenerator', 'OmplDecider', 'OmplPlan', 'OmplPlanner', 'OrderGenerator', 'OverviewCamera', 'PhysicsSettings', 'PhysicsWorld', 'PythonActor', 'RandomDecider', 'RangeScanner', 'ReceivedImages', 'RenderStyle', 'RobotPlatform', 'RobotSettings', 'RobotState', 'SimView', 'SimulatedCamera', 'StopCondition', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoSource', 'add_arobot', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'arobot_event_types', 'astar', 'backend_names', 'beam_layout', 'build_string', 'create_backend', 'create_decider', 'create_platform', 'create_sensor', 'decider_names', 'default_threads', 'detect_apriltags', 'display', 'encode_image', 'estimate_tag_pose', 'evolve', 'grid_clearance', 'grid_inflate', 'jps', 'log_message', 'overview_camera', 'plan_ompl', 'platform_names', 'quantize_pose', 'ranging_sensors', 'read_image', 'render_overview', 'robot_map', 'sensor_names', 'set_log_sink', 'visualize', 'walker_behavior', 'write_image']
+__all__: list[str] = ['ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'ArrivalCondition', 'Backend', 'BackendGroup', 'Blob', 'CameraGenerator', 'CameraRenderer', 'CameraSpec', 'Collision', 'CollisionGenerator', 'DStarLite', 'Decider', 'DecisionInput', 'DepthCameraSpec', 'Engine', 'Event', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'FrameSink', 'Generator', 'GridDecider', 'GridRaycaster', 'ImageFiles', 'ImageSequence', 'ImageSource', 'KinectGenerator', 'LaserGenerator', 'LaserSpec', 'MotionBackend', 'MotionFollower', 'Node', 'NoiseModel', 'NullBackend', 'OdometryGenerator', 'OmplDecider', 'OmplPlan', 'OmplPlanner', 'OrderGenerator', 'OverviewCamera', 'PhysicsSettings', 'PhysicsWorld', 'PythonActor', 'RandomDecider', 'RangeScanner', 'ReceivedImages', 'RenderStyle', 'RobotPlatform', 'RobotSettings', 'RobotState', 'SimView', 'SimulatedCamera', 'StopCondition', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoSource', 'add_arobot', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'arobot_event_types', 'astar', 'backend_names', 'beam_layout', 'build_string', 'create_backend', 'create_decider', 'create_platform', 'create_sensor', 'decider_names', 'default_threads', 'detect_apriltags', 'display', 'encode_image', 'estimate_tag_pose', 'evolve', 'grid_clearance', 'grid_inflate', 'jps', 'log_message', 'overview_camera', 'plan_ompl', 'platform_names', 'python_budget', 'quantize_pose', 'ranging_sensors', 'read_image', 'render_overview', 'robot_map', 'sensor_names', 'set_log_sink', 'set_python_budget', 'visualize', 'walker_behavior', 'write_image']
 class Blob:
     """
     A large attribute value held by reference from world strings (an occupancy grid, an image, a path).
@@ -2552,6 +2552,10 @@ def platform_names() -> list[str]:
     """
     The robot platforms registered in C++.
     """
+def python_budget() -> float:
+    """
+    The time budget of one call of a Python part, seconds (0: off).
+    """
 def quantize_pose(pose: tuple[float, float, float]) -> tuple:
     """
     The pose at the simulator's float resolution (x, y rounded to float; the angle wrapped into [-π, π] and rounded): every platform reports poses so, and a pose carried through a link comes back bit for bit.
@@ -2579,6 +2583,10 @@ def sensor_names() -> list[str]:
 def set_log_sink(sink: typing.Any) -> None:
     """
     Send vwg's and its libraries' messages to sink(level, source, message) (levels as in `logging`); None drops them. Used by vwg.logs; called from any thread.
+    """
+def set_python_budget(seconds: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    """
+    The time one call of a Python part (an actor's λ or θ, a generator, a backend, a decider) may take before a warning names it and its time (logger `vwg`); 0 turns the reports off; default 1 s. Only reported: the frames never depend on a clock.
     """
 def visualize(w: String, events: typing.Any, frame: typing.SupportsInt | typing.SupportsIndex = 0, time: typing.SupportsFloat | typing.SupportsIndex = 0.0, seed: typing.SupportsInt | typing.SupportsIndex = 0) -> String:
     """

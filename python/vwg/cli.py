@@ -11,6 +11,7 @@ stopped first; the summary lists the faults); 130 when interrupted."""
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import sys
 import time
 import traceback
@@ -59,6 +60,9 @@ def _options(args: argparse.Namespace) -> Any:
 def _cmd_run(args: argparse.Namespace) -> int:
     from .launch import load, start
 
+    if not 0 <= args.python_budget <= 86400:  # (NaN fails both)
+        raise Error(f"--python-budget: expected 0 (no reports) to 86400 seconds, got {args.python_budget}")
+    _core.set_python_budget(args.python_budget)
     world = load(args.world)
     options = _options(args)
     run = start(world, options)
@@ -80,6 +84,8 @@ def _cmd_replay(args: argparse.Namespace) -> int:
     from .registry import backends
 
     record = read_record(args.record)  # read once: decoding a long record is most of a replay's reading
+    if args.resume_from is not None:
+        return _resume(args, record)
     world = replay_world(record.header, args.world, Path(args.record))
     backend = backends.create(args.backend, world=world) if args.backend else None
     start = time.perf_counter()
@@ -93,6 +99,63 @@ def _cmd_replay(args: argparse.Namespace) -> int:
         print(f"  incomplete: {record.cut}")
     print(f"  final string: {clip(str(engine.string)) or 'ε'}")
     return 0
+
+
+def _resume(args: argparse.Namespace, record: Any) -> int:
+    """vwg replay --from FRAME: run the world again from its start, the frames before FRAME with the
+    recorded events (each checked against the record; the generators still run, so they are where
+    they were), then live from FRAME on with the world's generators (a new record with --record)."""
+    from .errors import ReplayError
+    from .launch import RunOptions, load, start
+    from .record import Recorder
+
+    frames = [f["t"] for f in record.frames]
+    if args.resume_from not in frames:
+        raise Error(f"--from: the record holds frames {frames[0] if frames else '-'} to "
+                    f"{frames[-1] if frames else '-'}; got {args.resume_from}")
+    header = record.header
+    data = header.get("world") or {}
+    robot = header.get("world_kind") == "robot"
+    if robot and data.get("platform", "sim") != "sim":
+        raise Error(f"--from: this record is of a real robot (platform {data['platform']}): its world cannot be "
+                    "run again to that frame")
+    world_file = args.world or (data.get("robot_world") if robot else header.get("world_file"))
+    if not world_file:
+        raise Error("--from: the record does not name its world file; give it with --world")
+    loaded = load(world_file)
+    options = RunOptions(seed=header.get("seed"), frames=header.get("frames_planned"))
+    if robot:
+        options = dataclasses.replace(options, planner=data.get("planner"),
+                                      no_world_orders=not data.get("world_orders", True))
+    with start(loaded, options) as run:
+        engine = run.engine
+        alphabet = engine.world.alphabet
+        for frame in record.frames:
+            if frame["t"] == args.resume_from:
+                break
+            if str(engine.string) != frame["string"]:
+                raise ReplayError(frame["t"], frame["string"], str(engine.string))
+            engine.collect_events()  # the generators run as they did, and are left where they were
+            engine.step_with([alphabet.parse_event(text, f"{args.record}: frame {frame['t']}")
+                              for text in frame["events"]])
+        if str(engine.string) != frame["string"]:
+            raise ReplayError(frame["t"], frame["string"], str(engine.string))
+        recorder = Recorder(args.new_record, engine, world_file=world_file, world_data=run.record_data,
+                            world_kind=run.kind, frames_planned=header.get("frames_planned")) \
+            if args.new_record else None
+        try:
+            if robot:
+                run.case.frames = max(0, run.case.frames - args.resume_from)
+            else:
+                run.frames_to_run = max(0, run.frames_to_run - args.resume_from)
+            outcome = run.execute()
+        finally:
+            if recorder is not None:
+                recorder.close()
+    print(f"vwg replay {args.record} --from {args.resume_from}: frames 0 to {args.resume_from - 1} as recorded, "
+          f"then live to frame {engine.frame}")
+    _print_summary(outcome.rows + list(outcome.outputs.items()))
+    return 0 if not robot else outcome.exit_status
 
 
 def _cmd_check(args: argparse.Namespace) -> int:
@@ -224,6 +287,9 @@ def build_parser() -> argparse.ArgumentParser:
                                        "generic world, beside the simulator and its view in a robot world")
     run.add_argument("--max-symbols", type=int, default=10_000_000,
                      help="fail if the string grows past this many symbols (default 10 000 000; 0: no limit)")
+    run.add_argument("--python-budget", type=float, default=1.0, metavar="SECONDS",
+                     help="warn when one call of a Python part (actor, generator, backend, decider) takes longer "
+                          "(default 1 s; 0: never); the frames do not change")
     run.add_argument("--threads", type=int, default=0,
                      help="threads for the robots' lasers and decisions (default 0: the machine's cores); any "
                           "count gives the same frames")
@@ -260,6 +326,10 @@ def build_parser() -> argparse.ArgumentParser:
     rep.add_argument("record", type=Path, help="a file written by `vwg run --record`")
     rep.add_argument("--world", type=Path, help="the world file (default: the one the record names)")
     rep.add_argument("--backend", help="show the replay on this backend (e.g. trace)")
+    rep.add_argument("--from", dest="resume_from", type=int, metavar="FRAME",
+                     help="replay up to FRAME, then go on live from there with the world's generators (generic "
+                          "worlds)")
+    rep.add_argument("--record", dest="new_record", type=Path, help="with --from: record the run that goes on")
     rep.set_defaults(func=_cmd_replay)
 
     swp = sub.add_parser("sweep", help="run worlds × planners × seeds × parameters on Dask, into a CSV",
@@ -324,9 +394,17 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
-    if args.verbose:
-        import logging
+    import logging
 
+    # A Python part over its time budget is said on the terminal even when nothing else is.
+    slow = logging.getLogger("vwg.python")
+    if not slow.handlers:
+        handler = logging.StreamHandler(sys.stderr)
+        handler.setFormatter(logging.Formatter("vwg: warning: %(message)s"))
+        slow.addHandler(handler)
+        slow.setLevel(logging.WARNING)
+        slow.propagate = bool(args.verbose)
+    if args.verbose:
         logging.basicConfig(level=logging.DEBUG if args.verbose > 1 else logging.INFO,
                             format="%(name)s: %(levelname)s: %(message)s")
     try:

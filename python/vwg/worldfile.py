@@ -218,6 +218,7 @@ class GenericRun:
         from .engine import Engine
 
         self.spec = spec
+        self.frames_to_run = spec.frames  # fewer when the run goes on from a recorded frame (vwg replay --from)
         self.engine = Engine(spec.world, spec.initial, spec.generators, spec.backend, dt=spec.dt, seed=spec.seed,
                              max_symbols=max_symbols, threads=threads)
         self.record_data: dict[str, Any] = spec.data
@@ -230,7 +231,7 @@ class GenericRun:
         from .launch import Outcome, clip
 
         start = time.perf_counter()
-        reason = self.engine.run(self.spec.frames, progress=progress)
+        reason = self.engine.run(self.frames_to_run, progress=progress)
         wall = time.perf_counter() - start
         w = self.engine.string
         why = {"empty": "the world became empty", "stopped": "stopped", "done": "done"}.get(reason, "frame limit")
