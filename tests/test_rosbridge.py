@@ -141,12 +141,9 @@ def test_a_lost_link_ends_the_run_with_status_4_and_keeps_the_record(fake, tmp_p
     options = vwg.RunOptions(goals=["dead_end_0_2"], frames=300, record=record)
     cut_at: list[float] = []
     timer = threading.Timer(1.5, lambda: (cut_at.append(time.monotonic()), fake.cut()))
-    with vwg.start(world, options) as run:
-        recorder = vwg.Recorder(record, run.engine, world_file=world.path, world_data=run.record_data,
-                                world_kind=run.kind)
+    with vwg.start(world, options) as run:  # the run's own recorder (options.record): the one writer
         timer.start()
         outcome = run.execute()
-        recorder.close()
     assert outcome.exit_status == vwg.launch.EXIT_LINK_FAULT == 4
     assert "link fault" in outcome.message and "did not come back within 0.5 s" in outcome.message
     assert outcome.summary["faults"][-1]["robot"] == 0

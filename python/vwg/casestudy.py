@@ -382,9 +382,10 @@ class RobotRun:
                               backends=shown,
                               world_orders=False if options.no_world_orders else None)
         self.engine = self.case.engine
-        # What a record needs to run this again (vwg replay, and --from, which re-runs it live).
+        # What a record needs to run this again (vwg replay, and --from, which re-runs it live). Not
+        # the platform: the same world on the simulator and on a robot makes the same record (test 3).
         self.record_data: dict[str, Any] = {"robot_world": str(Path(world.path).resolve()),
-                                            "planner": self.case.planner, "platform": spec.kind,
+                                            "planner": self.case.planner,
                                             "world_orders": not (options.no_world_orders or goals)}
         if options.stdin_orders:
             self.case.orders.read_lines(sys.stdin, _stderr)

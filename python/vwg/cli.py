@@ -116,9 +116,6 @@ def _resume(args: argparse.Namespace, record: Any) -> int:
     header = record.header
     data = header.get("world") or {}
     robot = header.get("world_kind") == "robot"
-    if robot and data.get("platform", "sim") != "sim":
-        raise Error(f"--from: this record is of a real robot (platform {data['platform']}): its world cannot be "
-                    "run again to that frame")
     world_file = args.world or (data.get("robot_world") if robot else header.get("world_file"))
     if not world_file:
         raise Error("--from: the record does not name its world file; give it with --world")
@@ -130,16 +127,20 @@ def _resume(args: argparse.Namespace, record: Any) -> int:
     with start(loaded, options) as run:
         engine = run.engine
         alphabet = engine.world.alphabet
-        for frame in record.frames:
-            if frame["t"] == args.resume_from:
-                break
+        try:
+            for frame in record.frames:
+                if frame["t"] == args.resume_from:
+                    break
+                if str(engine.string) != frame["string"]:
+                    raise ReplayError(frame["t"], frame["string"], str(engine.string))
+                engine.collect_events()  # the generators run as they did, and are left where they were
+                engine.step_with([alphabet.parse_event(text, f"{args.record}: frame {frame['t']}")
+                                  for text in frame["events"]])
             if str(engine.string) != frame["string"]:
                 raise ReplayError(frame["t"], frame["string"], str(engine.string))
-            engine.collect_events()  # the generators run as they did, and are left where they were
-            engine.step_with([alphabet.parse_event(text, f"{args.record}: frame {frame['t']}")
-                              for text in frame["events"]])
-        if str(engine.string) != frame["string"]:
-            raise ReplayError(frame["t"], frame["string"], str(engine.string))
+        except ReplayError as e:
+            raise Error(f"--from: running the world again does not give the record's frames (a run on a real "
+                        f"robot cannot be run again on the simulator): {e}") from None
         recorder = Recorder(args.new_record, engine, world_file=world_file, world_data=run.record_data,
                             world_kind=run.kind, frames_planned=header.get("frames_planned")) \
             if args.new_record else None
