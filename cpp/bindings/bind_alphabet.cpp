@@ -1,5 +1,4 @@
 // vwg._core.Alphabet: the registry of primitives, transformations, actor types and event types.
-#include <cstdio>
 #include <string>
 
 #include "common.hpp"
@@ -8,30 +7,15 @@ namespace vwg::bindings {
 
 namespace {
 
-/// A Python str as UTF-8, or a ParseError naming the line and column of a character UTF-8 cannot hold
-/// (a lone surrogate, as the surrogateescape error handler leaves for undecodable bytes).
-std::string text_from_python(const py::str& text, std::string_view source) {
-  Py_ssize_t size = 0;
-  if (const char* data = PyUnicode_AsUTF8AndSize(text.ptr(), &size)) return std::string(data, static_cast<std::size_t>(size));
-  PyErr_Clear();
-  std::size_t line = 1, column = 1;
-  const Py_ssize_t n = PyUnicode_GetLength(text.ptr());
-  for (Py_ssize_t i = 0; i < n; ++i) {
-    const Py_UCS4 c = PyUnicode_ReadChar(text.ptr(), i);
-    if (c >= 0xD800 && c <= 0xDFFF) {
-      char found[48];
-      std::snprintf(found, sizeof found, "U+%04X (a lone surrogate)", static_cast<unsigned>(c));
-      throw ParseError(std::string(source), line, column, found, "text that is valid Unicode", "");
-    }
-    if (c == '\n') {
-      ++line;
-      column = 1;
-    } else {
-      ++column;
-    }
-  }
-  throw ParseError(std::string(source), line, column, "text UTF-8 cannot encode", "text that is valid Unicode", "");
+/// A Python str as bytes for the parser. A lone surrogate (as the surrogateescape error handler leaves
+/// for undecodable bytes) is passed through as its three bytes, which the parser's UTF-8 check refuses
+/// with its line and column, as it does any byte that is not UTF-8.
+std::string text_from_python(const py::str& text) {
+  py::object bytes = py::reinterpret_steal<py::object>(PyUnicode_AsEncodedString(text.ptr(), "utf-8", "surrogatepass"));
+  if (!bytes) throw py::error_already_set();
+  return std::string(py::bytes(bytes));
 }
+
 py::list names_of(const Alphabet& a, SymbolKind kind) {
   py::list out;
   for (const auto& s : a.symbols()) {
@@ -107,7 +91,7 @@ of names (required reals).)doc")
              return out;
            }, py::arg("actor"), "The event types H an actor type responds to.")
       .def("parse", [](std::shared_ptr<Alphabet> a, const py::str& py_text, std::string_view source, py::object blobs) {
-             const std::string text = text_from_python(py_text, source);
+             const std::string text = text_from_python(py_text);
              BlobTable table;
              if (!blobs.is_none()) {
                for (auto item : py::reinterpret_borrow<py::dict>(blobs)) {
@@ -120,7 +104,7 @@ of names (required reals).)doc")
            }, py::arg("text"), py::arg("source") = "<string>", py::arg("blobs") = py::none(),
            "Parse a world string. `blobs` maps names used after '@' to vwg.Blob or numpy arrays.")
       .def("parse_event", [](std::shared_ptr<Alphabet> a, const py::str& py_text, std::string_view source) {
-             const std::string text = text_from_python(py_text, source);
+             const std::string text = text_from_python(py_text);
              EventList list(a);
              parse_event(list, text, source);
              return event_to_python(list[0]);

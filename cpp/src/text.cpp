@@ -350,8 +350,15 @@ class Parser {
       if (ok && n == 3) ok = !(c == 0xE0 && b[i + 1] < 0xA0) && !(c == 0xED && b[i + 1] >= 0xA0);  // overlong, surrogate
       if (ok && n == 4) ok = !(c == 0xF0 && b[i + 1] < 0x90) && (c < 0xF4 || (c == 0xF4 && b[i + 1] < 0x90));
       if (!ok) {
-        char found[32];
-        std::snprintf(found, sizeof found, "the byte 0x%02X", static_cast<unsigned>(c));
+        char found[48];
+        const bool surrogate = c == 0xED && i + 2 < text_.size() && b[i + 1] >= 0xA0 && b[i + 1] < 0xC0 &&
+                               (b[i + 2] & 0xC0) == 0x80;
+        if (surrogate) {  // what Python's surrogateescape and surrogatepass make of a lone surrogate
+          const unsigned cp = 0xD000u | ((b[i + 1] & 0x3Fu) << 6) | (b[i + 2] & 0x3Fu);
+          std::snprintf(found, sizeof found, "U+%04X (a lone surrogate)", cp);
+        } else {
+          std::snprintf(found, sizeof found, "the byte 0x%02X", static_cast<unsigned>(c));
+        }
         throw ParseError(std::string(source_), line, column, found, "text in UTF-8", "");
       }
       if (c == '\n') {
