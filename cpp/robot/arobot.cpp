@@ -96,40 +96,32 @@ ARobot::ARobot(const Alphabet& alphabet, ARobotConfig config, std::shared_ptr<De
   if (const auto t = alphabet.find_symbol("Status"); t && alphabet.symbol(*t).kind == SymbolKind::Primitive) sym_.status = t;
 }
 
-SeenBlocks& ARobot::seen_of(std::int64_t robot) {
+ObstacleBits& ARobot::bits_of(std::int64_t robot) {
   // A robot's laser events come one after another: the last entry this thread used is remembered,
   // so the guard is taken about once per robot per frame, not once per beam. The ARobot's serial
   // (never reused) keeps an entry of one that is gone from being taken for another's.
   thread_local struct {
     std::uint64_t owner = 0;
     std::int64_t robot = 0;
-    SeenBlocks* seen = nullptr;
+    ObstacleBits* bits = nullptr;
   } last;
-  if (last.owner == serial_ && last.robot == robot) return *last.seen;
-  const std::lock_guard<std::mutex> lock(seen_mutex_);
-  last = {serial_, robot, &seen_[robot]};
-  return *last.seen;
+  if (last.owner == serial_ && last.robot == robot) return *last.bits;
+  const std::lock_guard<std::mutex> lock(bits_mutex_);
+  last = {serial_, robot, &bits_[robot]};
+  return *last.bits;
 }
 
 void ARobot::evolve(ActorState& self, const EventView& e, const EvolutionContext& ctx, Replacement&) {
   const geometry::MapGeometry& g = config_.map;
   const EventTypeId type = e.type();
   if (type == ev_.laser) {
-    const double a = self.get_real(kAngle) + e.number(1);
-    const double d = e.number(0);
-    const double x0 = self.get_real(kX), y0 = self.get_real(kY);
-    const double hx = x0 + d * std::cos(a), hy = y0 + d * std::sin(a);
-    edit_map(self, [&](MapEdit& map, SeenBlocks& seen) {
-      if (config_.carve_free_space) carve_free(map, g, x0, y0, hx, hy, &seen);
-      // Half a cell beyond the surface, so the cell marked is the one the beam stopped in.
-      mark_obstacle(map, g, hx + 0.5 * g.resolution * std::cos(a), hy + 0.5 * g.resolution * std::sin(a), &seen);
-    });
+    edit_map(self, [&](MapEdit& map, ObstacleBits& bits) { sense_beam(map, bits, self, e.number(0), e.number(1)); });
   } else if (type == ev_.camera) {
     const double a = self.get_real(kAngle) + e.number(2);
     const double d = e.number(1) + 0.5 * g.resolution;
-    edit_map(self, [&](MapEdit& map, SeenBlocks& seen) {
+    edit_map(self, [&](MapEdit& map, ObstacleBits& bits) {
       mark_marker(map, g, self.get_real(kX) + d * std::cos(a), self.get_real(kY) + d * std::sin(a),
-                  static_cast<int>(e.value(0).i), &seen);
+                  static_cast<int>(e.value(0).i), &bits);
     });
   } else if (type == ev_.objective) {
     const std::int64_t marker = e.value(0).i;
@@ -156,14 +148,38 @@ void ARobot::evolve(ActorState& self, const EventView& e, const EvolutionContext
     // cell just ahead, so the next plan goes round it. Robots move on: they are not marked.
     if (e.value(0).i == 0) {
       const double a = self.get_real(kAngle), d = config_.radius + 0.5 * g.resolution;
-      edit_map(self, [&](MapEdit& map, SeenBlocks& seen) {
-        mark_obstacle(map, g, self.get_real(kX) + d * std::cos(a), self.get_real(kY) + d * std::sin(a), &seen);
+      edit_map(self, [&](MapEdit& map, ObstacleBits& bits) {
+        mark_obstacle(map, g, self.get_real(kX) + d * std::cos(a), self.get_real(kY) + d * std::sin(a), &bits);
       });
     }
   } else if (type == ev_.decide) {
     decide(self, ctx);
   }
   // eExecute: nothing changes; θ shows the action (DESIGN.md choice 3).
+}
+
+void ARobot::sense_beam(MapEdit& map, ObstacleBits& bits, const ActorState& self, double dist, double angle) const {
+  const geometry::MapGeometry& g = config_.map;
+  const double a = self.get_real(kAngle) + angle;
+  const double x0 = self.get_real(kX), y0 = self.get_real(kY);
+  const double hx = x0 + dist * std::cos(a), hy = y0 + dist * std::sin(a);
+  if (config_.carve_free_space) carve_free(map, g, x0, y0, hx, hy, &bits);
+  // Half a cell beyond the surface, so the cell marked is the one the beam stopped in.
+  mark_obstacle(map, g, hx + 0.5 * g.resolution * std::cos(a), hy + 0.5 * g.resolution * std::sin(a), &bits);
+}
+
+void ARobot::evolve_run(ActorState& self, const EventList& events, std::span<const std::uint32_t> at, const EvolutionContext& ctx,
+                        Replacement& out) {
+  if (events[at.front()].type() != ev_.laser) {
+    ActorBehavior::evolve_run(self, events, at, ctx, out);
+    return;
+  }
+  edit_map(self, [&](MapEdit& map, ObstacleBits& bits) {
+    for (const std::uint32_t i : at) {
+      const EventView e = events[i];
+      sense_beam(map, bits, self, e.number(0), e.number(1));
+    }
+  });
 }
 
 bool ARobot::goal_of(const ActorState& self, int marker, double& x, double& y) const {

@@ -29,41 +29,102 @@ std::int16_t cell(const Blob& map, const geometry::MapGeometry& g, int row, int 
 void check(const Blob& map, const geometry::MapGeometry& g) { check_robot_map(map, g); }
 
 /// A cell walk (Amanatides-Woo) along the segment from (u0, v0) to (u1, v1) in cell units: the
-/// cells it crosses, from the start cell to the end cell, in order.
+/// cells it crosses, from the start cell to the end cell, in order. The parameter (0 at the start,
+/// 1 at the end) at which the segment crosses a grid line is computed from the start for every
+/// line, never accumulated step by step, so the walk can jump to where it leaves a block of cells
+/// and stand exactly where stepping through the block would have put it. At a grid corner (both
+/// lines crossed at once) the row steps first.
 struct CellWalk {
-  CellWalk(double u0, double v0, double u1, double v1)
-      : col(static_cast<int>(std::floor(u0))), end_col(static_cast<int>(std::floor(u1))),
-        row(static_cast<int>(std::floor(v0))), end_row(static_cast<int>(std::floor(v1))) {
+  CellWalk(double u0_, double v0_, double u1, double v1)
+      : col(static_cast<int>(std::floor(u0_))), end_col(static_cast<int>(std::floor(u1))),
+        row(static_cast<int>(std::floor(v0_))), end_row(static_cast<int>(std::floor(v1))), col0(col), row0(row),
+        u0(u0_), v0(v0_) {
     const double du = u1 - u0, dv = v1 - v0;
-    const double inf = std::numeric_limits<double>::infinity();
     step_u = du > 0 ? 1 : -1;
     step_v = dv > 0 ? 1 : -1;
-    delta_u = du != 0 ? std::abs(1.0 / du) : inf;
-    delta_v = dv != 0 ? std::abs(1.0 / dv) : inf;
-    t_u = du != 0 ? ((du > 0 ? std::floor(u0) + 1 - u0 : u0 - std::floor(u0)) * delta_u) : inf;
-    t_v = dv != 0 ? ((dv > 0 ? std::floor(v0) + 1 - v0 : v0 - std::floor(v0)) * delta_v) : inf;
+    exit_u = du > 0 ? 1 : 0;
+    exit_v = dv > 0 ? 1 : 0;
+    moves_u = du != 0;
+    moves_v = dv != 0;
+    inv_du = moves_u ? 1.0 / du : 0.0;
+    inv_dv = moves_v ? 1.0 / dv : 0.0;
+    t_u = crossing_u(col + exit_u);
+    t_v = crossing_v(row + exit_v);
   }
   /// Cells from the start to the end cell, both counted, on a straight walk.
   int length() const { return std::abs(end_col - col) + std::abs(end_row - row) + 1; }
   bool at_end() const { return col == end_col && row == end_row; }
+  /// Where the segment crosses the column line `line` / the row line `line` (infinity if never).
+  double crossing_u(int line) const { return moves_u ? (line - u0) * inv_du : kNever; }
+  double crossing_v(int line) const { return moves_v ? (line - v0) * inv_dv : kNever; }
+  /// Whether the walk, from its start on and never stopping, passes through cell (r, c).
+  bool visits(int r, int c) const {
+    // The walk is in column c between the crossings of the line into it and the line out of it
+    // (the start column from the outset), and likewise in row r; at a grid corner the row line is
+    // crossed first. It is in the cell while in both.
+    struct Key {  // a crossing, in the walk's order
+      double t;
+      int row_first;
+      bool operator<(const Key& o) const { return t < o.t || (t == o.t && row_first < o.row_first); }
+    };
+    const auto span = [](int cell, int first, int step, int exit, bool moves, auto crossing, int order, Key& in, Key& out) {
+      if ((cell - first) * step < 0 || (!moves && cell != first)) return false;
+      in = cell == first ? Key{-kNever, order} : Key{crossing(cell - step + exit), order};
+      out = Key{crossing(cell + exit), order};
+      return true;
+    };
+    Key in_u, out_u, in_v, out_v;
+    if (!span(c, col0, step_u, exit_u, moves_u, [this](int line) { return crossing_u(line); }, 1, in_u, out_u)) return false;
+    if (!span(r, row0, step_v, exit_v, moves_v, [this](int line) { return crossing_v(line); }, 0, in_v, out_v)) return false;
+    const Key& in = in_u < in_v ? in_v : in_u;
+    const Key& out = out_u < out_v ? out_u : out_v;
+    return in < out;
+  }
   void advance() {
     if (t_u < t_v) {
-      t_u += delta_u;
       col += step_u;
+      t_u = crossing_u(col + exit_u);
     } else {
-      t_v += delta_v;
       row += step_v;
+      t_v = crossing_v(row + exit_v);
     }
   }
+  /// Leave the block of `side` × `side` cells (side a power of two, `shift` its log) holding the
+  /// current cell: stand on the first cell past it, as that many advance() calls would. Returns
+  /// how many cells it moved.
+  int leave_block(int shift) {
+    const int side = 1 << shift;
+    // The block's far lines the way the walk goes, and where the walk crosses them.
+    const int far_u = ((col >> shift) + exit_u) * side, far_v = ((row >> shift) + exit_v) * side;
+    const double leave_u = crossing_u(far_u), leave_v = crossing_v(far_v);
+    const int was_col = col, was_row = row;
+    if (leave_u < leave_v) {
+      // Out through the column line: every row line crossed at or before it (the row steps first
+      // at a corner) has been crossed by then.
+      while (t_v <= leave_u) row += step_v, t_v = crossing_v(row + exit_v);
+      col = step_u > 0 ? far_u : far_u - 1;
+      t_u = crossing_u(col + exit_u);
+    } else {
+      // Out through the row line: the column lines crossed strictly before it.
+      while (t_u < leave_v) col += step_u, t_u = crossing_u(col + exit_u);
+      row = step_v > 0 ? far_v : far_v - 1;
+      t_v = crossing_v(row + exit_v);
+    }
+    return std::abs(col - was_col) + std::abs(row - was_row);
+  }
 
+  static constexpr double kNever = std::numeric_limits<double>::infinity();
   // Not {col, row} beside {end_col, end_row}: GCC then compares the pairs as one 8-byte word read
   // back from the stack, a store-forwarding stall on every step (the walk ran at half speed).
   int col;
   const int end_col;
   int row;
   const int end_row;
-  int step_u, step_v;
-  double delta_u, delta_v, t_u, t_v;
+  const int col0, row0;  // the start cell
+  double u0, v0;
+  int step_u, step_v, exit_u, exit_v;
+  bool moves_u, moves_v;
+  double inv_du, inv_dv, t_u, t_v;
 };
 }  // namespace
 
@@ -73,64 +134,48 @@ void check_robot_map(const Blob& map, const geometry::MapGeometry& g) {
   }
 }
 
-void SeenBlocks::sync(const Blob& map, const geometry::MapGeometry& g) {
+void ObstacleBits::sync(const Blob& map, const geometry::MapGeometry& g) {
   check(map, g);
   const int columns = (g.width + (1 << kShift) - 1) >> kShift, rows = (g.height + (1 << kShift) - 1) >> kShift;
-  if (revision_ == map.revision() && columns == columns_ && counts_.size() == static_cast<std::size_t>(rows) * columns) return;
+  if (revision_ == map.revision() && columns == columns_ && seen_.size() == static_cast<std::size_t>(rows) * columns) return;
   columns_ = columns;
   rows_ = rows;
-  counts_.assign(static_cast<std::size_t>(rows) * columns, 0);
+  seen_.assign(static_cast<std::size_t>(rows) * columns, 0);
+  obstacle_.assign(seen_.size(), 0);
+  blocks_.assign((seen_.size() + 63) / 64, 0);
   lo_row_ = lo_col_ = std::numeric_limits<int>::max();
   hi_row_ = hi_col_ = std::numeric_limits<int>::min();
   const auto cells = map.view<std::int16_t>();
   for (int r = 0; r < g.height; ++r) {
     for (int c = 0; c < g.width; ++c) {
-      if (cells[index(g, r, c)] == kSeenCell) added(r, c);
+      if (const std::int16_t v = cells[index(g, r, c)]; is_obstacle(v)) set(r, c, v);
     }
   }
   revision_ = map.revision();
 }
 
-bool SeenBlocks::along(double u0, double v0, double u1, double v1) const {
-  const double size = 1 << kShift;
-  CellWalk block(u0 / size, v0 / size, u1 / size, v1 / size);  // a walk over blocks
-  auto holds = [&](int br, int bc) {
-    return br >= 0 && bc >= 0 && br < rows_ && bc < columns_ &&
-           counts_[static_cast<std::size_t>(br) * static_cast<std::size_t>(columns_) + static_cast<std::size_t>(bc)] != 0;
-  };
-  const int limit = block.length();
-  for (int k = 0; k < limit; ++k) {
-    const int r = block.row, c = block.col;
-    if (holds(r, c) || holds(r - 1, c) || holds(r + 1, c) || holds(r, c - 1) || holds(r, c + 1)) return true;
-    if (block.at_end()) break;
-    block.advance();
-  }
-  return false;
-}
-
-bool mark_obstacle(MapEdit& map, const geometry::MapGeometry& g, double x, double y, SeenBlocks* seen) {
+bool mark_obstacle(MapEdit& map, const geometry::MapGeometry& g, double x, double y, ObstacleBits* bits) {
   check(map.blob(), g);
   int r, c;
   if (!g.cell_of(x, y, r, c)) return false;
-  if (is_obstacle(map[index(g, r, c)])) return false;  // walls and markers stay
+  if (bits ? bits->obstacle(r, c) : is_obstacle(map[index(g, r, c)])) return false;  // walls and markers stay
   map.set(index(g, r, c), kSeenCell);
-  if (seen) seen->added(r, c);
+  if (bits) bits->set(r, c, kSeenCell);
   return true;
 }
 
-bool mark_marker(MapEdit& map, const geometry::MapGeometry& g, double x, double y, int tag, SeenBlocks* seen) {
+bool mark_marker(MapEdit& map, const geometry::MapGeometry& g, double x, double y, int tag, ObstacleBits* bits) {
   check(map.blob(), g);
   int r, c;
   if (!g.cell_of(x, y, r, c)) return false;
   const auto value = static_cast<std::int16_t>(kMarkerBase + tag);
-  const std::int16_t was = map[index(g, r, c)];
-  if (was == value) return false;
+  if (map[index(g, r, c)] == value) return false;
   map.set(index(g, r, c), value);
-  if (seen && was == kSeenCell) seen->removed(r, c);
+  if (bits) bits->set(r, c, value);
   return true;
 }
 
-int carve_free(MapEdit& map, const geometry::MapGeometry& g, double x0, double y0, double x1, double y1, SeenBlocks* seen) {
+int carve_free(MapEdit& map, const geometry::MapGeometry& g, double x0, double y0, double x1, double y1, ObstacleBits* bits) {
   check(map.blob(), g);
   const geometry::OccupancyGrid f = g.frame();
   double u0, v0, u1, v1;
@@ -140,32 +185,36 @@ int carve_free(MapEdit& map, const geometry::MapGeometry& g, double x0, double y
   CellWalk walk(u0, v0, u1, v1);
   const int limit = walk.length() + 1;
   // No reported obstacle in the walk's box of cells: nothing to clear.
-  if (seen && (!seen->may_hold(std::min(walk.row, walk.end_row), std::min(walk.col, walk.end_col),
-                               std::max(walk.row, walk.end_row), std::max(walk.col, walk.end_col)) ||
-               !seen->along(u0, v0, u1, v1))) {
+  if (bits && !bits->may_hold(std::min(walk.row, walk.end_row), std::min(walk.col, walk.end_col),
+                              std::max(walk.row, walk.end_row), std::max(walk.col, walk.end_col))) {
     return 0;
   }
-  const std::int16_t* cells = map.view().data();
+  constexpr int kShift = ObstacleBits::kShift;
+  const int end_block_row = walk.end_row >> kShift, end_block_col = walk.end_col >> kShift;
   const auto rows = static_cast<unsigned>(g.height), cols = static_cast<unsigned>(g.width);
   int changed = 0;
-  int k = 0;
-  while (true) {
-    // To the next cell holding a reported obstacle, with no call in the loop (it stays in registers).
-    bool found = false;
-    for (; k < limit && !walk.at_end(); walk.advance(), ++k) {
-      if (static_cast<unsigned>(walk.row) < rows && static_cast<unsigned>(walk.col) < cols &&
-          (!seen || seen->any(walk.row, walk.col)) && cells[index(g, walk.row, walk.col)] == kSeenCell) {
-        found = true;
-        break;
+  for (int k = 0; k < limit && !walk.at_end();) {
+    const int row = walk.row, col = walk.col;
+    if (bits && !bits->block_seen(row, col)) {
+      // A block with no reported obstacle: out of it in one jump (most of a beam's way is such
+      // blocks). If the walk ends in it, it reaches the end cell without leaving it (the block is
+      // a box, the walk monotone), so nothing more is cleared; unless rounding makes it miss the
+      // end cell, then it goes on cell by cell, reading nothing here.
+      if ((row >> kShift) != end_block_row || (col >> kShift) != end_block_col) {
+        k += walk.leave_block(kShift);
+        continue;
       }
+      if (walk.visits(walk.end_row, walk.end_col)) return changed;
+    } else if (static_cast<unsigned>(row) < rows && static_cast<unsigned>(col) < cols &&
+               (bits ? bits->seen(row, col) : map[index(g, row, col)] == kSeenCell)) {
+      map.set(index(g, row, col), kFreeCell);
+      if (bits) bits->set(row, col, kFreeCell);
+      ++changed;
     }
-    if (!found) return changed;
-    map.set(index(g, walk.row, walk.col), kFreeCell);
-    if (seen) seen->removed(walk.row, walk.col);
-    ++changed;
     walk.advance();
     ++k;
   }
+  return changed;
 }
 
 bool segment_clear(const Blob& map, const geometry::MapGeometry& g, double x0, double y0, double x1, double y1, double radius,

@@ -124,8 +124,8 @@ void LaserGenerator::generate(const FrameInfo&, EventList& out) {
     if (spec_.noise > 0.0) r = std::clamp(r + rng_.normal(0.0, spec_.noise), spec_.min_range, spec_.max_range);
     ranges_[i] = static_cast<float>(r);
     if (r < spec_.min_range) continue;
-    const Datum fields[] = {r, angles_[i]};
-    out.emit(event_, fields, robot_);
+    const double fields[] = {r, angles_[i]};
+    out.emit_reals(event_, fields, robot_);
   }
 }
 

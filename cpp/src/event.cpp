@@ -1,6 +1,7 @@
 #include "vwg/event.hpp"
 
 #include <atomic>
+#include <cmath>
 #include <string>
 
 #include "vwg/error.hpp"
@@ -76,6 +77,21 @@ void EventList::emit(EventTypeId type, std::span<const Datum> fields, std::int64
     }
   }
   for (const Datum& d : checked) store_.push(d);
+  events_.push_back(r);
+  touch();
+}
+
+void EventList::emit_reals(EventTypeId type, std::span<const double> fields, std::int64_t target) {
+  const auto& specs = type < alphabet_->event_type_count() ? alphabet_->event_type(type).fields.params : std::vector<ParamSpec>{};
+  bool plain = specs.size() == fields.size() && !specs.empty();
+  for (std::size_t i = 0; plain && i < fields.size(); ++i) plain = specs[i].kind == ValueKind::Real && std::isfinite(fields[i]);
+  if (!plain) {  // what emit() refuses, it refuses with its own message
+    std::vector<Datum> data(fields.begin(), fields.end());
+    emit(type, data, target);
+    return;
+  }
+  const Record r{type, store_.size(), static_cast<std::uint32_t>(fields.size()), target};
+  for (const double x : fields) store_.push_real(x);
   events_.push_back(r);
   touch();
 }

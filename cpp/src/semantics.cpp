@@ -67,6 +67,10 @@ class EventRouting {
     if (const auto found = types_.find(info.id); found != types_.end()) return found->second;
     TypeIndex& t = types_[info.id];  // node-based: references stay valid
     const Alphabet& A = events_.alphabet();
+    // Events addressed to one actor come in runs (a robot's laser scan): its list is looked up
+    // once a run.
+    std::int64_t last_target = kNoTarget;
+    std::vector<std::uint32_t>* last_list = nullptr;
     for (std::size_t i = 0; i < events_.size(); ++i) {
       const EventView e = events_[i];
       const EventTypeId type = e.type();
@@ -75,7 +79,8 @@ class EventRouting {
       const auto pos = static_cast<std::uint32_t>(i);
       t.all.push_back(pos);
       if (e.has_target()) {
-        t.by_target[e.target()].push_back(pos);
+        if (!last_list || e.target() != last_target) last_target = e.target(), last_list = &t.by_target[last_target];
+        last_list->push_back(pos);
       } else {
         t.untargeted.push_back(pos);
       }
@@ -232,7 +237,22 @@ class Evolver {
     while (it != relevant->end()) {
       const EventView e = events_[*it];
       const EvolutionContext ectx{ctx_.frame, ctx_.time, derive_seed(derive_seed(ctx_.seed, ctx_.frame, depth), i, *it)};
+      // A run of events of one type for a behaviour that takes them a run at a time.
+      auto run_end = it + 1;
+      if (info.behavior->takes_runs(e.type())) {
+        while (run_end != relevant->end() && events_[*run_end].type() == e.type()) ++run_end;
+      }
       try {
+        if (run_end - it > 1) {
+          info.behavior->evolve_run(state, events_, std::span<const std::uint32_t>(&*it, static_cast<std::size_t>(run_end - it)),
+                                    ectx, L.replacement);
+          if (L.replacement.replaced() || state.id() != id) {
+            L.replacement.finish();
+            throw Error("λ over a run of events (evolve_run) must keep the actor one actor with the same id");
+          }
+          it = run_end;
+          continue;
+        }
         info.behavior->evolve(state, e, ectx, L.replacement);
       } catch (...) {
         rethrow_in_frame(ctx_, "evolve", to_text(w.node(i)), to_text(e), "string position " + std::to_string(i));

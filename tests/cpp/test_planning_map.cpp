@@ -83,15 +83,15 @@ TEST(PlanningMap, RefusesAMapOfAnotherShape) {
   EXPECT_THROW(pm.update(map, geometry::MapGeometry{5, 4, 0.1, {}}, 0.2), SchemaError);
 }
 
-TEST(SeenBlocks, ClearingWithTheBlocksClearsWhatTheCellWalkClears) {
+TEST(ObstacleBits, ClearingWithTheBitsClearsWhatTheCellWalkClears) {
   // Two maps with the same random reported obstacles; beams from random places carve both, one
-  // reading every cell, one skipping the blocks SeenBlocks says have none.
+  // reading every cell, one reading ObstacleBits and jumping over the blocks it says have none.
   const geometry::MapGeometry g{45, 37, 0.1, {}};
   Blob plain(DType::Int16, {37, 45}), fast(DType::Int16, {37, 45});
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> x(-0.5, 5.0), y(-0.5, 4.2);
   BlobEdit<std::int16_t> a(plain), b(fast);
-  SeenBlocks seen;
+  ObstacleBits seen;
   for (int k = 0; k < 300; ++k) {
     const double px = x(rng), py = y(rng);
     mark_obstacle(a, g, px, py);
@@ -127,7 +127,7 @@ TEST(SeenBlocks, ClearingWithTheBlocksClearsWhatTheCellWalkClears) {
   EXPECT_LT(std::count(pa.begin(), pa.end(), kSeenCell), 290) << "some were cleared";
 }
 
-TEST(SeenBlocks, OnALargeMapWithFewObstaclesTheBlocksClearWhatTheCellWalkClears) {
+TEST(ObstacleBits, OnALargeMapWithFewObstaclesTheBitsClearWhatTheCellWalkClears) {
   // A large map with few reported obstacles, so that most beams skip blocks; beams from cell
   // centres and block corners, along the grid's lines and diagonals; new obstacles are marked as
   // the beams go.
@@ -136,7 +136,7 @@ TEST(SeenBlocks, OnALargeMapWithFewObstaclesTheBlocksClearWhatTheCellWalkClears)
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> x(-0.2, 10.2), y(-0.2, 7.7), unit(0.0, 1.0);
   BlobEdit<std::int16_t> a(plain), b(fast);
-  SeenBlocks seen;
+  ObstacleBits seen;
   auto mark = [&](double px, double py) {
     mark_obstacle(a, g, px, py);
     seen.sync(fast, g);
@@ -163,4 +163,77 @@ TEST(SeenBlocks, OnALargeMapWithFewObstaclesTheBlocksClearWhatTheCellWalkClears)
   const auto pa = plain.view<std::int16_t>(), pb = fast.view<std::int16_t>();
   EXPECT_TRUE(std::equal(pa.begin(), pa.end(), pb.begin(), pb.end()));
   EXPECT_GT(cleared, 50) << "beams did clear reported obstacles";
+}
+
+namespace {
+/// Whether the segment p0 -> p1 passes through the inside of the unit square of cell (row, col)
+/// (grid units), by clipping its parameter to the square's slabs (Liang-Barsky): an independent
+/// account of the cells a beam crosses.
+bool crosses_inside(double u0, double v0, double u1, double v1, int row, int col) {
+  double lo = 0.0, hi = 1.0;
+  const double d[2] = {u1 - u0, v1 - v0}, p[2] = {u0, v0}, a[2] = {double(col), double(row)};
+  for (int k = 0; k < 2; ++k) {
+    if (d[k] == 0) {
+      if (p[k] <= a[k] || p[k] >= a[k] + 1) return false;
+      continue;
+    }
+    double t0 = (a[k] - p[k]) / d[k], t1 = (a[k] + 1 - p[k]) / d[k];
+    if (t0 > t1) std::swap(t0, t1);
+    lo = std::max(lo, t0), hi = std::min(hi, t1);
+  }
+  return lo < hi;
+}
+}  // namespace
+
+TEST(ObstacleBits, ABeamClearsTheCellsItCrossesAndNotTheOneItEndsIn) {
+  // Every cell a reported obstacle; a beam clears exactly the cells whose inside the segment
+  // crosses, its end cell excepted (random segments: no exact grid corner on the way).
+  const geometry::MapGeometry g{64, 48, 0.1, {}};
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> x(0.01, 6.39), y(0.01, 4.79);
+  for (int k = 0; k < 400; ++k) {
+    Blob map(DType::Int16, {48, 64});
+    BlobEdit<std::int16_t> edit(map);
+    for (std::size_t i = 0; i < map.size(); ++i) edit.set(i, kSeenCell);
+    ObstacleBits bits;
+    bits.sync(map, g);
+    const double x0 = x(rng), y0 = y(rng), x1 = k % 2 ? x(rng) : x0 + (k % 8) * 0.9, y1 = k % 2 ? y(rng) : y0 + 0.05;
+    if (x1 >= 6.4) continue;
+    const int n = carve_free(edit, g, x0, y0, x1, y1, k % 3 ? &bits : nullptr);
+    const auto cells = map.view<std::int16_t>();
+    const int end_row = static_cast<int>(y1 / 0.1), end_col = static_cast<int>(x1 / 0.1);
+    int expected = 0;
+    for (int r = 0; r < 48; ++r) {
+      for (int c = 0; c < 64; ++c) {
+        const bool crossed = crosses_inside(x0 / 0.1, y0 / 0.1, x1 / 0.1, y1 / 0.1, r, c) && !(r == end_row && c == end_col);
+        expected += crossed;
+        ASSERT_EQ(cells[static_cast<std::size_t>(r) * 64 + c] == kFreeCell, crossed) << "beam " << k << " cell " << r << "," << c;
+      }
+    }
+    EXPECT_EQ(n, expected);
+  }
+}
+
+TEST(ObstacleBits, MarkingReadsTheBitsAndLeavesWallsAndMarkers) {
+  const geometry::MapGeometry g{16, 16, 0.1, {}};
+  Blob map(DType::Int16, {16, 16});
+  BlobEdit<std::int16_t> edit(map);
+  edit.set(3 * 16 + 4, kWallCell);
+  ObstacleBits bits;
+  bits.sync(map, g);
+  EXPECT_TRUE(bits.obstacle(3, 4) && !bits.seen(3, 4));
+  EXPECT_FALSE(mark_obstacle(edit, g, 0.45, 0.35, &bits)) << "a wall stays a wall";
+  EXPECT_TRUE(mark_marker(edit, g, 0.95, 0.95, 7, &bits));
+  EXPECT_FALSE(mark_obstacle(edit, g, 0.95, 0.95, &bits)) << "a marker stays a marker";
+  EXPECT_TRUE(mark_obstacle(edit, g, 1.25, 0.15, &bits));
+  bits.keep(map);
+  EXPECT_TRUE(bits.seen(1, 12) && bits.obstacle(1, 12) && bits.block_seen(1, 12) && !bits.block_seen(9, 9));
+  const auto cells = map.view<std::int16_t>();
+  EXPECT_EQ(cells[3 * 16 + 4], kWallCell);
+  EXPECT_EQ(cells[9 * 16 + 9], kMarkerBase + 7);
+  EXPECT_EQ(cells[1 * 16 + 12], kSeenCell);
+  // A map changed behind its back (another revision) is read again.
+  ObstacleBits fresh;
+  fresh.sync(map, g);
+  EXPECT_TRUE(fresh.seen(1, 12) && fresh.obstacle(9, 9) && !fresh.seen(9, 9));
 }

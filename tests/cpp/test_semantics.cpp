@@ -261,3 +261,99 @@ TEST(Blob, CopyOnWriteLeavesTheOldStringsGridUntouched) {
   EXPECT_EQ(after, (std::vector<std::int8_t>{0, 100, 0, 100}));
   EXPECT_NE(to_text(w0), to_text(w1));  // the blob's name is its content hash
 }
+
+// --- λ over runs of events (ActorBehavior::evolve_run) ------------------------------------------
+
+namespace {
+
+/// Counter<id, n> whose add and mul come a run at a time: it records each run's length, and can be
+/// made to break the run's contract (replace itself, or change its id).
+class RunCounter final : public ActorBehavior {
+ public:
+  enum class Fault { None, Replace, NewId };
+  RunCounter(EventTypeId add, EventTypeId mul, Fault fault) : add_(add), mul_(mul), fault_(fault) {}
+  void evolve(ActorState& s, const EventView& e, const EvolutionContext&, Replacement&) override {
+    s.set_int(1, e.type() == add_ ? s.get_int(1) + e.value(0).i : s.get_int(1) * e.value(0).i);
+  }
+  bool takes_runs(EventTypeId type) const override { return type == add_ || type == mul_; }
+  void evolve_run(ActorState& s, const EventList& events, std::span<const std::uint32_t> at, const EvolutionContext& ctx,
+                  Replacement& out) override {
+    runs.push_back(at.size());
+    ActorBehavior::evolve_run(s, events, at, ctx, out);
+    if (fault_ == Fault::Replace) out.replace().actor(s);
+    if (fault_ == Fault::NewId) s.set_int(0, 99);
+  }
+  std::vector<std::size_t> runs;
+
+ private:
+  EventTypeId add_, mul_;
+  Fault fault_;
+};
+
+struct RunWorld {
+  std::shared_ptr<Alphabet> a = std::make_shared<Alphabet>();
+  std::shared_ptr<RunCounter> counter;
+  explicit RunWorld(RunCounter::Fault fault = RunCounter::Fault::None) {
+    a->add_event_type("add", false, schema({integer("k")}));
+    a->add_event_type("mul", false, schema({integer("k")}));
+    counter = std::make_shared<RunCounter>(*a->find_event_type("add"), *a->find_event_type("mul"), fault);
+    a->add_actor("Counter", {"add", "mul"}, schema({integer("id"), integer("n", 0)}), counter);
+  }
+  std::string eta(std::string_view w, std::initializer_list<const char*> s) const {
+    EventList list(a);
+    for (const char* t : s) parse_event(list, t);
+    return to_text(evolve(parse_string(a, w), list, FrameContext{}));
+  }
+};
+
+}  // namespace
+
+TEST(Eta, ARunOfEventsOfOneTypeFoldsAsOneEventAtATime) {
+  // Counter 1: ((1 + 2 + 3) · 2 · 5) + 4 = 64; counter 2: (0 + 10) · 3 = 30. The events for
+  // counter 1 come as runs add×2 (the add to 2 between them splits nothing: it is not counter 1's),
+  // add×1, mul×2, add×1; counter 2's as add×1, mul×1.
+  RunWorld W;
+  EXPECT_EQ(W.eta("Counter<id=1, n=1> . Counter<id=2>",
+                  {"add<to=1, k=2>", "add<to=2, k=10>", "add<to=1, k=3>", "mul<to=2, k=3>", "mul<to=1, k=2>",
+                   "mul<to=1, k=5>", "add<to=1, k=4>"}),
+            "Counter<id=1, n=64> . Counter<id=2, n=30>");
+  EXPECT_EQ(W.counter->runs, (std::vector<std::size_t>{2, 2}));  // runs of one event go to evolve()
+}
+
+TEST(Eta, ARunThatReplacesTheActorOrChangesItsIdIsAnError) {
+  for (const auto fault : {RunCounter::Fault::Replace, RunCounter::Fault::NewId}) {
+    RunWorld W(fault);
+    try {
+      W.eta("Counter<id=1>", {"add<to=1, k=2>", "add<to=1, k=3>"});
+      FAIL() << "a broken run contract was accepted";
+    } catch (const FrameError& e) {
+      EXPECT_NE(std::string(e.what()).find("evolve_run"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("Counter"), std::string::npos) << e.what();
+    }
+  }
+}
+
+TEST(Events, EmitRealsStoresWhatEmitStoresAndRefusesWhatItRefuses) {
+  auto a = std::make_shared<Alphabet>();
+  a->add_event_type("beam", false, schema({real("dist"), real("angle")}));
+  a->add_event_type("count", false, schema({integer("k")}));
+  const EventTypeId beam = *a->find_event_type("beam"), count = *a->find_event_type("count");
+  EventList fast(a), plain(a);
+  const double fields[] = {1.5, -0.25};
+  fast.emit_reals(beam, fields, 7);
+  plain.emit(beam, std::vector<Datum>{1.5, -0.25}, 7);
+  EXPECT_TRUE(fast == plain);
+  EXPECT_EQ(to_text(fast[0]), "beam<to=7, dist=1.5, angle=-0.25>");
+  auto message = [&](EventTypeId type, std::vector<double> values) {
+    try {
+      fast.emit_reals(type, values);
+    } catch (const SchemaError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(message(beam, {std::nan(""), 0.0}).find("beam.dist"), std::string::npos);
+  EXPECT_NE(message(beam, {1.0, 2.0, 3.0}).find("has 2 fields, got 3"), std::string::npos);
+  EXPECT_NE(message(count, {1.0}).find("count.k"), std::string::npos);  // an integer field is not a real
+  EXPECT_EQ(fast.size(), 1u) << "a refused event leaves the list as it was";
+}

@@ -166,6 +166,21 @@ class ActorBehavior {
   virtual void evolve_batch(ActorBatch& batch, const EventView& e, const EvolutionContext& ctx) {
     (void)batch, (void)e, (void)ctx;
   }
+
+  /// True if λ takes the events of type `type` a run at a time, through evolve_run.
+  virtual bool takes_runs(EventTypeId type) const {
+    (void)type;
+    return false;
+  }
+  /// λ folded over a run of events of one type that all reach this actor, in S order (positions
+  /// `at` of `events`, with no other event for the actor between them): the same as evolve() on
+  /// each in turn (DESIGN.md choice 1), done at once — a robot's laser scan, one beam an event, is
+  /// one edit of its map. It keeps the actor one actor of its type with the same id. `ctx` is that
+  /// of the run's first event. The default calls evolve() on each.
+  virtual void evolve_run(ActorState& self, const EventList& events, std::span<const std::uint32_t> at,
+                          const EvolutionContext& ctx, Replacement& out) {
+    for (const std::uint32_t i : at) evolve(self, events[i], ctx, out);
+  }
 };
 
 }  // namespace vwg

@@ -53,6 +53,9 @@ class EventList {
   void emit(EventTypeId type, std::span<const Datum> fields = {}, std::int64_t target = kNoTarget);
   void emit(std::string_view type, std::initializer_list<Datum> fields = {},
             std::int64_t target = kNoTarget);
+  /// emit() for an event whose fields are all reals, given in order, without a Datum for each (a
+  /// sensor emits one event a beam). Checked as emit() checks them.
+  void emit_reals(EventTypeId type, std::span<const double> fields, std::int64_t target = kNoTarget);
   /// Append every event of another list of the same alphabet, in order (no re-check).
   void append(const EventList& other);
   /// Append event `i` of another list (no re-check).

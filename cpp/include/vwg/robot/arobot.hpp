@@ -72,35 +72,42 @@ class ARobot final : public ActorBehavior {
   /// Robots evolve side by side when their decider allows it (A*, D* Lite, random: yes).
   bool concurrent() const override { return decider_->concurrent(); }
   void visualize(const ActorState& self, const EventView& e, const EvolutionContext& ctx, StringBuilder& out) override;
+  /// A laser scan (the eLaser events of a frame, one a beam) is taken a run at a time: one edit of
+  /// the map for all its beams, in their order (the same map as one beam at a time).
+  bool takes_runs(EventTypeId type) const override { return type == ev_.laser; }
+  void evolve_run(ActorState& self, const EventList& events, std::span<const std::uint32_t> at, const EvolutionContext& ctx,
+                  Replacement& out) override;
 
   const ARobotConfig& config() const { return config_; }
   Decider& decider() { return *decider_; }
 
  private:
   void decide(ActorState& self, const EvolutionContext& ctx);
+  /// λ(eLaser<dist, angle>) on the map: clear the cells the beam crossed, mark where it stopped.
+  void sense_beam(MapEdit& map, ObstacleBits& bits, const ActorState& self, double dist, double angle) const;
   bool goal_of(const ActorState& self, int marker, double& x, double& y) const;
 
-  /// Run `edit(map, seen)` on the robot's map (in place when the engine allows it) and its
-  /// SeenBlocks, made valid for the map before and kept valid after.
+  /// Run `edit(map, bits)` on the robot's map (in place when the engine allows it) and its
+  /// ObstacleBits, made valid for the map before and kept valid after.
   template <class Edit>
   void edit_map(ActorState& self, Edit&& edit) {
     MapEdit map = self.edit_blob<std::int16_t>(kGrid);
-    SeenBlocks& seen = seen_of(self.get_int(kId));
-    seen.sync(map.blob(), config_.map);
-    edit(map, seen);
-    seen.keep(map.blob());
+    ObstacleBits& bits = bits_of(self.get_int(kId));
+    bits.sync(map.blob(), config_.map);
+    edit(map, bits);
+    bits.keep(map.blob());
   }
 
   ARobotConfig config_;
   std::shared_ptr<Decider> decider_;
-  SeenBlocks& seen_of(std::int64_t robot);
+  ObstacleBits& bits_of(std::int64_t robot);
 
-  // Per robot id: which blocks of its map hold reported obstacles (a cache of the map, checked
-  // against its revision; see SeenBlocks). Robots evolve on several threads: the table is
-  // guarded, each robot's entry is its own.
-  std::mutex seen_mutex_;
-  std::unordered_map<std::int64_t, SeenBlocks> seen_;  // node-based: entries stay where they are
-  std::uint64_t serial_;  // this ARobot among all made in the process (seen_of's per-thread cache)
+  // Per robot id: its map's obstacles as bits (a cache of the map, checked against its revision;
+  // see ObstacleBits). Robots evolve on several threads: the table is guarded, each robot's entry
+  // is its own.
+  std::mutex bits_mutex_;
+  std::unordered_map<std::int64_t, ObstacleBits> bits_;  // node-based: entries stay where they are
+  std::uint64_t serial_;  // this ARobot among all made in the process (bits_of's per-thread cache)
   struct Events {
     EventTypeId laser, camera, decide, execute, objective, odometry, collision;
   } ev_{};

@@ -35,53 +35,71 @@ std::shared_ptr<Blob> make_robot_map(const geometry::OccupancyGrid& world, bool 
 /// The cells of a robot map being written (in place and journaled during a frame: ActorState::edit_blob).
 using MapEdit = BlobEdit<std::int16_t>;
 
-/// Which 8 × 8-cell blocks of a robot map hold reported obstacles (kSeenCell), so that clearing a
-/// beam's cells reads only the blocks that have some: a beam crosses ~100 cells, and reading them
-/// from every robot's map was most of a laser robot's frame. A cache of one map, valid for the
-/// map's revision it was made or kept up to date for; made again from the map otherwise.
-class SeenBlocks {
+/// A robot map's obstacles as bits, 8 × 8 cells to a 64-bit word: one plane for the reported
+/// obstacles (kSeenCell), one for every obstacle (is_obstacle). Each robot has a map of its own,
+/// far larger than the caches for a crowd, so reading its cells was most of the cost of a laser
+/// robot's frame; clearing a beam's cells jumps over the 8 × 8 blocks with no reported obstacle (a
+/// bit a block: a few hundred bytes, which stay in cache) and reads the first plane in the others;
+/// marking one reads the second. A cache of one map, valid for the map's revision it was made or
+/// kept up to date for; made again from the map otherwise.
+class ObstacleBits {
  public:
-  static constexpr int kShift = 3;  // 8 × 8 cells
+  static constexpr int kShift = 3;  // 8 × 8 cells a block
   /// Make it valid for `map`, scanning the map unless it already is.
   void sync(const Blob& map, const geometry::MapGeometry& g);
   /// After the edits that went through it: valid for the map as it is now.
   void keep(const Blob& map) { revision_ = map.revision(); }
-  bool any(int row, int col) const { return counts_[block(row, col)] != 0; }
+  /// Whether the block holding cell (row, col) holds a reported obstacle (false outside the map).
+  bool block_seen(int row, int col) const {
+    const int br = row >> kShift, bc = col >> kShift;  // floor division, for cells outside too
+    if (br < 0 || bc < 0 || br >= rows_ || bc >= columns_) return false;
+    const std::size_t w = word(br, bc);
+    return (blocks_[w >> 6] >> (w & 63)) & 1;
+  }
+  /// Cell (row, col), inside the map: a reported obstacle / any obstacle.
+  bool seen(int row, int col) const { return (seen_[word(row >> kShift, col >> kShift)] >> bit(row, col)) & 1; }
+  bool obstacle(int row, int col) const { return (obstacle_[word(row >> kShift, col >> kShift)] >> bit(row, col)) & 1; }
   /// False if no reported obstacle can be in the cells [lo_row, hi_row] × [lo_col, hi_col].
   bool may_hold(int lo_row, int lo_col, int hi_row, int hi_col) const {
     return lo_row <= hi_row_ && hi_row >= lo_row_ && lo_col <= hi_col_ && hi_col >= lo_col_;
   }
-  void added(int row, int col) {
-    ++counts_[block(row, col)];
-    lo_row_ = std::min(lo_row_, row), hi_row_ = std::max(hi_row_, row);
-    lo_col_ = std::min(lo_col_, col), hi_col_ = std::max(hi_col_, col);
+  /// Cell (row, col), inside the map, now holds `value`.
+  void set(int row, int col, std::int16_t value) {
+    const std::size_t w = word(row >> kShift, col >> kShift);
+    const std::uint64_t b = std::uint64_t{1} << bit(row, col);
+    seen_[w] = value == kSeenCell ? seen_[w] | b : seen_[w] & ~b;
+    obstacle_[w] = is_obstacle(value) ? obstacle_[w] | b : obstacle_[w] & ~b;
+    const std::uint64_t flag = std::uint64_t{1} << (w & 63);
+    blocks_[w >> 6] = seen_[w] != 0 ? blocks_[w >> 6] | flag : blocks_[w >> 6] & ~flag;
+    if (value == kSeenCell) {  // the box only grows until the next sync
+      lo_row_ = std::min(lo_row_, row), hi_row_ = std::max(hi_row_, row);
+      lo_col_ = std::min(lo_col_, col), hi_col_ = std::max(hi_col_, col);
+    }
   }
-  void removed(int row, int col) { --counts_[block(row, col)]; }  // the box only grows until the next sync
-  /// False if the cell walk from (u0, v0) to (u1, v1) (grid units) cannot meet a reported
-  /// obstacle: no block along the segment, nor next to one (rounding at corners), holds any.
-  bool along(double u0, double v0, double u1, double v1) const;
 
  private:
-  std::size_t block(int row, int col) const {
-    return static_cast<std::size_t>(row >> kShift) * static_cast<std::size_t>(columns_) + static_cast<std::size_t>(col >> kShift);
+  std::size_t word(int block_row, int block_col) const {
+    return static_cast<std::size_t>(block_row) * static_cast<std::size_t>(columns_) + static_cast<std::size_t>(block_col);
   }
+  static int bit(int row, int col) { return ((row & 7) << 3) | (col & 7); }
   std::uint64_t revision_ = 0;
-  int columns_ = 0, rows_ = 0;
-  std::vector<std::uint32_t> counts_;
+  int columns_ = 0, rows_ = 0;  // of blocks
+  std::vector<std::uint64_t> seen_, obstacle_;  // a word a block, a bit a cell
+  std::vector<std::uint64_t> blocks_;           // a bit a block: whether its seen_ word is not 0
   int lo_row_ = 0, lo_col_ = 0, hi_row_ = -1, hi_col_ = -1;  // a box holding every reported obstacle
 };
 
 /// Mark a reported obstacle at (x, y); returns true if the cell changed. Markers and walls stay.
-/// `seen`, if given, is kept valid (see SeenBlocks).
-bool mark_obstacle(MapEdit& map, const geometry::MapGeometry& g, double x, double y, SeenBlocks* seen = nullptr);
+/// `bits`, if given, is read instead of the map and kept valid (see ObstacleBits).
+bool mark_obstacle(MapEdit& map, const geometry::MapGeometry& g, double x, double y, ObstacleBits* bits = nullptr);
 /// Mark marker `tag` at (x, y); returns true if the cell changed.
-bool mark_marker(MapEdit& map, const geometry::MapGeometry& g, double x, double y, int tag, SeenBlocks* seen = nullptr);
+bool mark_marker(MapEdit& map, const geometry::MapGeometry& g, double x, double y, int tag, ObstacleBits* bits = nullptr);
 /// Clear reported obstacles (kSeenCell) on the cells the segment from (x0, y0) to (x1, y1)
 /// crosses, the end cell excluded (a laser beam passed through them, so they are free now).
 /// Returns how many cells changed.
-/// With `seen` (valid for the map: SeenBlocks::sync), cells of blocks without reported obstacles
-/// are not read; the cells cleared are the same.
-int carve_free(MapEdit& map, const geometry::MapGeometry& g, double x0, double y0, double x1, double y1, SeenBlocks* seen = nullptr);
+/// With `bits` (valid for the map: ObstacleBits::sync), it reads them instead of the map and jumps
+/// over blocks without reported obstacles; the cells cleared are the same.
+int carve_free(MapEdit& map, const geometry::MapGeometry& g, double x0, double y0, double x1, double y1, ObstacleBits* bits = nullptr);
 /// Whether a disc of `radius` moved along the segment stays off every obstacle of the map
 /// (unknown cells count as obstacles when `unknown_blocked`).
 bool segment_clear(const Blob& map, const geometry::MapGeometry& g, double x0, double y0, double x1, double y1, double radius,
