@@ -115,7 +115,11 @@ void ARobot::evolve(ActorState& self, const EventView& e, const EvolutionContext
   const geometry::MapGeometry& g = config_.map;
   const EventTypeId type = e.type();
   if (type == ev_.laser) {
-    edit_map(self, [&](MapEdit& map, ObstacleBits& bits) { sense_beam(map, bits, self, e.number(0), e.number(1)); });
+    const ScanBeam b = beam(self, e.number(0), e.number(1));
+    edit_map(self, [&](MapEdit& map, ObstacleBits& bits) {
+      if (config_.carve_free_space) carve_free(map, g, self.get_real(kX), self.get_real(kY), b.end_x, b.end_y, &bits);
+      mark_obstacle(map, g, b.mark_x, b.mark_y, &bits);
+    });
   } else if (type == ev_.camera) {
     const double a = self.get_real(kAngle) + e.number(2);
     const double d = e.number(1) + 0.5 * g.resolution;
@@ -158,14 +162,12 @@ void ARobot::evolve(ActorState& self, const EventView& e, const EvolutionContext
   // eExecute: nothing changes; θ shows the action (DESIGN.md choice 3).
 }
 
-void ARobot::sense_beam(MapEdit& map, ObstacleBits& bits, const ActorState& self, double dist, double angle) const {
-  const geometry::MapGeometry& g = config_.map;
+ScanBeam ARobot::beam(const ActorState& self, double dist, double angle) const {
   const double a = self.get_real(kAngle) + angle;
-  const double x0 = self.get_real(kX), y0 = self.get_real(kY);
-  const double hx = x0 + dist * std::cos(a), hy = y0 + dist * std::sin(a);
-  if (config_.carve_free_space) carve_free(map, g, x0, y0, hx, hy, &bits);
+  const double hx = self.get_real(kX) + dist * std::cos(a), hy = self.get_real(kY) + dist * std::sin(a);
   // Half a cell beyond the surface, so the cell marked is the one the beam stopped in.
-  mark_obstacle(map, g, hx + 0.5 * g.resolution * std::cos(a), hy + 0.5 * g.resolution * std::sin(a), &bits);
+  const double half = 0.5 * config_.map.resolution;
+  return ScanBeam{hx, hy, hx + half * std::cos(a), hy + half * std::sin(a)};
 }
 
 void ARobot::evolve_run(ActorState& self, const EventList& events, std::span<const std::uint32_t> at, const EvolutionContext& ctx,
@@ -174,11 +176,14 @@ void ARobot::evolve_run(ActorState& self, const EventList& events, std::span<con
     ActorBehavior::evolve_run(self, events, at, ctx, out);
     return;
   }
+  thread_local std::vector<ScanBeam> scan;
+  scan.clear();
+  for (const std::uint32_t i : at) {
+    const EventView e = events[i];
+    scan.push_back(beam(self, e.number(0), e.number(1)));
+  }
   edit_map(self, [&](MapEdit& map, ObstacleBits& bits) {
-    for (const std::uint32_t i : at) {
-      const EventView e = events[i];
-      sense_beam(map, bits, self, e.number(0), e.number(1));
-    }
+    sense_scan(map, config_.map, bits, self.get_real(kX), self.get_real(kY), scan, config_.carve_free_space);
   });
 }
 

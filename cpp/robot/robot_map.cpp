@@ -1,6 +1,7 @@
 #include "vwg/robot/robot_map.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 
@@ -215,6 +216,166 @@ int carve_free(MapEdit& map, const geometry::MapGeometry& g, double x0, double y
     ++k;
   }
   return changed;
+}
+
+namespace {
+
+/// What sense_scan knows of one beam.
+struct BeamWalk {
+  CellWalk walk;
+  double bearing;  // radians, in grid axes
+  double reach;    // cells from the start to the end
+  int stop;        // the walk clears the cells it reaches in fewer steps than this
+  bool reaches_end;
+};
+
+/// A change a beam may make to a cell: cleared by beam `beam`'s walk (carve), or marked (mark).
+struct CellOp {
+  std::size_t cell;
+  std::uint32_t beam;
+  bool mark;  // within one beam the walk clears before the beam marks
+  bool operator<(const CellOp& o) const {
+    return cell != o.cell ? cell < o.cell : beam != o.beam ? beam < o.beam : mark < o.mark;
+  }
+};
+
+}  // namespace
+
+void sense_scan(MapEdit& map, const geometry::MapGeometry& g, ObstacleBits& bits, double x0, double y0,
+                std::span<const ScanBeam> beams, bool carve) {
+  check(map.blob(), g);
+  const geometry::OccupancyGrid f = g.frame();
+  double u0, v0;
+  f.world_to_grid(x0, y0, u0, v0);
+  const int rows = g.height, cols = g.width;
+  thread_local std::vector<BeamWalk> walks;
+  thread_local std::vector<std::uint32_t> by_bearing;  // normal beams (those that reach their end cell), by bearing
+  thread_local std::vector<CellOp> ops;
+  thread_local std::vector<std::size_t> marked;
+  walks.clear(), by_bearing.clear(), ops.clear(), marked.clear();
+  // The rows and columns any beam's walk can reach (beams that miss their end cell aside).
+  int lo_row = static_cast<int>(std::floor(v0)), hi_row = lo_row, lo_col = static_cast<int>(std::floor(u0)), hi_col = lo_col;
+  for (std::uint32_t j = 0; j < beams.size(); ++j) {
+    double u1, v1;
+    f.world_to_grid(beams[j].end_x, beams[j].end_y, u1, v1);
+    CellWalk walk(u0, v0, u1, v1);
+    const int end_steps = walk.length() - 1;
+    const bool reaches_end = walk.visits(walk.end_row, walk.end_col);
+    // A walk stops at its end cell; one that misses it (rounding) stops after length() + 1 cells.
+    walks.push_back(BeamWalk{walk, std::atan2(v1 - v0, u1 - u0), std::sqrt((u1 - u0) * (u1 - u0) + (v1 - v0) * (v1 - v0)),
+                             reaches_end ? end_steps : end_steps + 2, reaches_end});
+    if (reaches_end) {
+      by_bearing.push_back(j);
+      lo_row = std::min(lo_row, walk.end_row), hi_row = std::max(hi_row, walk.end_row);
+      lo_col = std::min(lo_col, walk.end_col), hi_col = std::max(hi_col, walk.end_col);
+    }
+    int r, c;
+    if (g.cell_of(beams[j].mark_x, beams[j].mark_y, r, c)) {
+      const std::size_t cell = index(g, r, c);
+      ops.push_back(CellOp{cell, j, true});
+      marked.push_back(cell);
+    }
+  }
+  std::sort(by_bearing.begin(), by_bearing.end(), [](std::uint32_t a, std::uint32_t b) { return walks[a].bearing < walks[b].bearing; });
+  std::sort(marked.begin(), marked.end());
+  marked.erase(std::unique(marked.begin(), marked.end()), marked.end());
+
+  // The normal beams whose walk clears cell (row, col): those whose direction meets the disc
+  // round the cell (or the block) of radius `radius` about (cu, cv), and whose walk then reaches
+  // the cell before it stops.
+  double farthest = 0.0;  // the longest normal beam, cells
+  for (const std::uint32_t j : by_bearing) farthest = std::max(farthest, walks[j].reach);
+  auto beams_across = [&](double cu, double cv, double radius, auto&& each) {
+    const double du = cu - u0, dv = cv - v0, d = std::sqrt(du * du + dv * dv);
+    if (d - radius - 1e-6 > farthest) return;  // beyond every beam
+    auto try_beam = [&](std::uint32_t j) {
+      if (walks[j].reach >= d - radius - 1e-6) each(j);
+    };
+    // The disc's half-angle asin(radius / d), bounded above by its tangent, away from the disc.
+    const double ratio = radius / d;
+    if (!(ratio < 0.9)) {  // the start is in the disc or near it: any direction
+      for (const std::uint32_t j : by_bearing) try_beam(j);
+      return;
+    }
+    const double bearing = std::atan2(dv, du), half = ratio / std::sqrt(1 - ratio * ratio) + 1e-9;
+    auto span = [&](double lo, double hi) {
+      auto it = std::lower_bound(by_bearing.begin(), by_bearing.end(), lo,
+                                 [](std::uint32_t j, double a) { return walks[j].bearing < a; });
+      for (; it != by_bearing.end() && walks[*it].bearing <= hi; ++it) try_beam(*it);
+    };
+    span(std::max(bearing - half, -M_PI), std::min(bearing + half, M_PI));
+    if (bearing - half < -M_PI) span(bearing - half + 2 * M_PI, M_PI);
+    if (bearing + half > M_PI) span(-M_PI, bearing + half - 2 * M_PI);
+  };
+  auto clears = [&](std::uint32_t j, int row, int col) {
+    const BeamWalk& b = walks[j];
+    const int steps = std::abs(col - b.walk.col0) + std::abs(row - b.walk.row0);
+    return steps < b.stop && b.walk.visits(row, col);
+  };
+  auto cell_ops = [&](int row, int col) {
+    const std::size_t cell = index(g, row, col);
+    beams_across(col + 0.5, row + 0.5, 0.7072, [&](std::uint32_t j) {
+      if (clears(j, row, col)) ops.push_back(CellOp{cell, j, false});
+    });
+  };
+
+  if (carve) {
+    // The reported obstacles within reach (the marks one cell beyond included), by blocks.
+    constexpr int kShift = ObstacleBits::kShift, kSide = 1 << kShift;
+    const int first_br = std::max(0, lo_row - 1) >> kShift, last_br = std::min(rows - 1, hi_row + 1) >> kShift;
+    const int first_bc = std::max(0, lo_col - 1) >> kShift, last_bc = std::min(cols - 1, hi_col + 1) >> kShift;
+    for (int br = first_br; br <= last_br; ++br) {
+      for (int bc = first_bc; bc <= last_bc; ++bc) {
+        if (!bits.block_flag(br, bc)) continue;
+        bool any = false;
+        beams_across((bc + 0.5) * kSide, (br + 0.5) * kSide, 0.7072 * kSide, [&](std::uint32_t) { any = true; });
+        if (!any) continue;
+        for (std::uint64_t cells = bits.seen_cells(br, bc); cells != 0; cells &= cells - 1) {
+          const int bit = std::countr_zero(cells);
+          cell_ops((br << kShift) | (bit >> 3), (bc << kShift) | (bit & 7));
+        }
+      }
+    }
+    // Cells this scan marks that were not reported obstacles before: later beams may clear them.
+    for (const std::size_t cell : marked) {
+      const int row = static_cast<int>(cell / static_cast<std::size_t>(cols)), col = static_cast<int>(cell % static_cast<std::size_t>(cols));
+      if (!bits.seen(row, col)) cell_ops(row, col);
+    }
+    // Beams that miss their end cell (rounding): walked cell by cell, as carve_free walks them.
+    for (std::uint32_t j = 0; j < walks.size(); ++j) {
+      if (walks[j].reaches_end) continue;
+      CellWalk walk = walks[j].walk;
+      for (int k = 0; k < walks[j].stop && !walk.at_end(); ++k, walk.advance()) {
+        if (static_cast<unsigned>(walk.row) >= static_cast<unsigned>(rows) || static_cast<unsigned>(walk.col) >= static_cast<unsigned>(cols)) continue;
+        const std::size_t cell = index(g, walk.row, walk.col);
+        if (bits.seen(walk.row, walk.col) || std::binary_search(marked.begin(), marked.end(), cell)) ops.push_back(CellOp{cell, j, false});
+      }
+    }
+  }
+
+  // Each cell's changes in beam order, from what it holds now.
+  std::sort(ops.begin(), ops.end());
+  for (std::size_t i = 0; i < ops.size();) {
+    const std::size_t cell = ops[i].cell;
+    const int row = static_cast<int>(cell / static_cast<std::size_t>(cols)), col = static_cast<int>(cell % static_cast<std::size_t>(cols));
+    if (bits.obstacle(row, col) && !bits.seen(row, col)) {  // a wall or a marker (most marks): stays, unread
+      while (i < ops.size() && ops[i].cell == cell) ++i;
+      continue;
+    }
+    const std::int16_t was = map[cell];
+    std::int16_t now = was;
+    for (; i < ops.size() && ops[i].cell == cell; ++i) {
+      if (ops[i].mark) {
+        if (!is_obstacle(now)) now = kSeenCell;  // walls and markers stay
+      } else if (now == kSeenCell) {
+        now = kFreeCell;
+      }
+    }
+    if (now != was) {
+      map.set(cell, now);
+      bits.set(row, col, now);
+    }
+  }
 }
 
 bool segment_clear(const Blob& map, const geometry::MapGeometry& g, double x0, double y0, double x1, double y1, double radius,

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <vector>
 
 #include "vwg/error.hpp"
 #include "vwg/robot/planning_map.hpp"
@@ -236,4 +237,67 @@ TEST(ObstacleBits, MarkingReadsTheBitsAndLeavesWallsAndMarkers) {
   ObstacleBits fresh;
   fresh.sync(map, g);
   EXPECT_TRUE(fresh.seen(1, 12) && fresh.obstacle(9, 9) && !fresh.seen(9, 9));
+}
+
+TEST(SenseScan, TheMapIsTheSameAsClearingAndMarkingBeamByBeam) {
+  // Random maps of walls, markers, unknown, free cells and reported obstacles; scans from
+  // anywhere, from cell and block corners and from grid lines, with beams in order or not, along
+  // the axes and diagonals, of no length, ending on grid lines or outside the map. Each scan is
+  // applied beam by beam with carve_free and mark_obstacle (no bits: every cell read), and at once
+  // with sense_scan; the maps and the bits must agree.
+  const geometry::MapGeometry g{60, 45, 0.1, {}};
+  std::mt19937 rng(31);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::uniform_int_distribution<int> kind(0, 99);
+  int changed_cells = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    Blob reference(DType::Int16, {45, 60}), fast(DType::Int16, {45, 60});
+    BlobEdit<std::int16_t> a(reference), b(fast);
+    for (std::size_t i = 0; i < reference.size(); ++i) {
+      const int k = kind(rng);
+      const std::int16_t v = k < 6 ? kWallCell : k < 7 ? kMarkerBase + 3 : k < 10 ? kUnknownCell : k < 10 + trial % 30 ? kSeenCell : kFreeCell;
+      a.set(i, v), b.set(i, v);
+    }
+    ObstacleBits bits;
+    bits.sync(fast, g);
+    double x0 = 0.05 + unit(rng) * 5.9, y0 = 0.05 + unit(rng) * 4.4;
+    if (trial % 4 == 1) x0 = std::round(x0 * 10) / 10, y0 = std::round(y0 * 10) / 10;  // a cell corner
+    if (trial % 4 == 2) x0 = std::round(x0 / 0.8) * 0.8, y0 = std::round(y0 / 0.8) * 0.8;  // a block corner
+    if (trial % 4 == 3) x0 = std::round(x0 * 10) / 10;                                      // a grid line
+    const int n = std::vector<int>{1, 7, 180, 360}[trial % 4];
+    const double heading = unit(rng) * 2 * M_PI - M_PI;
+    std::vector<ScanBeam> scan;
+    for (int i = 0; i < n; ++i) {
+      double angle = heading + (n == 1 ? 0.0 : -M_PI + 2 * M_PI * i / n);
+      if (trial % 5 == 0) angle = unit(rng) * 2 * M_PI;                      // not in order
+      if (trial % 7 == 0 && i % 3 == 0) angle = std::round(angle / (M_PI / 4)) * (M_PI / 4);  // axes and diagonals
+      double range = unit(rng) * 4.0;
+      if (i % 17 == 0) range = 0.0;
+      if (i % 13 == 0) range = 7.0;  // out of the map
+      double hx = x0 + range * std::cos(angle), hy = y0 + range * std::sin(angle);
+      if (i % 11 == 0) hx = std::round(hx * 10) / 10;  // on a grid line
+      scan.push_back(ScanBeam{hx, hy, hx + 0.05 * std::cos(angle), hy + 0.05 * std::sin(angle)});
+    }
+    const bool carve = trial % 9 != 0;
+    for (const ScanBeam& beam : scan) {
+      if (carve) carve_free(a, g, x0, y0, beam.end_x, beam.end_y);
+      mark_obstacle(a, g, beam.mark_x, beam.mark_y);
+    }
+    sense_scan(b, g, bits, x0, y0, scan, carve);
+    bits.keep(fast);
+    const auto pa = reference.view<std::int16_t>(), pb = fast.view<std::int16_t>();
+    for (std::size_t i = 0; i < pa.size(); ++i) {
+      ASSERT_EQ(pa[i], pb[i]) << "trial " << trial << ", cell " << i / 60 << "," << i % 60;
+    }
+    ObstacleBits fresh;
+    fresh.sync(reference, g);
+    for (int r = 0; r < 45; ++r) {
+      for (int c = 0; c < 60; ++c) {
+        ASSERT_EQ(bits.seen(r, c), fresh.seen(r, c)) << "trial " << trial;
+        ASSERT_EQ(bits.obstacle(r, c), fresh.obstacle(r, c)) << "trial " << trial;
+      }
+    }
+    changed_cells += static_cast<int>(std::count(pa.begin(), pa.end(), kSeenCell));
+  }
+  EXPECT_GT(changed_cells, 1000);
 }

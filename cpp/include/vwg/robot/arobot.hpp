@@ -73,7 +73,7 @@ class ARobot final : public ActorBehavior {
   bool concurrent() const override { return decider_->concurrent(); }
   void visualize(const ActorState& self, const EventView& e, const EvolutionContext& ctx, StringBuilder& out) override;
   /// A laser scan (the eLaser events of a frame, one a beam) is taken a run at a time: one edit of
-  /// the map for all its beams, in their order (the same map as one beam at a time).
+  /// the map for all its beams (sense_scan: the same map as one beam at a time).
   bool takes_runs(EventTypeId type) const override { return type == ev_.laser; }
   void evolve_run(ActorState& self, const EventList& events, std::span<const std::uint32_t> at, const EvolutionContext& ctx,
                   Replacement& out) override;
@@ -83,8 +83,8 @@ class ARobot final : public ActorBehavior {
 
  private:
   void decide(ActorState& self, const EvolutionContext& ctx);
-  /// λ(eLaser<dist, angle>) on the map: clear the cells the beam crossed, mark where it stopped.
-  void sense_beam(MapEdit& map, ObstacleBits& bits, const ActorState& self, double dist, double angle) const;
+  /// Where beam eLaser<dist, angle> stopped, and the point whose cell it marks (eq. 12).
+  ScanBeam beam(const ActorState& self, double dist, double angle) const;
   bool goal_of(const ActorState& self, int marker, double& x, double& y) const;
 
   /// Run `edit(map, bits)` on the robot's map (in place when the engine allows it) and its

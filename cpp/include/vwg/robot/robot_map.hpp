@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "vwg/blob_edit.hpp"
@@ -52,10 +53,19 @@ class ObstacleBits {
   /// Whether the block holding cell (row, col) holds a reported obstacle (false outside the map).
   bool block_seen(int row, int col) const {
     const int br = row >> kShift, bc = col >> kShift;  // floor division, for cells outside too
-    if (br < 0 || bc < 0 || br >= rows_ || bc >= columns_) return false;
-    const std::size_t w = word(br, bc);
+    return br >= 0 && bc >= 0 && br < rows_ && bc < columns_ && block_flag(br, bc);
+  }
+  /// Blocks of the map, down and across.
+  int block_rows() const { return rows_; }
+  int block_columns() const { return columns_; }
+  /// Whether block (block_row, block_col), inside the map, holds a reported obstacle.
+  bool block_flag(int block_row, int block_col) const {
+    const std::size_t w = word(block_row, block_col);
     return (blocks_[w >> 6] >> (w & 63)) & 1;
   }
+  /// The reported obstacles of block (block_row, block_col), inside the map: bit (row % 8) · 8 +
+  /// (col % 8) for cell (row, col).
+  std::uint64_t seen_cells(int block_row, int block_col) const { return seen_[word(block_row, block_col)]; }
   /// Cell (row, col), inside the map: a reported obstacle / any obstacle.
   bool seen(int row, int col) const { return (seen_[word(row >> kShift, col >> kShift)] >> bit(row, col)) & 1; }
   bool obstacle(int row, int col) const { return (obstacle_[word(row >> kShift, col >> kShift)] >> bit(row, col)) & 1; }
@@ -63,6 +73,7 @@ class ObstacleBits {
   bool may_hold(int lo_row, int lo_col, int hi_row, int hi_col) const {
     return lo_row <= hi_row_ && hi_row >= lo_row_ && lo_col <= hi_col_ && hi_col >= lo_col_;
   }
+  static int bit(int row, int col) { return ((row & 7) << 3) | (col & 7); }
   /// Cell (row, col), inside the map, now holds `value`.
   void set(int row, int col, std::int16_t value) {
     const std::size_t w = word(row >> kShift, col >> kShift);
@@ -81,7 +92,6 @@ class ObstacleBits {
   std::size_t word(int block_row, int block_col) const {
     return static_cast<std::size_t>(block_row) * static_cast<std::size_t>(columns_) + static_cast<std::size_t>(block_col);
   }
-  static int bit(int row, int col) { return ((row & 7) << 3) | (col & 7); }
   std::uint64_t revision_ = 0;
   int columns_ = 0, rows_ = 0;  // of blocks
   std::vector<std::uint64_t> seen_, obstacle_;  // a word a block, a bit a cell
@@ -100,6 +110,19 @@ bool mark_marker(MapEdit& map, const geometry::MapGeometry& g, double x, double 
 /// With `bits` (valid for the map: ObstacleBits::sync), it reads them instead of the map and jumps
 /// over blocks without reported obstacles; the cells cleared are the same.
 int carve_free(MapEdit& map, const geometry::MapGeometry& g, double x0, double y0, double x1, double y1, ObstacleBits* bits = nullptr);
+/// A beam of a laser scan, in world coordinates: where it stopped, and the point half a cell
+/// beyond, whose cell is marked.
+struct ScanBeam {
+  double end_x, end_y, mark_x, mark_y;
+};
+/// A laser scan from (x0, y0) on a robot map: for each beam in order, carve_free from the start to
+/// its end (when `carve`), then mark_obstacle at its mark point. The map afterwards is the same as
+/// after those calls one after another, but it is worked out from the cells that can change — the
+/// reported obstacles within the scan's reach and the cells it marks — each tested against the
+/// beams whose direction can cross it, instead of walking every beam's cells. `bits` must be valid
+/// for the map (ObstacleBits::sync) and is kept valid.
+void sense_scan(MapEdit& map, const geometry::MapGeometry& g, ObstacleBits& bits, double x0, double y0,
+                std::span<const ScanBeam> beams, bool carve = true);
 /// Whether a disc of `radius` moved along the segment stays off every obstacle of the map
 /// (unknown cells count as obstacles when `unknown_blocked`).
 bool segment_clear(const Blob& map, const geometry::MapGeometry& g, double x0, double y0, double x1, double y1, double radius,
