@@ -163,11 +163,11 @@ void ARobot::evolve(ActorState& self, const EventView& e, const EvolutionContext
 }
 
 ScanBeam ARobot::beam(const ActorState& self, double dist, double angle) const {
-  const double a = self.get_real(kAngle) + angle;
-  const double hx = self.get_real(kX) + dist * std::cos(a), hy = self.get_real(kY) + dist * std::sin(a);
+  const double a = self.get_real(kAngle) + angle, cos_a = std::cos(a), sin_a = std::sin(a);
+  const double hx = self.get_real(kX) + dist * cos_a, hy = self.get_real(kY) + dist * sin_a;
   // Half a cell beyond the surface, so the cell marked is the one the beam stopped in.
   const double half = 0.5 * config_.map.resolution;
-  return ScanBeam{hx, hy, hx + half * std::cos(a), hy + half * std::sin(a)};
+  return ScanBeam{hx, hy, hx + half * cos_a, hy + half * sin_a};
 }
 
 void ARobot::evolve_run(ActorState& self, const EventList& events, std::span<const std::uint32_t> at, const EvolutionContext& ctx,

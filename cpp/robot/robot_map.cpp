@@ -138,12 +138,11 @@ void check_robot_map(const Blob& map, const geometry::MapGeometry& g) {
 void ObstacleBits::sync(const Blob& map, const geometry::MapGeometry& g) {
   check(map, g);
   const int columns = (g.width + (1 << kShift) - 1) >> kShift, rows = (g.height + (1 << kShift) - 1) >> kShift;
-  if (revision_ == map.revision() && columns == columns_ && seen_.size() == static_cast<std::size_t>(rows) * columns) return;
+  if (revision_ == map.revision() && columns == columns_ && words_.size() == static_cast<std::size_t>(rows) * columns) return;
   columns_ = columns;
   rows_ = rows;
-  seen_.assign(static_cast<std::size_t>(rows) * columns, 0);
-  obstacle_.assign(seen_.size(), 0);
-  blocks_.assign((seen_.size() + 63) / 64, 0);
+  words_.assign(static_cast<std::size_t>(rows) * columns, Words{});
+  blocks_.assign((words_.size() + 63) / 64, 0);
   lo_row_ = lo_col_ = std::numeric_limits<int>::max();
   hi_row_ = hi_col_ = std::numeric_limits<int>::min();
   const auto cells = map.view<std::int16_t>();
@@ -220,10 +219,17 @@ int carve_free(MapEdit& map, const geometry::MapGeometry& g, double x0, double y
 
 namespace {
 
+/// A number that grows with the direction of (dx, dy) from -π to π, in (-2, 2], cheaper than the
+/// angle (a division instead of atan2): the order of directions, for finding beams by direction.
+double pseudo_angle(double dx, double dy) {
+  const double r = dy / (std::abs(dx) + std::abs(dy));
+  return dx >= 0 ? r : dy >= 0 ? 2 - r : -2 - r;
+}
+
 /// What sense_scan knows of one beam.
 struct BeamWalk {
   CellWalk walk;
-  double bearing;  // radians, in grid axes
+  double bearing;  // pseudo_angle of its direction in grid axes
   double reach;    // cells from the start to the end
   int stop;        // the walk clears the cells it reaches in fewer steps than this
   bool reaches_end;
@@ -262,9 +268,11 @@ void sense_scan(MapEdit& map, const geometry::MapGeometry& g, ObstacleBits& bits
     const int end_steps = walk.length() - 1;
     const bool reaches_end = walk.visits(walk.end_row, walk.end_col);
     // A walk stops at its end cell; one that misses it (rounding) stops after length() + 1 cells.
-    walks.push_back(BeamWalk{walk, std::atan2(v1 - v0, u1 - u0), std::sqrt((u1 - u0) * (u1 - u0) + (v1 - v0) * (v1 - v0)),
-                             reaches_end ? end_steps : end_steps + 2, reaches_end});
-    if (reaches_end) {
+    const double du = u1 - u0, dv = v1 - v0;
+    walks.push_back(BeamWalk{walk, pseudo_angle(du, dv), std::sqrt(du * du + dv * dv), reaches_end ? end_steps : end_steps + 2,
+                             reaches_end});
+    // A beam of no length clears nothing (it stops where it starts).
+    if (reaches_end && end_steps > 0) {
       by_bearing.push_back(j);
       lo_row = std::min(lo_row, walk.end_row), hi_row = std::max(hi_row, walk.end_row);
       lo_col = std::min(lo_col, walk.end_col), hi_col = std::max(hi_col, walk.end_col);
@@ -291,21 +299,27 @@ void sense_scan(MapEdit& map, const geometry::MapGeometry& g, ObstacleBits& bits
     auto try_beam = [&](std::uint32_t j) {
       if (walks[j].reach >= d - radius - 1e-6) each(j);
     };
-    // The disc's half-angle asin(radius / d), bounded above by its tangent, away from the disc.
-    const double ratio = radius / d;
-    if (!(ratio < 0.9)) {  // the start is in the disc or near it: any direction
+    // The directions that meet the disc: within asin(radius / d) of its centre's, between the two
+    // tangents (the sine a little larger than radius / d, against rounding).
+    const double sine = radius / d + 1e-9;
+    if (!(sine < 0.9)) {  // the start is in the disc or near it: any direction
       for (const std::uint32_t j : by_bearing) try_beam(j);
       return;
     }
-    const double bearing = std::atan2(dv, du), half = ratio / std::sqrt(1 - ratio * ratio) + 1e-9;
-    auto span = [&](double lo, double hi) {
-      auto it = std::lower_bound(by_bearing.begin(), by_bearing.end(), lo,
+    const double cosine = std::sqrt(1 - sine * sine);
+    const double lo = pseudo_angle(du * cosine + dv * sine, dv * cosine - du * sine);
+    const double hi = pseudo_angle(du * cosine - dv * sine, dv * cosine + du * sine);
+    auto span = [&](double from, double to) {
+      auto it = std::lower_bound(by_bearing.begin(), by_bearing.end(), from,
                                  [](std::uint32_t j, double a) { return walks[j].bearing < a; });
-      for (; it != by_bearing.end() && walks[*it].bearing <= hi; ++it) try_beam(*it);
+      for (; it != by_bearing.end() && walks[*it].bearing <= to; ++it) try_beam(*it);
     };
-    span(std::max(bearing - half, -M_PI), std::min(bearing + half, M_PI));
-    if (bearing - half < -M_PI) span(bearing - half + 2 * M_PI, M_PI);
-    if (bearing + half > M_PI) span(-M_PI, bearing + half - 2 * M_PI);
+    if (lo <= hi) {
+      span(lo, hi);
+    } else {  // across the direction -π = π
+      span(lo, 2.0);
+      span(-2.0, hi);
+    }
   };
   auto clears = [&](std::uint32_t j, int row, int col) {
     const BeamWalk& b = walks[j];
@@ -353,28 +367,30 @@ void sense_scan(MapEdit& map, const geometry::MapGeometry& g, ObstacleBits& bits
     }
   }
 
-  // Each cell's changes in beam order, from what it holds now.
+  // Each cell's changes in beam order, from what the bits say it holds: a wall or a marker (where
+  // most beams stop) stays; a reported obstacle may be cleared; any other cell (free or unknown)
+  // may be marked, then cleared. The map is read only where a cell changes.
   std::sort(ops.begin(), ops.end());
+  enum State { kOther, kSeen, kCleared };
   for (std::size_t i = 0; i < ops.size();) {
     const std::size_t cell = ops[i].cell;
     const int row = static_cast<int>(cell / static_cast<std::size_t>(cols)), col = static_cast<int>(cell % static_cast<std::size_t>(cols));
-    if (bits.obstacle(row, col) && !bits.seen(row, col)) {  // a wall or a marker (most marks): stays, unread
+    const bool seen = bits.seen(row, col);
+    if (!seen && bits.obstacle(row, col)) {
       while (i < ops.size() && ops[i].cell == cell) ++i;
       continue;
     }
-    const std::int16_t was = map[cell];
-    std::int16_t now = was;
+    const State was = seen ? kSeen : kOther;
+    State now = was;
     for (; i < ops.size() && ops[i].cell == cell; ++i) {
       if (ops[i].mark) {
-        if (!is_obstacle(now)) now = kSeenCell;  // walls and markers stay
-      } else if (now == kSeenCell) {
-        now = kFreeCell;
+        now = kSeen;  // not a wall or a marker
+      } else if (now == kSeen) {
+        now = kCleared;
       }
     }
-    if (now != was) {
-      map.set(cell, now);
-      bits.set(row, col, now);
-    }
+    if (now == kSeen && was != kSeen) map.set(cell, kSeenCell), bits.set(row, col, kSeenCell);
+    if (now == kCleared) map.set(cell, kFreeCell), bits.set(row, col, kFreeCell);  // unchanged if it was free
   }
 }
 

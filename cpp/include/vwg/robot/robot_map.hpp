@@ -65,10 +65,10 @@ class ObstacleBits {
   }
   /// The reported obstacles of block (block_row, block_col), inside the map: bit (row % 8) · 8 +
   /// (col % 8) for cell (row, col).
-  std::uint64_t seen_cells(int block_row, int block_col) const { return seen_[word(block_row, block_col)]; }
+  std::uint64_t seen_cells(int block_row, int block_col) const { return words_[word(block_row, block_col)].seen; }
   /// Cell (row, col), inside the map: a reported obstacle / any obstacle.
-  bool seen(int row, int col) const { return (seen_[word(row >> kShift, col >> kShift)] >> bit(row, col)) & 1; }
-  bool obstacle(int row, int col) const { return (obstacle_[word(row >> kShift, col >> kShift)] >> bit(row, col)) & 1; }
+  bool seen(int row, int col) const { return (words_[word(row >> kShift, col >> kShift)].seen >> bit(row, col)) & 1; }
+  bool obstacle(int row, int col) const { return (words_[word(row >> kShift, col >> kShift)].obstacle >> bit(row, col)) & 1; }
   /// False if no reported obstacle can be in the cells [lo_row, hi_row] × [lo_col, hi_col].
   bool may_hold(int lo_row, int lo_col, int hi_row, int hi_col) const {
     return lo_row <= hi_row_ && hi_row >= lo_row_ && lo_col <= hi_col_ && hi_col >= lo_col_;
@@ -78,10 +78,11 @@ class ObstacleBits {
   void set(int row, int col, std::int16_t value) {
     const std::size_t w = word(row >> kShift, col >> kShift);
     const std::uint64_t b = std::uint64_t{1} << bit(row, col);
-    seen_[w] = value == kSeenCell ? seen_[w] | b : seen_[w] & ~b;
-    obstacle_[w] = is_obstacle(value) ? obstacle_[w] | b : obstacle_[w] & ~b;
+    Words& words = words_[w];
+    words.seen = value == kSeenCell ? words.seen | b : words.seen & ~b;
+    words.obstacle = is_obstacle(value) ? words.obstacle | b : words.obstacle & ~b;
     const std::uint64_t flag = std::uint64_t{1} << (w & 63);
-    blocks_[w >> 6] = seen_[w] != 0 ? blocks_[w >> 6] | flag : blocks_[w >> 6] & ~flag;
+    blocks_[w >> 6] = words.seen != 0 ? blocks_[w >> 6] | flag : blocks_[w >> 6] & ~flag;
     if (value == kSeenCell) {  // the box only grows until the next sync
       lo_row_ = std::min(lo_row_, row), hi_row_ = std::max(hi_row_, row);
       lo_col_ = std::min(lo_col_, col), hi_col_ = std::max(hi_col_, col);
@@ -94,8 +95,11 @@ class ObstacleBits {
   }
   std::uint64_t revision_ = 0;
   int columns_ = 0, rows_ = 0;  // of blocks
-  std::vector<std::uint64_t> seen_, obstacle_;  // a word a block, a bit a cell
-  std::vector<std::uint64_t> blocks_;           // a bit a block: whether its seen_ word is not 0
+  struct Words {  // a block's cells, a bit each; side by side, so one read of memory finds both
+    std::uint64_t seen = 0, obstacle = 0;
+  };
+  std::vector<Words> words_;           // a block's
+  std::vector<std::uint64_t> blocks_;  // a bit a block: whether its seen word is not 0
   int lo_row_ = 0, lo_col_ = 0, hi_row_ = -1, hi_col_ = -1;  // a box holding every reported obstacle
 };
 
