@@ -255,7 +255,12 @@ void sense_scan(MapEdit& map, const geometry::MapGeometry& g, ObstacleBits& bits
   f.world_to_grid(x0, y0, u0, v0);
   const int rows = g.height, cols = g.width;
   thread_local std::vector<BeamWalk> walks;
-  thread_local std::vector<std::uint32_t> by_bearing;  // normal beams (those that reach their end cell), by bearing
+  struct Bearing {
+    double bearing;
+    std::uint32_t beam;
+    bool operator<(const Bearing& o) const { return bearing < o.bearing; }
+  };
+  thread_local std::vector<Bearing> by_bearing;  // normal beams (those that reach their end cell), by bearing
   thread_local std::vector<CellOp> ops;
   thread_local std::vector<std::size_t> marked;
   walks.clear(), by_bearing.clear(), ops.clear(), marked.clear();
@@ -273,7 +278,7 @@ void sense_scan(MapEdit& map, const geometry::MapGeometry& g, ObstacleBits& bits
                              reaches_end});
     // A beam of no length clears nothing (it stops where it starts).
     if (reaches_end && end_steps > 0) {
-      by_bearing.push_back(j);
+      by_bearing.push_back(Bearing{walks.back().bearing, j});
       lo_row = std::min(lo_row, walk.end_row), hi_row = std::max(hi_row, walk.end_row);
       lo_col = std::min(lo_col, walk.end_col), hi_col = std::max(hi_col, walk.end_col);
     }
@@ -284,7 +289,16 @@ void sense_scan(MapEdit& map, const geometry::MapGeometry& g, ObstacleBits& bits
       marked.push_back(cell);
     }
   }
-  std::sort(by_bearing.begin(), by_bearing.end(), [](std::uint32_t a, std::uint32_t b) { return walks[a].bearing < walks[b].bearing; });
+  // A laser's beams come in the order of their angles: sorted already, or sorted but for where
+  // they pass the direction -π = π (then rotated into order).
+  const auto descent = std::is_sorted_until(by_bearing.begin(), by_bearing.end());
+  if (descent != by_bearing.end()) {
+    if (std::is_sorted(descent, by_bearing.end()) && !(by_bearing.front() < by_bearing.back())) {
+      std::rotate(by_bearing.begin(), descent, by_bearing.end());
+    } else {
+      std::sort(by_bearing.begin(), by_bearing.end());
+    }
+  }
   std::sort(marked.begin(), marked.end());
   marked.erase(std::unique(marked.begin(), marked.end()), marked.end());
 
@@ -292,7 +306,7 @@ void sense_scan(MapEdit& map, const geometry::MapGeometry& g, ObstacleBits& bits
   // round the cell (or the block) of radius `radius` about (cu, cv), and whose walk then reaches
   // the cell before it stops.
   double farthest = 0.0;  // the longest normal beam, cells
-  for (const std::uint32_t j : by_bearing) farthest = std::max(farthest, walks[j].reach);
+  for (const Bearing& b : by_bearing) farthest = std::max(farthest, walks[b.beam].reach);
   auto beams_across = [&](double cu, double cv, double radius, auto&& each) {
     const double du = cu - u0, dv = cv - v0, d = std::sqrt(du * du + dv * dv);
     if (d - radius - 1e-6 > farthest) return;  // beyond every beam
@@ -303,16 +317,15 @@ void sense_scan(MapEdit& map, const geometry::MapGeometry& g, ObstacleBits& bits
     // tangents (the sine a little larger than radius / d, against rounding).
     const double sine = radius / d + 1e-9;
     if (!(sine < 0.9)) {  // the start is in the disc or near it: any direction
-      for (const std::uint32_t j : by_bearing) try_beam(j);
+      for (const Bearing& b : by_bearing) try_beam(b.beam);
       return;
     }
     const double cosine = std::sqrt(1 - sine * sine);
     const double lo = pseudo_angle(du * cosine + dv * sine, dv * cosine - du * sine);
     const double hi = pseudo_angle(du * cosine - dv * sine, dv * cosine + du * sine);
     auto span = [&](double from, double to) {
-      auto it = std::lower_bound(by_bearing.begin(), by_bearing.end(), from,
-                                 [](std::uint32_t j, double a) { return walks[j].bearing < a; });
-      for (; it != by_bearing.end() && walks[*it].bearing <= to; ++it) try_beam(*it);
+      auto it = std::lower_bound(by_bearing.begin(), by_bearing.end(), Bearing{from, 0});
+      for (; it != by_bearing.end() && it->bearing <= to; ++it) try_beam(it->beam);
     };
     if (lo <= hi) {
       span(lo, hi);
