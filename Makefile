@@ -1,8 +1,9 @@
 # vwg — the two entry points on a fresh Debian 12 machine (as root, or a user with sudo):
 #   make demo    install what is missing, build, and run the main example
 #   make test    install what is missing, build, and run every test (Python, C++ with sanitizers,
-#                the installed C++ package through a downstream project)
-# Other targets: install, bench, stubs, lint, cpp-test, cpp-package, fuzz, stress, tsan, asan-python, clean.
+#                Python against the core built with sanitizers, the installed C++ package through a
+#                downstream project)
+# Other targets: install, bench, stubs, lint, cpp-test, asan-python, cpp-package, fuzz, stress, tsan, clean.
 
 SHELL := /bin/bash
 .SHELLFLAGS := -eu -o pipefail -c
@@ -29,7 +30,7 @@ TEST_APT_PACKAGES := chromium
 BUILD := build
 STAMP := $(BUILD)/stamps
 
-.PHONY: help deps test-deps venv install demo test pytest fuzz asan-python stress lint stubs cpp-test cpp-package tsan bench bench-scale irsim-env clean
+.PHONY: help deps test-deps venv install demo test pytest fuzz asan-configure asan-python stress lint stubs cpp-test cpp-package tsan bench bench-scale irsim-env clean
 
 help:
 	@sed -n '1,5p' Makefile | sed 's/^# \{0,1\}//'
@@ -94,7 +95,7 @@ demo: install
 test-deps:
 	@tools/apt_install.sh $(BUILD)/apt-test.log "Debian packages for the tests (1-2 min)" $(TEST_APT_PACKAGES)
 
-test: install test-deps lint pytest cpp-test cpp-package
+test: install test-deps lint pytest cpp-test asan-python cpp-package
 	@echo "make test: all passed"
 
 pytest: test-deps
@@ -116,12 +117,18 @@ fuzz: install
 stubs:
 	$(PY) tools/make_stubs.py
 
-## C++ unit tests with AddressSanitizer and UndefinedBehaviorSanitizer, warnings as errors.
-cpp-test: deps
-	@echo "C++ tests with sanitizers: building (first time 6-9 min on 2 cores), then running (~1 min)"
-	cmake -S . -B $(BUILD)/cpp-asan -DCMAKE_BUILD_TYPE=Debug -DVWG_TESTS=ON -DVWG_SANITIZE=ON -DVWG_WERROR=ON > /dev/null
-	cmake --build $(BUILD)/cpp-asan -j $(JOBS)
-	cd $(BUILD)/cpp-asan && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure -j $(JOBS)
+## One tree built with AddressSanitizer and UndefinedBehaviorSanitizer, warnings as errors: the C++
+## unit tests and the Python module, on the same sanitized libraries.
+ASAN_BUILD := $(BUILD)/cpp-asan
+asan-configure: deps venv
+	cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=Debug -DVWG_TESTS=ON -DVWG_SANITIZE=ON -DVWG_WERROR=ON \
+	  -DVWG_PYTHON=ON -Dpybind11_DIR=$$($(PY) -m pybind11 --cmakedir) -DPython_EXECUTABLE=$(CURDIR)/$(PY) > /dev/null
+
+## C++ unit tests with AddressSanitizer and UndefinedBehaviorSanitizer.
+cpp-test: asan-configure
+	@echo "C++ tests with sanitizers: building (first time 6-9 min on 2 cores), then running (~2 min)"
+	cmake --build $(ASAN_BUILD) -j $(JOBS) --target vwg_tests
+	cd $(ASAN_BUILD) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure -j $(JOBS)
 
 ## The frame's threads under ThreadSanitizer: the extension built with -fsanitize=thread, a run of
 ## robots on four threads (tools/tsan_frames.py); fails on any data race TSan reports.
@@ -138,30 +145,28 @@ tsan: install
 	PYTHONPATH=$(BUILD)/tsan/pkg LD_PRELOAD=$(TSAN_LIB) \
 	  TSAN_OPTIONS="suppressions=$(CURDIR)/tools/tsan.supp halt_on_error=1 exitcode=66" $(PY) tools/tsan_frames.py
 
-## The Python tests against the extension built with AddressSanitizer and UndefinedBehaviorSanitizer:
-## the core's memory errors and undefined behaviour as Python drives it (any report fails the run).
-## Not in make test yet: its build takes ~10 min on 2 cores the first time (the tests ~1 min).
+## The Python tests against the module built in the sanitized tree (only the bindings compile on top
+## of cpp-test's libraries: first time ~4 min, the tests ~2.5 min): the core's memory errors and
+## undefined behaviour as Python drives it. Any report fails the run.
 # libstdc++ preloaded with ASan's runtime: its C++ exception interceptor finds __cxa_throw only so.
 ASAN_LIB = $(shell gcc -print-file-name=libasan.so) $(shell gcc -print-file-name=libstdc++.so)
 ASAN_TESTS ?= tests/test_text.py tests/test_engine.py tests/test_engine_contracts.py tests/test_semantics.py \
 	tests/test_record.py tests/test_hostile_input.py tests/test_fuzz.py tests/test_sim.py tests/test_plan.py \
 	tests/test_arobot.py tests/test_sensors.py tests/test_actors.py
-asan-python: install
-	@echo "The Python tests under ASan/UBSan: building the extension in $(BUILD)/asan-python (first time 5-7 min)"
-	cmake -S . -B $(BUILD)/asan-python -DVWG_PYTHON=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-	  -DCMAKE_CXX_FLAGS="-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer -O1" \
-	  -DCMAKE_MODULE_LINKER_FLAGS="-fsanitize=address,undefined" \
-	  -Dpybind11_DIR=$$($(PY) -m pybind11 --cmakedir) -DPython_EXECUTABLE=$(CURDIR)/$(PY) > /dev/null
-	cmake --build $(BUILD)/asan-python -j $(JOBS) --target _core
-	rm -rf $(BUILD)/asan-python/pkg $(BUILD)/asan-python/report.* && mkdir -p $(BUILD)/asan-python/pkg
-	cp -r $$($(PY) -c "import vwg, os; print(os.path.dirname(vwg.__file__))") $(BUILD)/asan-python/pkg/vwg
-	cp $(BUILD)/asan-python/_core*.so $(BUILD)/asan-python/pkg/vwg/
+asan-python: install asan-configure
+	@echo "The Python tests against the core built with ASan/UBSan ($(ASAN_BUILD)/pkg)"
+	cmake --build $(ASAN_BUILD) -j $(JOBS) --target _core
+	rm -rf $(ASAN_BUILD)/pkg $(ASAN_BUILD)/report.* && mkdir -p $(ASAN_BUILD)/pkg
+	cp -r $$($(PY) -c "import vwg, os; print(os.path.dirname(vwg.__file__))") $(ASAN_BUILD)/pkg/vwg
+	cp $(ASAN_BUILD)/_core*.so $(ASAN_BUILD)/pkg/vwg/
 	@# CPython keeps memory to the end by design: leaks are not reported; every other finding stops the run.
-	PYTHONPATH=$(BUILD)/asan-python/pkg LD_PRELOAD="$(ASAN_LIB)" \
-	  ASAN_OPTIONS=detect_leaks=0:halt_on_error=1:exitcode=66:log_path=$(CURDIR)/$(BUILD)/asan-python/report \
-	  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1:log_path=$(CURDIR)/$(BUILD)/asan-python/report \
+	PYTHONPATH=$(ASAN_BUILD)/pkg LD_PRELOAD="$(ASAN_LIB)" \
+	  ASAN_OPTIONS=detect_leaks=0:halt_on_error=1:exitcode=66:log_path=$(CURDIR)/$(ASAN_BUILD)/report \
+	  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1:log_path=$(CURDIR)/$(ASAN_BUILD)/report \
 	  $(PY) -m pytest -q -p no:cacheprovider $(ASAN_TESTS) \
-	  || { cat $(BUILD)/asan-python/report.* 2>/dev/null | head -60; echo "reports in $(BUILD)/asan-python/report.*"; exit 1; }
+	  || { cat $(ASAN_BUILD)/report.* 2>/dev/null | head -60; echo "reports in $(ASAN_BUILD)/report.*"; exit 1; }
+	@if ls $(ASAN_BUILD)/report.* > /dev/null 2>&1; then cat $(ASAN_BUILD)/report.* | head -60; \
+	  echo "sanitizer reports in $(ASAN_BUILD)/report.*"; exit 1; fi
 
 ## Install the C++ package, then build and run the downstream project examples/cpp against it.
 cpp-package: deps
