@@ -1,5 +1,6 @@
 #include "vwg/robot/planners.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -83,6 +84,48 @@ bool path_clear(const DecisionInput& in, std::span<const double> path) {
   return true;
 }
 
+void NoWayMemo::learn(const geometry::BlockedGrid& grid, geometry::Cell start) {
+  known_ = false;
+  if (!grid.inside(start) || grid.blocked(start)) return;
+  rows_ = grid.rows(), cols_ = grid.cols();
+  const std::uint8_t* blocked = grid.padded().data();
+  const std::int32_t stride = grid.stride();
+  const std::size_t nodes = grid.padded().size();
+  side_.assign((nodes + 63) / 64, 0);
+  border_.clear();
+  stack_.clear();
+  auto visit = [&](std::int32_t node) {
+    if (blocked[node]) {
+      // The padding round the map is blocked for good: only cells of the map can open.
+      const std::int32_t row = node / stride - 1, col = node % stride - 1;
+      if (row >= 0 && col >= 0 && row < rows_ && col < cols_) border_.push_back(node);
+      return;
+    }
+    if (inside(node)) return;
+    side_[node >> 6] |= std::uint64_t{1} << (node & 63);
+    stack_.push_back(node);
+  };
+  visit(grid.index(start));
+  while (!stack_.empty()) {
+    const std::int32_t node = stack_.back();
+    stack_.pop_back();
+    for (const std::int32_t d : {1, -1, stride, -stride}) visit(node + d);
+  }
+  std::sort(border_.begin(), border_.end());
+  border_.erase(std::unique(border_.begin(), border_.end()), border_.end());
+  known_ = true;
+}
+
+bool NoWayMemo::shut(const geometry::BlockedGrid& grid, geometry::Cell start, geometry::Cell goal) const {
+  if (!known_ || grid.rows() != rows_ || grid.cols() != cols_) return false;
+  if (!grid.inside(start) || !grid.inside(goal) || !inside(grid.index(start)) || inside(grid.index(goal))) return false;
+  const std::uint8_t* blocked = grid.padded().data();
+  for (const std::int32_t node : border_) {
+    if (!blocked[node]) return false;  // a way may have opened there
+  }
+  return true;
+}
+
 double GridDecider::search_seconds() const {
   const std::lock_guard<std::mutex> lock(mutex_);
   return stats_.seconds;
@@ -157,12 +200,18 @@ Decision GridDecider::decide(const DecisionInput& in) {
     d.kind = Decision::Kind::NoPath;
     return d;
   }
-  const plan::GridPath path = search(s, start, goal);
   d.replanned = n >= 2;  // there was a plan, and it no longer served
+  if (s.no_way.shut(s.map.inflated(), start, goal)) {
+    d.kind = Decision::Kind::NoPath;  // as a search would find (see NoWayMemo)
+    return d;
+  }
+  const plan::GridPath path = search(s, start, goal);
   if (!path.found()) {
+    s.no_way.learn(s.map.inflated(), start);
     d.kind = Decision::Kind::NoPath;
     return d;
   }
+  s.no_way.forget();
   d.path = to_world(g, path, in.pose.x, in.pose.y, in.goal_x, in.goal_y);
   DecisionInput along = in;
   if (!follow_path(along, d.path, d)) {

@@ -8,6 +8,8 @@
 #include <vector>
 
 #include "vwg/error.hpp"
+#include "vwg/plan/astar.hpp"
+#include "vwg/robot/planners.hpp"
 #include "vwg/robot/planning_map.hpp"
 
 using namespace vwg;
@@ -300,4 +302,42 @@ TEST(SenseScan, TheMapIsTheSameAsClearingAndMarkingBeamByBeam) {
     changed_cells += static_cast<int>(std::count(pa.begin(), pa.end(), kSeenCell));
   }
   EXPECT_GT(changed_cells, 1000);
+}
+
+TEST(NoWayMemo, AWayKnownShutIsShutForAFreshSearchAndOpensWithItsBorder) {
+  // Random grids cut in two by a wall with gaps; a start on one side, a goal on the other. After a
+  // search finds no way, cells are blocked and freed at random: whenever the memo says the way is
+  // shut, A* from scratch must find none; and with no change it must say shut (it saves work).
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> cell(0, 39), coin(0, 99);
+  int shut_answers = 0, opened = 0;
+  for (int trial = 0; trial < 80; ++trial) {
+    geometry::BlockedGrid grid(40, 40);
+    for (int r = 0; r < 40; ++r) {
+      for (int c = 0; c < 40; ++c) grid.set_blocked({r, c}, coin(rng) < 20 || c == 20);
+    }
+    const geometry::Cell start{cell(rng), cell(rng) % 18}, goal{cell(rng), 22 + cell(rng) % 18};
+    grid.set_blocked(start, false), grid.set_blocked(goal, false);
+    plan::AStar astar;
+    if (astar.search(grid, start, goal).found()) continue;
+    NoWayMemo memo;
+    memo.learn(grid, start);
+    ASSERT_TRUE(memo.shut(grid, start, goal)) << "trial " << trial;
+    for (int step = 0; step < 60; ++step) {
+      const geometry::Cell c{cell(rng), cell(rng)};
+      if (c == start || c == goal) continue;
+      grid.set_blocked(c, coin(rng) < 50);
+      const bool way = astar.search(grid, start, goal).found();
+      if (memo.shut(grid, start, goal)) {
+        ++shut_answers;
+        ASSERT_FALSE(way) << "trial " << trial << " step " << step << ": the memo said shut, A* found a way";
+      }
+      if (way) {
+        ++opened;
+        break;
+      }
+    }
+  }
+  EXPECT_GT(shut_answers, 100) << "the memo saves searches";
+  EXPECT_GT(opened, 10) << "ways did open";
 }

@@ -25,6 +25,32 @@ struct SearchStats {
   std::size_t searches = 0;
 };
 
+/// What a grid search that found no way leaves known: the start's side of the map — the free cells
+/// it reaches, which without corner cutting are the 4-connected free cells round it (a diagonal
+/// move needs both cells beside it free) — and the blocked cells round that side. Cells that become
+/// blocked only shrink the side; it can grow only where one of those border cells becomes free. So
+/// while none has, and the start is on that side and the goal is not, a search again would find no
+/// way: the answer is known without searching. (Robots in a crowd whose maps shut them in try again
+/// every few frames, and a search that finds nothing goes through their whole side of the map.)
+class NoWayMemo {
+ public:
+  /// After a search from `start` on `grid` found no way.
+  void learn(const geometry::BlockedGrid& grid, geometry::Cell start);
+  /// Whether a search from `start` to `goal` on `grid` (a later state of the grid learnt on) would
+  /// find no way, known from what was learnt.
+  bool shut(const geometry::BlockedGrid& grid, geometry::Cell start, geometry::Cell goal) const;
+  /// A way was found: what was learnt no longer holds.
+  void forget() { known_ = false; }
+
+ private:
+  bool inside(std::int32_t node) const { return (side_[node >> 6] >> (node & 63)) & 1; }
+  bool known_ = false;
+  int rows_ = 0, cols_ = 0;
+  std::vector<std::uint64_t> side_;   // a bit a padded index of the grid: on the start's side
+  std::vector<std::int32_t> border_;  // padded indices of the blocked cells round the side, in the map
+  std::vector<std::int32_t> stack_;   // the flood's work list
+};
+
 class GridDecider final : public Decider {
  public:
   enum class Algorithm { AStar, DStarLite, JumpPoint };
@@ -43,6 +69,7 @@ class GridDecider final : public Decider {
     PlanningMap map;
     std::optional<plan::DStarLite> dstar;
     geometry::Cell goal{-1, -1};
+    NoWayMemo no_way;
   };
   plan::GridPath search(RobotState& s, geometry::Cell start, geometry::Cell goal);
   RobotState& state_of(std::int64_t robot);
