@@ -93,7 +93,8 @@ void NoWayMemo::learn(const geometry::BlockedGrid& grid, geometry::Cell start) {
   const std::size_t nodes = grid.padded().size();
   side_.assign((nodes + 63) / 64, 0);
   border_.clear();
-  stack_.clear();
+  thread_local std::vector<std::int32_t> stack;  // the flood's work list (a side can be most of the map)
+  stack.clear();
   auto visit = [&](std::int32_t node) {
     if (blocked[node]) {
       // The padding round the map is blocked for good: only cells of the map can open.
@@ -103,12 +104,12 @@ void NoWayMemo::learn(const geometry::BlockedGrid& grid, geometry::Cell start) {
     }
     if (inside(node)) return;
     side_[node >> 6] |= std::uint64_t{1} << (node & 63);
-    stack_.push_back(node);
+    stack.push_back(node);
   };
   visit(grid.index(start));
-  while (!stack_.empty()) {
-    const std::int32_t node = stack_.back();
-    stack_.pop_back();
+  while (!stack.empty()) {
+    const std::int32_t node = stack.back();
+    stack.pop_back();
     for (const std::int32_t d : {1, -1, stride, -stride}) visit(node + d);
   }
   std::sort(border_.begin(), border_.end());

@@ -48,7 +48,6 @@ class NoWayMemo {
   int rows_ = 0, cols_ = 0;
   std::vector<std::uint64_t> side_;   // a bit a padded index of the grid: on the start's side
   std::vector<std::int32_t> border_;  // padded indices of the blocked cells round the side, in the map
-  std::vector<std::int32_t> stack_;   // the flood's work list
 };
 
 class GridDecider final : public Decider {
