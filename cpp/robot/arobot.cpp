@@ -117,8 +117,7 @@ void ARobot::evolve(ActorState& self, const EventView& e, const EvolutionContext
   if (type == ev_.laser) {
     const ScanBeam b = beam(self, e.number(0), e.number(1));
     edit_map(self, [&](MapEdit& map, ObstacleBits& bits) {
-      if (config_.carve_free_space) carve_free(map, g, self.get_real(kX), self.get_real(kY), b.end_x, b.end_y, &bits);
-      mark_obstacle(map, g, b.mark_x, b.mark_y, &bits);
+      sense_scan(map, g, bits, self.get_real(kX), self.get_real(kY), std::span<const ScanBeam>(&b, 1), config_.carve_free_space);
     });
   } else if (type == ev_.camera) {
     const double a = self.get_real(kAngle) + e.number(2);

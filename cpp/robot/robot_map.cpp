@@ -32,9 +32,8 @@ void check(const Blob& map, const geometry::MapGeometry& g) { check_robot_map(ma
 /// A cell walk (Amanatides-Woo) along the segment from (u0, v0) to (u1, v1) in cell units: the
 /// cells it crosses, from the start cell to the end cell, in order. The parameter (0 at the start,
 /// 1 at the end) at which the segment crosses a grid line is computed from the start for every
-/// line, never accumulated step by step, so the walk can jump to where it leaves a block of cells
-/// and stand exactly where stepping through the block would have put it. At a grid corner (both
-/// lines crossed at once) the row steps first.
+/// line, never accumulated step by step, so whether the walk passes a cell can be told without
+/// walking to it (visits). At a grid corner (both lines crossed at once) the row steps first.
 struct CellWalk {
   CellWalk(double u0_, double v0_, double u1, double v1)
       : col(static_cast<int>(std::floor(u0_))), end_col(static_cast<int>(std::floor(u1))),
@@ -90,29 +89,6 @@ struct CellWalk {
       t_v = crossing_v(row + exit_v);
     }
   }
-  /// Leave the block of `side` × `side` cells (side a power of two, `shift` its log) holding the
-  /// current cell: stand on the first cell past it, as that many advance() calls would. Returns
-  /// how many cells it moved.
-  int leave_block(int shift) {
-    const int side = 1 << shift;
-    // The block's far lines the way the walk goes, and where the walk crosses them.
-    const int far_u = ((col >> shift) + exit_u) * side, far_v = ((row >> shift) + exit_v) * side;
-    const double leave_u = crossing_u(far_u), leave_v = crossing_v(far_v);
-    const int was_col = col, was_row = row;
-    if (leave_u < leave_v) {
-      // Out through the column line: every row line crossed at or before it (the row steps first
-      // at a corner) has been crossed by then.
-      while (t_v <= leave_u) row += step_v, t_v = crossing_v(row + exit_v);
-      col = step_u > 0 ? far_u : far_u - 1;
-      t_u = crossing_u(col + exit_u);
-    } else {
-      // Out through the row line: the column lines crossed strictly before it.
-      while (t_u < leave_v) col += step_u, t_u = crossing_u(col + exit_u);
-      row = step_v > 0 ? far_v : far_v - 1;
-      t_v = crossing_v(row + exit_v);
-    }
-    return std::abs(col - was_col) + std::abs(row - was_row);
-  }
 
   static constexpr double kNever = std::numeric_limits<double>::infinity();
   // Not {col, row} beside {end_col, end_row}: GCC then compares the pairs as one 8-byte word read
@@ -143,8 +119,6 @@ void ObstacleBits::sync(const Blob& map, const geometry::MapGeometry& g) {
   rows_ = rows;
   words_.assign(static_cast<std::size_t>(rows) * columns, Words{});
   blocks_.assign((words_.size() + 63) / 64, 0);
-  lo_row_ = lo_col_ = std::numeric_limits<int>::max();
-  hi_row_ = hi_col_ = std::numeric_limits<int>::min();
   const auto cells = map.view<std::int16_t>();
   for (int r = 0; r < g.height; ++r) {
     for (int c = 0; c < g.width; ++c) {
@@ -175,7 +149,7 @@ bool mark_marker(MapEdit& map, const geometry::MapGeometry& g, double x, double 
   return true;
 }
 
-int carve_free(MapEdit& map, const geometry::MapGeometry& g, double x0, double y0, double x1, double y1, ObstacleBits* bits) {
+int carve_free(MapEdit& map, const geometry::MapGeometry& g, double x0, double y0, double x1, double y1) {
   check(map.blob(), g);
   const geometry::OccupancyGrid f = g.frame();
   double u0, v0, u1, v1;
@@ -184,35 +158,14 @@ int carve_free(MapEdit& map, const geometry::MapGeometry& g, double x0, double y
   // The cells the beam crossed, from the start cell to the end cell, which is left alone.
   CellWalk walk(u0, v0, u1, v1);
   const int limit = walk.length() + 1;
-  // No reported obstacle in the walk's box of cells: nothing to clear.
-  if (bits && !bits->may_hold(std::min(walk.row, walk.end_row), std::min(walk.col, walk.end_col),
-                              std::max(walk.row, walk.end_row), std::max(walk.col, walk.end_col))) {
-    return 0;
-  }
-  constexpr int kShift = ObstacleBits::kShift;
-  const int end_block_row = walk.end_row >> kShift, end_block_col = walk.end_col >> kShift;
   const auto rows = static_cast<unsigned>(g.height), cols = static_cast<unsigned>(g.width);
   int changed = 0;
-  for (int k = 0; k < limit && !walk.at_end();) {
-    const int row = walk.row, col = walk.col;
-    if (bits && !bits->block_seen(row, col)) {
-      // A block with no reported obstacle: out of it in one jump (most of a beam's way is such
-      // blocks). If the walk ends in it, it reaches the end cell without leaving it (the block is
-      // a box, the walk monotone), so nothing more is cleared; unless rounding makes it miss the
-      // end cell, then it goes on cell by cell, reading nothing here.
-      if ((row >> kShift) != end_block_row || (col >> kShift) != end_block_col) {
-        k += walk.leave_block(kShift);
-        continue;
-      }
-      if (walk.visits(walk.end_row, walk.end_col)) return changed;
-    } else if (static_cast<unsigned>(row) < rows && static_cast<unsigned>(col) < cols &&
-               (bits ? bits->seen(row, col) : map[index(g, row, col)] == kSeenCell)) {
-      map.set(index(g, row, col), kFreeCell);
-      if (bits) bits->set(row, col, kFreeCell);
+  for (int k = 0; k < limit && !walk.at_end(); ++k, walk.advance()) {
+    if (static_cast<unsigned>(walk.row) < rows && static_cast<unsigned>(walk.col) < cols &&
+        map[index(g, walk.row, walk.col)] == kSeenCell) {
+      map.set(index(g, walk.row, walk.col), kFreeCell);
       ++changed;
     }
-    walk.advance();
-    ++k;
   }
   return changed;
 }
@@ -247,8 +200,8 @@ struct CellOp {
 
 }  // namespace
 
-void sense_scan(MapEdit& map, const geometry::MapGeometry& g, ObstacleBits& bits, double x0, double y0,
-                std::span<const ScanBeam> beams, bool carve) {
+int sense_scan(MapEdit& map, const geometry::MapGeometry& g, ObstacleBits& bits, double x0, double y0,
+               std::span<const ScanBeam> beams, bool carve) {
   check(map.blob(), g);
   const geometry::OccupancyGrid f = g.frame();
   double u0, v0;
@@ -385,6 +338,7 @@ void sense_scan(MapEdit& map, const geometry::MapGeometry& g, ObstacleBits& bits
   // may be marked, then cleared. The map is read only where a cell changes.
   std::sort(ops.begin(), ops.end());
   enum State { kOther, kSeen, kCleared };
+  int changed = 0;
   for (std::size_t i = 0; i < ops.size();) {
     const std::size_t cell = ops[i].cell;
     const int row = static_cast<int>(cell / static_cast<std::size_t>(cols)), col = static_cast<int>(cell % static_cast<std::size_t>(cols));
@@ -402,9 +356,13 @@ void sense_scan(MapEdit& map, const geometry::MapGeometry& g, ObstacleBits& bits
         now = kCleared;
       }
     }
-    if (now == kSeen && was != kSeen) map.set(cell, kSeenCell), bits.set(row, col, kSeenCell);
-    if (now == kCleared) map.set(cell, kFreeCell), bits.set(row, col, kFreeCell);  // unchanged if it was free
+    const std::int16_t value = now == kCleared ? kFreeCell : kSeenCell;
+    if (now == was || (was == kOther && now == kCleared && map[cell] == kFreeCell)) continue;  // marked, then cleared
+    map.set(cell, value);
+    bits.set(row, col, value);
+    ++changed;
   }
+  return changed;
 }
 
 bool segment_clear(const Blob& map, const geometry::MapGeometry& g, double x0, double y0, double x1, double y1, double radius,

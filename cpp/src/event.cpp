@@ -82,9 +82,12 @@ void EventList::emit(EventTypeId type, std::span<const Datum> fields, std::int64
 }
 
 void EventList::emit_reals(EventTypeId type, std::span<const double> fields, std::int64_t target) {
-  const auto& specs = type < alphabet_->event_type_count() ? alphabet_->event_type(type).fields.params : std::vector<ParamSpec>{};
-  bool plain = specs.size() == fields.size() && !specs.empty();
-  for (std::size_t i = 0; plain && i < fields.size(); ++i) plain = specs[i].kind == ValueKind::Real && std::isfinite(fields[i]);
+  bool plain = type < alphabet_->event_type_count() && !fields.empty();
+  if (plain) {
+    const std::vector<ParamSpec>& specs = alphabet_->event_type(type).fields.params;
+    plain = specs.size() == fields.size();
+    for (std::size_t i = 0; plain && i < fields.size(); ++i) plain = specs[i].kind == ValueKind::Real && std::isfinite(fields[i]);
+  }
   if (!plain) {  // what emit() refuses, it refuses with its own message
     std::vector<Datum> data(fields.begin(), fields.end());
     emit(type, data, target);

@@ -86,9 +86,18 @@ TEST(PlanningMap, RefusesAMapOfAnotherShape) {
   EXPECT_THROW(pm.update(map, geometry::MapGeometry{5, 4, 0.1, {}}, 0.2), SchemaError);
 }
 
+namespace {
+/// One beam from (x0, y0) to (x1, y1) through sense_scan, clearing only: its mark point is off the
+/// map. Returns how many cells changed.
+int clear_along(MapEdit& map, const geometry::MapGeometry& g, ObstacleBits& bits, double x0, double y0, double x1, double y1) {
+  const ScanBeam beam{x1, y1, -1e6, -1e6};
+  return sense_scan(map, g, bits, x0, y0, std::span<const ScanBeam>(&beam, 1));
+}
+}  // namespace
+
 TEST(ObstacleBits, ClearingWithTheBitsClearsWhatTheCellWalkClears) {
   // Two maps with the same random reported obstacles; beams from random places carve both, one
-  // reading every cell, one reading ObstacleBits and jumping over the blocks it says have none.
+  // walking every cell (carve_free), one through sense_scan, which reads ObstacleBits.
   const geometry::MapGeometry g{45, 37, 0.1, {}};
   Blob plain(DType::Int16, {37, 45}), fast(DType::Int16, {37, 45});
   std::mt19937 rng(11);
@@ -106,12 +115,11 @@ TEST(ObstacleBits, ClearingWithTheBitsClearsWhatTheCellWalkClears) {
     const double x0 = x(rng), y0 = y(rng), x1 = x(rng), y1 = y(rng);
     const int n = carve_free(a, g, x0, y0, x1, y1);
     seen.sync(fast, g);
-    EXPECT_EQ(carve_free(b, g, x0, y0, x1, y1, &seen), n);
+    EXPECT_EQ(clear_along(b, g, seen, x0, y0, x1, y1), n);
     seen.keep(fast);
     if (k % 20 == 0) mark_obstacle(b, g, x0, y0, &seen), mark_obstacle(a, g, x0, y0), seen.keep(fast);
   }
-  // Beams along the grid's lines, along diagonals and through block corners (where the block walk
-  // and the cell walk round apart).
+  // Beams along the grid's lines, along diagonals and through block corners.
   for (int k = 0; k < 400; ++k) {
     const double px = x(rng), py = y(rng);
     if (k % 3 == 0) mark_obstacle(a, g, px, py), seen.sync(fast, g), mark_obstacle(b, g, px, py, &seen), seen.keep(fast);
@@ -121,7 +129,7 @@ TEST(ObstacleBits, ClearingWithTheBitsClearsWhatTheCellWalkClears) {
     const double x1 = x0 + len * std::cos(a0), y1 = y0 + len * std::sin(a0);
     const int n = carve_free(a, g, x0, y0, x1, y1);
     seen.sync(fast, g);
-    ASSERT_EQ(carve_free(b, g, x0, y0, x1, y1, &seen), n) << "beam " << k;
+    ASSERT_EQ(clear_along(b, g, seen, x0, y0, x1, y1), n) << "beam " << k;
     seen.keep(fast);
   }
   const auto pa = plain.view<std::int16_t>(), pb = fast.view<std::int16_t>();
@@ -131,7 +139,7 @@ TEST(ObstacleBits, ClearingWithTheBitsClearsWhatTheCellWalkClears) {
 }
 
 TEST(ObstacleBits, OnALargeMapWithFewObstaclesTheBitsClearWhatTheCellWalkClears) {
-  // A large map with few reported obstacles, so that most beams skip blocks; beams from cell
+  // A large map with few reported obstacles, so that most blocks have none; beams from cell
   // centres and block corners, along the grid's lines and diagonals; new obstacles are marked as
   // the beams go.
   const geometry::MapGeometry g{200, 150, 0.05, {}};
@@ -158,7 +166,7 @@ TEST(ObstacleBits, OnALargeMapWithFewObstaclesTheBitsClearWhatTheCellWalkClears)
     const double x1 = x0 + len * std::cos(angle), y1 = y0 + len * std::sin(angle);
     const int n = carve_free(a, g, x0, y0, x1, y1);
     seen.sync(fast, g);
-    ASSERT_EQ(carve_free(b, g, x0, y0, x1, y1, &seen), n) << "beam " << k;
+    ASSERT_EQ(clear_along(b, g, seen, x0, y0, x1, y1), n) << "beam " << k;
     seen.keep(fast);
     cleared += n;
     if (k % 25 == 0) mark(x1, y1);
@@ -202,7 +210,7 @@ TEST(ObstacleBits, ABeamClearsTheCellsItCrossesAndNotTheOneItEndsIn) {
     bits.sync(map, g);
     const double x0 = x(rng), y0 = y(rng), x1 = k % 2 ? x(rng) : x0 + (k % 8) * 0.9, y1 = k % 2 ? y(rng) : y0 + 0.05;
     if (x1 >= 6.4) continue;
-    const int n = carve_free(edit, g, x0, y0, x1, y1, k % 3 ? &bits : nullptr);
+    const int n = k % 3 ? clear_along(edit, g, bits, x0, y0, x1, y1) : carve_free(edit, g, x0, y0, x1, y1);
     const auto cells = map.view<std::int16_t>();
     const int end_row = static_cast<int>(y1 / 0.1), end_col = static_cast<int>(x1 / 0.1);
     int expected = 0;
@@ -230,7 +238,7 @@ TEST(ObstacleBits, MarkingReadsTheBitsAndLeavesWallsAndMarkers) {
   EXPECT_FALSE(mark_obstacle(edit, g, 0.95, 0.95, &bits)) << "a marker stays a marker";
   EXPECT_TRUE(mark_obstacle(edit, g, 1.25, 0.15, &bits));
   bits.keep(map);
-  EXPECT_TRUE(bits.seen(1, 12) && bits.obstacle(1, 12) && bits.block_seen(1, 12) && !bits.block_seen(9, 9));
+  EXPECT_TRUE(bits.seen(1, 12) && bits.obstacle(1, 12) && bits.block_flag(0, 1) && !bits.block_flag(1, 1));
   const auto cells = map.view<std::int16_t>();
   EXPECT_EQ(cells[3 * 16 + 4], kWallCell);
   EXPECT_EQ(cells[9 * 16 + 9], kMarkerBase + 7);

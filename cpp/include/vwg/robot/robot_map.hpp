@@ -39,10 +39,10 @@ using MapEdit = BlobEdit<std::int16_t>;
 /// A robot map's obstacles as bits, 8 × 8 cells to a 64-bit word: one plane for the reported
 /// obstacles (kSeenCell), one for every obstacle (is_obstacle). Each robot has a map of its own,
 /// far larger than the caches for a crowd, so reading its cells was most of the cost of a laser
-/// robot's frame; clearing a beam's cells jumps over the 8 × 8 blocks with no reported obstacle (a
-/// bit a block: a few hundred bytes, which stay in cache) and reads the first plane in the others;
-/// marking one reads the second. A cache of one map, valid for the map's revision it was made or
-/// kept up to date for; made again from the map otherwise.
+/// robot's frame; a scan (sense_scan) finds the reported obstacles in its reach block by block (a
+/// bit a block: a few hundred bytes, which stay in cache) and reads the planes, not the map. A
+/// cache of one map, valid for the map's revision it was made or kept up to date for; made again
+/// from the map otherwise.
 class ObstacleBits {
  public:
   static constexpr int kShift = 3;  // 8 × 8 cells a block
@@ -50,14 +50,6 @@ class ObstacleBits {
   void sync(const Blob& map, const geometry::MapGeometry& g);
   /// After the edits that went through it: valid for the map as it is now.
   void keep(const Blob& map) { revision_ = map.revision(); }
-  /// Whether the block holding cell (row, col) holds a reported obstacle (false outside the map).
-  bool block_seen(int row, int col) const {
-    const int br = row >> kShift, bc = col >> kShift;  // floor division, for cells outside too
-    return br >= 0 && bc >= 0 && br < rows_ && bc < columns_ && block_flag(br, bc);
-  }
-  /// Blocks of the map, down and across.
-  int block_rows() const { return rows_; }
-  int block_columns() const { return columns_; }
   /// Whether block (block_row, block_col), inside the map, holds a reported obstacle.
   bool block_flag(int block_row, int block_col) const {
     const std::size_t w = word(block_row, block_col);
@@ -69,11 +61,6 @@ class ObstacleBits {
   /// Cell (row, col), inside the map: a reported obstacle / any obstacle.
   bool seen(int row, int col) const { return (words_[word(row >> kShift, col >> kShift)].seen >> bit(row, col)) & 1; }
   bool obstacle(int row, int col) const { return (words_[word(row >> kShift, col >> kShift)].obstacle >> bit(row, col)) & 1; }
-  /// False if no reported obstacle can be in the cells [lo_row, hi_row] × [lo_col, hi_col].
-  bool may_hold(int lo_row, int lo_col, int hi_row, int hi_col) const {
-    return lo_row <= hi_row_ && hi_row >= lo_row_ && lo_col <= hi_col_ && hi_col >= lo_col_;
-  }
-  static int bit(int row, int col) { return ((row & 7) << 3) | (col & 7); }
   /// Cell (row, col), inside the map, now holds `value`.
   void set(int row, int col, std::int16_t value) {
     const std::size_t w = word(row >> kShift, col >> kShift);
@@ -83,13 +70,10 @@ class ObstacleBits {
     words.obstacle = is_obstacle(value) ? words.obstacle | b : words.obstacle & ~b;
     const std::uint64_t flag = std::uint64_t{1} << (w & 63);
     blocks_[w >> 6] = words.seen != 0 ? blocks_[w >> 6] | flag : blocks_[w >> 6] & ~flag;
-    if (value == kSeenCell) {  // the box only grows until the next sync
-      lo_row_ = std::min(lo_row_, row), hi_row_ = std::max(hi_row_, row);
-      lo_col_ = std::min(lo_col_, col), hi_col_ = std::max(hi_col_, col);
-    }
   }
 
  private:
+  static int bit(int row, int col) { return ((row & 7) << 3) | (col & 7); }
   std::size_t word(int block_row, int block_col) const {
     return static_cast<std::size_t>(block_row) * static_cast<std::size_t>(columns_) + static_cast<std::size_t>(block_col);
   }
@@ -100,7 +84,6 @@ class ObstacleBits {
   };
   std::vector<Words> words_;           // a block's
   std::vector<std::uint64_t> blocks_;  // a bit a block: whether its seen word is not 0
-  int lo_row_ = 0, lo_col_ = 0, hi_row_ = -1, hi_col_ = -1;  // a box holding every reported obstacle
 };
 
 /// Mark a reported obstacle at (x, y); returns true if the cell changed. Markers and walls stay.
@@ -110,10 +93,9 @@ bool mark_obstacle(MapEdit& map, const geometry::MapGeometry& g, double x, doubl
 bool mark_marker(MapEdit& map, const geometry::MapGeometry& g, double x, double y, int tag, ObstacleBits* bits = nullptr);
 /// Clear reported obstacles (kSeenCell) on the cells the segment from (x0, y0) to (x1, y1)
 /// crosses, the end cell excluded (a laser beam passed through them, so they are free now).
-/// Returns how many cells changed.
-/// With `bits` (valid for the map: ObstacleBits::sync), it reads them instead of the map and jumps
-/// over blocks without reported obstacles; the cells cleared are the same.
-int carve_free(MapEdit& map, const geometry::MapGeometry& g, double x0, double y0, double x1, double y1, ObstacleBits* bits = nullptr);
+/// Returns how many cells changed. (A robot's laser goes through sense_scan, which gives the same
+/// map without walking the cells; this walk is its reference.)
+int carve_free(MapEdit& map, const geometry::MapGeometry& g, double x0, double y0, double x1, double y1);
 /// A beam of a laser scan, in world coordinates: where it stopped, and the point half a cell
 /// beyond, whose cell is marked.
 struct ScanBeam {
@@ -124,8 +106,8 @@ struct ScanBeam {
 /// after those calls one after another, but it is worked out from the cells that can change — the
 /// reported obstacles within the scan's reach and the cells it marks — each tested against the
 /// beams whose direction can cross it, instead of walking every beam's cells. `bits` must be valid
-/// for the map (ObstacleBits::sync) and is kept valid.
-void sense_scan(MapEdit& map, const geometry::MapGeometry& g, ObstacleBits& bits, double x0, double y0,
+/// for the map (ObstacleBits::sync) and is kept valid. Returns how many cells changed.
+int sense_scan(MapEdit& map, const geometry::MapGeometry& g, ObstacleBits& bits, double x0, double y0,
                 std::span<const ScanBeam> beams, bool carve = true);
 /// Whether a disc of `radius` moved along the segment stays off every obstacle of the map
 /// (unknown cells count as obstacles when `unknown_blocked`).
