@@ -76,9 +76,10 @@ def bench_laser(quick: bool) -> dict:
         equal = bool(np.array_equal(caster.scans(dda_poses, angles, 10.0),
                                     caster.scans(dda_poses, angles, 10.0, method="dda")))
         out[name] = {"rays_per_s": fast_rays, "dda_rays_per_s": dda_rays, "ratio": fast_rays / dda_rays,
-                     "poses": int(poses.shape[0]), "equal_to_dda": equal}
+                     "poses": int(poses.shape[0]), "equal_to_dda": equal, "simd": caster.simd}
         ratio = fast_rays / dda_rays
-        print(f"  {name:<10} {fast_rays / 1e6:10.1f} M/s {dda_rays / 1e6:8.2f} M/s {ratio:6.1f}x  {equal}")
+        print(f"  {name:<10} {fast_rays / 1e6:10.1f} M/s {dda_rays / 1e6:8.2f} M/s {ratio:6.1f}x  {equal}"
+              f"  ({caster.simd})")
     return out
 
 

@@ -48,6 +48,8 @@ simulated laser. ``cast`` gives the hit cell, face and entry point; ``scan`` man
       .def("cast_dda", [](const sim::GridRaycaster& r, double x, double y, double angle, double max_range) {
              return hit_to_python(r.cast_dda(x, y, angle, max_range));
            }, py::arg("x"), py::arg("y"), py::arg("angle"), py::arg("max_range"), "The plain cell-walk reference of cast().")
+      .def_property_readonly("simd", [](const sim::GridRaycaster& r) { return std::string(r.simd()); },
+                             "The code scans run on here: 'avx512', 'avx2' or 'none' (VWG_RAYCAST_SIMD lowers it).")
       .def("scan", [](const sim::GridRaycaster& r, PoseArg pose, py::array_t<double, py::array::c_style | py::array::forcecast> angles,
                       double max_range) {
              const sim::Pose2 p = pose_from_python(pose, "pose");

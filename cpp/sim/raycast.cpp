@@ -75,7 +75,8 @@ inline int cell_before(int current, double start, double dir, double inv_dir, in
 // a time with AVX-512 (within 1 ulp of libm's; std::sin and std::cos beyond |angle| = 1e5).
 // Every method takes its directions from grid_directions(), so all see the same bits: on a CPU
 // with AVX-512 every ray, single or in a scan, uses the AVX-512 code (which rounds each operation
-// on its own, never fused); without it, every ray uses the one compiled copy of the scalar code.
+// on its own, never fused); without it, single rays use the one compiled copy of the scalar code
+// and a scan's beams the same operations on 4 lanes of AVX2 (no FMA: never fused either).
 
 constexpr double kTwoOverPi = 0x1.45f306dc9c883p-1;
 constexpr double kHalfPiHigh = 0x1.921fb544p+0;  // pi/2 in three parts; the first two have 33
@@ -101,7 +102,8 @@ constexpr double kCos[] = {inverse_factorial(4),   -inverse_factorial(6),  inver
 struct ScanSetup {
   const std::uint8_t* clearance;
   int width, height;
-  double cells;       ///< width * height, the size of one quadrant's table
+  double block_cols;  ///< blocks of 8 x 8 cells in a row of the tables (GridRaycaster::cell_index)
+  double cells;       ///< the size of one quadrant's table
   double u0, v0;      ///< start, cells
   int col0, row0;     ///< start cell, inside the map and free
   double t_max;       ///< cells
@@ -219,6 +221,17 @@ __attribute__((target("avx2,avx512f"), always_inline)) inline __m512d cell_befor
   return cell;
 }
 
+/// GridRaycaster::cell_index() of 8 cells inside the map, in doubles, as table_cell_x4() (below).
+VWG_AVX512 __m512d table_cell_x8(__m512d row, __m512d col, double block_cols) {
+  const __m512d eight = _mm512_set1_pd(8.0), eighth = _mm512_set1_pd(0.125);
+  const __m512d block_row = _mm512_roundscale_pd(_mm512_mul_pd(row, eighth), _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+  const __m512d block_col = _mm512_roundscale_pd(_mm512_mul_pd(col, eighth), _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+  const __m512d block = _mm512_add_pd(_mm512_mul_pd(block_row, _mm512_set1_pd(block_cols)), block_col);
+  const __m512d within = _mm512_add_pd(_mm512_mul_pd(_mm512_sub_pd(row, _mm512_mul_pd(block_row, eight)), eight),
+                                       _mm512_sub_pd(col, _mm512_mul_pd(block_col, eight)));
+  return _mm512_add_pd(_mm512_mul_pd(block, _mm512_set1_pd(64.0)), within);
+}
+
 /// 8 beams in flight: which beams, their directions, where they are (the cell, and the
 /// parameter at which they entered it).
 struct Lanes {
@@ -277,7 +290,7 @@ VWG_AVX512 void advance(Lanes& lanes, const ScanSetup& s, float* out) {
   const __m512d col = lanes.col, row = lanes.row;
 
   // The clearance of each lane's cell (all inside the map); 0 means the ray stopped there.
-  const __m512d index = _mm512_maskz_add_pd(active, _mm512_add_pd(_mm512_mul_pd(row, width), col), lanes.table);
+  const __m512d index = _mm512_maskz_add_pd(active, table_cell_x8(row, col, s.block_cols), lanes.table);
   const __m256i raw = _mm256_i32gather_epi32(reinterpret_cast<const int*>(s.clearance),
                                              _mm512_maskz_cvttpd_epi32(0xFF, index), 1);
   const __m512d d = _mm512_maskz_cvtepi32_pd(0xFF, _mm256_and_si256(raw, _mm256_set1_epi32(0xFF)));
@@ -340,30 +353,124 @@ __attribute__((target("avx2,avx512f"))) void scan_avx512(const ScanSetup& s, con
 #pragma GCC diagnostic pop
 
 // ---- The scan on CPUs with AVX2 but not AVX-512 ----------------------------------------------
-// The same jumps on 4 lanes of doubles, two groups at a time. No FMA is enabled here, so no
-// expression is fused. Lanes live in memory between jumps, so ending and starting beams is plain
-// scalar code.
+// The same jumps on 4 lanes of doubles, four groups in flight so that one group's gather and
+// compare chain overlaps the others'. No FMA is enabled here, so no expression is fused: every
+// product and sum is rounded on its own, as in the scalar code. The lanes stay in registers
+// between jumps; a lane whose beam ends takes the next beam by masked gathers.
 #define VWG_AVX2 __attribute__((target("avx2"), always_inline)) inline
 
+/// sincos_portable() on 4 lanes, by the same operations (angles within kReduceLimit).
+VWG_AVX2 void sincos_x4(__m256d x, __m256d& sin_x, __m256d& cos_x) {
+  const __m256d round = _mm256_set1_pd(kRoundToInteger);
+  const __m256d k = _mm256_sub_pd(_mm256_add_pd(_mm256_mul_pd(x, _mm256_set1_pd(kTwoOverPi)), round), round);
+  const __m256d r = _mm256_sub_pd(
+      _mm256_sub_pd(_mm256_sub_pd(x, _mm256_mul_pd(k, _mm256_set1_pd(kHalfPiHigh))),
+                    _mm256_mul_pd(k, _mm256_set1_pd(kHalfPiMid))),
+      _mm256_mul_pd(k, _mm256_set1_pd(kHalfPiLow)));
+  const __m256d z = _mm256_mul_pd(r, r);
+  __m256d p = _mm256_set1_pd(kSin[7]);
+  for (int i = 6; i >= 0; --i) p = _mm256_add_pd(_mm256_mul_pd(p, z), _mm256_set1_pd(kSin[i]));
+  const __m256d sin_r = _mm256_add_pd(r, _mm256_mul_pd(_mm256_mul_pd(r, z), p));
+  __m256d q = _mm256_set1_pd(kCos[6]);
+  for (int i = 5; i >= 0; --i) q = _mm256_add_pd(_mm256_mul_pd(q, z), _mm256_set1_pd(kCos[i]));
+  const __m256d cos_r = _mm256_add_pd(_mm256_sub_pd(_mm256_set1_pd(1.0), _mm256_mul_pd(_mm256_set1_pd(0.5), z)),
+                                      _mm256_mul_pd(_mm256_mul_pd(z, z), q));
+  // k mod 4, exactly (k is an integer below 2^20 in magnitude).
+  const __m256d fours = _mm256_floor_pd(_mm256_mul_pd(k, _mm256_set1_pd(0.25)));
+  const __m256d quarter = _mm256_sub_pd(k, _mm256_mul_pd(_mm256_set1_pd(4.0), fours));
+  const __m256d is1 = _mm256_cmp_pd(quarter, _mm256_set1_pd(1.0), _CMP_EQ_OQ);
+  const __m256d is2 = _mm256_cmp_pd(quarter, _mm256_set1_pd(2.0), _CMP_EQ_OQ);
+  const __m256d is3 = _mm256_cmp_pd(quarter, _mm256_set1_pd(3.0), _CMP_EQ_OQ);
+  const __m256d odd = _mm256_or_pd(is1, is3);
+  const __m256d s = _mm256_blendv_pd(sin_r, cos_r, odd), c = _mm256_blendv_pd(cos_r, sin_r, odd);
+  const __m256d zero = _mm256_setzero_pd();
+  // 0 - s: +0 where -s would be -0, made alike by grid_directions.
+  sin_x = _mm256_blendv_pd(s, _mm256_sub_pd(zero, s), _mm256_or_pd(is2, is3));
+  cos_x = _mm256_blendv_pd(c, _mm256_sub_pd(zero, c), _mm256_or_pd(is1, is2));
+}
+
+/// sin and cos of n angles, 4 at a time; bit for bit sincos_portable().
+__attribute__((target("avx2"))) void sincos_avx2(const double* x, std::size_t n, double* sin_x, double* cos_x) {
+  std::size_t i = 0;
+  for (; i + 4 <= n; i += 4) {
+    __m256d s, c;
+    sincos_x4(_mm256_loadu_pd(x + i), s, c);
+    _mm256_storeu_pd(sin_x + i, s);
+    _mm256_storeu_pd(cos_x + i, c);
+  }
+  if (i < n) {  // the last 1-3 angles, padded with zeros
+    alignas(32) double tail[4] = {0.0, 0.0, 0.0, 0.0}, s_tail[4], c_tail[4];
+    std::copy(x + i, x + n, tail);
+    __m256d s, c;
+    sincos_x4(_mm256_load_pd(tail), s, c);
+    _mm256_store_pd(s_tail, s);
+    _mm256_store_pd(c_tail, c);
+    std::copy(s_tail, s_tail + (n - i), sin_x + i);
+    std::copy(c_tail, c_tail + (n - i), cos_x + i);
+  }
+  for (std::size_t j = 0; j < n; ++j)
+    if (!(std::abs(x[j]) <= kReduceLimit)) sin_x[j] = std::sin(x[j]), cos_x[j] = std::cos(x[j]);
+}
+
+/// GridRaycaster::cell_index() of 4 cells inside the map, in doubles (exact: all are integers
+/// below 2^31): the cell's block of 8 x 8 cells, 64 bytes to a block, rows of blocks one after
+/// another; in the block, rows of 8 cells.
+VWG_AVX2 __m256d table_cell_x4(__m256d row, __m256d col, double block_cols) {
+  const __m256d eight = _mm256_set1_pd(8.0), eighth = _mm256_set1_pd(0.125);
+  const __m256d block_row = _mm256_floor_pd(_mm256_mul_pd(row, eighth));
+  const __m256d block_col = _mm256_floor_pd(_mm256_mul_pd(col, eighth));
+  const __m256d block = _mm256_add_pd(_mm256_mul_pd(block_row, _mm256_set1_pd(block_cols)), block_col);
+  const __m256d within = _mm256_add_pd(_mm256_mul_pd(_mm256_sub_pd(row, _mm256_mul_pd(block_row, eight)), eight),
+                                       _mm256_sub_pd(col, _mm256_mul_pd(block_col, eight)));
+  return _mm256_add_pd(_mm256_mul_pd(block, _mm256_set1_pd(64.0)), within);
+}
+
+/// 4 beams in flight, in registers: which beams (-1: idle lane), their directions, where they
+/// are (the cell, and the parameter at which they entered it).
 struct QuadLanes {
-  alignas(32) double du[4], dv[4], inv_du[4], inv_dv[4];
-  alignas(32) double exit_u[4], exit_v[4], table[4], col[4], row[4], t[4];
-  alignas(16) int beam[4];  ///< -1 when idle
+  __m128i beam;
+  __m256d du, dv, inv_du, inv_dv, col, row, t;
 };
 
+/// For each pattern of idle lanes (bit i: lane i idle), how many idle lanes come before each
+/// lane: the i-th idle lane takes beam next + i.
+struct IdleRanks {
+  alignas(16) std::int32_t rank[16][4];
+};
+constexpr IdleRanks kIdleRanks = [] {
+  IdleRanks table{};
+  for (unsigned idle = 0; idle < 16; ++idle)
+    for (unsigned lane = 0; lane < 4; ++lane)
+      table.rank[idle][lane] = std::popcount(idle & ((1u << lane) - 1));
+  return table;
+}();
+
+VWG_AVX2 void start_lanes(QuadLanes& lanes) {
+  const __m256d one = _mm256_set1_pd(1.0);
+  lanes.beam = _mm_set1_epi32(-1);
+  lanes.du = lanes.dv = lanes.inv_du = lanes.inv_dv = one;
+  lanes.col = lanes.row = lanes.t = _mm256_setzero_pd();
+}
+
 /// Starts beams next, next + 1, ... in the idle lanes, while there are beams left.
-void refill(QuadLanes& lanes, const ScanSetup& s, const BeamDirections& beams, int n, int& next) {
-  for (int lane = 0; lane < 4 && next < n; ++lane) {
-    if (lanes.beam[lane] >= 0) continue;
-    const int b = next++;
-    lanes.beam[lane] = b;
-    lanes.du[lane] = beams.du[b], lanes.dv[lane] = beams.dv[b];
-    lanes.inv_du[lane] = beams.inv_du[b], lanes.inv_dv[lane] = beams.inv_dv[b];
-    lanes.exit_u[lane] = beams.du[b] < 0.0 ? 0.0 : 1.0;
-    lanes.exit_v[lane] = beams.dv[b] < 0.0 ? 0.0 : 1.0;
-    lanes.table[lane] = s.cells * ((beams.du[b] < 0.0 ? 1 : 0) + (beams.dv[b] < 0.0 ? 2 : 0));  // quadrant_table()
-    lanes.col[lane] = s.col0, lanes.row[lane] = s.row0, lanes.t[lane] = 0.0;
-  }
+VWG_AVX2 void refill(QuadLanes& lanes, const ScanSetup& s, const BeamDirections& beams, int n, int& next) {
+  const int idle = _mm_movemask_ps(_mm_castsi128_ps(lanes.beam));
+  if (idle == 0 || next >= n) return;
+  const __m128i ids = _mm_add_epi32(_mm_set1_epi32(next), _mm_load_si128(reinterpret_cast<const __m128i*>(kIdleRanks.rank[idle])));
+  // Idle lanes (beam -1) that get a beam: those whose id is below n.
+  const __m128i starting =
+      _mm_and_si128(_mm_cmpgt_epi32(_mm_set1_epi32(n), ids), lanes.beam);
+  const __m128i start_mask = _mm_srai_epi32(starting, 31);  // all ones where starting
+  const __m256d take = _mm256_castsi256_pd(_mm256_cvtepi32_epi64(start_mask));
+  lanes.beam = _mm_blendv_epi8(lanes.beam, ids, start_mask);
+  lanes.du = _mm256_mask_i32gather_pd(lanes.du, beams.du, ids, take, 8);
+  lanes.dv = _mm256_mask_i32gather_pd(lanes.dv, beams.dv, ids, take, 8);
+  lanes.inv_du = _mm256_mask_i32gather_pd(lanes.inv_du, beams.inv_du, ids, take, 8);
+  lanes.inv_dv = _mm256_mask_i32gather_pd(lanes.inv_dv, beams.inv_dv, ids, take, 8);
+  lanes.col = _mm256_blendv_pd(lanes.col, _mm256_set1_pd(s.col0), take);
+  lanes.row = _mm256_blendv_pd(lanes.row, _mm256_set1_pd(s.row0), take);
+  lanes.t = _mm256_blendv_pd(lanes.t, _mm256_setzero_pd(), take);
+  next += std::popcount(static_cast<unsigned>(_mm_movemask_ps(_mm_castsi128_ps(start_mask))));
 }
 
 /// cell_before() on 4 lanes, with the same expressions. exit_side: 1 forward, 0 backward.
@@ -383,40 +490,45 @@ VWG_AVX2 __m256d cell_before_x4(__m256d start, __m256d dir, __m256d inv_dir, __m
   return cell;
 }
 
-/// One jump of GridRaycaster::trace for every active lane; beams that end are written to out
-/// as advance() does for 8 lanes.
+/// One jump of GridRaycaster::trace for every active lane. Beams that end are written to out
+/// (the hit range, max_range on a miss, -1 for the scalar code when the jump ends exactly on a
+/// grid corner) and their lanes go idle.
 VWG_AVX2 void advance(QuadLanes& lanes, const ScanSetup& s, float* out) {
-  const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0), two = _mm256_set1_pd(2.0);
+  const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
   const __m256d u0 = _mm256_set1_pd(s.u0), v0 = _mm256_set1_pd(s.v0);
   const __m256d width = _mm256_set1_pd(s.width), height = _mm256_set1_pd(s.height);
-  const __m256d active = _mm256_cmp_pd(_mm256_cvtepi32_pd(_mm_load_si128(reinterpret_cast<const __m128i*>(lanes.beam))),
-                                       zero, _CMP_GE_OQ);
-  const __m256d col = _mm256_load_pd(lanes.col), row = _mm256_load_pd(lanes.row), t = _mm256_load_pd(lanes.t);
-  const __m256d du = _mm256_load_pd(lanes.du), dv = _mm256_load_pd(lanes.dv);
-  const __m256d inv_du = _mm256_load_pd(lanes.inv_du), inv_dv = _mm256_load_pd(lanes.inv_dv);
-  const __m256d exit_u = _mm256_load_pd(lanes.exit_u), exit_v = _mm256_load_pd(lanes.exit_v);
+  const __m256d active = _mm256_castsi256_pd(_mm256_cvtepi32_epi64(_mm_cmpgt_epi32(lanes.beam, _mm_set1_epi32(-1))));
+  const __m256d col = lanes.col, row = lanes.row;
 
-  // The clearance of each lane's cell (all inside the map); 0 means the ray stopped there.
-  const __m256d index = _mm256_and_pd(active, _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(row, width), col),
-                                                            _mm256_load_pd(lanes.table)));
-  const __m128i raw = _mm_i32gather_epi32(reinterpret_cast<const int*>(s.clearance), _mm256_cvttpd_epi32(index), 1);
-  const __m256d d = _mm256_cvtepi32_pd(_mm_and_si128(raw, _mm_set1_epi32(0xFF)));
+  // Which way each beam goes, from the signs of its direction (as refill() of 8 lanes keeps them).
+  const __m256d back_u = _mm256_cmp_pd(lanes.du, zero, _CMP_LT_OQ), back_v = _mm256_cmp_pd(lanes.dv, zero, _CMP_LT_OQ);
+  const __m256d exit_u = _mm256_andnot_pd(back_u, one), exit_v = _mm256_andnot_pd(back_v, one);
+  const __m256d cells = _mm256_set1_pd(s.cells);
+  const __m256d table = _mm256_add_pd(_mm256_and_pd(back_u, cells), _mm256_and_pd(back_v, _mm256_add_pd(cells, cells)));
+
+  // The clearance of each lane's cell (all inside the map); 0 means the ray stopped there. Read
+  // by four byte loads: AMD's Zen cores microcode gathers, and these were faster there.
+  const __m256d index = _mm256_and_pd(active, _mm256_add_pd(table_cell_x4(row, col, s.block_cols), table));
+  const __m128i at = _mm256_cvttpd_epi32(index);
+  const __m128i raw = _mm_setr_epi32(s.clearance[_mm_cvtsi128_si32(at)], s.clearance[_mm_extract_epi32(at, 1)],
+                                     s.clearance[_mm_extract_epi32(at, 2)], s.clearance[_mm_extract_epi32(at, 3)]);
+  const __m256d d = _mm256_cvtepi32_pd(raw);
   const __m256d hit = _mm256_and_pd(active, _mm256_cmp_pd(d, zero, _CMP_EQ_OQ));
   const __m256d moving = _mm256_andnot_pd(hit, active);
 
   // Leave the free square: its far line is col + d going forward, col + 1 - d going back.
-  const __m256d step_u = _mm256_sub_pd(_mm256_mul_pd(two, exit_u), one);
-  const __m256d step_v = _mm256_sub_pd(_mm256_mul_pd(two, exit_v), one);
+  const __m256d minus_one = _mm256_set1_pd(-1.0);
+  const __m256d step_u = _mm256_blendv_pd(one, minus_one, back_u), step_v = _mm256_blendv_pd(one, minus_one, back_v);
   const __m256d line_u = _mm256_add_pd(_mm256_sub_pd(col, _mm256_sub_pd(exit_u, one)), _mm256_mul_pd(step_u, d));
   const __m256d line_v = _mm256_add_pd(_mm256_sub_pd(row, _mm256_sub_pd(exit_v, one)), _mm256_mul_pd(step_v, d));
-  const __m256d t_u = _mm256_mul_pd(_mm256_sub_pd(line_u, u0), inv_du);
-  const __m256d t_v = _mm256_mul_pd(_mm256_sub_pd(line_v, v0), inv_dv);
+  const __m256d t_u = _mm256_mul_pd(_mm256_sub_pd(line_u, u0), lanes.inv_du);
+  const __m256d t_v = _mm256_mul_pd(_mm256_sub_pd(line_v, v0), lanes.inv_dv);
   const __m256d t_next = _mm256_min_pd(t_u, t_v);
   const __m256d out_of_range = _mm256_and_pd(moving, _mm256_cmp_pd(t_next, _mm256_set1_pd(s.t_max), _CMP_NLE_UQ));
 
   __m256d cross_u, cross_v;
-  __m256d next_col = cell_before_x4(u0, du, inv_du, step_u, exit_u, col, t_next, cross_u);
-  __m256d next_row = cell_before_x4(v0, dv, inv_dv, step_v, exit_v, row, t_next, cross_v);
+  __m256d next_col = cell_before_x4(u0, lanes.du, lanes.inv_du, step_u, exit_u, col, t_next, cross_u);
+  __m256d next_row = cell_before_x4(v0, lanes.dv, lanes.inv_dv, step_v, exit_v, row, t_next, cross_v);
   next_col = _mm256_add_pd(next_col, _mm256_and_pd(cross_u, step_u));
   next_row = _mm256_add_pd(next_row, _mm256_and_pd(cross_v, step_v));
   const __m256d corner = _mm256_andnot_pd(out_of_range, _mm256_and_pd(moving, _mm256_and_pd(cross_u, cross_v)));
@@ -424,33 +536,45 @@ VWG_AVX2 void advance(QuadLanes& lanes, const ScanSetup& s, float* out) {
       _mm256_or_pd(_mm256_cmp_pd(next_col, zero, _CMP_LT_OQ), _mm256_cmp_pd(next_col, width, _CMP_GE_OQ)),
       _mm256_or_pd(_mm256_cmp_pd(next_row, zero, _CMP_LT_OQ), _mm256_cmp_pd(next_row, height, _CMP_GE_OQ)));
   const __m256d missed = _mm256_or_pd(out_of_range, _mm256_andnot_pd(corner, _mm256_and_pd(moving, outside)));
+  const __m256d done = _mm256_or_pd(hit, _mm256_or_pd(missed, corner));
 
-  _mm256_store_pd(lanes.col, _mm256_blendv_pd(col, next_col, moving));
-  _mm256_store_pd(lanes.row, _mm256_blendv_pd(row, next_row, moving));
-  _mm256_store_pd(lanes.t, _mm256_blendv_pd(t, t_next, moving));
-  const int hits = _mm256_movemask_pd(hit), misses = _mm256_movemask_pd(missed), corners = _mm256_movemask_pd(corner);
-  for (int lane = 0; lane < 4; ++lane) {  // the range as range() computes it, or -1 for the scalar code
-    const int bit = 1 << lane;
-    if (!((hits | misses | corners) & bit)) continue;
-    const double range = hits & bit ? lanes.t[lane] * s.resolution + 0.0 : misses & bit ? s.max_range : -1.0;
-    out[lanes.beam[lane]] = static_cast<float>(range);
-    lanes.beam[lane] = -1;
+  const int ended = _mm256_movemask_pd(done);
+  if (ended != 0) {  // the range as range() computes it
+    __m256d value = _mm256_add_pd(_mm256_mul_pd(lanes.t, _mm256_set1_pd(s.resolution)), zero);
+    value = _mm256_blendv_pd(value, _mm256_set1_pd(s.max_range), missed);
+    value = _mm256_blendv_pd(value, minus_one, corner);
+    alignas(16) float range[4];
+    alignas(16) std::int32_t beam[4];
+    _mm_store_ps(range, _mm256_cvtpd_ps(value));
+    _mm_store_si128(reinterpret_cast<__m128i*>(beam), lanes.beam);
+    for (unsigned bits = static_cast<unsigned>(ended); bits != 0; bits &= bits - 1) {
+      const int lane = std::countr_zero(bits);
+      out[beam[lane]] = range[lane];
+    }
+    // Ended lanes go idle (-1).
+    const __m128i ended_lanes = _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(
+        _mm256_castpd_si256(done), _mm256_setr_epi32(0, 2, 4, 6, 0, 2, 4, 6)));
+    lanes.beam = _mm_or_si128(lanes.beam, ended_lanes);
   }
+  lanes.col = _mm256_blendv_pd(col, next_col, moving);
+  lanes.row = _mm256_blendv_pd(row, next_row, moving);
+  lanes.t = _mm256_blendv_pd(lanes.t, t_next, moving);
 }
 
-/// The jumps of GridRaycaster::trace on 8 beams at once, in two independent groups of 4.
+/// The jumps of GridRaycaster::trace on 16 beams at once, in four independent groups of 4.
 __attribute__((target("avx2"))) void scan_avx2(const ScanSetup& s, const BeamDirections& beams, int n,
                                                float* out) {
-  QuadLanes groups[2]{};
-  for (QuadLanes& lanes : groups) std::fill(std::begin(lanes.beam), std::end(lanes.beam), -1);
+  constexpr int kGroups = 4;
+  QuadLanes groups[kGroups];
+  for (QuadLanes& lanes : groups) start_lanes(lanes);
   int next = 0;
   for (;;) {
-    bool busy = false;
+    __m128i busy = _mm_set1_epi32(-1);
     for (QuadLanes& lanes : groups) {
       refill(lanes, s, beams, n, next);
-      busy = busy || std::any_of(std::begin(lanes.beam), std::end(lanes.beam), [](int b) { return b >= 0; });
+      busy = _mm_and_si128(busy, lanes.beam);  // stays -1 only while every lane of every group is idle
     }
-    if (!busy) break;
+    if (_mm_movemask_ps(_mm_castsi128_ps(busy)) == 0xF) break;
     for (QuadLanes& lanes : groups) advance(lanes, s, out);
   }
 }
@@ -480,13 +604,17 @@ __attribute__((target("avx2"))) void scan_avx2(const ScanSetup& s, const BeamDir
 
 /// Unit directions in grid axes of n angles relative to the grid's yaw: du = cos, dv = sin.
 /// Zero components are +0 (+ 0.0 turns -0 into +0), so they step +1 and cross at +infinity.
-void grid_directions(const double* relative, std::size_t n, double* du, double* dv,
-                     [[maybe_unused]] bool avx512) {
+/// avx512: the AVX-512 code (its own bits, used for every ray on such a CPU); avx2: the scalar
+/// code's operations on 4 lanes (the same bits as the scalar code, for a scan's many angles).
+void grid_directions(const double* relative, std::size_t n, double* du, double* dv, [[maybe_unused]] bool avx512,
+                     [[maybe_unused]] bool avx2 = false) {
 #ifdef VWG_RAYCAST_X86
   if (avx512 && n == 1) {
     sincos_avx512(*relative, *dv, *du);
   } else if (avx512) {
     sincos_avx512(relative, n, dv, du);
+  } else if (avx2) {
+    sincos_avx2(relative, n, dv, du);
   } else
 #endif
   {
@@ -496,6 +624,23 @@ void grid_directions(const double* relative, std::size_t n, double* du, double* 
 }
 
 }  // namespace
+
+std::string_view beam_directions(std::span<const double> relative, std::string_view simd, std::span<double> du,
+                                 std::span<double> dv) {
+  if (du.size() != relative.size() || dv.size() != relative.size())
+    throw Error("beam_directions: " + std::to_string(relative.size()) + " angles for " + std::to_string(du.size()) +
+                " and " + std::to_string(dv.size()) + " outputs");
+  if (simd != "avx512" && simd != "avx2" && simd != "none")
+    throw Error("beam_directions: simd must be avx512, avx2 or none, not '" + std::string(simd) + "'");
+  bool avx512 = false, avx2 = false;
+#ifdef VWG_RAYCAST_X86
+  __builtin_cpu_init();
+  avx512 = simd == "avx512" && __builtin_cpu_supports("avx2") && __builtin_cpu_supports("avx512f");
+  avx2 = !avx512 && simd != "none" && __builtin_cpu_supports("avx2");
+#endif
+  grid_directions(relative.data(), relative.size(), du.data(), dv.data(), avx512, avx2);
+  return avx512 ? "avx512" : avx2 ? "avx2" : "none";
+}
 
 /// A ray in grid axes (cells).
 struct GridRaycaster::Ray {
@@ -525,7 +670,10 @@ GridRaycaster::GridRaycaster(const OccupancyGrid& grid, int threshold)
       yaw_sin_(std::sin(grid.origin.theta)) {
   if (grid.width < 0 || grid.height < 0) throw Error("GridRaycaster: negative grid size");
   const auto cells = static_cast<std::uint64_t>(grid.width) * static_cast<std::uint64_t>(grid.height);
-  if (cells >= (std::uint64_t{1} << 29)) throw Error("GridRaycaster: grids of 2^29 cells or more are not supported");
+  // The tables hold whole 8 x 8 blocks; their indices, four tables deep, must fit an int32.
+  const auto padded = static_cast<std::uint64_t>(grid.width + 7) / 8 * ((static_cast<std::uint64_t>(grid.height) + 7) / 8) * 64;
+  if (padded >= (std::uint64_t{1} << 29))
+    throw Error("GridRaycaster: grids of 2^29 cells or more (in whole blocks of 8 x 8) are not supported");
   if (grid.data.size() != cells)
     throw Error("GridRaycaster: the grid has " + std::to_string(grid.data.size()) + " values for " +
                 std::to_string(grid.width) + " x " + std::to_string(grid.height) + " cells");
@@ -546,11 +694,12 @@ GridRaycaster::GridRaycaster(const OccupancyGrid& grid, int threshold)
   // Per quadrant, the largest free square anchored at each cell: 1 + the smallest of its three
   // neighbours ahead (the maximal-square recurrence), sweeping from the far corner back.
   // Outside cells count as free and unbounded.
-  cells_ = cells;
-  clearance_.assign(4 * cells + 4, 0);  // + 4: 4-byte gathers at the last cell stay inside
+  block_cols_ = (width_ + 7) / 8;
+  cells_ = static_cast<std::size_t>(block_cols_) * static_cast<std::size_t>((height_ + 7) / 8) * 64;
+  clearance_.assign(4 * cells_ + 4, 0);  // + 4: 4-byte gathers at the last cell stay inside
   const int w = width_, h = height_;
   for (int quadrant = 0; quadrant < 4; ++quadrant) {
-    std::uint8_t* square = clearance_.data() + quadrant * cells;
+    std::uint8_t* square = clearance_.data() + quadrant * cells_;
     const int step_u = quadrant & 1 ? -1 : 1, step_v = quadrant & 2 ? -1 : 1;
     auto ahead = [&](int row, int col) -> int {
       return row < 0 || col < 0 || row >= h || col >= w ? kMaxClearance : square[cell_index(row, col)];
@@ -558,8 +707,8 @@ GridRaycaster::GridRaycaster(const OccupancyGrid& grid, int threshold)
     for (int i = 0; i < h; ++i)
       for (int j = 0; j < w; ++j) {
         const int row = step_v > 0 ? h - 1 - i : i, col = step_u > 0 ? w - 1 - j : j;
+        if (grid.data[static_cast<std::size_t>(row) * w + col] >= threshold) continue;  // blocked: 0
         const std::size_t at = cell_index(row, col);
-        if (grid.data[at] >= threshold) continue;  // blocked: 0
         const int smallest =
             std::min({ahead(row, col + step_u), ahead(row + step_v, col), ahead(row + step_v, col + step_u)});
         square[at] = static_cast<std::uint8_t>(std::min(kMaxClearance, smallest + 1));
@@ -723,8 +872,18 @@ void GridRaycaster::scan(const Pose2& pose, std::span<const double> angles, doub
   const bool start_free_inside =
       ray.row0 >= 0 && ray.col0 >= 0 && ray.row0 < height_ && ray.col0 < width_ && !blocked(ray.row0, ray.col0);
   if (start_free_inside && simd_ != Simd::kNone) {
-    const ScanSetup setup{clearance_.data(), width_,   height_,   static_cast<double>(cells_), ray.u0,   ray.v0,
-                          ray.col0,          ray.row0, ray.t_max, resolution_,                 max_range};
+    const ScanSetup setup{clearance_.data(),
+                          width_,
+                          height_,
+                          static_cast<double>(block_cols_),
+                          static_cast<double>(cells_),
+                          ray.u0,
+                          ray.v0,
+                          ray.col0,
+                          ray.row0,
+                          ray.t_max,
+                          resolution_,
+                          max_range};
     constexpr std::size_t kChunk = 256;  // beams set up at a time, on the stack
     std::array<double, kChunk> relative, du, dv, inv_du, inv_dv;
     for (std::size_t first = 0; first < angles.size(); first += kChunk) {
@@ -734,7 +893,7 @@ void GridRaycaster::scan(const Pose2& pose, std::span<const double> angles, doub
         if (!std::isfinite(angle)) throw Error("raycast: the angle must be finite");
         relative[i] = angle - origin_.theta;
       }
-      grid_directions(relative.data(), count, du.data(), dv.data(), simd_ == Simd::kAvx512);
+      grid_directions(relative.data(), count, du.data(), dv.data(), simd_ == Simd::kAvx512, simd_ == Simd::kAvx2);
       for (std::size_t i = 0; i < count; ++i) inv_du[i] = 1.0 / du[i], inv_dv[i] = 1.0 / dv[i];
       const BeamDirections beams{du.data(), dv.data(), inv_du.data(), inv_dv.data()};
       if (simd_ == Simd::kAvx512)

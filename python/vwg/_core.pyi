@@ -1843,6 +1843,11 @@ class GridRaycaster:
         """
         One scan per pose (N×3 array): an N×len(angles) float32 array, by the fast scan or the plain DDA.
         """
+    @property
+    def simd(self) -> str:
+        """
+        The code scans run on here: 'avx512', 'avx2' or 'none' (VWG_RAYCAST_SIMD lowers it).
+        """
 class RangeScanner:
     """
     Ranges over a map's walls and the other robots of a physics world (shared by the laser and the Kinect).

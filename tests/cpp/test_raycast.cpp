@@ -380,6 +380,44 @@ TEST(Raycast, FastPathsAgreeExactlyWithTheCellWalk) { check_agreement(1, 100, 30
 TEST(Raycast, Avx2PathsAgreeExactlyWithTheCellWalk) { check_agreement(2, 40, 30, "avx2"); }
 TEST(Raycast, PortablePathsAgreeExactlyWithTheCellWalk) { check_agreement(3, 40, 30, "none"); }
 
+// A scan's beams on a CPU with AVX2 but not AVX-512 take their directions from 4-lane code, single
+// rays from the scalar code: the two must give the same bits, or a beam through a grid corner
+// could stop in a scan and go on as a single ray. Both are also checked against libm.
+TEST(Raycast, Avx2DirectionsAreTheScalarCodesBits) {
+  std::vector<double> angles = {0.0, -0.0, 1e-300, -1e-300, 99999.9, -99999.9, 1e5, -1e5, 1e5 + 1, -3e6};
+  for (int k = -64; k <= 64; ++k)  // quarter turns and their neighbours, where the reduction changes
+    for (double a = k * std::numbers::pi / 4, n = 0; n < 3; ++n, a = std::nextafter(a, 10.0)) {
+      angles.push_back(a);
+      angles.push_back(std::nextafter(k * std::numbers::pi / 4, -10.0));
+    }
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> wide(-1000.0, 1000.0), near(-8.0, 8.0);
+  for (int i = 0; i < 100000; ++i) angles.push_back(i % 2 ? wide(rng) : near(rng));
+  for (std::size_t n : {1u, 2u, 3u, 5u, 7u}) angles.resize(angles.size() + n, 0.3 * n);  // odd tails
+  std::vector<double> du(angles.size()), dv(angles.size()), scalar_du(angles.size()), scalar_dv(angles.size());
+  ASSERT_EQ(beam_directions(angles, "none", scalar_du, scalar_dv), "none");
+  if (beam_directions(angles, "avx2", du, dv) != "avx2") GTEST_SKIP() << "this CPU has no AVX2";
+  long differ = 0;
+  for (std::size_t i = 0; i < angles.size(); ++i) {
+    if (!same_bits(du[i], scalar_du[i]) || !same_bits(dv[i], scalar_dv[i])) {
+      if (++differ <= 5)
+        ADD_FAILURE() << std::hexfloat << "angle " << angles[i] << ": avx2 (" << du[i] << ", " << dv[i]
+                      << "), scalar (" << scalar_du[i] << ", " << scalar_dv[i] << ")";
+    }
+    // Within 2e-16 of libm (1 ulp near 1), and +0 for a zero component.
+    EXPECT_NEAR(du[i], std::cos(angles[i]), 2.3e-16) << angles[i];
+    EXPECT_NEAR(dv[i], std::sin(angles[i]), 2.3e-16) << angles[i];
+  }
+  EXPECT_EQ(differ, 0) << "of " << angles.size() << " angles";
+  EXPECT_FALSE(std::signbit(dv[1])) << "sin(-0) is made +0";
+}
+
+TEST(Raycast, BeamDirectionsRefusesBadInput) {
+  std::vector<double> angles(3), du(3), dv(2);
+  EXPECT_THROW(beam_directions(angles, "none", du, dv), Error);
+  EXPECT_THROW(beam_directions(angles, "sse", du, du), Error);
+}
+
 TEST(Raycast, ScansAgreeOnABiggerMap) {
   // Rooms of random rectangles on 300 x 300 cells, so the free squares get large; full scans.
   std::mt19937_64 rng(7);

@@ -18,6 +18,7 @@
 
 #include <cstdint>
 #include <span>
+#include <string_view>
 #include <vector>
 
 #include "vwg/sim/grid.hpp"
@@ -40,13 +41,22 @@ struct RayHit {
   double x = 0.0, y = 0.0;
 };
 
+/// The unit directions in grid axes (du = cos, dv = sin of each angle, relative to the grid's yaw)
+/// that a scan's beams take with the code for `simd`: "avx512", "avx2" or "none", lowered to what
+/// this CPU has. Returns the level used. For the tests: the AVX2 code must give the scalar code's
+/// bits (single rays use the scalar code on such CPUs). Throws vwg::Error if the spans' sizes
+/// differ or `simd` is none of those.
+std::string_view beam_directions(std::span<const double> relative, std::string_view simd, std::span<double> du,
+                                 std::span<double> dv);
+
 /// Raycasting on one occupancy grid. Construction precomputes clearance tables (linear in the
 /// cells: about 12 ms for 1000 x 1000); the grid is copied in that form, so the raycaster does
 /// not refer to it afterwards. All methods are const and safe to call from several threads.
 class GridRaycaster {
  public:
   /// Cells with a value >= threshold are obstacles. Throws vwg::Error if the grid is malformed
-  /// (data size, resolution not positive) or has 2^29 cells or more. Takes 4 bytes per cell.
+  /// (data size, resolution not positive) or has 2^29 cells or more, counted in whole blocks of
+  /// 8 x 8. Takes 4 bytes per cell.
   explicit GridRaycaster(const OccupancyGrid& grid, int threshold = 50);
 
   /// The ray from (x, y) along `angle` (radians, world frame), up to max_range metres (may be
@@ -55,7 +65,7 @@ class GridRaycaster {
   /// cast(...).distance, without working out the entry point.
   double range(double x, double y, double angle, double max_range) const;
   /// A scan: out[i] = range(pose.x, pose.y, pose.theta + angles[i], max_range), as float. The hot
-  /// path of the laser: 16 beams are traced at once when the CPU has AVX-512, 8 with AVX2. The
+  /// path of the laser: 16 beams are traced at once when the CPU has AVX-512 or AVX2. The
   /// environment variable VWG_RAYCAST_SIMD=avx2 or =none, set when the raycaster is made, caps
   /// that (for tests and comparisons). Throws vwg::Error if out.size() != angles.size() or on the
   /// inputs cast() refuses.
@@ -65,6 +75,9 @@ class GridRaycaster {
   /// start rather than accumulated, so they equal the fast methods' to the last bit). Used by the
   /// tests and as the benchmark baseline.
   RayHit cast_dda(double x, double y, double angle, double max_range) const;
+
+  /// The code scan() runs on this CPU: "avx512", "avx2" or "none" (VWG_RAYCAST_SIMD lowers it).
+  std::string_view simd() const { return simd_ == Simd::kAvx512 ? "avx512" : simd_ == Simd::kAvx2 ? "avx2" : "none"; }
 
   int width() const { return width_; }
   int height() const { return height_; }
@@ -77,7 +90,15 @@ class GridRaycaster {
   struct Ray;
   struct Walk;
 
-  std::size_t cell_index(int row, int col) const { return static_cast<std::size_t>(row) * width_ + col; }
+  /// Where cell (row, col) is in a quadrant's table: blocks of 8 x 8 cells, 64 bytes each (a cache
+  /// line), rows of blocks one after another; rows of 8 cells in a block. A scan's beams that end
+  /// on the same stretch of wall, along a row or a column, read the same few lines.
+  std::size_t cell_index(int row, int col) const {
+    return ((static_cast<std::size_t>(row >> 3) * static_cast<std::size_t>(block_cols_) +
+             static_cast<std::size_t>(col >> 3))
+            << 6) +
+           static_cast<std::size_t>(((row & 7) << 3) + (col & 7));
+  }
   /// The start of a ray in grid cells: OccupancyGrid::world_to_grid with the yaw's cosine and
   /// sine computed once. Throws on a non-finite or far-away start.
   void set_start(double x, double y, Ray& ray) const;
@@ -102,11 +123,12 @@ class GridRaycaster {
   double yaw_cos_ = 1.0, yaw_sin_ = 0.0;  ///< of origin_.theta
   enum class Simd : unsigned char { kNone, kAvx2, kAvx512 };
   Simd simd_ = Simd::kNone;  ///< what scan() and the directions use, chosen at construction
-  std::size_t cells_ = 0;
-  /// Four tables, one per quadrant of travel (+u+v, -u+v, +u-v, -u-v), of one byte per cell: the
-  /// side d (in cells, capped at 255) of the largest free square with the cell at its corner and
-  /// extending the way the ray goes; 0 on a blocked cell. Padded with zero bytes at the end so
-  /// SIMD gathers of 4 bytes stay inside.
+  int block_cols_ = 0;    ///< blocks of 8 x 8 cells in a row of the tables
+  std::size_t cells_ = 0;  ///< the size of one quadrant's table: whole blocks
+  /// Four tables, one per quadrant of travel (+u+v, -u+v, +u-v, -u-v), of one byte per cell in the
+  /// order of cell_index(): the side d (in cells, capped at 255) of the largest free square with the
+  /// cell at its corner and extending the way the ray goes; 0 on a blocked cell. Padded with zero
+  /// bytes at the end so SIMD gathers of 4 bytes stay inside.
   std::vector<std::uint8_t> clearance_;
 };
 
