@@ -18,6 +18,7 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 DStarLite::DStarLite(BlockedGrid grid, Cell start, Cell goal, const GridSearchOptions& options)
     : grid_(std::move(grid)), options_(options), start_(start), goal_(goal) {
   validate(options_);
+  exact_keys_ = !options_.diagonal && (options_.heuristic == Heuristic::Manhattan || options_.heuristic == Heuristic::Zero);
   check_cell(grid_, start, "start", true);
   check_cell(grid_, goal, "goal", false);
   const std::size_t n = grid_.padded().size();
@@ -73,18 +74,22 @@ void DStarLite::compute_shortest_path() {
   std::array<Step, 8> steps;
   while (!queue_.empty()) {
     const Key top = queue_.front().key;
-    // The paper stops once TopKey >= key(s_start) and s_start is consistent. In floating point, a
-    // vertex whose key ties with the start's in k1 (and so comes first by k2) can compute a k1 one
-    // ulp above it and be left inconsistent on the shortest path. So keep going through every k1
-    // within rounding of the start's: a few extra expansions, never a wrong path. An unreachable
-    // start (k1 = ∞) empties the queue, as in the paper.
-    const double start_k1 = calculate_key(start_node_).k1;
-    const double slack = 1e-9 * std::max(1.0, std::abs(start_k1));
-    if (top.k1 > start_k1 + slack && rhs_[start_node_] == g_[start_node_]) break;
+    // The paper stops once TopKey >= key(s_start) and s_start is consistent. With exact keys that
+    // holds as written. In floating point, a vertex whose key ties with the start's in k1 (and so
+    // comes first by k2) can compute a k1 one ulp above it and be left inconsistent on the
+    // shortest path. So there, keep going through every k1 within rounding of the start's: a few
+    // extra expansions, never a wrong path. An unreachable start (k1 = ∞) empties the queue, as
+    // in the paper.
+    const Key start_key = calculate_key(start_node_);
+    if (rhs_[start_node_] == g_[start_node_]) {
+      if (exact_keys_ && !before(top, start_key)) break;
+      const double slack = 1e-9 * std::max(1.0, std::abs(start_key.k1));
+      if (!exact_keys_ && top.k1 > start_key.k1 + slack) break;
+    }
     const std::int32_t u = queue_.front().node;
     const Key fresh = calculate_key(u);
     ++expanded_;
-    if (top < fresh) {
+    if (before(top, fresh)) {
       // The key was computed before the robot moved (km grew): requeue with the current one.
       queue_update(u, fresh);
       continue;
@@ -171,6 +176,7 @@ void DStarLite::update_cells(std::span<const Cell> cells, bool blocked) {
     grid_.set_blocked(c, blocked);
     changed.push_back(c);
   }
+  if (blocked && !changed.empty() && dive_) stop_diving();  // costs rise: g < rhs becomes possible
   // A cell's state changes the cost of the moves into and out of it and, without corner cutting,
   // of the diagonal moves that pass by it: all between cells of its 3 × 3 block.
   for (const Cell& c : changed) {
@@ -188,6 +194,12 @@ void DStarLite::update_cells(std::span<const Cell> cells, bool blocked) {
 
 // --- the priority queue ---
 
+void DStarLite::stop_diving() {
+  dive_ = false;
+  // Floyd's heap construction in the new order (place() keeps the positions up to date).
+  for (std::size_t slot = queue_.size() / 2; slot-- > 0;) sift_down(slot);
+}
+
 void DStarLite::place(std::size_t slot, const Entry& e) {
   queue_[slot] = e;
   slot_[e.node] = static_cast<std::uint32_t>(slot);
@@ -197,7 +209,7 @@ void DStarLite::sift_up(std::size_t slot) {
   const Entry e = queue_[slot];
   while (slot > 0) {
     const std::size_t parent = (slot - 1) / 2;
-    if (!(e.key < queue_[parent].key)) break;
+    if (!before(e.key, queue_[parent].key)) break;
     place(slot, queue_[parent]);
     slot = parent;
   }
@@ -210,8 +222,8 @@ void DStarLite::sift_down(std::size_t slot) {
   for (;;) {
     std::size_t child = 2 * slot + 1;
     if (child >= n) break;
-    if (child + 1 < n && queue_[child + 1].key < queue_[child].key) ++child;
-    if (!(queue_[child].key < e.key)) break;
+    if (child + 1 < n && before(queue_[child + 1].key, queue_[child].key)) ++child;
+    if (!before(queue_[child].key, e.key)) break;
     place(slot, queue_[child]);
     slot = child;
   }
@@ -227,7 +239,7 @@ void DStarLite::queue_update(std::int32_t node, Key key) {
   const std::size_t slot = slot_[node];
   const Key old = queue_[slot].key;
   queue_[slot].key = key;
-  if (key < old) sift_up(slot);
+  if (before(key, old)) sift_up(slot);
   else sift_down(slot);
 }
 

@@ -518,6 +518,69 @@ TEST(DStarLite, EqualsAStarAfterRandomChangesAndMoves) {
   EXPECT_EQ(checks, 120 * 25);
 }
 
+// The first plan on an open 4-connected grid with the Manhattan heuristic: every cell of the
+// 100 × 100 rectangle between the corners has the same k1 (198). Breaking ties toward the start,
+// the search goes down one shortest path: the goal, the 198 cells to the start and their queued
+// neighbours, not the 10,000 cells of the plateau the paper's tie-break sweeps.
+TEST(DStarLite, FirstPlanOnAnOpenGridGoesDownOnePath) {
+  GridSearchOptions o;
+  o.diagonal = false;
+  o.heuristic = Heuristic::Manhattan;
+  DStarLite d(BlockedGrid(100, 100), {0, 0}, {99, 99}, o);
+  const GridPath p = d.path();
+  EXPECT_EQ(p.length, 198.0);
+  expect_legal(d.grid(), p, {0, 0}, {99, 99}, o);
+  EXPECT_LE(d.expanded(), 2u * 199u);
+}
+
+// 4-connected, Manhattan: exact keys, the paper's stop rule, and ties toward the start until the
+// first blocked cell. Freed cells and moves keep the dive; a blocked cell ends it (a vertex whose
+// g is now too low, tied with the start in k1, must not be left behind). Every plan is checked
+// against A* from scratch, many of them right after the first blocked cell.
+TEST(DStarLite, FourConnectedEqualsAStarThroughTheEndOfTheDive) {
+  std::mt19937 rng(77);
+  GridSearchOptions o;
+  o.diagonal = false;
+  o.heuristic = Heuristic::Manhattan;
+  int checks = 0, found = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const int rows = 6 + static_cast<int>(rng() % 30), cols = 6 + static_cast<int>(rng() % 30);
+    BlockedGrid g(rows, cols);
+    std::bernoulli_distribution wall(0.05 * (trial % 5));
+    for (int r = 0; r < rows; ++r) {
+      for (int c = 0; c < cols; ++c) g.set_blocked({r, c}, wall(rng));
+    }
+    const Cell start{static_cast<int>(rng() % rows), static_cast<int>(rng() % cols)};
+    const Cell goal{static_cast<int>(rng() % rows), static_cast<int>(rng() % cols)};
+    g.set_blocked(start, false);
+    DStarLite d(g, start, goal, o);
+    AStar reference;
+    const int free_steps = static_cast<int>(rng() % 4);  // updates that only free cells, before the first block
+    for (int step = 0; step < 12; ++step) {
+      const GridPath incremental = d.path();
+      const GridPath full = reference.search(d.grid(), d.start(), goal, o);
+      ASSERT_EQ(incremental.found(), full.found()) << "trial " << trial << " step " << step;
+      if (full.found()) {
+        ASSERT_EQ(incremental.length, full.length) << "trial " << trial << " step " << step;
+        expect_legal(d.grid(), incremental, d.start(), goal, o);
+        ++found;
+      }
+      ++checks;
+      if (incremental.found() && incremental.cells.size() > 2 && rng() % 2) d.move_to(incremental.cells[1]);
+      // Cells on the path ahead (where a stale g matters), and anywhere.
+      std::vector<Cell> cells;
+      for (std::size_t k = 2; k < incremental.cells.size() && cells.size() < 2; k += 1 + rng() % 4) {
+        cells.push_back(incremental.cells[k]);
+      }
+      for (int k = 0; k < 3; ++k) cells.push_back({static_cast<int>(rng() % rows), static_cast<int>(rng() % cols)});
+      std::erase_if(cells, [&](const Cell& c) { return c == d.start(); });
+      d.update_cells(cells, step >= free_steps && rng() % 4 != 0);
+    }
+  }
+  EXPECT_EQ(checks, 300 * 12);
+  EXPECT_GT(found, checks / 2);
+}
+
 // The case study's comparison: a robot walks its path across a 512 × 512 map and, eight times,
 // obstacles appear on the path ahead of it: a 5 × 5 block 8 cells ahead, or a wall 31 cells wide
 // and 3 thick 30 cells ahead. D* Lite repairs its search; the alternative is a fresh A* from the

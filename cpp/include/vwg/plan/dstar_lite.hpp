@@ -4,8 +4,14 @@
 // valid as the start (the robot) moves. Two departures from the paper's pseudocode: a changed
 // cell has its rhs and its 8 neighbours' recomputed from their moves (a cell changes the cost of
 // every move into, out of and, without corner cutting, diagonally past it), rather than edge by
-// edge; and the search stops only once the queue's keys exceed the start's by more than rounding
-// error, which floating-point ties otherwise break the wrong way (see compute_shortest_path).
+// edge; and where keys carry rounding (diagonal moves, a Euclidean or octile heuristic), the
+// search stops only once the queue's keys exceed the start's by more than rounding error, which
+// floating-point ties otherwise break the wrong way (see compute_shortest_path).
+//
+// Ties in k1 go toward the start until a cell is first blocked (see dive_). On a 4-connected grid
+// with the Manhattan heuristic every cell of an open start-goal rectangle has the same k1; the
+// paper's tie-break (smaller k2, nearer the goal, first) sweeps that whole plateau before it
+// reaches the start, while the other way reaches the start along one path, as A* does.
 #pragma once
 
 #include <cstddef>
@@ -52,12 +58,18 @@ class DStarLite {
   std::size_t expanded() const { return expanded_; }
 
  private:
-  /// A priority [k1; k2], compared lexicographically.
+  /// A priority [k1; k2], compared lexicographically by before().
   struct Key {
     double k1;
     double k2;
-    friend bool operator<(const Key& a, const Key& b) { return a.k1 < b.k1 || (a.k1 == b.k1 && a.k2 < b.k2); }
   };
+  /// Whether a comes out of the queue before b: smaller k1 first; on equal k1, larger k2 while
+  /// diving (nearer the start), else smaller k2 (the paper's order).
+  bool before(const Key& a, const Key& b) const {
+    return a.k1 < b.k1 || (a.k1 == b.k1 && (dive_ ? a.k2 > b.k2 : a.k2 < b.k2));
+  }
+  /// Leaves the dive for the paper's order and rebuilds the heap in it.
+  void stop_diving();
   struct Entry {
     Key key;
     std::int32_t node;
@@ -90,6 +102,16 @@ class DStarLite {
   std::vector<std::uint32_t> slot_;  ///< position in queue_, or kNotQueued
   std::vector<Entry> queue_;
   std::size_t expanded_ = 0;
+  /// Ties in k1 toward the start. Safe while no vertex can be underconsistent (g < rhs), that is
+  /// until a cell is first blocked: every queued vertex is then overconsistent, and one that comes
+  /// out at its k1 with a key below the start's has its final g whatever the tie order (the
+  /// argument for A* with a consistent heuristic). An underconsistent vertex tied with the start
+  /// in k1 but nearer the goal would, in this order, be left behind with a stale g: so the first
+  /// blocked cell ends the dive for good (stop_diving).
+  bool dive_ = true;
+  /// Every key is an exact integer (4-connected moves of cost 1, Manhattan or no heuristic): the
+  /// paper's stop rule holds as written, with no allowance for rounding.
+  bool exact_keys_ = false;
 };
 
 }  // namespace vwg::plan
