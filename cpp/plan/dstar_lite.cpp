@@ -22,12 +22,12 @@ DStarLite::DStarLite(BlockedGrid grid, Cell start, Cell goal, const GridSearchOp
   check_cell(grid_, start, "start", true);
   check_cell(grid_, goal, "goal", false);
   const std::size_t n = grid_.padded().size();
-  g_.assign(n, kInf);
-  rhs_.assign(n, kInf);
-  slot_.assign(n, kNotQueued);
+  g_ = FilledArray<double>(n, kInf);
+  rhs_ = FilledArray<double>(n, kInf);
+  slot_ = FilledArray<std::uint32_t>(n, kNotQueued);
   start_node_ = last_node_ = grid_.index(start);
   goal_node_ = grid_.index(goal);
-  rhs_[goal_node_] = 0.0;
+  rhs_.set(goal_node_, 0.0);
   queue_insert(goal_node_, calculate_key(goal_node_));
 }
 
@@ -97,24 +97,28 @@ void DStarLite::compute_shortest_path() {
     // Moves are symmetric, so the moves out of u are the predecessors of u. A blocked u has none.
     const int count = grid_.padded()[u] ? 0 : moves_from(grid_, u, options_, steps);
     if (g_[u] > rhs_[u]) {
-      g_[u] = rhs_[u];
+      const double g_u = rhs_[u];
+      g_.set(u, g_u);
       queue_remove(u);
       for (int k = 0; k < count; ++k) {
         const std::int32_t s = steps[k].to;
-        if (s != goal_node_) rhs_[s] = std::min(rhs_[s], steps[k].cost + g_[u]);
+        // Only a lowered rhs changes s (an unchanged one leaves its key, or its consistency, as is).
+        const double through = steps[k].cost + g_u;
+        if (s == goal_node_ || !(through < rhs_[s])) continue;
+        rhs_.set(s, through);
         update_vertex(s);
       }
     } else {
       const double g_old = g_[u];
-      g_[u] = kInf;
+      g_.set(u, kInf);
       for (int k = 0; k < count; ++k) {
         const std::int32_t s = steps[k].to;
         // Only the vertices whose best move went through u need a new rhs (same arithmetic as
         // best_rhs, so the comparison is exact).
-        if (s != goal_node_ && rhs_[s] == steps[k].cost + g_old) rhs_[s] = best_rhs(s);
+        if (s != goal_node_ && rhs_[s] == steps[k].cost + g_old) rhs_.set(s, best_rhs(s));
         update_vertex(s);
       }
-      if (u != goal_node_) rhs_[u] = best_rhs(u);
+      if (u != goal_node_) rhs_.set(u, best_rhs(u));
       update_vertex(u);
     }
   }
@@ -185,7 +189,7 @@ void DStarLite::update_cells(std::span<const Cell> cells, bool blocked) {
         const Cell u{c.row + dr, c.col + dc};
         if (!grid_.inside(u)) continue;
         const std::int32_t node = grid_.index(u);
-        if (node != goal_node_) rhs_[node] = best_rhs(node);
+        if (node != goal_node_) rhs_.set(node, best_rhs(node));
         update_vertex(node);
       }
     }
@@ -202,7 +206,7 @@ void DStarLite::stop_diving() {
 
 void DStarLite::place(std::size_t slot, const Entry& e) {
   queue_[slot] = e;
-  slot_[e.node] = static_cast<std::uint32_t>(slot);
+  slot_.set(e.node, static_cast<std::uint32_t>(slot));
 }
 
 void DStarLite::sift_up(std::size_t slot) {
@@ -245,7 +249,7 @@ void DStarLite::queue_update(std::int32_t node, Key key) {
 
 void DStarLite::queue_remove(std::int32_t node) {
   const std::size_t slot = slot_[node];
-  slot_[node] = kNotQueued;
+  slot_.set(node, kNotQueued);
   const Entry last = queue_.back();
   queue_.pop_back();
   if (slot == queue_.size()) return;

@@ -10,8 +10,8 @@
 // - after a jump, the cell held just before the crossing is found by rounding and then checked
 //   against those same crossings, so ties (the ray through a grid corner) are seen exactly as the
 //   reference sees them.
-// scan() runs the same jumps on 16 beams at once with AVX-512 when the CPU has it (a beam that
-// ends is replaced at once by the next one, so the lanes stay busy), else beam by beam.
+// scan() runs the same jumps on 16 beams at once with AVX-512 or AVX2 when the CPU has them (a
+// beam that ends is replaced at once by the next one, so the lanes stay busy), else beam by beam.
 #include "vwg/sim/raycast.hpp"
 
 #include <algorithm>
@@ -500,7 +500,8 @@ VWG_AVX2 void advance(QuadLanes& lanes, const ScanSetup& s, float* out) {
   const __m256d active = _mm256_castsi256_pd(_mm256_cvtepi32_epi64(_mm_cmpgt_epi32(lanes.beam, _mm_set1_epi32(-1))));
   const __m256d col = lanes.col, row = lanes.row;
 
-  // Which way each beam goes, from the signs of its direction (as refill() of 8 lanes keeps them).
+  // Which way each beam goes, from the signs of its direction (the 8-lane code keeps these in its
+  // lanes; here they are worked out again, which costs less than keeping them in registers).
   const __m256d back_u = _mm256_cmp_pd(lanes.du, zero, _CMP_LT_OQ), back_v = _mm256_cmp_pd(lanes.dv, zero, _CMP_LT_OQ);
   const __m256d exit_u = _mm256_andnot_pd(back_u, one), exit_v = _mm256_andnot_pd(back_v, one);
   const __m256d cells = _mm256_set1_pd(s.cells);
@@ -671,7 +672,8 @@ GridRaycaster::GridRaycaster(const OccupancyGrid& grid, int threshold)
   if (grid.width < 0 || grid.height < 0) throw Error("GridRaycaster: negative grid size");
   const auto cells = static_cast<std::uint64_t>(grid.width) * static_cast<std::uint64_t>(grid.height);
   // The tables hold whole 8 x 8 blocks; their indices, four tables deep, must fit an int32.
-  const auto padded = static_cast<std::uint64_t>(grid.width + 7) / 8 * ((static_cast<std::uint64_t>(grid.height) + 7) / 8) * 64;
+  const std::uint64_t block_cols = (static_cast<std::uint64_t>(grid.width) + 7) / 8;
+  const std::uint64_t padded = block_cols * ((static_cast<std::uint64_t>(grid.height) + 7) / 8) * 64;
   if (padded >= (std::uint64_t{1} << 29))
     throw Error("GridRaycaster: grids of 2^29 cells or more (in whole blocks of 8 x 8) are not supported");
   if (grid.data.size() != cells)
@@ -694,8 +696,8 @@ GridRaycaster::GridRaycaster(const OccupancyGrid& grid, int threshold)
   // Per quadrant, the largest free square anchored at each cell: 1 + the smallest of its three
   // neighbours ahead (the maximal-square recurrence), sweeping from the far corner back.
   // Outside cells count as free and unbounded.
-  block_cols_ = (width_ + 7) / 8;
-  cells_ = static_cast<std::size_t>(block_cols_) * static_cast<std::size_t>((height_ + 7) / 8) * 64;
+  block_cols_ = static_cast<int>(block_cols);
+  cells_ = static_cast<std::size_t>(padded);
   clearance_.assign(4 * cells_ + 4, 0);  // + 4: 4-byte gathers at the last cell stay inside
   const int w = width_, h = height_;
   for (int quadrant = 0; quadrant < 4; ++quadrant) {

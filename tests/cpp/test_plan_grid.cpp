@@ -21,6 +21,7 @@
 #include "vwg/error.hpp"
 #include "vwg/plan/astar.hpp"
 #include "vwg/plan/dstar_lite.hpp"
+#include "vwg/plan/filled_array.hpp"
 #include "vwg/plan/jps.hpp"
 #include "vwg/plan/movingai.hpp"
 
@@ -516,6 +517,30 @@ TEST(DStarLite, EqualsAStarAfterRandomChangesAndMoves) {
     }
   }
   EXPECT_EQ(checks, 120 * 25);
+}
+
+TEST(FilledArray, ReadsTheFillUntilWrittenAndKeepsEveryBit) {
+  FilledArray<double> a(100000, kInf);
+  EXPECT_EQ(a.size(), 100000u);
+  for (std::size_t i : {0u, 1u, 4095u, 4096u, 99999u}) EXPECT_EQ(a[i], kInf);
+  const double values[] = {0.0, -0.0, 1.5, -kInf, std::numeric_limits<double>::denorm_min(), kInf};
+  for (std::size_t k = 0; k < std::size(values); ++k) a.set(7 * k, values[k]);
+  for (std::size_t k = 0; k < std::size(values); ++k) {
+    EXPECT_EQ(std::signbit(a[7 * k]), std::signbit(values[k]));
+    EXPECT_EQ(a[7 * k], values[k]);
+  }
+  a.set(3, std::numeric_limits<double>::quiet_NaN());
+  EXPECT_TRUE(std::isnan(a[3]));
+  FilledArray<double> copy = a;  // a deep copy: writing one leaves the other
+  copy.set(1, 2.0);
+  EXPECT_EQ(a[1], kInf);
+  EXPECT_EQ(copy[1], 2.0);
+  EXPECT_EQ(copy[7], -0.0);
+  FilledArray<std::uint32_t> slots(10, 0xFFFFFFFFu);
+  EXPECT_EQ(slots[9], 0xFFFFFFFFu);
+  slots.set(9, 0);
+  EXPECT_EQ(slots[9], 0u);
+  EXPECT_EQ(slots[8], 0xFFFFFFFFu);
 }
 
 // The first plan on an open 4-connected grid with the Manhattan heuristic: every cell of the

@@ -19,6 +19,7 @@
 #include <span>
 #include <vector>
 
+#include "vwg/plan/filled_array.hpp"
 #include "vwg/plan/grid_graph.hpp"
 
 namespace vwg::plan {
@@ -98,8 +99,8 @@ class DStarLite {
   std::int32_t start_node_ = 0, goal_node_ = 0;
   std::int32_t last_node_ = 0;  ///< s_last of the paper: the start when km was last brought up to date
   double km_ = 0.0;
-  std::vector<double> g_, rhs_;
-  std::vector<std::uint32_t> slot_;  ///< position in queue_, or kNotQueued
+  FilledArray<double> g_, rhs_;      ///< +inf where never set
+  FilledArray<std::uint32_t> slot_;  ///< position in queue_, or kNotQueued
   std::vector<Entry> queue_;
   std::size_t expanded_ = 0;
   /// Ties in k1 toward the start. Safe while no vertex can be underconsistent (g < rhs), that is

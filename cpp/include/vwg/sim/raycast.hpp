@@ -56,7 +56,7 @@ class GridRaycaster {
  public:
   /// Cells with a value >= threshold are obstacles. Throws vwg::Error if the grid is malformed
   /// (data size, resolution not positive) or has 2^29 cells or more, counted in whole blocks of
-  /// 8 x 8. Takes 4 bytes per cell.
+  /// 8 x 8. Takes 4 bytes per cell of the map padded to whole blocks of 8 x 8 cells.
   explicit GridRaycaster(const OccupancyGrid& grid, int threshold = 50);
 
   /// The ray from (x, y) along `angle` (radians, world frame), up to max_range metres (may be
@@ -91,8 +91,8 @@ class GridRaycaster {
   struct Walk;
 
   /// Where cell (row, col) is in a quadrant's table: blocks of 8 x 8 cells, 64 bytes each (a cache
-  /// line), rows of blocks one after another; rows of 8 cells in a block. A scan's beams that end
-  /// on the same stretch of wall, along a row or a column, read the same few lines.
+  /// line's worth), rows of blocks one after another; rows of 8 cells in a block. A scan's beams
+  /// that end on the same stretch of wall, along a row or a column, read the same few lines.
   std::size_t cell_index(int row, int col) const {
     return ((static_cast<std::size_t>(row >> 3) * static_cast<std::size_t>(block_cols_) +
              static_cast<std::size_t>(col >> 3))
