@@ -38,6 +38,20 @@ void check_settings(const LaserSpec& spec, const std::string& owner) {
   }
 }
 
+double approximate_atan2(double y, double x) {
+  // Abramowitz & Stegun 4.4.49: arctan a on [-1, 1] within 1e-5 by an odd polynomial of degree 9
+  // (1.15e-5 measured, with its coefficients rounded to 7 digits);
+  // the other octants by symmetry.
+  const double ax = std::abs(x), ay = std::abs(y);
+  const double big = std::max(ax, ay);
+  if (!(big > 0.0)) return 0.0;
+  const double a = std::min(ax, ay) / big, z = a * a;
+  double r = a * (0.9998660 + z * (-0.3302995 + z * (0.1801410 + z * (-0.0851330 + z * 0.0208351))));
+  if (ay > ax) r = M_PI_2 - r;
+  if (x < 0) r = M_PI - r;
+  return y < 0 ? -r : r;
+}
+
 RangeScanner::RangeScanner(std::shared_ptr<const GridRaycaster> raycaster, std::shared_ptr<const PhysicsWorld> world)
     : raycaster_(std::move(raycaster)), world_(std::move(world)) {
   if (!raycaster_ || !world_) throw Error("RangeScanner: needs a raycaster and a physics world");
@@ -62,14 +76,41 @@ void RangeScanner::scan(int self, const Pose2& pose, std::span<const double> ang
   dir_x.resize(angles.size());
   dir_y.resize(angles.size());
   have.assign(angles.size(), 0);
+  // Whether every beam that can meet a robot's disc already stops nearer than the disc (at a wall,
+  // or at a robot tested before): then the exact test below would change no range, and its arc
+  // tangent, arc sine and beam directions are spared. In a building most robots within reach are
+  // behind walls. The window of beams is found from an approximate bearing, widened by far more
+  // than its error, so it holds every beam the exact window holds.
+  auto hidden = [&](double cx, double cy, double squared, double radius) {
+    const double d = std::sqrt(squared);
+    if (!(d > 2 * radius)) return false;  // near robots: the exact code
+    const double s = radius / d;
+    const double half = s / std::sqrt(1 - s * s) + 1e-4;  // tan(asin s) >= asin s; 1e-4 >> 1.2e-5 + rounding
+    double bearing = approximate_atan2(cy, cx) - pose.theta;
+    if (!(std::abs(bearing) < 64.0)) bearing = std::remainder(bearing, 2 * M_PI);
+    while (bearing > M_PI) bearing -= 2 * M_PI;
+    while (bearing < -M_PI) bearing += 2 * M_PI;
+    // No point of the disc is nearer than d - radius; the margin covers the exact test's rounding.
+    const double nearest = (d - radius) * (1 - 1e-9) - 1e-9;
+    for (const double turn : {-2 * M_PI, 0.0, 2 * M_PI}) {
+      const double lo = bearing + turn - half, hi = bearing + turn + half;
+      if (hi < angles.front() || lo > angles.back()) continue;
+      auto i = static_cast<std::size_t>(std::lower_bound(angles.begin(), angles.end(), lo) - angles.begin());
+      for (; i < angles.size() && angles[i] <= hi; ++i)
+        if (static_cast<double>(out[i]) > nearest) return false;
+    }
+    return true;
+  };
   for (const RobotState& other : world_->robots()) {
     if (other.id == self) continue;
     const double cx = other.pose.x - pose.x, cy = other.pose.y - pose.y;
     // Far robots first by squared distance (a crowd is mostly far), with a margin well above
     // rounding, so that every robot the exact test below keeps gets to it.
     const double reach = max_range + other.radius;
-    if (cx * cx + cy * cy > reach * reach * (1 + 1e-9) + 1e-9) continue;
+    const double squared = cx * cx + cy * cy;
+    if (squared > reach * reach * (1 + 1e-9) + 1e-9) continue;
     if (half_plane && cx * mid_x + cy * mid_y < -(other.radius + 1e-9 * (std::abs(cx) + std::abs(cy) + 1.0))) continue;
+    if (windowed && hidden(cx, cy, squared, other.radius)) continue;
     const double dist = std::hypot(cx, cy);
     if (dist - other.radius > max_range) continue;
     const double r2 = other.radius * other.radius;

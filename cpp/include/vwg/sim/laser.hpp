@@ -52,6 +52,10 @@ BeamLayout beam_layout(const LaserSpec& spec);
 /// The beam angles of that layout, computed as a LaserScan's reader does (so they agree bit for bit).
 std::vector<double> beam_angles(const LaserSpec& spec);
 
+/// atan2(y, x) within 1.2e-5 radians (Abramowitz & Stegun 4.4.49 on each octant), for bounds that
+/// are widened by more than that; 0 at the origin.
+double approximate_atan2(double y, double x);
+
 /// Ranges over the map's walls and the other robots (discs of their radius, at their true poses).
 class RangeScanner {
  public:
