@@ -101,9 +101,9 @@ void RangeScanner::scan(int self, const Pose2& pose, std::span<const double> ang
     }
     return true;
   };
-  for (const RobotState& other : world_->robots()) {
+  for (const PhysicsWorld::Disc& other : world_->discs()) {
     if (other.id == self) continue;
-    const double cx = other.pose.x - pose.x, cy = other.pose.y - pose.y;
+    const double cx = other.x - pose.x, cy = other.y - pose.y;
     // Far robots first by squared distance (a crowd is mostly far), with a margin well above
     // rounding, so that every robot the exact test below keeps gets to it.
     const double reach = max_range + other.radius;

@@ -210,6 +210,8 @@ void PhysicsWorld::add_robot(const RobotSettings& rs) {
   st.radius = rs.radius;
   st.pose = st.odometry = platform::quantize_pose({bd.position.x, bd.position.y, bd.angle});
   states_.push_back(st);
+  discs_.push_back({st.pose.x, st.pose.y, st.radius, st.id});
+  index_[rs.id] = states_.size() - 1;
 }
 
 void PhysicsWorld::remove_robot(int id) {
@@ -218,12 +220,15 @@ void PhysicsWorld::remove_robot(int id) {
   box2d_->world.DestroyBody(robots_[i].body);
   robots_.erase(robots_.begin() + static_cast<std::ptrdiff_t>(i));
   states_.erase(states_.begin() + static_cast<std::ptrdiff_t>(i));
+  discs_.erase(discs_.begin() + static_cast<std::ptrdiff_t>(i));
+  index_.erase(id);
+  for (auto& [other, k] : index_) k -= k > i ? 1 : 0;
 }
 
 std::size_t PhysicsWorld::index_of(int id) const {
-  for (std::size_t i = 0; i < robots_.size(); ++i) {
-    if (robots_[i].settings.id == id) return i;
-  }
+  // By id, not by walking the robots: every robot's generators and commands look themselves up
+  // each frame, which a walk made quadratic in the crowd.
+  if (const auto it = index_.find(id); it != index_.end()) return it->second;
   throw SchemaError("robot", "no robot with id " + std::to_string(id) + " on the simulator");
 }
 
@@ -298,6 +303,8 @@ void PhysicsWorld::advance(double seconds) {
       const double ds = b2Dot(p - before[i], heading);
       const double da = static_cast<double>(a) - angle_before[i];
       s.pose = platform::quantize_pose({p.x, p.y, a});
+      discs_[i].x = s.pose.x;
+      discs_[i].y = s.pose.y;
       s.travelled += std::abs(ds);
       if (settings_.noise.odometry > 0.0) {
         const double sigma = settings_.noise.odometry;

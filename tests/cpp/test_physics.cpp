@@ -210,6 +210,38 @@ TEST(Physics, BadRobotsAreRefusedWithTheirField) {
   refuse({slow}, "max_speed");
 }
 
+TEST(Physics, RobotsFoundByIdAndDiscsFollowThePosesAfterRemovals) {
+  // Robots are looked up by id (not by walking the list) and their discs kept beside their states:
+  // both must stay right as robots leave from the middle and the rest move.
+  std::vector<RobotSettings> robots;
+  for (int k = 0; k < 8; ++k) robots.push_back(robot_at(10 + 3 * k, 1.0 + k, 1.0 + 0.5 * (k % 3)));
+  PhysicsWorld world(make_grid(200, 200, 0.05), robots, PhysicsSettings{});
+  auto check = [&] {
+    ASSERT_EQ(world.discs().size(), world.robots().size());
+    for (std::size_t i = 0; i < world.robots().size(); ++i) {
+      const RobotState& s = world.robots()[i];
+      EXPECT_EQ(&world.robot(s.id), &s);
+      EXPECT_EQ(world.discs()[i].id, s.id);
+      EXPECT_EQ(world.discs()[i].x, s.pose.x);
+      EXPECT_EQ(world.discs()[i].y, s.pose.y);
+      EXPECT_EQ(world.discs()[i].radius, s.radius);
+    }
+  };
+  for (const RobotSettings& r : robots) world.drive(r.id, 0.4, 0.3);
+  world.advance(0.5);
+  check();
+  world.remove_robot(16);  // the third
+  world.remove_robot(10);  // the first
+  EXPECT_THROW(world.robot(16), vwg::SchemaError);
+  world.advance(0.5);
+  check();
+  EXPECT_EQ(world.robots().front().id, 13);
+  world.add_robot(robot_at(16, 5.0, 8.0));
+  world.advance(0.2);
+  check();
+  EXPECT_EQ(world.robot(16).pose.y, world.discs().back().y);
+}
+
 TEST(RangeScanner, ApproximateBearingIsWithinItsBound) {
   // Abramowitz & Stegun's bound, 1e-5 rad (1.15e-5 with the coefficients as printed), against libm
   // on a million directions and the axes.

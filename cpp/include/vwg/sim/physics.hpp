@@ -10,6 +10,7 @@
 #include <span>
 #include <string>
 #include <type_traits>
+#include <unordered_map>
 #include <vector>
 
 #include "vwg/random.hpp"
@@ -96,6 +97,13 @@ class PhysicsWorld final : public platform::RobotPlatform {
 
   const RobotState& robot(int id) const override;
   const std::vector<RobotState>& robots() const override { return states_; }
+  /// Where each robot's disc is, in the order of robots(): what the other robots' lasers read.
+  /// A small array of its own, because every laser scan reads all of it.
+  struct Disc {
+    double x = 0.0, y = 0.0, radius = 0.0;
+    int id = 0;
+  };
+  const std::vector<Disc>& discs() const { return discs_; }
   /// Collisions since the last call.
   std::vector<Collision> take_collisions() override;
   double time() const override { return time_; }
@@ -124,6 +132,8 @@ class PhysicsWorld final : public platform::RobotPlatform {
   std::unique_ptr<Box2D> box2d_;
   std::vector<Robot> robots_;
   std::vector<RobotState> states_;
+  std::vector<Disc> discs_;                    ///< discs_[i]: states_[i]'s pose and radius, set with it
+  std::unordered_map<int, std::size_t> index_;  ///< robot id -> i in robots_, states_ and discs_
   std::vector<Collision> collisions_;
   std::unique_ptr<Contacts> contacts_;
   double time_ = 0.0;
