@@ -210,6 +210,49 @@ TEST(Physics, BadRobotsAreRefusedWithTheirField) {
   refuse({slow}, "max_speed");
 }
 
+/// `count` robots at random poses drawn from `at` for x and y, apart from each other, with radii
+/// of 0.1 to 0.25 m; `refused(x, y, radius)` leaves out places (inside walls).
+template <class Refused>
+std::vector<RobotSettings> random_crowd(std::size_t count, std::uniform_real_distribution<double> at, std::mt19937& rng,
+                                        Refused refused) {
+  std::uniform_real_distribution<double> turn(-M_PI, M_PI);
+  std::vector<RobotSettings> robots;
+  while (robots.size() < count) {
+    RobotSettings r = robot_at(static_cast<int>(robots.size()) + 1, at(rng), at(rng));
+    r.radius = 0.1 + 0.05 * (r.id % 4);
+    if (refused(r.start.x, r.start.y, r.radius)) continue;
+    r.start.theta = turn(rng);
+    const bool apart = std::all_of(robots.begin(), robots.end(), [&](const RobotSettings& o) {
+      return std::hypot(o.start.x - r.start.x, o.start.y - r.start.y) > o.radius + r.radius + 0.01;
+    });
+    if (apart) robots.push_back(r);
+  }
+  return robots;
+}
+
+/// Each robot's scan with the scanner's shortcuts (sorted angles) against the same beams in
+/// reverse order, taken back (unsorted: every beam tested against every robot). Returns how many
+/// ranges a robot made nearer than the walls.
+int expect_shortcuts_change_no_range(const RangeScanner& scanner, const std::vector<RobotSettings>& robots,
+                                     const LaserSpec& spec) {
+  const std::vector<double> angles = beam_angles(spec);
+  const std::vector<double> reversed(angles.rbegin(), angles.rend());
+  int nearer_than_walls = 0;
+  for (const RobotSettings& r : robots) {
+    std::vector<float> fast(angles.size()), full(angles.size()), walls(angles.size());
+    const Pose2 pose = scanner.world().robot(r.id).pose;
+    scanner.scan(r.id, pose, angles, spec.max_range, fast);
+    scanner.scan(r.id, pose, reversed, spec.max_range, full);
+    scanner.raycaster().scan(pose, angles, spec.max_range, walls);
+    for (std::size_t i = 0; i < angles.size(); ++i) {
+      EXPECT_EQ(fast[i], full[angles.size() - 1 - i]) << "robot " << r.id << " beam " << i << " fov " << spec.fov;
+      if (fast[i] != full[angles.size() - 1 - i]) return nearer_than_walls;
+      nearer_than_walls += fast[i] < walls[i];
+    }
+  }
+  return nearer_than_walls;
+}
+
 TEST(Physics, RobotsFoundByIdAndDiscsFollowThePosesAfterRemovals) {
   // Robots are looked up by id (not by walking the list) and their discs kept beside their states:
   // both must stay right as robots leave from the middle and the rest move.
@@ -272,24 +315,15 @@ TEST(RangeScanner, RobotsBehindWallsAreSkippedWithoutChangingARange) {
     }
   }
   std::mt19937 rng(5);
-  std::uniform_real_distribution<double> at(0.5, 11.5), turn(-M_PI, M_PI);
-  std::vector<RobotSettings> robots;
   // Robots may stand against a wall (a wall is the cells [4, 4.05) m and [8, 8.05) m on each axis),
   // where a disc's near side is in front of the wall and its centre not.
   auto in_wall = [](double v, double radius) {
     const double m = std::fmod(v, 4.0);
     return m < 0.05 + radius + 0.01 || m > 4.0 - radius - 0.01;
   };
-  while (robots.size() < 120) {
-    RobotSettings r = robot_at(static_cast<int>(robots.size()) + 1, at(rng), at(rng));
-    r.radius = 0.1 + 0.05 * (r.id % 4);
-    if (in_wall(r.start.x, r.radius) || in_wall(r.start.y, r.radius)) continue;
-    r.start.theta = turn(rng);
-    const bool apart = std::all_of(robots.begin(), robots.end(), [&](const RobotSettings& o) {
-      return std::hypot(o.start.x - r.start.x, o.start.y - r.start.y) > o.radius + r.radius + 0.01;
-    });
-    if (apart) robots.push_back(r);
-  }
+  const std::vector<RobotSettings> robots = random_crowd(
+      120, std::uniform_real_distribution<double>(0.5, 11.5), rng,
+      [&](double x, double y, double radius) { return in_wall(x, radius) || in_wall(y, radius); });
   auto world = std::make_shared<PhysicsWorld>(g, robots, PhysicsSettings{});
   const RangeScanner scanner(std::make_shared<GridRaycaster>(g), world);
   int nearer_than_walls = 0;
@@ -298,19 +332,7 @@ TEST(RangeScanner, RobotsBehindWallsAreSkippedWithoutChangingARange) {
     spec.beams = fov < M_PI ? 91 : 360;
     spec.fov = fov;
     spec.max_range = 10.0;
-    const std::vector<double> angles = beam_angles(spec);
-    const std::vector<double> reversed(angles.rbegin(), angles.rend());
-    for (const RobotSettings& r : robots) {
-      std::vector<float> fast(angles.size()), full(angles.size()), walls(angles.size());
-      const Pose2 pose = world->robot(r.id).pose;
-      scanner.scan(r.id, pose, angles, spec.max_range, fast);
-      scanner.scan(r.id, pose, reversed, spec.max_range, full);
-      scanner.raycaster().scan(pose, angles, spec.max_range, walls);
-      for (std::size_t i = 0; i < angles.size(); ++i) {
-        ASSERT_EQ(fast[i], full[angles.size() - 1 - i]) << "robot " << r.id << " beam " << i << " fov " << fov;
-        nearer_than_walls += fast[i] < walls[i];
-      }
-    }
+    nearer_than_walls += expect_shortcuts_change_no_range(scanner, robots, spec);
   }
   EXPECT_GT(nearer_than_walls, 500) << "robots were seen";
 }
@@ -322,17 +344,8 @@ TEST(RangeScanner, SkippingRobotsOutOfReachChangesNoRange) {
   // sorted: each scan is compared with the same beams in reverse order, taken back.
   OccupancyGrid g = make_grid(200, 200, 0.05);
   std::mt19937 rng(3);
-  std::uniform_real_distribution<double> at(0.6, 9.4), turn(-M_PI, M_PI);
-  std::vector<RobotSettings> robots;
-  while (robots.size() < 60) {
-    RobotSettings r = robot_at(static_cast<int>(robots.size()) + 1, at(rng), at(rng));
-    r.start.theta = turn(rng);
-    r.radius = 0.1 + 0.05 * (r.id % 4);
-    const bool apart = std::all_of(robots.begin(), robots.end(), [&](const RobotSettings& o) {
-      return std::hypot(o.start.x - r.start.x, o.start.y - r.start.y) > o.radius + r.radius + 0.01;
-    });
-    if (apart) robots.push_back(r);
-  }
+  const std::vector<RobotSettings> robots =
+      random_crowd(60, std::uniform_real_distribution<double>(0.6, 9.4), rng, [](double, double, double) { return false; });
   auto world = std::make_shared<PhysicsWorld>(g, robots, PhysicsSettings{});
   const RangeScanner scanner(std::make_shared<GridRaycaster>(g), world);
   int nearer_than_walls = 0;
@@ -342,19 +355,7 @@ TEST(RangeScanner, SkippingRobotsOutOfReachChangesNoRange) {
       spec.beams = 181;
       spec.fov = fov;
       spec.max_range = range;
-      const std::vector<double> angles = beam_angles(spec);
-      const std::vector<double> reversed(angles.rbegin(), angles.rend());
-      for (const RobotSettings& r : robots) {
-        std::vector<float> fast(angles.size()), full(angles.size()), walls(angles.size());
-        const Pose2 pose = world->robot(r.id).pose;
-        scanner.scan(r.id, pose, angles, range, fast);
-        scanner.scan(r.id, pose, reversed, range, full);
-        scanner.raycaster().scan(pose, angles, range, walls);
-        for (std::size_t i = 0; i < angles.size(); ++i) {
-          ASSERT_EQ(fast[i], full[angles.size() - 1 - i]) << "robot " << r.id << " beam " << i << " fov " << fov;
-          nearer_than_walls += fast[i] < walls[i];
-        }
-      }
+      nearer_than_walls += expect_shortcuts_change_no_range(scanner, robots, spec);
     }
   }
   EXPECT_GT(nearer_than_walls, 1000) << "robots were seen";
