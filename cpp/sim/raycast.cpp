@@ -624,6 +624,16 @@ void grid_directions(const double* relative, std::size_t n, double* du, double* 
   for (std::size_t i = 0; i < n; ++i) du[i] += 0.0, dv[i] += 0.0;
 }
 
+/// The widest SIMD code this CPU runs, at most `cap` ("avx512", "avx2" or "none").
+std::string_view simd_level(std::string_view cap) {
+#ifdef VWG_RAYCAST_X86
+  __builtin_cpu_init();  // in case a raycaster is made before libgcc's own initialisation
+  if (cap != "none" && __builtin_cpu_supports("avx2"))
+    return cap == "avx512" && __builtin_cpu_supports("avx512f") ? "avx512" : "avx2";
+#endif
+  return "none";
+}
+
 }  // namespace
 
 std::string_view beam_directions(std::span<const double> relative, std::string_view simd, std::span<double> du,
@@ -633,14 +643,9 @@ std::string_view beam_directions(std::span<const double> relative, std::string_v
                 " and " + std::to_string(dv.size()) + " outputs");
   if (simd != "avx512" && simd != "avx2" && simd != "none")
     throw Error("beam_directions: simd must be avx512, avx2 or none, not '" + std::string(simd) + "'");
-  bool avx512 = false, avx2 = false;
-#ifdef VWG_RAYCAST_X86
-  __builtin_cpu_init();
-  avx512 = simd == "avx512" && __builtin_cpu_supports("avx2") && __builtin_cpu_supports("avx512f");
-  avx2 = !avx512 && simd != "none" && __builtin_cpu_supports("avx2");
-#endif
-  grid_directions(relative.data(), relative.size(), du.data(), dv.data(), avx512, avx2);
-  return avx512 ? "avx512" : avx2 ? "avx2" : "none";
+  const std::string_view level = simd_level(simd);
+  grid_directions(relative.data(), relative.size(), du.data(), dv.data(), level == "avx512", level == "avx2");
+  return level;
 }
 
 /// A ray in grid axes (cells).
@@ -683,15 +688,11 @@ GridRaycaster::GridRaycaster(const OccupancyGrid& grid, int threshold)
     throw Error("GridRaycaster: the resolution must be a positive number of metres per cell");
   if (!std::isfinite(grid.origin.x) || !std::isfinite(grid.origin.y) || !std::isfinite(grid.origin.theta))
     throw Error("GridRaycaster: the grid origin must be finite");
-#ifdef VWG_RAYCAST_X86
-  __builtin_cpu_init();  // in case a raycaster is made before libgcc's own initialisation
-  if (__builtin_cpu_supports("avx2")) simd_ = __builtin_cpu_supports("avx512f") ? Simd::kAvx512 : Simd::kAvx2;
-  if (const char* cap = std::getenv("VWG_RAYCAST_SIMD")) {
-    const std::string_view level = cap;
-    if (level == "none") simd_ = Simd::kNone;
-    if (level == "avx2" && simd_ == Simd::kAvx512) simd_ = Simd::kAvx2;
-  }
-#endif
+  // VWG_RAYCAST_SIMD=avx2 or =none caps the code; any other value is no cap.
+  const char* env = std::getenv("VWG_RAYCAST_SIMD");
+  const std::string_view cap = env == nullptr ? "avx512" : env;
+  const std::string_view level = simd_level(cap == "none" || cap == "avx2" ? cap : "avx512");
+  simd_ = level == "avx512" ? Simd::kAvx512 : level == "avx2" ? Simd::kAvx2 : Simd::kNone;
 
   // Per quadrant, the largest free square anchored at each cell: 1 + the smallest of its three
   // neighbours ahead (the maximal-square recurrence), sweeping from the far corner back.
