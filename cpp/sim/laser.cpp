@@ -76,6 +76,19 @@ void RangeScanner::scan(int self, const Pose2& pose, std::span<const double> ang
   dir_x.resize(angles.size());
   dir_y.resize(angles.size());
   have.assign(angles.size(), 0);
+  // Visits the beams whose angle (relative to the sensor) lies within `half` of `bearing` (in
+  // [-π, π]), in each of its turns the angles reach, until visit(i) returns false; returns
+  // whether it went through them all.
+  auto beams_within = [&](double bearing, double half, auto&& visit) {
+    for (const double turn : {-2 * M_PI, 0.0, 2 * M_PI}) {
+      const double lo = bearing + turn - half, hi = bearing + turn + half;
+      if (hi < angles.front() || lo > angles.back()) continue;
+      auto i = static_cast<std::size_t>(std::lower_bound(angles.begin(), angles.end(), lo) - angles.begin());
+      for (; i < angles.size() && angles[i] <= hi; ++i)
+        if (!visit(i)) return false;
+    }
+    return true;
+  };
   // Whether every beam that can meet a robot's disc already stops nearer than the disc (at a wall,
   // or at a robot tested before): then the exact test below would change no range, and its arc
   // tangent, arc sine and beam directions are spared. In a building most robots within reach are
@@ -92,14 +105,7 @@ void RangeScanner::scan(int self, const Pose2& pose, std::span<const double> ang
     while (bearing < -M_PI) bearing += 2 * M_PI;
     // No point of the disc is nearer than d - radius; the margin covers the exact test's rounding.
     const double nearest = (d - radius) * (1 - 1e-9) - 1e-9;
-    for (const double turn : {-2 * M_PI, 0.0, 2 * M_PI}) {
-      const double lo = bearing + turn - half, hi = bearing + turn + half;
-      if (hi < angles.front() || lo > angles.back()) continue;
-      auto i = static_cast<std::size_t>(std::lower_bound(angles.begin(), angles.end(), lo) - angles.begin());
-      for (; i < angles.size() && angles[i] <= hi; ++i)
-        if (static_cast<double>(out[i]) > nearest) return false;
-    }
-    return true;
+    return beams_within(bearing, half, [&](std::size_t i) { return static_cast<double>(out[i]) <= nearest; });
   };
   for (const PhysicsWorld::Disc& other : world_->discs()) {
     if (other.id == self) continue;
@@ -138,12 +144,7 @@ void RangeScanner::scan(int self, const Pose2& pose, std::span<const double> ang
     // widened a little so that rounding never leaves out a beam the exact test would accept.
     const double bearing = geometry::wrap_angle(std::atan2(cy, cx) - pose.theta);
     const double half = std::asin(other.radius / dist) + 1e-6;
-    for (const double turn : {-2 * M_PI, 0.0, 2 * M_PI}) {
-      const double lo = bearing + turn - half, hi = bearing + turn + half;
-      if (hi < angles.front() || lo > angles.back()) continue;
-      auto i = static_cast<std::size_t>(std::lower_bound(angles.begin(), angles.end(), lo) - angles.begin());
-      for (; i < angles.size() && angles[i] <= hi; ++i) test(i);
-    }
+    beams_within(bearing, half, [&](std::size_t i) { return test(i), true; });
   }
 }
 
