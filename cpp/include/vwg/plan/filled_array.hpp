@@ -1,4 +1,4 @@
-// An array that reads a fill value wherever it was never written, and costs nothing to make.
+// An array that reads a fill value wherever it was never written, made by zeroing its memory.
 #pragma once
 
 #include <bit>
@@ -14,8 +14,8 @@ namespace vwg::plan {
 
 /// A fixed-size array of T (a trivially copyable type of 4 or 8 bytes) whose elements read `fill`
 /// until they are written: each element is stored as its bits XOR fill's, in memory from calloc,
-/// which zeroes (or maps zeroed pages) faster than a loop writing the fill value. A search over part of a large map so pays for the pages it visits, not for filling
-/// the whole array (D* Lite's g, rhs and queue positions: 20 bytes a cell, 5 MB for 512 × 512).
+/// which zeroes it faster than a loop writes the fill value (D* Lite's g, rhs and queue positions:
+/// 20 bytes a cell, 5 MB for 512 × 512, made anew for every plan).
 template <class T>
 class FilledArray {
   static_assert(std::is_trivially_copyable_v<T> && (sizeof(T) == 4 || sizeof(T) == 8));
