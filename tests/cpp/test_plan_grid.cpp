@@ -54,6 +54,26 @@ GridSearchOptions opts(bool diagonal, bool corner_cutting, Heuristic h = Heurist
   return o;
 }
 
+/// A random query: a grid of min_side + (0 .. spread - 1) rows and columns whose cells are blocked
+/// with probability `wall`, a start (made free) and a goal, drawn from rng in that order.
+struct RandomQuery {
+  BlockedGrid grid;
+  Cell start, goal;
+};
+RandomQuery random_query(std::mt19937& rng, int min_side, int spread, double wall) {
+  const int rows = min_side + static_cast<int>(rng() % static_cast<unsigned>(spread));
+  const int cols = min_side + static_cast<int>(rng() % static_cast<unsigned>(spread));
+  RandomQuery q{BlockedGrid(rows, cols), {}, {}};
+  std::bernoulli_distribution blocked(wall);
+  for (int r = 0; r < rows; ++r) {
+    for (int c = 0; c < cols; ++c) q.grid.set_blocked({r, c}, blocked(rng));
+  }
+  q.start = {static_cast<int>(rng() % rows), static_cast<int>(rng() % cols)};
+  q.goal = {static_cast<int>(rng() % rows), static_cast<int>(rng() % cols)};
+  q.grid.set_blocked(q.start, false);
+  return q;
+}
+
 /// Checks that `p` is a legal path of the graph from `start` to `goal` whose moves add up to its length.
 void expect_legal(const BlockedGrid& g, const GridPath& p, Cell start, Cell goal, const GridSearchOptions& o) {
   ASSERT_TRUE(p.found());
@@ -389,15 +409,7 @@ TEST(JumpPointSearch, EqualsAStarOnRandomGrids) {
   AStar reference;
   int found = 0;
   for (int trial = 0; trial < 400; ++trial) {
-    const int rows = 2 + static_cast<int>(rng() % 40), cols = 2 + static_cast<int>(rng() % 40);
-    BlockedGrid g(rows, cols);
-    std::bernoulli_distribution wall(0.05 * (trial % 8));
-    for (int r = 0; r < rows; ++r) {
-      for (int c = 0; c < cols; ++c) g.set_blocked({r, c}, wall(rng));
-    }
-    const Cell start{static_cast<int>(rng() % rows), static_cast<int>(rng() % cols)};
-    const Cell goal{static_cast<int>(rng() % rows), static_cast<int>(rng() % cols)};
-    g.set_blocked(start, false);
+    const auto [g, start, goal] = random_query(rng, 2, 40, 0.05 * (trial % 8));
     const GridSearchOptions o = opts(true, false, trial % 2 ? Heuristic::Octile : Heuristic::Euclidean);
     const GridPath full = reference.search(g, start, goal, o);
     const GridPath jumped = jps.search(g, start, goal, o);
@@ -478,15 +490,8 @@ TEST(DStarLite, EqualsAStarAfterRandomChangesAndMoves) {
   std::mt19937 rng(20240521);
   int checks = 0;
   for (int trial = 0; trial < 120; ++trial) {
-    const int rows = 8 + static_cast<int>(rng() % 40), cols = 8 + static_cast<int>(rng() % 40);
-    BlockedGrid g(rows, cols);
-    std::bernoulli_distribution wall(0.1 + 0.05 * (trial % 4));
-    for (int r = 0; r < rows; ++r) {
-      for (int c = 0; c < cols; ++c) g.set_blocked({r, c}, wall(rng));
-    }
-    const Cell start{static_cast<int>(rng() % rows), static_cast<int>(rng() % cols)};
-    const Cell goal{static_cast<int>(rng() % rows), static_cast<int>(rng() % cols)};
-    g.set_blocked(start, false);
+    const auto [g, start, goal] = random_query(rng, 8, 40, 0.1 + 0.05 * (trial % 4));
+    const int rows = g.rows(), cols = g.cols();
     GridSearchOptions o;
     o.diagonal = trial % 5 != 0;
     o.corner_cutting = trial % 3 == 0;
@@ -569,15 +574,8 @@ TEST(DStarLite, FourConnectedEqualsAStarThroughTheEndOfTheDive) {
   o.heuristic = Heuristic::Manhattan;
   int checks = 0, found = 0;
   for (int trial = 0; trial < 300; ++trial) {
-    const int rows = 6 + static_cast<int>(rng() % 30), cols = 6 + static_cast<int>(rng() % 30);
-    BlockedGrid g(rows, cols);
-    std::bernoulli_distribution wall(0.05 * (trial % 5));
-    for (int r = 0; r < rows; ++r) {
-      for (int c = 0; c < cols; ++c) g.set_blocked({r, c}, wall(rng));
-    }
-    const Cell start{static_cast<int>(rng() % rows), static_cast<int>(rng() % cols)};
-    const Cell goal{static_cast<int>(rng() % rows), static_cast<int>(rng() % cols)};
-    g.set_blocked(start, false);
+    const auto [g, start, goal] = random_query(rng, 6, 30, 0.05 * (trial % 5));
+    const int rows = g.rows(), cols = g.cols();
     DStarLite d(g, start, goal, o);
     AStar reference;
     const int free_steps = static_cast<int>(rng() % 4);  // updates that only free cells, before the first block
