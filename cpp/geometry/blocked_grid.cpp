@@ -23,11 +23,11 @@ BlockedGrid::BlockedGrid(int rows, int cols) : rows_(rows), cols_(cols) {
   // The border blocked, the inside free: one pass.
   cells_.assign(static_cast<std::size_t>(padded), 0);
   const std::size_t stride = static_cast<std::size_t>(cols) + 2;
-  std::fill_n(cells_.begin(), stride, std::uint8_t{1});
-  std::fill_n(cells_.end() - static_cast<std::ptrdiff_t>(stride), stride, std::uint8_t{1});
+  std::fill_n(cells_.data(), stride, std::uint8_t{1});
+  std::fill_n(cells_.data() + cells_.size() - stride, stride, std::uint8_t{1});
   for (int r = 0; r < rows; ++r) {
-    cells_[index({r, 0}) - 1] = 1;
-    cells_[index({r, 0}) + static_cast<std::size_t>(cols)] = 1;
+    cells_.set(static_cast<std::size_t>(index({r, 0})) - 1, 1);
+    cells_.set(static_cast<std::size_t>(index({r, 0})) + static_cast<std::size_t>(cols), 1);
   }
 }
 
@@ -40,7 +40,7 @@ BlockedGrid BlockedGrid::from_occupancy(const OccupancyGrid& grid, int threshold
   for (int r = 0; r < grid.height; ++r) {
     for (int c = 0; c < grid.width; ++c) {
       const int v = grid.at(r, c);
-      out.cells_[out.index({r, c})] = (v >= threshold || (unknown_blocked && v < 0)) ? 1 : 0;
+      out.cells_.set(static_cast<std::size_t>(out.index({r, c})), (v >= threshold || (unknown_blocked && v < 0)) ? 1 : 0);
     }
   }
   return out;
@@ -54,7 +54,7 @@ void BlockedGrid::throw_outside(Cell c) const {
 std::size_t BlockedGrid::blocked_count() const {
   std::size_t n = 0;
   for (int r = 0; r < rows_; ++r) {
-    const auto row = cells_.begin() + index({r, 0});
+    const std::uint8_t* row = cells_.data() + index({r, 0});
     n += static_cast<std::size_t>(std::count(row, row + cols_, std::uint8_t{1}));
   }
   return n;

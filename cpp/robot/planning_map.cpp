@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <tuple>
 
 #include "vwg/geometry/inflate.hpp"
 
@@ -18,7 +19,8 @@ bool planning_obstacle(std::int16_t v) { return is_obstacle(v) || v == kUnknownC
 void PlanningMap::rebuild(std::span<const std::int16_t> cells, const geometry::MapGeometry& g, double radius) {
   const int rows = g.height, cols = g.width;
   const double rc = radius / g.resolution;
-  seen_.assign(cells.begin(), cells.end());
+  seen_ = SharedArray<std::int16_t>(cells.size());
+  std::copy(cells.begin(), cells.end(), seen_.data());
   std::vector<std::uint8_t> mask(cells.size());
   for (std::size_t i = 0; i < cells.size(); ++i) mask[i] = planning_obstacle(cells[i]);
   obstacles_ = geometry::BlockedGrid::from_mask(std::span<const std::uint8_t>(mask), rows, cols);
@@ -55,7 +57,7 @@ void PlanningMap::rebuild(std::span<const std::int16_t> cells, const geometry::M
         n += p[std::min(cols, c + w + 1)] - p[std::max(0, c - w)];
       }
       if (geometry::centre_near_edge(r, c, rows, cols, rc)) ++n;
-      cover_[static_cast<std::size_t>(r) * cols + c] = static_cast<std::uint16_t>(n);
+      cover_.set(static_cast<std::size_t>(r) * cols + c, static_cast<std::uint16_t>(n));
       if (n > 0) inflated_.set_blocked({r, c}, true);
     }
   }
@@ -67,25 +69,47 @@ void PlanningMap::set_obstacle(int row, int col, bool blocked) {
   for (const geometry::Cell& d : disc_) {
     const int r = row + d.row, c = col + d.col;
     if (r < 0 || c < 0 || r >= rows || c >= cols) continue;
-    std::uint16_t& n = cover_[static_cast<std::size_t>(r) * cols + c];
-    n = blocked ? n + 1 : n - 1;
+    const std::size_t at = static_cast<std::size_t>(r) * cols + c;
+    const auto n = static_cast<std::uint16_t>(blocked ? cover_[at] + 1 : cover_[at] - 1);
+    cover_.set(at, n);
     if (n == (blocked ? 1 : 0)) inflated_.set_blocked({r, c}, blocked);
   }
+}
+
+bool PlanningMap::start_from_original(const Blob& map, const geometry::MapGeometry& g, double radius) {
+  // One set of grids per shared content and radius, for every robot of every decider.
+  static OriginCache<std::tuple<int, int, double>, PlanningMap> originals;
+  const auto original = originals.get(map.origin(), std::tuple{g.height, g.width, radius}, [&] {
+    PlanningMap m;
+    m.rebuild(map.original_view<std::int16_t>(), g, radius);
+    m.seen_.share();
+    m.obstacles_.share();
+    m.inflated_.share();
+    m.cover_.share();
+    return m;
+  });
+  if (original == nullptr) return false;
+  *this = *original;
+  return true;
 }
 
 bool PlanningMap::update(const Blob& map, const geometry::MapGeometry& g, double radius) {
   check_robot_map(map, g);
   const auto cells = map.view<std::int16_t>();
+  bool changed = false;
   if (radius != radius_ || obstacles_.rows() != g.height || obstacles_.cols() != g.width) {
-    rebuild(cells, g, radius);
-    revision_ = map.revision();
-    return true;
+    if (!map.shared() || !start_from_original(map, g, radius)) {
+      rebuild(cells, g, radius);
+      revision_ = map.revision();
+      return true;
+    }
+    changed = true;  // a first look: the cells this copy changed are followed below
+  } else if (map.revision() == revision_) {
+    return false;
   }
-  if (map.revision() == revision_) return false;
   revision_ = map.revision();
   // The cells that differ from the last look, found a block at a time.
   constexpr std::size_t kBlock = 64;
-  bool changed = false;
   for (std::size_t first = 0; first < cells.size(); first += kBlock) {
     const std::size_t n = std::min(kBlock, cells.size() - first);
     if (std::memcmp(&cells[first], &seen_[first], n * sizeof(std::int16_t)) == 0) continue;
@@ -93,7 +117,7 @@ bool PlanningMap::update(const Blob& map, const geometry::MapGeometry& g, double
       if (cells[i] == seen_[i]) continue;
       changed = true;
       const bool was = planning_obstacle(seen_[i]), is = planning_obstacle(cells[i]);
-      seen_[i] = cells[i];
+      seen_.set(i, cells[i]);
       if (was == is) continue;
       const int row = static_cast<int>(i / static_cast<std::size_t>(g.width)), col = static_cast<int>(i % static_cast<std::size_t>(g.width));
       if (counted_) {
@@ -104,6 +128,12 @@ bool PlanningMap::update(const Blob& map, const geometry::MapGeometry& g, double
     }
   }
   if (changed && !counted_) inflated_ = geometry::inflate(obstacles_, radius / g.resolution);
+  if (changed) {  // the pages of what has gone again go back to the shared grids
+    seen_.reshare();
+    obstacles_.reshare();
+    inflated_.reshare();
+    cover_.reshare();
+  }
   return changed;
 }
 

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstring>
 #include <limits>
+#include <utility>
 
 #include "vwg/error.hpp"
 #include "vwg/geometry/clearance.hpp"
@@ -19,6 +21,7 @@ std::shared_ptr<Blob> make_robot_map(const geometry::OccupancyGrid& world, bool 
       cells[i] = v < 0 ? kUnknownCell : (v >= threshold ? kWallCell : kFreeCell);
     }
   }
+  map->share();  // every robot starts from a copy of it; each keeps only the pages it changes
   return map;
 }
 
@@ -111,21 +114,48 @@ void check_robot_map(const Blob& map, const geometry::MapGeometry& g) {
   }
 }
 
-void ObstacleBits::sync(const Blob& map, const geometry::MapGeometry& g) {
-  check(map, g);
-  const int columns = (g.width + (1 << kShift) - 1) >> kShift, rows = (g.height + (1 << kShift) - 1) >> kShift;
-  if (revision_ == map.revision() && columns == columns_ && words_.size() == static_cast<std::size_t>(rows) * columns) return;
-  columns_ = columns;
-  rows_ = rows;
-  words_.assign(static_cast<std::size_t>(rows) * columns, Words{});
+void ObstacleBits::scan(std::span<const std::int16_t> cells, const geometry::MapGeometry& g) {
+  columns_ = (g.width + (1 << kShift) - 1) >> kShift;
+  rows_ = (g.height + (1 << kShift) - 1) >> kShift;
+  words_ = SharedArray<Words>(static_cast<std::size_t>(rows_) * columns_);
   blocks_.assign((words_.size() + 63) / 64, 0);
-  const auto cells = map.view<std::int16_t>();
   for (int r = 0; r < g.height; ++r) {
     for (int c = 0; c < g.width; ++c) {
       if (const std::int16_t v = cells[index(g, r, c)]; is_obstacle(v)) set(r, c, v);
     }
   }
+}
+
+void ObstacleBits::sync(const Blob& map, const geometry::MapGeometry& g) {
+  check(map, g);
+  const int columns = (g.width + (1 << kShift) - 1) >> kShift, rows = (g.height + (1 << kShift) - 1) >> kShift;
+  if (revision_ == map.revision() && columns == columns_ && words_.size() == static_cast<std::size_t>(rows) * columns) return;
   revision_ = map.revision();
+  const auto cells = map.view<std::int16_t>();
+  static OriginCache<std::pair<int, int>, ObstacleBits> originals;  // one per shared content, for every robot
+  const auto original = map.shared() ? originals.get(map.origin(), std::pair{g.height, g.width}, [&] {
+    ObstacleBits bits;
+    bits.scan(map.original_view<std::int16_t>(), g);
+    bits.words_.share();
+    return bits;
+  })
+                                     : nullptr;
+  if (original == nullptr) {
+    scan(cells, g);
+    return;
+  }
+  *this = *original;
+  revision_ = map.revision();
+  // The cells this copy changed, found a row of blocks' width at a time.
+  const auto was = map.original_view<std::int16_t>();
+  constexpr std::size_t kRun = 64;
+  for (std::size_t first = 0; first < cells.size(); first += kRun) {
+    const std::size_t n = std::min(kRun, cells.size() - first);
+    if (std::memcmp(&cells[first], &was[first], n * sizeof(std::int16_t)) == 0) continue;
+    for (std::size_t i = first; i < first + n; ++i) {
+      if (cells[i] != was[i]) set(static_cast<int>(i / static_cast<std::size_t>(g.width)), static_cast<int>(i % static_cast<std::size_t>(g.width)), cells[i]);
+    }
+  }
 }
 
 bool mark_obstacle(MapEdit& map, const geometry::MapGeometry& g, double x, double y, ObstacleBits* bits) {

@@ -126,7 +126,7 @@ Blob& ActorState::writable_blob(std::size_t i, DType dtype, BlobJournal*& journa
   }
   bool in_other_attribute = false;
   for (std::size_t k = 0; k < size(); ++k) {
-    if (k != i && value(k).kind == ValueKind::Blob && value(k).blob == value(i).blob) in_other_attribute = true;
+    if (k != i && value(k).kind == ValueKind::Blob && store_.blob(value(k)) == held) in_other_attribute = true;
   }
   journal = nullptr;
   if (!in_other_attribute) {
@@ -152,7 +152,7 @@ Blob& ActorState::mutable_blob(std::size_t i) {
   // snapshot, Python or another attribute: write to a private copy.
   bool alone = held.use_count() == 1;
   for (std::size_t k = 0; alone && k < size(); ++k) {
-    if (k != i && value(k).kind == ValueKind::Blob && value(k).blob == value(i).blob) alone = false;
+    if (k != i && value(k).kind == ValueKind::Blob && store_.blob(value(k)) == held) alone = false;
   }
   if (alone) return const_cast<Blob&>(*held);
   std::shared_ptr<Blob> copy = held->clone();

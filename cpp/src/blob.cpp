@@ -69,6 +69,13 @@ Blob::Blob(DType dtype, std::vector<std::int64_t> shape)
       bytes_(size_ * dtype_size(dtype)), revision_(new_revision()) {}
 
 void Blob::note_written() {
+  bytes_.note_written();
+  hash_valid_.store(false, std::memory_order_relaxed);
+  revision_ = new_revision();
+}
+
+void Blob::note_written_at(std::size_t offset) {
+  bytes_.note_written(offset);
   hash_valid_.store(false, std::memory_order_relaxed);
   revision_ = new_revision();
 }
@@ -82,6 +89,8 @@ Blob::Blob(DType dtype, std::vector<std::int64_t> shape, const void* data, std::
   if (nbytes) std::memcpy(bytes_.data(), data, nbytes);
 }
 
+void Blob::share() { bytes_.share(); }
+
 std::uint64_t Blob::content_hash() const {
   if (!hash_valid_.load(std::memory_order_acquire)) {
     std::uint64_t h = hash_combine(0x766567ULL, static_cast<std::uint64_t>(dtype_));
@@ -94,7 +103,8 @@ std::uint64_t Blob::content_hash() const {
 
 bool Blob::same_content(const Blob& other) const {
   if (this == &other) return true;
-  return dtype_ == other.dtype_ && shape_ == other.shape_ && bytes_ == other.bytes_;
+  return dtype_ == other.dtype_ && shape_ == other.shape_ && nbytes() == other.nbytes() &&
+         (nbytes() == 0 || std::memcmp(data(), other.data(), nbytes()) == 0);
 }
 
 Blob::Blob(const Blob& other)

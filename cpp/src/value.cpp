@@ -94,13 +94,10 @@ std::uint32_t ValueStore::push_text(std::string_view s) {
 std::uint32_t ValueStore::push_blob(std::shared_ptr<const Blob> blob) {
   Value v{};
   v.kind = ValueKind::Blob;
-  // Consecutive references to the same blob (an actor copied frame after frame) share a slot.
-  if (!blobs_.empty() && blobs_.back() == blob) {
-    v.blob = static_cast<std::uint32_t>(blobs_.size() - 1);
-  } else {
-    v.blob = static_cast<std::uint32_t>(blobs_.size());
-    blobs_.push_back(std::move(blob));
-  }
+  // A slot per reference, never shared by two values: the engine tells a blob it may write in place
+  // by its reference count (ActorState::edit_blob), which a slot serving two actors would hide.
+  v.blob = static_cast<std::uint32_t>(blobs_.size());
+  blobs_.push_back(std::move(blob));
   values_.push_back(v);
   return size() - 1;
 }
@@ -138,19 +135,19 @@ std::uint32_t ValueStore::push_range(const ValueStore& src, std::uint32_t first,
       v.text.offset = static_cast<std::uint32_t>(chars_.size());
       chars_.append(s);
     } else if (v.kind == ValueKind::Blob) {
-      const auto& blob = src.blob(v);
-      if (!blobs_.empty() && blobs_.back() == blob) {
-        v.blob = static_cast<std::uint32_t>(blobs_.size() - 1);
-      } else {
-        v.blob = static_cast<std::uint32_t>(blobs_.size());
-        blobs_.push_back(blob);
-      }
+      std::shared_ptr<const Blob> blob = src.blob(v);  // read before v.blob is re-homed
+      v.blob = static_cast<std::uint32_t>(blobs_.size());  // a slot per reference (see push_blob)
+      blobs_.push_back(std::move(blob));
     }
   }
   return start;
 }
 
 void ValueStore::set(std::uint32_t i, const Datum& d) {
+  if (values_[i].kind == ValueKind::Blob && d.kind() == ValueKind::Blob) {  // the slot is this value's alone
+    blobs_[values_[i].blob] = d.as_blob();
+    return;
+  }
   push(d);
   values_[i] = values_.back();
   values_.pop_back();

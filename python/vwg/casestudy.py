@@ -240,10 +240,11 @@ class CaseStudy:
         from .actor import Sym
 
         parts = []
+        # One map for all: a robot's first write copies it, sharing the pages it does not change.
+        grid = _core.robot_map(self.known_map, self.knows_map)
         for robot in self.world.robots:
             x, y, yaw = robot.start
             row, col = self.world.grid.world_to_cell(x, y)
-            grid = _core.robot_map(self.known_map, self.knows_map)
             parts.append(Sym("ARobot", id=robot.id, grid=grid, row=row, column=col, angle=float(yaw), x=float(x),
                              y=float(y)))
         return self.vworld.string(*parts)

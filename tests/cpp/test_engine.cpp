@@ -169,13 +169,16 @@ std::shared_ptr<Alphabet> painter_alphabet() {
   a->add_primitive("Shown");
   a->add_event_type("paint", false, schema({integer("cell"), integer("colour")}));
   a->add_event_type("fail", false, schema({integer("cell")}));
+  a->add_event_type("add", false, schema({integer("cell"), integer("amount")}));
   a->add_event_type("show", true);
-  const EventTypeId fail = *a->find_event_type("fail");
-  a->add_actor("Painter", {"paint", "fail", "show"}, schema({ParamSpec{"canvas", ValueKind::Blob, std::nullopt}}),
+  const EventTypeId fail = *a->find_event_type("fail"), add = *a->find_event_type("add");
+  a->add_actor("Painter", {"paint", "fail", "add", "show"}, schema({ParamSpec{"canvas", ValueKind::Blob, std::nullopt}}),
                std::make_shared<LambdaActor>(
-                   [fail](ActorState& s, const EventView& e, const EvolutionContext&, Replacement&) {
+                   [fail, add](ActorState& s, const EventView& e, const EvolutionContext&, Replacement&) {
                      if (e.field_count() == 0) return;
                      auto canvas = s.edit_blob<std::uint8_t>(0);
+                     const auto cell = static_cast<std::size_t>(e.value(0).i);
+                     if (e.type() == add) return canvas.set(cell, static_cast<std::uint8_t>(canvas[cell] + e.value(1).i));
                      canvas.set(static_cast<std::size_t>(e.value(0).i), e.type() == fail ? 99 : static_cast<std::uint8_t>(e.value(1).i));
                      if (e.type() == fail) throw std::runtime_error("failed after painting");
                    },
@@ -203,7 +206,9 @@ class Script : public Generator {
   void generate(const FrameInfo& f, EventList& out) override {
     if (f.frame >= frames_.size()) return;
     for (const auto& e : frames_[f.frame]) {
-      if (e.size() == 2) {
+      if (e.size() == 3) {
+        out.emit("add", {e[0], e[1]});
+      } else if (e.size() == 2) {
         out.emit("paint", {e[0], e[1]});
       } else {
         out.emit("fail", {e[0]});
@@ -231,6 +236,31 @@ TEST(EngineInPlace, AnUnsharedBlobIsWrittenInPlaceAndASharedOneIsCopied) {
   EXPECT_NE(&canvas_of(engine), first) << "shared: written on a copy";
   EXPECT_EQ(cells_of(*kept.store().blob(kept.node(0).value(0))), (std::vector<std::uint8_t>{0, 5, 0, 0, 0, 0, 0, 0}));
   EXPECT_EQ(cells_of(canvas_of(engine)), (std::vector<std::uint8_t>{0, 5, 6, 0, 0, 0, 0, 0}));
+}
+
+TEST(EngineInPlace, ActorsHoldingOneBlobEachWriteTheirOwnCopy) {
+  // Two painters given the same canvas: each adds 5 to cell 1 of its own canvas. Written in place
+  // by both (a store slot serving both hid the second reference), the sum would be 10.
+  auto a = painter_alphabet();
+  const std::vector<std::uint8_t> zeros(8, 0);
+  for (unsigned threads : {1u, 2u}) {
+    StringBuilder b(a);
+    {
+      auto canvas = std::make_shared<const Blob>(DType::UInt8, std::vector<std::int64_t>{8}, zeros.data(), zeros.size());
+      b.actor("Painter", {Datum(std::shared_ptr<const Blob>(canvas))});
+      b.actor("Painter", {Datum(std::shared_ptr<const Blob>(canvas))});
+    }  // held by the string alone
+    EngineOptions options;
+    options.threads = threads;
+    Engine engine(b.finish(), {std::make_shared<Script>(std::vector<std::vector<std::vector<std::int64_t>>>{{{1, 5, 0}}})}, nullptr,
+                  options);
+    engine.step();
+    const WorldString& w = engine.string();
+    for (std::size_t k = 0; k < 2; ++k) {
+      EXPECT_EQ(cells_of(*w.store().blob(w.node(k).value(0))), (std::vector<std::uint8_t>{0, 5, 0, 0, 0, 0, 0, 0}))
+          << "painter " << k << ", " << threads << " threads";
+    }
+  }
 }
 
 TEST(EngineInPlace, AFailedFrameTakesBackWhatItWroteInPlace) {

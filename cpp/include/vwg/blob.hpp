@@ -11,6 +11,8 @@
 #include <string_view>
 #include <vector>
 
+#include "vwg/shared_pages.hpp"
+
 namespace vwg {
 
 enum class DType : std::uint8_t { Int8, UInt8, Int16, Int32, Int64, Float32, Float64 };
@@ -48,6 +50,26 @@ class Blob {
   /// Call after writing through a pointer taken earlier: forgets the cached hash and takes a new
   /// revision.
   void note_written();
+  /// note_written() for the element at byte `offset` alone (reshare() then looks at its page only).
+  void note_written_at(std::size_t offset);
+  /// Give back to the shared content the pages written since the last call that are equal to it
+  /// again (SharedPages::reshare); returns how many. Changes no byte, so no revision either.
+  std::size_t reshare() { return bytes_.reshare(); }
+  /// Let copies share the memory pages they and this blob do not write (SharedPages): for a large
+  /// array that many actors start from, such as the known map every robot copies. Changes no byte.
+  void share();
+  /// Whether copies share pages with this blob (share() was called on it or on what it copies).
+  bool shared() const { return bytes_.shared(); }
+  /// The pages this blob has written since it was shared (0 for a blob never shared).
+  std::size_t private_pages() const { return bytes_.private_pages(); }
+  /// The content it was shared as (empty if never shared), and who made it (SharedPages::origin):
+  /// what is worked out from that content once serves every copy (OriginCache).
+  template <class T>
+  std::span<const T> original_view() const {
+    const std::span<const std::byte> b = bytes_.original();
+    return {reinterpret_cast<const T*>(b.data()), b.size() / sizeof(T)};
+  }
+  std::weak_ptr<const void> origin() const { return bytes_.origin(); }
   /// A number that changes whenever the content may have changed and is never reused by another
   /// content: equal revisions mean equal content (a copy keeps its original's until written).
   /// Cheaper than content_hash() to tell whether a blob changed since it was last looked at.
@@ -72,7 +94,7 @@ class Blob {
   DType dtype_;
   std::vector<std::int64_t> shape_;
   std::size_t size_ = 0;
-  std::vector<std::byte> bytes_;
+  SharedPages bytes_;
   // The hash, computed when first asked for; atomics, since the threads of a frame may ask for the
   // hash of a blob several actors share (any two compute the same value).
   mutable std::atomic<std::uint64_t> hash_{0};

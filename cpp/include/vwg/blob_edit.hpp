@@ -58,8 +58,10 @@ class BlobEdit {
     if (cell == value) return;
     if (journal_) journal_->record(*blob_, k * sizeof(T), &cell, sizeof(T));
     cell = value;
-    blob_->note_written();
+    blob_->note_written_at(k * sizeof(T));
   }
+  /// See Blob::reshare (the pages these writes made private that are equal to the shared ones again).
+  std::size_t reshare() { return blob_->reshare(); }
 
  private:
   Blob* blob_;

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "vwg/geometry/occupancy_grid.hpp"
+#include "vwg/shared_pages.hpp"
 
 namespace vwg::geometry {
 
@@ -65,7 +66,7 @@ class BlockedGrid {
   /// Throws SchemaError("cell") outside the grid.
   void set_blocked(Cell c, bool blocked) {
     if (!inside(c)) throw_outside(c);
-    cells_[index(c)] = blocked ? 1 : 0;
+    cells_.set(static_cast<std::size_t>(index(c)), blocked ? 1 : 0);
   }
   std::size_t blocked_count() const;
 
@@ -75,7 +76,11 @@ class BlockedGrid {
   std::int32_t index(Cell c) const { return (c.row + 1) * stride() + (c.col + 1); }
   Cell cell(std::int32_t index) const { return {index / stride() - 1, index % stride() - 1}; }
   /// (rows + 2) * (cols + 2) flags, 1 = blocked, the border included.
-  std::span<const std::uint8_t> padded() const { return cells_; }
+  std::span<const std::uint8_t> padded() const { return cells_.span(); }
+  /// Let copies share the memory pages neither writes (SharedPages): a grid many robots start from.
+  void share() { cells_.share(); }
+  /// See SharedPages::reshare.
+  std::size_t reshare() { return cells_.reshare(); }
 
  private:
   [[noreturn]] void throw_outside(Cell c) const;
@@ -83,7 +88,7 @@ class BlockedGrid {
 
   int rows_ = 0;
   int cols_ = 0;
-  std::vector<std::uint8_t> cells_;
+  SharedArray<std::uint8_t> cells_;
 };
 
 }  // namespace vwg::geometry

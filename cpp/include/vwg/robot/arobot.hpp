@@ -96,6 +96,9 @@ class ARobot final : public ActorBehavior {
     bits.sync(map.blob(), config_.map);
     edit(map, bits);
     bits.keep(map.blob());
+    // A robot that saw others pass keeps no page of them once they are gone (memory stays flat).
+    map.reshare();
+    bits.reshare();
   }
 
   ARobotConfig config_;

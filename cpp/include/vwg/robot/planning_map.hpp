@@ -16,7 +16,10 @@ namespace vwg::robot {
 class PlanningMap {
  public:
   /// Bring the grids up to `map` (a robot map of geometry `g`) for a robot of `radius` metres;
-  /// true if the map changed since the last call (any cell), false if it is the same.
+  /// true if the map changed since the last call (any cell), false if it is the same. The first
+  /// call for a copy of a shared map (Blob::share: the known map every robot starts from) starts
+  /// from the grids of the shared content, made once for all robots and shared page by page, and
+  /// follows the cells this copy changed.
   bool update(const Blob& map, const geometry::MapGeometry& g, double radius);
 
   /// Walls, seen obstacles, markers and unknown cells.
@@ -27,14 +30,16 @@ class PlanningMap {
 
  private:
   void rebuild(std::span<const std::int16_t> cells, const geometry::MapGeometry& g, double radius);
+  /// Become the shared grids of `map`'s original content; false if it has none.
+  bool start_from_original(const Blob& map, const geometry::MapGeometry& g, double radius);
   void set_obstacle(int row, int col, bool blocked);
 
   std::uint64_t revision_ = 0;  // Blob::revision() of the map last looked at
   double radius_ = -1.0;
-  std::vector<std::int16_t> seen_;  // its cells
+  SharedArray<std::int16_t> seen_;  // its cells
   geometry::BlockedGrid obstacles_, inflated_;
   std::vector<geometry::Cell> disc_;      // offsets covered by an obstacle cell's disc
-  std::vector<std::uint16_t> cover_;  // per cell: obstacle discs (and the map's edge) covering it
+  SharedArray<std::uint16_t> cover_;  // per cell: obstacle discs (and the map's edge) covering it
   bool counted_ = false;              // cover_ is kept (false when a disc is too large to count)
 };
 

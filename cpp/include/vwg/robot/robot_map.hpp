@@ -30,7 +30,8 @@ inline bool is_obstacle(std::int16_t v) { return v >= kWallCell; }
 void check_robot_map(const Blob& map, const geometry::MapGeometry& g);
 
 /// A robot map of the world's geometry: the known map (walls 100, free 0, unknown -1) when
-/// `knows_map`, else all free (the empty grid of eq. 13).
+/// `knows_map`, else all free (the empty grid of eq. 13). Shared (Blob::share): give every robot
+/// this one blob, and each robot's copy keeps only the memory pages its sensors change.
 std::shared_ptr<Blob> make_robot_map(const geometry::OccupancyGrid& world, bool knows_map, int threshold = 50);
 
 /// The cells of a robot map being written (in place and journaled during a frame: ActorState::edit_blob).
@@ -46,10 +47,14 @@ using MapEdit = BlobEdit<std::int16_t>;
 class ObstacleBits {
  public:
   static constexpr int kShift = 3;  // 8 × 8 cells a block
-  /// Make it valid for `map`, scanning the map unless it already is.
+  /// Make it valid for `map` unless it already is: from the bits of its original content when it
+  /// is a copy of a shared map (made once for all robots, shared page by page) and the cells it
+  /// changed, else by scanning the map.
   void sync(const Blob& map, const geometry::MapGeometry& g);
   /// After the edits that went through it: valid for the map as it is now.
   void keep(const Blob& map) { revision_ = map.revision(); }
+  /// See SharedPages::reshare.
+  std::size_t reshare() { return words_.reshare(); }
   /// Whether block (block_row, block_col), inside the map, holds a reported obstacle.
   bool block_flag(int block_row, int block_col) const {
     const std::size_t w = word(block_row, block_col);
@@ -65,9 +70,10 @@ class ObstacleBits {
   void set(int row, int col, std::int16_t value) {
     const std::size_t w = word(row >> kShift, col >> kShift);
     const std::uint64_t b = std::uint64_t{1} << bit(row, col);
-    Words& words = words_[w];
+    Words words = words_[w];
     words.seen = value == kSeenCell ? words.seen | b : words.seen & ~b;
     words.obstacle = is_obstacle(value) ? words.obstacle | b : words.obstacle & ~b;
+    words_.set(w, words);
     const std::uint64_t flag = std::uint64_t{1} << (w & 63);
     blocks_[w >> 6] = words.seen != 0 ? blocks_[w >> 6] | flag : blocks_[w >> 6] & ~flag;
   }
@@ -77,12 +83,14 @@ class ObstacleBits {
   std::size_t word(int block_row, int block_col) const {
     return static_cast<std::size_t>(block_row) * static_cast<std::size_t>(columns_) + static_cast<std::size_t>(block_col);
   }
+  void scan(std::span<const std::int16_t> cells, const geometry::MapGeometry& g);
+
   std::uint64_t revision_ = 0;
   int columns_ = 0, rows_ = 0;  // of blocks
   struct Words {  // a block's cells, a bit each; side by side, so one read of memory finds both
     std::uint64_t seen = 0, obstacle = 0;
   };
-  std::vector<Words> words_;           // a block's
+  SharedArray<Words> words_;           // a block's (shared with the bits of the original map)
   std::vector<std::uint64_t> blocks_;  // a bit a block: whether its seen word is not 0
 };
 

@@ -1,0 +1,189 @@
+#include "vwg/shared_pages.hpp"
+
+#include <sys/mman.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <algorithm>
+#include <cstring>
+#include <new>
+#include <utility>
+
+namespace vwg {
+
+namespace {
+
+std::size_t round_up(std::size_t n) {
+  const std::size_t page = SharedPages::page_size();
+  return (n + page - 1) / page * page;
+}
+
+}  // namespace
+
+/// An in-memory file holding a buffer's content as it was shared, and a read-only view of it (what
+/// copies and reshare() compare pages with). Never written after it is made.
+struct SharedPages::File {
+  int fd = -1;
+  std::size_t size = 0;
+  const std::byte* view = nullptr;
+  File() = default;
+  File(const File&) = delete;
+  File& operator=(const File&) = delete;
+  ~File() {
+    if (view != nullptr) munmap(const_cast<std::byte*>(view), round_up(size));
+    if (fd >= 0) close(fd);
+  }
+};
+
+std::size_t SharedPages::page_size() {
+  static const std::size_t page = static_cast<std::size_t>(sysconf(_SC_PAGESIZE));
+  return page;
+}
+
+SharedPages::SharedPages(std::size_t size) : size_(size) {
+  if (size == 0) return;
+  data_ = static_cast<std::byte*>(std::calloc(size, 1));
+  if (data_ == nullptr) throw std::bad_alloc();
+}
+
+std::byte* SharedPages::map_private(const File& file) const {
+  void* p = mmap(nullptr, round_up(file.size), PROT_READ | PROT_WRITE, MAP_PRIVATE, file.fd, 0);
+  if (p == MAP_FAILED) throw std::bad_alloc();
+  return static_cast<std::byte*>(p);
+}
+
+SharedPages::SharedPages(const SharedPages& other) : size_(other.size_) {
+  if (size_ == 0) return;
+  if (other.base_ == nullptr) {
+    data_ = static_cast<std::byte*>(std::malloc(size_));
+    if (data_ == nullptr) throw std::bad_alloc();
+    std::memcpy(data_, other.data_, size_);
+    return;
+  }
+  base_ = other.base_;
+  data_ = map_private(*base_);
+  written_.assign(other.written_.size(), 0);
+  pristine_ = true;
+  if (other.pristine_) return;
+  // Only the pages `other` changed are written here (and so copied by the kernel).
+  const std::size_t page = page_size();
+  for (std::size_t at = 0; at < size_; at += page) {
+    const std::size_t n = std::min(page, size_ - at);
+    if (std::memcmp(other.data_ + at, base_->view + at, n) == 0) continue;
+    std::memcpy(data_ + at, other.data_ + at, n);
+    note_written(at);
+  }
+}
+
+SharedPages& SharedPages::operator=(const SharedPages& other) {
+  if (this != &other) *this = SharedPages(other);
+  return *this;
+}
+
+SharedPages::SharedPages(SharedPages&& other) noexcept
+    : base_(std::move(other.base_)), data_(std::exchange(other.data_, nullptr)), size_(std::exchange(other.size_, 0)),
+      pristine_(std::exchange(other.pristine_, false)), written_(std::move(other.written_)),
+      written_all_(std::exchange(other.written_all_, false)) {}
+
+SharedPages& SharedPages::operator=(SharedPages&& other) noexcept {
+  if (this != &other) {
+    release();
+    base_ = std::move(other.base_);
+    data_ = std::exchange(other.data_, nullptr);
+    size_ = std::exchange(other.size_, 0);
+    pristine_ = std::exchange(other.pristine_, false);
+    written_ = std::move(other.written_);
+    written_all_ = std::exchange(other.written_all_, false);
+  }
+  return *this;
+}
+
+SharedPages::~SharedPages() { release(); }
+
+void SharedPages::release() noexcept {
+  if (data_ != nullptr) {
+    if (base_ != nullptr) {
+      munmap(data_, round_up(size_));
+    } else {
+      std::free(data_);
+    }
+  }
+  data_ = nullptr;
+  base_.reset();
+  written_.clear();
+  written_all_ = false;
+}
+
+void SharedPages::share() {
+  if (size_ < kMinShared || (base_ != nullptr && pristine_)) return;
+  auto file = std::make_shared<File>();
+  file->size = size_;
+  file->fd = memfd_create("vwg-shared-pages", MFD_CLOEXEC);
+  if (file->fd < 0 || ftruncate(file->fd, static_cast<off_t>(size_)) != 0) return;  // stays a plain buffer
+  void* view = mmap(nullptr, round_up(size_), PROT_READ | PROT_WRITE, MAP_SHARED, file->fd, 0);
+  if (view == MAP_FAILED) return;
+  std::memcpy(view, data_, size_);
+  if (mprotect(view, round_up(size_), PROT_READ) != 0) {
+    munmap(view, round_up(size_));
+    return;
+  }
+  file->view = static_cast<const std::byte*>(view);
+  std::byte* mapped = map_private(*file);
+  const std::size_t size = size_;
+  release();
+  size_ = size;
+  data_ = mapped;
+  base_ = std::move(file);
+  pristine_ = true;
+  written_.assign((size + page_size() - 1) / page_size() / 64 + 1, 0);
+}
+
+std::span<const std::byte> SharedPages::original() const {
+  if (base_ == nullptr) return {};
+  return {base_->view, size_};
+}
+
+std::size_t SharedPages::private_pages() const {
+  if (base_ == nullptr || pristine_) return 0;
+  const std::size_t page = page_size();
+  std::size_t n = 0;
+  for (std::size_t at = 0; at < size_; at += page) {
+    n += std::memcmp(data_ + at, base_->view + at, std::min(page, size_ - at)) != 0;
+  }
+  return n;
+}
+
+std::size_t SharedPages::reshare() {
+  if (base_ == nullptr) return 0;
+  constexpr std::size_t kNone = ~std::size_t{0};
+  const std::size_t page = page_size(), pages = (size_ + page - 1) / page;
+  std::size_t given = 0, run = kNone;  // run: the first of the pages found equal, not yet given back
+  const auto give_back = [&](std::size_t end) {
+    // Dropping private pages of a private file mapping brings back the file's pages (equal here);
+    // for a page that was not private it only drops the page table entry.
+    if (run != kNone && madvise(data_ + run * page, (end - run) * page, MADV_DONTNEED) == 0) given += end - run;
+    run = kNone;
+  };
+  bool differs = false;
+  for (std::size_t p = 0; p < pages; ++p) {
+    if (!written_all_ && ((written_[p / 64] >> (p % 64)) & 1) == 0) {
+      give_back(p);
+      if (written_[p / 64] == 0) p |= 63;  // a word of pages not written: skip it
+      continue;
+    }
+    const std::size_t at = p * page;
+    if (std::memcmp(data_ + at, base_->view + at, std::min(page, size_ - at)) != 0) {
+      give_back(p);
+      differs = true;
+    } else if (run == kNone) {
+      run = p;
+    }
+  }
+  give_back(pages);
+  if (written_all_ && !differs) pristine_ = true;
+  std::fill(written_.begin(), written_.end(), 0);
+  written_all_ = false;
+  return given;
+}
+
+}  // namespace vwg

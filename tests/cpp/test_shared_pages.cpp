@@ -1,0 +1,152 @@
+// Buffers whose copies share the pages they do not write (SharedPages), checked against what the
+// kernel reports of each mapping (/proc/self/smaps: a page copied on write is an anonymous page).
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <utility>
+
+#include "vwg/blob.hpp"
+#include "vwg/shared_pages.hpp"
+
+using namespace vwg;
+
+namespace {
+
+/// The "Anonymous:" size, in bytes, of the mapping that starts at `start` (pages written privately).
+std::size_t anonymous_bytes(const void* start) {
+  std::ifstream smaps("/proc/self/smaps");
+  std::ostringstream want;
+  want << std::hex << reinterpret_cast<std::uintptr_t>(start) << "-";
+  std::string line;
+  bool inside = false;
+  while (std::getline(smaps, line)) {
+    if (line.rfind(want.str(), 0) == 0) {
+      inside = true;
+    } else if (inside && line.rfind("Anonymous:", 0) == 0) {
+      return std::stoul(line.substr(10)) * 1024;  // "Anonymous:      4 kB"
+    }
+  }
+  ADD_FAILURE() << "no mapping starts at " << start;
+  return 0;
+}
+
+SharedPages pattern(std::size_t size) {
+  SharedPages b(size);
+  for (std::size_t i = 0; i < size; ++i) b.data()[i] = static_cast<std::byte>(i * 7 + 3);
+  return b;
+}
+
+bool same(const SharedPages& a, const SharedPages& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size()) == 0;
+}
+
+std::uint64_t read_all(const SharedPages& b) {
+  std::uint64_t sum = 0;
+  for (std::size_t i = 0; i < b.size(); i += 512) sum += static_cast<std::uint64_t>(b.data()[i]);
+  return sum;
+}
+
+}  // namespace
+
+TEST(SharedPages, CopiesOfASharedBufferCopyOnlyThePagesTheyWrite) {
+  const std::size_t page = SharedPages::page_size(), size = 256 * page + 100;  // a partial last page
+  SharedPages original = pattern(size);
+  const SharedPages plain = original;  // before share(): a plain copy
+  original.share();
+  ASSERT_TRUE(original.shared());
+  ASSERT_TRUE(same(original, plain));
+  SharedPages copy = original;
+  ASSERT_TRUE(same(copy, plain));
+  read_all(copy);
+  EXPECT_EQ(anonymous_bytes(std::as_const(copy).data()), 0u) << "read, never written: every page the file's";
+  copy.data()[5 * page + 1] = std::byte{0};
+  copy.data()[5 * page + 2] = std::byte{0};
+  copy.data()[size - 1] = std::byte{0};
+  EXPECT_EQ(anonymous_bytes(std::as_const(copy).data()), 2 * page) << "two pages written, two copied";
+  EXPECT_EQ(copy.private_pages(), 2u);
+  EXPECT_TRUE(same(original, plain)) << "the original does not see its copy's writes";
+  EXPECT_EQ(original.private_pages(), 0u);
+  original.data()[0] = std::byte{42};
+  EXPECT_EQ(copy.data()[0], plain.data()[0]) << "nor the copy its original's";
+}
+
+TEST(SharedPages, ACopyOfAWrittenBufferHasItsBytesAndSharesTheRest) {
+  const std::size_t page = SharedPages::page_size(), size = 64 * page;
+  SharedPages first = pattern(size);
+  first.share();
+  SharedPages second = first;
+  for (std::size_t p : {3u, 17u, 63u}) second.data()[p * page + 9] = std::byte{1};
+  const SharedPages third = second;  // compares second with the file page by page
+  EXPECT_TRUE(same(third, second));
+  EXPECT_EQ(third.private_pages(), 3u);
+  read_all(third);
+  EXPECT_EQ(anonymous_bytes(third.data()), 3 * page);
+}
+
+TEST(SharedPages, ReshareGivesBackThePagesWrittenThatAreEqualAgain) {
+  const std::size_t page = SharedPages::page_size(), size = 32 * page;
+  SharedArray<std::uint8_t> original(size);
+  for (std::size_t i = 0; i < size; ++i) original.set(i, static_cast<std::uint8_t>(i * 7 + 3));
+  original.share();
+  SharedArray<std::uint8_t> copy = original;
+  const std::uint8_t was = copy[4 * page], other = copy[9 * page];
+  copy.set(4 * page, static_cast<std::uint8_t>(~was));
+  copy.set(9 * page, static_cast<std::uint8_t>(~other));
+  copy.set(4 * page, was);  // seen, then gone: equal to the shared content again
+  ASSERT_EQ(anonymous_bytes(std::as_const(copy).data()), 2 * page);
+  EXPECT_EQ(copy.reshare(), 1u) << "page 4 given back; page 9 still differs";
+  EXPECT_EQ(anonymous_bytes(std::as_const(copy).data()), page);
+  EXPECT_EQ(copy[4 * page], was);
+  EXPECT_EQ(copy.reshare(), 0u) << "nothing written since";
+  copy.set(9 * page, other);
+  EXPECT_EQ(copy.reshare(), 1u);
+  std::uint64_t sum = 0;
+  for (std::size_t i = 0; i < size; i += 512) sum += copy[i];
+  EXPECT_GT(sum, 0u);
+  EXPECT_EQ(anonymous_bytes(std::as_const(copy).data()), 0u);
+  EXPECT_EQ(std::memcmp(copy.data(), original.data(), size), 0);
+  EXPECT_EQ(copy.private_pages(), 0u);
+}
+
+TEST(SharedPages, SmallBuffersAreCopiedAndMovesTakeTheMapping) {
+  SharedPages small = pattern(1000);
+  small.share();
+  EXPECT_FALSE(small.shared()) << "below kMinShared";
+  SharedPages small_copy = small;
+  small_copy.data()[0] = std::byte{9};
+  EXPECT_NE(small.data()[0], std::byte{9});
+
+  SharedPages big = pattern(SharedPages::kMinShared);
+  big.share();
+  const std::byte* at = big.data();
+  SharedPages moved = std::move(big);
+  EXPECT_EQ(moved.data(), at);
+  EXPECT_TRUE(moved.shared());
+  EXPECT_EQ(big.size(), 0u);  // NOLINT(bugprone-use-after-move): a moved-from buffer is empty
+  SharedPages assigned;
+  assigned = moved;
+  EXPECT_TRUE(same(assigned, moved));
+  EXPECT_NE(assigned.data(), moved.data());
+}
+
+TEST(SharedPages, ABlobCopyKeepsContentRevisionAndHash) {
+  Blob map(DType::Int16, {300, 400});
+  auto cells = map.mutable_view<std::int16_t>();
+  for (std::size_t i = 0; i < cells.size(); ++i) cells[i] = static_cast<std::int16_t>(i % 1000 - 1);
+  const std::uint64_t hash = map.content_hash();
+  map.share();
+  EXPECT_TRUE(map.shared());
+  EXPECT_EQ(map.content_hash(), hash) << "sharing changes no byte";
+  auto copy = map.clone();
+  EXPECT_TRUE(copy->same_content(map));
+  EXPECT_EQ(copy->revision(), map.revision());
+  EXPECT_EQ(copy->private_pages(), 0u);
+  copy->mutable_view<std::int16_t>()[77] = 5;
+  EXPECT_FALSE(copy->same_content(map));
+  EXPECT_EQ(copy->private_pages(), 1u);
+  EXPECT_EQ(map.view<std::int16_t>()[77], 76);
+}
