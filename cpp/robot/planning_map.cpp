@@ -93,6 +93,10 @@ bool PlanningMap::start_from_original(const Blob& map, const geometry::MapGeomet
   return true;
 }
 
+std::size_t PlanningMap::private_pages() const {
+  return seen_.private_pages() + obstacles_.private_pages() + inflated_.private_pages() + cover_.private_pages();
+}
+
 bool PlanningMap::update(const Blob& map, const geometry::MapGeometry& g, double radius) {
   check_robot_map(map, g);
   const auto cells = map.view<std::int16_t>();

@@ -1,13 +1,35 @@
 // Small actors and alphabets for the C++ tests; expected strings are written by hand in each test.
 #pragma once
 
+#include <cstdint>
+#include <fstream>
 #include <functional>
 #include <memory>
+#include <sstream>
 #include <string>
 
 #include "vwg/vwg.hpp"
 
 namespace vwg::testing {
+
+/// What the kernel says of the memory mapping that starts at `start` (/proc/self/smaps): its
+/// "Anonymous:" size in bytes, the pages written privately (copied on write); -1 if no mapping
+/// starts there.
+inline long long anonymous_bytes(const void* start) {
+  std::ifstream smaps("/proc/self/smaps");
+  std::ostringstream want;
+  want << std::hex << reinterpret_cast<std::uintptr_t>(start) << "-";
+  std::string line;
+  bool inside = false;
+  while (std::getline(smaps, line)) {
+    if (line.rfind(want.str(), 0) == 0) {
+      inside = true;
+    } else if (inside && line.rfind("Anonymous:", 0) == 0) {
+      return std::stoll(line.substr(10)) * 1024;  // "Anonymous:      4 kB"
+    }
+  }
+  return -1;
+}
 
 /// An actor behavior made of two lambdas.
 class LambdaActor : public ActorBehavior {

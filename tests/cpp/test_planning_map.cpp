@@ -7,7 +7,9 @@
 #include <random>
 #include <vector>
 
+#include "helpers.hpp"
 #include "vwg/error.hpp"
+#include "vwg/geometry/inflate.hpp"
 #include "vwg/plan/astar.hpp"
 #include "vwg/robot/planners.hpp"
 #include "vwg/robot/planning_map.hpp"
@@ -66,6 +68,108 @@ TEST(PlanningMap, FollowsChangesCellByCellAsIfRebuilt) {
   }
 }
 
+namespace {
+
+/// A map of `rows` × `cols` with random walls, unknown cells and markers, shared (Blob::share).
+std::shared_ptr<Blob> shared_random_map(int rows, int cols, std::mt19937& rng) {
+  auto map = std::make_shared<Blob>(DType::Int16, std::vector<std::int64_t>{rows, cols});
+  BlobEdit<std::int16_t> edit(*map);
+  const std::int16_t values[] = {kWallCell, kWallCell, kUnknownCell, 1007};
+  for (int k = 0; k < rows * cols / 40; ++k) edit.set(rng() % map->size(), values[rng() % 4]);
+  map->share();
+  return map;
+}
+
+/// Random reported obstacles set and cleared, as a robot's laser does.
+void random_sightings(Blob& map, std::mt19937& rng, int n) {
+  BlobEdit<std::int16_t> edit(map);
+  for (int k = 0; k < n; ++k) {
+    const std::size_t cell = rng() % map.size();
+    if (map.view<std::int16_t>()[cell] == kFreeCell || map.view<std::int16_t>()[cell] == kSeenCell) {
+      edit.set(cell, rng() % 2 ? kSeenCell : kFreeCell);
+    }
+  }
+}
+
+}  // namespace
+
+TEST(PlanningMap, ACopyOfASharedMapStartsFromItsGridsAndFollowsItsChanges) {
+  // Robots' maps copied from one shared map (the known map): each one's grids start from the grids
+  // of the shared content and follow its own changes. Compared at every step with grids made from
+  // scratch by geometry::inflate (stamping discs: a second method) over the copy's cells.
+  const int rows = 260, cols = 300;  // every grid above SharedPages::kMinShared (64 KB), even a byte a cell
+  const geometry::MapGeometry g{cols, rows, 0.05, {}};
+  const double radius = 0.2;
+  std::mt19937 rng(11);
+  const auto shared = shared_random_map(rows, cols, rng);
+  ASSERT_TRUE(shared->shared());
+  auto seeing = shared->clone(), idle = shared->clone();
+  random_sightings(*seeing, rng, 300);  // before its first look: the start must follow these too
+  PlanningMap pm_seeing, pm_idle;
+  EXPECT_TRUE(pm_idle.update(*idle, g, radius));
+  EXPECT_EQ(pm_idle.private_pages(), 0u) << "an unchanged copy's grids are the shared ones";
+  for (int step = 0; step < 8; ++step) {
+    if (step > 0) random_sightings(*seeing, rng, 40);
+    pm_seeing.update(*seeing, g, radius);
+    const auto cells = seeing->view<std::int16_t>();
+    std::vector<std::uint8_t> mask(cells.size());
+    for (std::size_t i = 0; i < cells.size(); ++i) mask[i] = blocks(cells[i]);
+    const auto obstacles = geometry::BlockedGrid::from_mask(std::span<const std::uint8_t>(mask), rows, cols);
+    const auto inflated = geometry::inflate(obstacles, radius / g.resolution);
+    for (int r = 0; r < rows; ++r) {
+      for (int c = 0; c < cols; ++c) {
+        ASSERT_EQ(pm_seeing.obstacles().blocked({r, c}), obstacles.blocked({r, c})) << "step " << step << " " << r << "," << c;
+        ASSERT_EQ(pm_seeing.inflated().blocked({r, c}), inflated.blocked({r, c})) << "step " << step << " " << r << "," << c;
+      }
+    }
+  }
+  EXPECT_GT(pm_seeing.private_pages(), 0u);
+  // The idle robot's grids are still those of the shared map.
+  const auto cells = shared->view<std::int16_t>();
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    const geometry::Cell c{static_cast<int>(i / cols), static_cast<int>(i % cols)};
+    ASSERT_EQ(pm_idle.obstacles().blocked(c), blocks(cells[i]));
+  }
+}
+
+TEST(PlanningMap, GridsGiveBackThePagesOfWhatHasGone) {
+  const int rows = 260, cols = 300;
+  const geometry::MapGeometry g{cols, rows, 0.05, {}};
+  std::mt19937 rng(5);
+  const auto shared = shared_random_map(rows, cols, rng);
+  auto map = shared->clone();
+  PlanningMap pm;
+  pm.update(*map, g, 0.2);
+  // A passer-by seen in the middle of the map, then gone.
+  std::vector<std::size_t> seen;
+  for (int r = 120; r < 126; ++r) {
+    for (int c = 140; c < 146; ++c) {
+      const auto at = static_cast<std::size_t>(r) * cols + c;
+      if (map->view<std::int16_t>()[at] == kFreeCell) seen.push_back(at);
+    }
+  }
+  ASSERT_FALSE(seen.empty());
+  BlobEdit<std::int16_t> edit(*map);
+  // What the kernel holds privately for the map and the two grids (pages copied on write).
+  auto held = [&] {
+    return std::vector<long long>{vwg::testing::anonymous_bytes(map->data()), vwg::testing::anonymous_bytes(pm.obstacles().padded().data()),
+                                  vwg::testing::anonymous_bytes(pm.inflated().padded().data())};
+  };
+  for (const std::size_t at : seen) edit.set(at, kSeenCell);
+  pm.update(*map, g, 0.2);
+  EXPECT_GT(pm.private_pages(), 0u);
+  for (const long long bytes : held()) EXPECT_GT(bytes, 0);
+  for (const std::size_t at : seen) edit.set(at, kFreeCell);
+  pm.update(*map, g, 0.2);
+  EXPECT_EQ(pm.private_pages(), 0u);
+  EXPECT_EQ(held()[1], 0) << "equal again: the grids keep no page of the passer-by";
+  EXPECT_EQ(held()[2], 0);
+  EXPECT_GT(held()[0], 0) << "the map gives its pages back when its robot does (ARobot::edit_map)";
+  EXPECT_GT(edit.reshare(), 0u);
+  EXPECT_EQ(held()[0], 0);
+  EXPECT_EQ(map->private_pages(), 0u);
+}
+
 TEST(PlanningMap, ACellChangedAndChangedBackIsNoChange) {
   const geometry::MapGeometry g{10, 10, 0.1, {}};
   Blob map(DType::Int16, {10, 10});
@@ -94,6 +198,34 @@ int clear_along(MapEdit& map, const geometry::MapGeometry& g, ObstacleBits& bits
   return sense_scan(map, g, bits, x0, y0, std::span<const ScanBeam>(&beam, 1));
 }
 }  // namespace
+
+TEST(ObstacleBits, ACopyOfASharedMapStartsFromItsBitsAndItsOwnCells) {
+  const int rows = 260, cols = 300;
+  const geometry::MapGeometry g{cols, rows, 0.05, {}};
+  std::mt19937 rng(3);
+  const auto shared = shared_random_map(rows, cols, rng);
+  for (int robot = 0; robot < 3; ++robot) {
+    auto map = shared->clone();
+    random_sightings(*map, rng, robot * 200);
+    ObstacleBits bits;
+    bits.sync(*map, g);
+    const auto cells = map->view<std::int16_t>();
+    for (int r = 0; r < rows; ++r) {
+      for (int c = 0; c < cols; ++c) {
+        const std::int16_t v = cells[static_cast<std::size_t>(r) * cols + c];
+        ASSERT_EQ(bits.seen(r, c), v == kSeenCell) << robot << ": " << r << "," << c;
+        ASSERT_EQ(bits.obstacle(r, c), is_obstacle(v)) << robot << ": " << r << "," << c;
+        if ((r & 7) == 0 && (c & 7) == 0) {
+          bool any = false;
+          for (int dr = 0; dr < 8 && r + dr < rows; ++dr) {
+            for (int dc = 0; dc < 8 && c + dc < cols; ++dc) any = any || cells[static_cast<std::size_t>(r + dr) * cols + c + dc] == kSeenCell;
+          }
+          ASSERT_EQ(bits.block_flag(r >> 3, c >> 3), any) << robot << ": block " << r << "," << c;
+        }
+      }
+    }
+  }
+}
 
 TEST(ObstacleBits, ClearingWithTheBitsClearsWhatTheCellWalkClears) {
   // Two maps with the same random reported obstacles; beams from random places carve both, one

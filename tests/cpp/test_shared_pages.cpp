@@ -2,13 +2,13 @@
 // kernel reports of each mapping (/proc/self/smaps: a page copied on write is an anonymous page).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
-#include <fstream>
-#include <sstream>
 #include <string>
 #include <utility>
 
+#include "helpers.hpp"
 #include "vwg/blob.hpp"
 #include "vwg/shared_pages.hpp"
 
@@ -16,22 +16,10 @@ using namespace vwg;
 
 namespace {
 
-/// The "Anonymous:" size, in bytes, of the mapping that starts at `start` (pages written privately).
 std::size_t anonymous_bytes(const void* start) {
-  std::ifstream smaps("/proc/self/smaps");
-  std::ostringstream want;
-  want << std::hex << reinterpret_cast<std::uintptr_t>(start) << "-";
-  std::string line;
-  bool inside = false;
-  while (std::getline(smaps, line)) {
-    if (line.rfind(want.str(), 0) == 0) {
-      inside = true;
-    } else if (inside && line.rfind("Anonymous:", 0) == 0) {
-      return std::stoul(line.substr(10)) * 1024;  // "Anonymous:      4 kB"
-    }
-  }
-  ADD_FAILURE() << "no mapping starts at " << start;
-  return 0;
+  const long long n = vwg::testing::anonymous_bytes(start);
+  EXPECT_GE(n, 0) << "no mapping starts at " << start;
+  return static_cast<std::size_t>(std::max(n, 0LL));
 }
 
 SharedPages pattern(std::size_t size) {

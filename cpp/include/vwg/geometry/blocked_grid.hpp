@@ -81,6 +81,7 @@ class BlockedGrid {
   void share() { cells_.share(); }
   /// See SharedPages::reshare.
   std::size_t reshare() { return cells_.reshare(); }
+  std::size_t private_pages() const { return cells_.private_pages(); }
 
  private:
   [[noreturn]] void throw_outside(Cell c) const;

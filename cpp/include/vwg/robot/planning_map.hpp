@@ -27,6 +27,9 @@ class PlanningMap {
   /// The cells whose centre is within `radius` of an obstacle square or of the map's edge: equal
   /// to geometry::inflate(obstacles(), radius / resolution).
   const geometry::BlockedGrid& inflated() const { return inflated_; }
+  /// The memory pages of its grids that differ from the grids it started from (0 unless it
+  /// started from those of a shared map): what this robot's grids cost beyond the shared ones.
+  std::size_t private_pages() const;
 
  private:
   void rebuild(std::span<const std::int16_t> cells, const geometry::MapGeometry& g, double radius);
