@@ -101,12 +101,13 @@ def test_the_office_world_runs_on_a_ros_robot_through_rosbridge():
     assert fake.commands[1][-1][1:] == (0.0, 0.0)
     assert outcome.summary["faults"] == []
     # Every command within the robot's limits: speeds, and their change from one command to the next
-    # within the accelerations over the time between them (as the fake received them, 10 ms of
-    # network jitter allowed; the controller counts at most two control periods).
+    # within the accelerations over the time between them (as the fake received them, 20 ms of
+    # delivery jitter allowed: on a loaded 2-core machine two commands sent 54 ms apart arrived 44 ms
+    # apart; the controller counts at most two control periods).
     limits, commands = OFFICE.robots[0], fake.commands[1]
     assert all(abs(v) <= limits.max_speed + 1e-9 and abs(w) <= limits.max_turn_rate + 1e-9 for _, v, w in commands)
     for (t0, v0, w0), (t1, v1, w1) in itertools.pairwise(commands[:-1]):  # the last: the stop at the end
-        dt = min(t1 - t0 + 0.01, 2 / 20)
+        dt = min(t1 - t0 + 0.02, 2 / 20)
         assert abs(v1 - v0) <= limits.max_accel * dt + 1e-9 and abs(w1 - w0) <= limits.max_turn_accel * dt + 1e-9
 
 

@@ -78,8 +78,8 @@ void PlanningMap::set_obstacle(int row, int col, bool blocked) {
 
 bool PlanningMap::start_from_original(const Blob& map, const geometry::MapGeometry& g, double radius) {
   // One set of grids per shared content and radius, for every robot of every decider.
-  static OriginCache<std::tuple<int, int, double>, PlanningMap> originals;
-  const auto original = originals.get(map.origin(), std::tuple{g.height, g.width, radius}, [&] {
+  static OriginCache<std::tuple<int, int, double, double>, PlanningMap> originals;
+  const auto original = originals.get(map.origin(), std::tuple{g.height, g.width, g.resolution, radius}, [&] {
     PlanningMap m;
     m.rebuild(map.original_view<std::int16_t>(), g, radius);
     m.seen_.share();
@@ -89,7 +89,8 @@ bool PlanningMap::start_from_original(const Blob& map, const geometry::MapGeomet
     return m;
   });
   if (original == nullptr) return false;
-  *this = *original;
+  PlanningMap copy = *original;  // all or nothing: a copy that fails leaves this map as it was
+  *this = std::move(copy);
   return true;
 }
 

@@ -144,7 +144,8 @@ void ObstacleBits::sync(const Blob& map, const geometry::MapGeometry& g) {
     scan(cells, g);
     return;
   }
-  *this = *original;
+  ObstacleBits copy = *original;  // all or nothing (see PlanningMap::start_from_original)
+  *this = std::move(copy);
   revision_ = map.revision();
   // The cells this copy changed, found a row of blocks' width at a time.
   const auto was = map.original_view<std::int16_t>();

@@ -46,23 +46,26 @@ SharedPages::SharedPages(std::size_t size) : size_(size) {
   if (data_ == nullptr) throw std::bad_alloc();
 }
 
-std::byte* SharedPages::map_private(const File& file) const {
+std::byte* SharedPages::map_private(const File& file) {
   void* p = mmap(nullptr, round_up(file.size), PROT_READ | PROT_WRITE, MAP_PRIVATE, file.fd, 0);
-  if (p == MAP_FAILED) throw std::bad_alloc();
-  return static_cast<std::byte*>(p);
+  return p == MAP_FAILED ? nullptr : static_cast<std::byte*>(p);
 }
 
 SharedPages::SharedPages(const SharedPages& other) : size_(other.size_) {
   if (size_ == 0) return;
-  if (other.base_ == nullptr) {
+  std::vector<std::uint64_t> written(other.written_.size(), 0);  // before mapping: nothing to undo if it throws
+  std::byte* mapped = other.base_ != nullptr ? map_private(*other.base_) : nullptr;
+  if (mapped == nullptr) {
+    // Never shared, or the system refuses another mapping (vm.max_map_count): a plain copy, the
+    // same bytes at the cost of the memory.
     data_ = static_cast<std::byte*>(std::malloc(size_));
     if (data_ == nullptr) throw std::bad_alloc();
     std::memcpy(data_, other.data_, size_);
     return;
   }
   base_ = other.base_;
-  data_ = map_private(*base_);
-  written_.assign(other.written_.size(), 0);
+  data_ = mapped;
+  written_ = std::move(written);
   pristine_ = true;
   if (other.pristine_) return;
   // Only the pages `other` changed are written here (and so copied by the kernel).
@@ -128,14 +131,16 @@ void SharedPages::share() {
     return;
   }
   file->view = static_cast<const std::byte*>(view);
+  std::vector<std::uint64_t> written((size_ + page_size() - 1) / page_size() / 64 + 1, 0);
   std::byte* mapped = map_private(*file);
+  if (mapped == nullptr) return;  // stays a plain buffer
   const std::size_t size = size_;
   release();
   size_ = size;
   data_ = mapped;
   base_ = std::move(file);
   pristine_ = true;
-  written_.assign((size + page_size() - 1) / page_size() / 64 + 1, 0);
+  written_ = std::move(written);
 }
 
 std::span<const std::byte> SharedPages::original() const {

@@ -132,6 +132,27 @@ TEST(PlanningMap, ACopyOfASharedMapStartsFromItsGridsAndFollowsItsChanges) {
   }
 }
 
+TEST(PlanningMap, RobotsOfOneSharedMapWithOtherCellSizesGetTheirOwnGrids) {
+  // The shared grids are made per map, radius and cell size: the same radius is 4 cells at 0.05 m
+  // and 2 at 0.1 m.
+  const int rows = 260, cols = 300;
+  std::mt19937 rng(9);
+  const auto shared = shared_random_map(rows, cols, rng);
+  for (const double resolution : {0.05, 0.1, 0.05}) {
+    const geometry::MapGeometry g{cols, rows, resolution, {}};
+    PlanningMap pm;
+    pm.update(*shared->clone(), g, 0.2);
+    const auto cells = shared->view<std::int16_t>();
+    std::vector<std::uint8_t> mask(cells.size());
+    for (std::size_t i = 0; i < cells.size(); ++i) mask[i] = blocks(cells[i]);
+    const auto inflated =
+        geometry::inflate(geometry::BlockedGrid::from_mask(std::span<const std::uint8_t>(mask), rows, cols), 0.2 / resolution);
+    for (int r = 0; r < rows; ++r) {
+      for (int c = 0; c < cols; ++c) ASSERT_EQ(pm.inflated().blocked({r, c}), inflated.blocked({r, c})) << resolution << ": " << r << "," << c;
+    }
+  }
+}
+
 TEST(PlanningMap, GridsGiveBackThePagesOfWhatHasGone) {
   const int rows = 260, cols = 300;
   const geometry::MapGeometry g{cols, rows, 0.05, {}};

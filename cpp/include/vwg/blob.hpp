@@ -56,11 +56,12 @@ class Blob {
   /// again (SharedPages::reshare); returns how many. Changes no byte, so no revision either.
   std::size_t reshare() { return bytes_.reshare(); }
   /// Let copies share the memory pages they and this blob do not write (SharedPages): for a large
-  /// array that many actors start from, such as the known map every robot copies. Changes no byte.
+  /// array that many actors start from, such as the known map every robot copies. Changes no byte,
+  /// but moves them: call it before anyone holds a pointer to them (a BlobEdit, a numpy view).
   void share();
   /// Whether copies share pages with this blob (share() was called on it or on what it copies).
   bool shared() const { return bytes_.shared(); }
-  /// The pages this blob has written since it was shared (0 for a blob never shared).
+  /// The pages whose content differs from what the blob was shared as (0 for a blob never shared).
   std::size_t private_pages() const { return bytes_.private_pages(); }
   /// The content it was shared as (empty if never shared), and who made it (SharedPages::origin):
   /// what is worked out from that content once serves every copy (OriginCache).

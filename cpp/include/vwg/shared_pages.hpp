@@ -29,7 +29,9 @@ class SharedPages {
   /// `size` zero bytes, on the heap.
   explicit SharedPages(std::size_t size);
   /// The same bytes: the pages `other` has not written since it was shared stay shared with it;
-  /// a buffer never shared is copied.
+  /// a buffer never shared is copied, and so is a shared one when the system refuses another
+  /// mapping (each shared copy is one; Linux allows vm.max_map_count, 65,530 by default, per
+  /// process).
   SharedPages(const SharedPages& other);
   SharedPages& operator=(const SharedPages& other);
   SharedPages(SharedPages&& other) noexcept;
@@ -58,6 +60,7 @@ class SharedPages {
   /// Put the content into an in-memory file and map it privately, so copies share its pages. Does
   /// nothing below kMinShared bytes, when the buffer already is shared and unwritten, or when the
   /// system refuses a file (then copies are plain copies: sharing saves memory, it changes no byte).
+  /// The content moves: call it before handing out pointers to it.
   void share();
   /// Whether copies share pages with this buffer.
   bool shared() const { return base_ != nullptr; }
@@ -80,7 +83,8 @@ class SharedPages {
  private:
   struct File;  // the in-memory file a shared buffer maps: its content when shared, never written
   void release() noexcept;
-  std::byte* map_private(const File& file) const;
+  /// A private mapping of `file`, or nullptr if the system refuses one.
+  static std::byte* map_private(const File& file);
 
   std::shared_ptr<const File> base_;  // set when shared
   std::byte* data_ = nullptr;
@@ -129,7 +133,9 @@ class SharedArray {
 
 /// What is made once from a shared content and a key (the planning grids of the known map for a
 /// robot's radius), kept while that content lives: every robot starts from a copy of it instead
-/// of making its own. Safe to use from several threads.
+/// of making its own. Safe to use from several threads; values are made under one lock (the
+/// callers waiting want the same value, made once). An entry whose content is gone is dropped at
+/// the next get().
 template <class Key, class Value>
 class OriginCache {
  public:
