@@ -77,7 +77,7 @@ void PlanningMap::set_obstacle(int row, int col, bool blocked) {
 }
 
 bool PlanningMap::start_from_original(const Blob& map, const geometry::MapGeometry& g, double radius) {
-  // One set of grids per shared content and radius, for every robot of every decider.
+  // One set of grids per shared content, cell size and radius, for every robot of every decider.
   static OriginCache<std::tuple<int, int, double, double>, PlanningMap> originals;
   const auto original = originals.get(map.origin(), std::tuple{g.height, g.width, g.resolution, radius}, [&] {
     PlanningMap m;
@@ -113,25 +113,19 @@ bool PlanningMap::update(const Blob& map, const geometry::MapGeometry& g, double
     return false;
   }
   revision_ = map.revision();
-  // The cells that differ from the last look, found a block at a time.
-  constexpr std::size_t kBlock = 64;
-  for (std::size_t first = 0; first < cells.size(); first += kBlock) {
-    const std::size_t n = std::min(kBlock, cells.size() - first);
-    if (std::memcmp(&cells[first], &seen_[first], n * sizeof(std::int16_t)) == 0) continue;
-    for (std::size_t i = first; i < first + n; ++i) {
-      if (cells[i] == seen_[i]) continue;
-      changed = true;
-      const bool was = planning_obstacle(seen_[i]), is = planning_obstacle(cells[i]);
-      seen_.set(i, cells[i]);
-      if (was == is) continue;
-      const int row = static_cast<int>(i / static_cast<std::size_t>(g.width)), col = static_cast<int>(i % static_cast<std::size_t>(g.width));
-      if (counted_) {
-        set_obstacle(row, col, is);
-      } else {
-        obstacles_.set_blocked({row, col}, is);
-      }
+  // The cells that differ from the last look.
+  for_each_changed_cell(cells, seen_.span(), [&](std::size_t i) {
+    changed = true;
+    const bool was = planning_obstacle(seen_[i]), is = planning_obstacle(cells[i]);
+    seen_.set(i, cells[i]);
+    if (was == is) return;
+    const int row = static_cast<int>(i / static_cast<std::size_t>(g.width)), col = static_cast<int>(i % static_cast<std::size_t>(g.width));
+    if (counted_) {
+      set_obstacle(row, col, is);
+    } else {
+      obstacles_.set_blocked({row, col}, is);
     }
-  }
+  });
   if (changed && !counted_) inflated_ = geometry::inflate(obstacles_, radius / g.resolution);
   if (changed) {  // the pages of what has gone again go back to the shared grids
     seen_.reshare();

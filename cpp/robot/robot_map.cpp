@@ -130,7 +130,6 @@ void ObstacleBits::sync(const Blob& map, const geometry::MapGeometry& g) {
   check(map, g);
   const int columns = (g.width + (1 << kShift) - 1) >> kShift, rows = (g.height + (1 << kShift) - 1) >> kShift;
   if (revision_ == map.revision() && columns == columns_ && words_.size() == static_cast<std::size_t>(rows) * columns) return;
-  revision_ = map.revision();
   const auto cells = map.view<std::int16_t>();
   static OriginCache<std::pair<int, int>, ObstacleBits> originals;  // one per shared content, for every robot
   const auto original = map.shared() ? originals.get(map.origin(), std::pair{g.height, g.width}, [&] {
@@ -142,21 +141,15 @@ void ObstacleBits::sync(const Blob& map, const geometry::MapGeometry& g) {
                                      : nullptr;
   if (original == nullptr) {
     scan(cells, g);
-    return;
+  } else {
+    ObstacleBits copy = *original;  // all or nothing (see PlanningMap::start_from_original)
+    *this = std::move(copy);
+    // The cells this copy changed.
+    for_each_changed_cell(cells, map.original_view<std::int16_t>(), [&](std::size_t i) {
+      set(static_cast<int>(i / static_cast<std::size_t>(g.width)), static_cast<int>(i % static_cast<std::size_t>(g.width)), cells[i]);
+    });
   }
-  ObstacleBits copy = *original;  // all or nothing (see PlanningMap::start_from_original)
-  *this = std::move(copy);
   revision_ = map.revision();
-  // The cells this copy changed, found a row of blocks' width at a time.
-  const auto was = map.original_view<std::int16_t>();
-  constexpr std::size_t kRun = 64;
-  for (std::size_t first = 0; first < cells.size(); first += kRun) {
-    const std::size_t n = std::min(kRun, cells.size() - first);
-    if (std::memcmp(&cells[first], &was[first], n * sizeof(std::int16_t)) == 0) continue;
-    for (std::size_t i = first; i < first + n; ++i) {
-      if (cells[i] != was[i]) set(static_cast<int>(i / static_cast<std::size_t>(g.width)), static_cast<int>(i % static_cast<std::size_t>(g.width)), cells[i]);
-    }
-  }
 }
 
 bool mark_obstacle(MapEdit& map, const geometry::MapGeometry& g, double x, double y, ObstacleBits* bits) {

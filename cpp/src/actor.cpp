@@ -124,20 +124,16 @@ Blob& ActorState::writable_blob(std::size_t i, DType dtype, BlobJournal*& journa
                       "holds " + std::string(dtype_name(held->dtype())) + " elements, edited as " +
                           std::string(dtype_name(dtype)));
   }
-  bool in_other_attribute = false;
-  for (std::size_t k = 0; k < size(); ++k) {
-    if (k != i && value(k).kind == ValueKind::Blob && store_.blob(value(k)) == held) in_other_attribute = true;
-  }
+  // Every reference to a blob has a slot of its own (ValueStore), so the count sees another
+  // attribute, another actor, a snapshot or Python holding it.
   journal = nullptr;
-  if (!in_other_attribute) {
-    // Held here alone (made in this frame): nobody can see the writes.
-    if (held.use_count() == 1) return const_cast<Blob&>(*held);
-    // Held here and by the engine's string it was loaded from, nowhere else (not by Python, a
-    // snapshot, another actor or the display): written in place, each change journaled.
-    if (journal_ && held.use_count() == 2 && i < loaded_blobs_.size() && loaded_blobs_[i] == held.get()) {
-      journal = journal_;
-      return const_cast<Blob&>(*held);
-    }
+  // Held here alone (made in this frame): nobody can see the writes.
+  if (held.use_count() == 1) return const_cast<Blob&>(*held);
+  // Held here and by the engine's string it was loaded from, nowhere else (not by Python, a
+  // snapshot, another actor or the display): written in place, each change journaled.
+  if (journal_ && held.use_count() == 2 && i < loaded_blobs_.size() && loaded_blobs_[i] == held.get()) {
+    journal = journal_;
+    return const_cast<Blob&>(*held);
   }
   std::shared_ptr<Blob> copy = held->clone();
   Blob& ref = *copy;
@@ -150,11 +146,7 @@ Blob& ActorState::mutable_blob(std::size_t i) {
   const std::shared_ptr<const Blob>& held = store_.blob(value(i));
   // Held only here, by this attribute alone: write in place. Shared with the string being read, a
   // snapshot, Python or another attribute: write to a private copy.
-  bool alone = held.use_count() == 1;
-  for (std::size_t k = 0; alone && k < size(); ++k) {
-    if (k != i && value(k).kind == ValueKind::Blob && store_.blob(value(k)) == held) alone = false;
-  }
-  if (alone) return const_cast<Blob&>(*held);
+  if (held.use_count() == 1) return const_cast<Blob&>(*held);  // a slot per reference (ValueStore)
   std::shared_ptr<Blob> copy = held->clone();
   Blob& ref = *copy;
   store_.set(static_cast<std::uint32_t>(i), Datum(std::shared_ptr<const Blob>(std::move(copy))));

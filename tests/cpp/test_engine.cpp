@@ -263,6 +263,42 @@ TEST(EngineInPlace, ActorsHoldingOneBlobEachWriteTheirOwnCopy) {
   }
 }
 
+TEST(EngineInPlace, AnActorHoldingOneBlobInTwoAttributesWritesACopy) {
+  // Twin<a, b> given one array for both: writing `a` must leave `b` as it was, whether the actor
+  // stands alone or was loaded from the engine's string (in place, journaled).
+  auto a = std::make_shared<Alphabet>();
+  const SymbolId twin = a->add_actor("Twin", {}, schema({ParamSpec{"a", ValueKind::Blob, std::nullopt}, ParamSpec{"b", ValueKind::Blob, std::nullopt}}),
+                                     std::make_shared<LambdaActor>([](ActorState&, const EventView&, const EvolutionContext&, Replacement&) {},
+                                                                   [](const ActorState&, const EventView&, StringBuilder&) {}));
+  const std::vector<std::uint8_t> zeros(8, 0);
+  auto fresh = [&] { return std::make_shared<const Blob>(DType::UInt8, std::vector<std::int64_t>{8}, zeros.data(), zeros.size()); };
+  {
+    ActorState s;
+    {
+      const auto shared = fresh();
+      s.assign(*a, twin, std::vector<Datum>{Datum(shared), Datum(shared)});
+    }  // held by the actor alone, in two attributes
+    s.mutable_blob(0).mutable_view<std::uint8_t>()[1] = 5;
+    s.edit_blob<std::uint8_t>(0).set(2, 6);
+    EXPECT_EQ(cells_of(*s.get_blob(0)), (std::vector<std::uint8_t>{0, 5, 6, 0, 0, 0, 0, 0}));
+    EXPECT_EQ(cells_of(*s.get_blob(1)), zeros);
+  }
+  StringBuilder b(a);
+  {
+    const auto shared = fresh();
+    b.actor("Twin", {Datum(shared), Datum(shared)});
+  }
+  const WorldString w = b.finish();
+  BlobJournal journal;
+  ActorState s;
+  s.load_in_place(w, 0, journal);
+  s.edit_blob<std::uint8_t>(0).set(3, 7);
+  EXPECT_EQ(cells_of(*s.get_blob(0)), (std::vector<std::uint8_t>{0, 0, 0, 7, 0, 0, 0, 0}));
+  EXPECT_EQ(cells_of(*s.get_blob(1)), zeros);
+  EXPECT_EQ(cells_of(*w.store().blob(w.node(0).value(0))), zeros) << "the string's array is not written";
+  EXPECT_EQ(journal.size(), 0u);
+}
+
 TEST(EngineInPlace, AFailedFrameTakesBackWhatItWroteInPlace) {
   auto a = painter_alphabet();
   // Frame 1 paints cells 4 and 5 in place, then fails on cell 6: all three are taken back.

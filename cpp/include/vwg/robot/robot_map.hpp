@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <memory>
 #include <span>
 #include <vector>
@@ -25,6 +26,20 @@ enum RobotCell : std::int16_t {
 };
 
 inline bool is_obstacle(std::int16_t v) { return v >= kWallCell; }
+
+/// Calls each(i) for every cell i at which `now` differs from `before` (of the same size), in
+/// order, comparing 64 cells at a time first: most of a robot's map is as it was.
+template <class Each>
+void for_each_changed_cell(std::span<const std::int16_t> now, std::span<const std::int16_t> before, Each&& each) {
+  constexpr std::size_t kRun = 64;
+  for (std::size_t first = 0; first < now.size(); first += kRun) {
+    const std::size_t n = std::min(kRun, now.size() - first);
+    if (std::memcmp(&now[first], &before[first], n * sizeof(std::int16_t)) == 0) continue;
+    for (std::size_t i = first; i < first + n; ++i) {
+      if (now[i] != before[i]) each(i);
+    }
+  }
+}
 
 /// Throws SchemaError("grid") unless `map` is an int16 array of the geometry's shape.
 void check_robot_map(const Blob& map, const geometry::MapGeometry& g);
