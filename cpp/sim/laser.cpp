@@ -107,18 +107,23 @@ void RangeScanner::scan(int self, const Pose2& pose, std::span<const double> ang
     const double nearest = (d - radius) * (1 - 1e-9) - 1e-9;
     return beams_within(bearing, half, [&](std::size_t i) { return static_cast<double>(out[i]) <= nearest; });
   };
-  for (const PhysicsWorld::Disc& other : world_->discs()) {
-    if (other.id == self) continue;
+  // Only the robots in the squares of the floor within reach (a superset of those the distance
+  // test below keeps, with a margin well above its rounding).
+  const std::vector<PhysicsWorld::Disc>& discs = world_->discs();
+  const DiscIndex& index = world_->disc_index();
+  index.near(pose.x, pose.y, (max_range + index.max_radius()) * (1 + 1e-6) + 1e-6, [&](std::uint32_t k) {
+    const PhysicsWorld::Disc& other = discs[k];
+    if (other.id == self) return;
     const double cx = other.x - pose.x, cy = other.y - pose.y;
     // Far robots first by squared distance (a crowd is mostly far), with a margin well above
     // rounding, so that every robot the exact test below keeps gets to it.
     const double reach = max_range + other.radius;
     const double squared = cx * cx + cy * cy;
-    if (squared > reach * reach * (1 + 1e-9) + 1e-9) continue;
-    if (half_plane && cx * mid_x + cy * mid_y < -(other.radius + 1e-9 * (std::abs(cx) + std::abs(cy) + 1.0))) continue;
-    if (windowed && hidden(cx, cy, squared, other.radius)) continue;
+    if (squared > reach * reach * (1 + 1e-9) + 1e-9) return;
+    if (half_plane && cx * mid_x + cy * mid_y < -(other.radius + 1e-9 * (std::abs(cx) + std::abs(cy) + 1.0))) return;
+    if (windowed && hidden(cx, cy, squared, other.radius)) return;
     const double dist = std::hypot(cx, cy);
-    if (dist - other.radius > max_range) continue;
+    if (dist - other.radius > max_range) return;
     const double r2 = other.radius * other.radius;
     auto test = [&](std::size_t i) {
       // A beam's direction is computed once per scan, when a robot first comes near it (in a
@@ -138,14 +143,14 @@ void RangeScanner::scan(int self, const Pose2& pose, std::span<const double> ang
     };
     if (!windowed || dist <= other.radius * 1.0001) {
       for (std::size_t i = 0; i < angles.size(); ++i) test(i);
-      continue;
+      return;
     }
     // Beams whose angle (relative to the sensor) lies within the disc's half-angle of its bearing,
     // widened a little so that rounding never leaves out a beam the exact test would accept.
     const double bearing = geometry::wrap_angle(std::atan2(cy, cx) - pose.theta);
     const double half = std::asin(other.radius / dist) + 1e-6;
     beams_within(bearing, half, [&](std::size_t i) { return test(i), true; });
-  }
+  });
 }
 
 LaserGenerator::LaserGenerator(std::shared_ptr<const RangeScanner> scanner, int robot, LaserSpec spec,

@@ -211,6 +211,7 @@ void PhysicsWorld::add_robot(const RobotSettings& rs) {
   st.pose = st.odometry = platform::quantize_pose({bd.position.x, bd.position.y, bd.angle});
   states_.push_back(st);
   discs_.push_back({st.pose.x, st.pose.y, st.radius, st.id});
+  disc_index_.rebuild(discs_);
   index_[rs.id] = states_.size() - 1;
 }
 
@@ -221,6 +222,7 @@ void PhysicsWorld::remove_robot(int id) {
   robots_.erase(robots_.begin() + static_cast<std::ptrdiff_t>(i));
   states_.erase(states_.begin() + static_cast<std::ptrdiff_t>(i));
   discs_.erase(discs_.begin() + static_cast<std::ptrdiff_t>(i));
+  disc_index_.rebuild(discs_);
   index_.erase(id);
   for (auto& [other, k] : index_) k -= k > i ? 1 : 0;
 }
@@ -334,6 +336,7 @@ void PhysicsWorld::advance(double seconds) {
       s.busy = r.follower.busy();
     }
   }
+  disc_index_.rebuild(discs_);
 }
 
 std::vector<Collision> PhysicsWorld::take_collisions() { return std::exchange(collisions_, {}); }

@@ -360,3 +360,88 @@ TEST(RangeScanner, SkippingRobotsOutOfReachChangesNoRange) {
   }
   EXPECT_GT(nearer_than_walls, 1000) << "robots were seen";
 }
+
+TEST(DiscIndex, NearVisitsEveryDiscWithinReachOnceAndFewBeyond) {
+  // Against a walk over every disc: each disc whose centre is within `reach` of the query on both
+  // axes is visited exactly once; discs far beyond the squares around the query are not. Among
+  // the discs: two at one point, one at a point that is not finite, and (second round) a spread
+  // so wide that the squares must grow past kSquare.
+  std::mt19937 rng(11);
+  for (const double spread : {60.0, 3e7}) {
+    std::uniform_real_distribution<double> at(-spread / 2, spread / 2), reach_of(0.0, 12.0);
+    std::vector<Disc> discs;
+    for (int k = 0; k < 3000; ++k) discs.push_back({at(rng), at(rng), 0.1 + 0.05 * (k % 4), k + 1});
+    discs.push_back({discs[7].x, discs[7].y, 0.2, 9001});
+    discs.push_back({std::nan(""), 1.0, 0.2, 9002});
+    DiscIndex index;
+    index.rebuild(discs);
+    EXPECT_EQ(index.max_radius(), 0.25);
+    for (int q = 0; q < 300; ++q) {
+      const double x = q == 0 ? discs[7].x : at(rng), y = q == 0 ? discs[7].y : at(rng);
+      const double reach = q == 0 ? 0.0 : reach_of(rng);
+      std::vector<int> visits(discs.size(), 0);
+      index.near(x, y, reach, [&](std::uint32_t i) { ++visits[i]; });
+      const double side = std::max(DiscIndex::kSquare, spread / (DiscIndex::kMaxSquares - 1));
+      for (std::size_t i = 0; i < discs.size(); ++i) {
+        const double dx = std::abs(discs[i].x - x), dy = std::abs(discs[i].y - y);
+        ASSERT_LE(visits[i], 1) << "disc " << i;
+        if (dx <= reach && dy <= reach) {
+          ASSERT_EQ(visits[i], 1) << "disc " << i << " query " << q;
+        }
+        // Beyond the query's squares by a whole square on an axis: never visited.
+        if (dx > reach + 2 * side || dy > reach + 2 * side) {
+          ASSERT_EQ(visits[i], 0) << "disc " << i << " query " << q;
+        }
+      }
+      if (q == 0) {
+        EXPECT_EQ(visits[7] + visits[3000], 2) << "two discs at one point";
+      }
+    }
+  }
+  DiscIndex empty;
+  empty.rebuild({});
+  int visited = 0;
+  empty.near(0.0, 0.0, 1e9, [&](std::uint32_t) { ++visited; });
+  EXPECT_EQ(visited, 0);
+}
+
+TEST(RangeScanner, ACrowdOnALargeFloorGivesTheRangesOfEveryBeamAgainstEveryRobot) {
+  // 500 robots on an open 30 × 30 m floor with a 4 m laser: most robots are squares of the floor
+  // away, and the scanner looks only at those near. Each range must equal the one worked out here
+  // from the walls' range and every other robot's disc (the nearest point in front of the sensor
+  // where the beam's line meets the disc, with the scanner's arithmetic).
+  OccupancyGrid g = make_grid(600, 600, 0.05);
+  std::mt19937 rng(7);
+  const std::vector<RobotSettings> robots =
+      random_crowd(500, std::uniform_real_distribution<double>(0.5, 29.5), rng, [](double, double, double) { return false; });
+  auto world = std::make_shared<PhysicsWorld>(g, robots, PhysicsSettings{});
+  for (const RobotSettings& r : robots) world->drive(r.id, 0.3, 0.5);
+  world->advance(0.5);  // the index follows the robots as they move
+  const RangeScanner scanner(std::make_shared<GridRaycaster>(g), world);
+  LaserSpec spec;
+  spec.beams = 181;
+  spec.fov = M_PI;
+  spec.max_range = 4.0;
+  const std::vector<double> angles = beam_angles(spec);
+  int nearer_than_walls = 0;
+  for (const RobotState& me : world->robots()) {
+    std::vector<float> got(angles.size()), want(angles.size());
+    scanner.scan(me.id, me.pose, angles, spec.max_range, got);
+    scanner.raycaster().scan(me.pose, angles, spec.max_range, want);
+    for (std::size_t i = 0; i < angles.size(); ++i) {
+      const double dx = std::cos(me.pose.theta + angles[i]), dy = std::sin(me.pose.theta + angles[i]);
+      const float walls = want[i];
+      for (const RobotState& other : world->robots()) {
+        if (other.id == me.id) continue;
+        const double cx = other.pose.x - me.pose.x, cy = other.pose.y - me.pose.y, r2 = other.radius * other.radius;
+        const double along = cx * dx + cy * dy, across2 = cx * cx + cy * cy - along * along;
+        if (across2 > r2) continue;
+        const double t = along - std::sqrt(r2 - across2);
+        if (t >= 0.0 && t < want[i]) want[i] = static_cast<float>(t);
+      }
+      ASSERT_EQ(got[i], want[i]) << "robot " << me.id << " beam " << i;
+      nearer_than_walls += want[i] < walls;
+    }
+  }
+  EXPECT_GT(nearer_than_walls, 3000) << "robots were seen";
+}

@@ -16,6 +16,7 @@
 #include "vwg/random.hpp"
 #include "vwg/platform/motion_follower.hpp"
 #include "vwg/platform/platform.hpp"
+#include "vwg/sim/disc_index.hpp"
 #include "vwg/sim/grid.hpp"
 
 namespace vwg::sim {
@@ -98,12 +99,10 @@ class PhysicsWorld final : public platform::RobotPlatform {
   const RobotState& robot(int id) const override;
   const std::vector<RobotState>& robots() const override { return states_; }
   /// Where each robot's disc is, in the order of robots(): what the other robots' lasers read.
-  /// A small array of its own, because every laser scan reads all of it.
-  struct Disc {
-    double x = 0.0, y = 0.0, radius = 0.0;
-    int id = 0;
-  };
+  using Disc = sim::Disc;
   const std::vector<Disc>& discs() const { return discs_; }
+  /// The discs by squares of the floor, kept with them: a laser looks only at the discs near it.
+  const DiscIndex& disc_index() const { return disc_index_; }
   /// Collisions since the last call.
   std::vector<Collision> take_collisions() override;
   double time() const override { return time_; }
@@ -133,6 +132,7 @@ class PhysicsWorld final : public platform::RobotPlatform {
   std::vector<Robot> robots_;
   std::vector<RobotState> states_;
   std::vector<Disc> discs_;                    ///< discs_[i]: states_[i]'s pose and radius, set with it
+  DiscIndex disc_index_;                       ///< of discs_, rebuilt whenever they change
   std::unordered_map<int, std::size_t> index_;  ///< robot id -> i in robots_, states_ and discs_
   std::vector<Collision> collisions_;
   std::unique_ptr<Contacts> contacts_;

@@ -1,0 +1,63 @@
+// Where the robots' discs are, by squares of the floor: a laser looks only at the robots in the
+// squares its reach covers. Every scan used to test every other robot, so ten thousand robots cost
+// a hundred million tests a frame, almost all of them robots tens of metres away.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace vwg::sim {
+
+/// A robot's body as the lasers see it: a disc.
+struct Disc {
+  double x = 0.0, y = 0.0, radius = 0.0;
+  int id = 0;
+};
+
+class DiscIndex {
+ public:
+  /// The side of a square, metres, unless the discs spread so far that the squares would exceed
+  /// kMaxSquares a side (then it grows to keep that).
+  static constexpr double kSquare = 2.0;
+  static constexpr int kMaxSquares = 4096;
+
+  /// Sort `discs` into squares (a counting sort, linear in their number). Their positions are
+  /// read now: call it again whenever they move.
+  void rebuild(std::span<const Disc> discs);
+
+  /// The largest radius of the discs (0 for none).
+  double max_radius() const { return max_radius_; }
+
+  /// Calls visit(i) for the index i (in the span given to rebuild) of every disc whose centre lies
+  /// within `reach` of (x, y) on each axis, and for some beyond (those in the same squares), each
+  /// once; within a square in the order of the span.
+  template <class Visit>
+  void near(double x, double y, double reach, Visit&& visit) const {
+    if (items_.empty()) return;
+    const int c0 = square(x - reach, x0_, cols_), c1 = square(x + reach, x0_, cols_);
+    const int r0 = square(y - reach, y0_, rows_), r1 = square(y + reach, y0_, rows_);
+    for (int r = r0; r <= r1; ++r) {
+      const std::size_t row = static_cast<std::size_t>(r) * static_cast<std::size_t>(cols_);
+      for (std::uint32_t k = start_[row + static_cast<std::size_t>(c0)], end = start_[row + static_cast<std::size_t>(c1) + 1]; k < end; ++k) visit(items_[k]);
+    }
+  }
+
+ private:
+  /// The square of coordinate v along an axis starting at `origin` with `count` squares; clamped
+  /// to the first and last (also for a coordinate that is not finite), which keeps the order of
+  /// coordinates, so a query's range of squares always holds the squares of the discs within it.
+  int square(double v, double origin, int count) const {
+    const double s = (v - origin) / side_;
+    if (!(s >= 0.0)) return 0;
+    return s >= count - 1 ? count - 1 : static_cast<int>(s);
+  }
+
+  double x0_ = 0.0, y0_ = 0.0, side_ = kSquare, max_radius_ = 0.0;
+  int cols_ = 1, rows_ = 1;
+  // Squares row by row, columns within; the discs of square q are items_[start_[q] .. start_[q + 1]).
+  // A row's squares are contiguous, so a query reads one run of items per row.
+  std::vector<std::uint32_t> start_, items_;
+};
+
+}  // namespace vwg::sim
