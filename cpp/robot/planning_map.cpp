@@ -127,13 +127,17 @@ bool PlanningMap::update(const Blob& map, const geometry::MapGeometry& g, double
     }
   });
   if (changed && !counted_) inflated_ = geometry::inflate(obstacles_, radius / g.resolution);
-  if (changed) {  // the pages of what has gone again go back to the shared grids
-    seen_.reshare();
-    obstacles_.reshare();
-    inflated_.reshare();
-    cover_.reshare();
-  }
+  // The pages of what has gone again go back to the shared grids, every kReshareEvery looks at a
+  // new revision.
+  if (++looks_ % kReshareEvery == 0) reshare();
   return changed;
+}
+
+void PlanningMap::reshare() {
+  seen_.reshare();
+  obstacles_.reshare();
+  inflated_.reshare();
+  cover_.reshare();
 }
 
 }  // namespace vwg::robot

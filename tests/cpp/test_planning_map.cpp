@@ -182,13 +182,29 @@ TEST(PlanningMap, GridsGiveBackThePagesOfWhatHasGone) {
   for (const long long bytes : held()) EXPECT_GT(bytes, 0);
   for (const std::size_t at : seen) edit.set(at, kFreeCell);
   pm.update(*map, g, 0.2);
-  EXPECT_EQ(pm.private_pages(), 0u);
-  EXPECT_EQ(held()[1], 0) << "equal again: the grids keep no page of the passer-by";
+  EXPECT_EQ(pm.private_pages(), 0u) << "equal again";
+  // The grids give the pages back within kReshareEvery looks at a new revision of the map (here
+  // a cell set and set back: a new revision, the same content).
+  for (int k = 0; k < kReshareEvery; ++k) {
+    edit.set(seen[0], kSeenCell);
+    edit.set(seen[0], kFreeCell);
+    EXPECT_FALSE(pm.update(*map, g, 0.2));
+  }
+  EXPECT_EQ(held()[1], 0) << "the grids keep no page of the passer-by";
   EXPECT_EQ(held()[2], 0);
   EXPECT_GT(held()[0], 0) << "the map gives its pages back when its robot does (ARobot::edit_map)";
   EXPECT_GT(edit.reshare(), 0u);
   EXPECT_EQ(held()[0], 0);
   EXPECT_EQ(map->private_pages(), 0u);
+  // And at once when asked.
+  for (const std::size_t at : seen) edit.set(at, kSeenCell);
+  pm.update(*map, g, 0.2);
+  for (const std::size_t at : seen) edit.set(at, kFreeCell);
+  pm.update(*map, g, 0.2);
+  EXPECT_GT(held()[1], 0) << "21 looks: not yet given back";
+  pm.reshare();
+  EXPECT_EQ(held()[1], 0);
+  EXPECT_EQ(held()[2], 0);
 }
 
 TEST(PlanningMap, ACellChangedAndChangedBackIsNoChange) {

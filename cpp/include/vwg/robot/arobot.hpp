@@ -97,8 +97,10 @@ class ARobot final : public ActorBehavior {
     edit(map, bits);
     bits.keep(map.blob());
     // A robot that saw others pass keeps no page of them once they are gone (memory stays flat).
-    map.reshare();
-    bits.reshare();
+    if (bits.reshare_due_after_edit()) {
+      map.reshare();
+      bits.reshare();
+    }
   }
 
   ARobotConfig config_;

@@ -19,8 +19,12 @@ class PlanningMap {
   /// true if the map changed since the last call (any cell), false if it is the same. The first
   /// call for a copy of a shared map (Blob::share: the known map every robot starts from) starts
   /// from the grids of the shared content, made once for all robots and shared page by page, and
-  /// follows the cells this copy changed.
+  /// follows the cells this copy changed. Every kReshareEvery calls that see a new revision of the
+  /// map, it calls reshare().
   bool update(const Blob& map, const geometry::MapGeometry& g, double radius);
+  /// Give back the pages of the grids that are equal to the shared grids again (what a robot saw
+  /// pass and then saw gone): SharedPages::reshare.
+  void reshare();
 
   /// Walls, seen obstacles, markers and unknown cells.
   const geometry::BlockedGrid& obstacles() const { return obstacles_; }
@@ -43,6 +47,7 @@ class PlanningMap {
   geometry::BlockedGrid obstacles_, inflated_;
   std::vector<geometry::Cell> disc_;      // offsets covered by an obstacle cell's disc
   SharedArray<std::uint16_t> cover_;  // per cell: obstacle discs (and the map's edge) covering it
+  int looks_ = 0;  // at a new revision of the map, counted for reshare()
   bool counted_ = false;              // cover_ is kept (false when a disc is too large to count)
 };
 
