@@ -41,7 +41,7 @@ class Engine::Use {
 Engine::Engine(WorldString initial, std::vector<std::shared_ptr<Generator>> generators,
                std::shared_ptr<Backend> backend, EngineOptions options)
     : w_(std::move(initial)), generators_(std::move(generators)), backend_(std::move(backend)),
-      options_(options), frame_(options.first_frame), last_events_(w_.alphabet_ptr()) {
+      options_(options), frame_(options.first_frame), last_events_(w_.alphabet_ptr()), next_events_(w_.alphabet_ptr()) {
   if (options_.threads == 0) options_.threads = default_threads();
   if (options_.threads > kMaxThreads) {
     throw SchemaError("EngineOptions.threads", "expected 0 (the machine's cores) to " + std::to_string(kMaxThreads) +
@@ -72,7 +72,9 @@ void Engine::set_string(WorldString w) {
 
 EventList Engine::collect_events() {
   const Use use(*this, "collect_events");
-  return collect_events_unlocked();
+  EventList events(w_.alphabet_ptr());
+  collect_events_unlocked(events);
+  return events;
 }
 
 void Engine::generate(std::size_t k, const FrameInfo& info, EventList& out) {
@@ -85,9 +87,17 @@ void Engine::generate(std::size_t k, const FrameInfo& info, EventList& out) {
   }
 }
 
-EventList Engine::collect_events_unlocked() {
+void Engine::collect_events_unlocked(EventList& events) {
   const Alphabet::FrameUse frozen(w_.alphabet());  // no names added while generators read them
-  EventList events(w_.alphabet_ptr());
+  // Buffers of another alphabet (set_string may bring one) are dropped, the rest emptied.
+  const auto empty = [&](EventList& list) {
+    if (list.alphabet_ptr() == w_.alphabet_ptr()) {
+      list.clear();
+    } else {
+      list = EventList(w_.alphabet_ptr());
+    }
+  };
+  empty(events);
   const FrameInfo info{frame_, time(), options_.dt, &w_};
   const std::size_t n = generators_.size();
   for (std::size_t k = 0; k < n;) {
@@ -96,35 +106,38 @@ EventList Engine::collect_events_unlocked() {
     std::size_t end = k;
     while (end < n && generators_[end]->concurrent()) ++end;
     if (options_.threads > 1 && end - k >= 2) {
-      std::vector<EventList> parts(end - k, EventList(w_.alphabet_ptr()));
+      std::vector<EventList>& parts = part_events_;
+      if (parts.size() < end - k) parts.resize(end - k, EventList(w_.alphabet_ptr()));
+      for (std::size_t j = 0; j < end - k; ++j) empty(parts[j]);
       parallel_for(end - k, options_.threads, [&](std::size_t j) { generate(k + j, info, parts[j]); });
       std::size_t count = events.size(), values = events.value_count();
-      for (const EventList& part : parts) count += part.size(), values += part.value_count();
+      for (std::size_t j = 0; j < end - k; ++j) count += parts[j].size(), values += parts[j].value_count();
       events.reserve(count, values);
-      for (const EventList& part : parts) events.append(part);
+      for (std::size_t j = 0; j < end - k; ++j) events.append(parts[j]);
       k = end;
     } else {
       generate(k, info, events);
       ++k;
     }
   }
-  return events;
 }
 
 bool Engine::step() {
   const Use use(*this, "step");
   if (w_.empty()) return false;
-  return run_frame(collect_events_unlocked());
+  collect_events_unlocked(next_events_);
+  return run_frame(next_events_);
 }
 
 bool Engine::step_with(const EventList& events) {
   const Use use(*this, "step_with");
   if (w_.empty()) return false;
   if (events.alphabet_ptr() != w_.alphabet_ptr()) throw Error("step_with: the events use another alphabet");
-  return run_frame(events);
+  EventList copy(events);
+  return run_frame(copy);
 }
 
-bool Engine::run_frame(EventList events) {
+bool Engine::run_frame(EventList& events) {
   const Alphabet::FrameUse frozen(w_.alphabet());  // no names added while the frame reads them
   const FrameContext ctx{frame_, time(), options_.seed};
   // η and π both read w. π runs first, since η may change w's large attributes in place; a
@@ -163,7 +176,7 @@ bool Engine::run_frame(EventList events) {
   // a frame the backend has already run).
   journal_.clear();
   w_ = std::move(*next);
-  last_events_ = std::move(events);
+  std::swap(last_events_, events);
   const std::uint64_t done = frame_++;
   const FrameRecord record{done, static_cast<double>(done) * options_.dt, last_events_, w_};
   for (const auto& observer : observers_) observer(record);
@@ -174,7 +187,8 @@ StopReason Engine::run(std::uint64_t max_frames) {
   const Use use(*this, "run");
   for (std::uint64_t k = 0; k < max_frames; ++k) {
     if (w_.empty()) return StopReason::Empty;
-    run_frame(collect_events_unlocked());
+    collect_events_unlocked(next_events_);
+    run_frame(next_events_);
     if (stop_requested_) {
       stop_requested_ = false;
       return StopReason::Requested;

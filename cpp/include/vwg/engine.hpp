@@ -99,8 +99,12 @@ class Engine {
 
  private:
   class Use;  // holds the engine for one call; see the class comment
-  bool run_frame(EventList events);  // kept as last_events_ when the frame is done
-  EventList collect_events_unlocked();
+  // Runs a frame on `events`, which become last_events_; `events` gets the list they replace, whose
+  // buffers the next frame fills again (ten thousand lasers give millions of events a frame:
+  // fresh buffers each frame were page faults and zeroed pages).
+  bool run_frame(EventList& events);
+  /// Clears `events` and fills it with the generators' events for this frame.
+  void collect_events_unlocked(EventList& events);
   void generate(std::size_t k, const FrameInfo& info, EventList& out);  // generator k, failures located
   WorldString w_;
   std::vector<std::shared_ptr<Generator>> generators_;
@@ -108,6 +112,8 @@ class Engine {
   EngineOptions options_;
   std::uint64_t frame_ = 0;
   EventList last_events_;
+  EventList next_events_;              // the buffers the next frame's events are collected into
+  std::vector<EventList> part_events_;  // the same, for each concurrent generator
   BlobJournal journal_;  // what the frame changed in place, undone if it fails
   std::vector<Observer> observers_;
   std::atomic<bool> stop_requested_{false};
