@@ -3,11 +3,17 @@
 #include <sys/mman.h>
 #include <unistd.h>
 
-#include <cstdlib>
 #include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <cstdlib>
 #include <cstring>
+#include <fstream>
 #include <new>
+#include <string>
 #include <utility>
+
+#include "vwg/log.hpp"
 
 namespace vwg {
 
@@ -18,7 +24,68 @@ std::size_t round_up(std::size_t n) {
   return (n + page - 1) / page * page;
 }
 
+std::size_t system_mapping_limit() {
+  std::size_t limit = 65530;  // Linux's default
+  if (std::ifstream in("/proc/sys/vm/max_map_count"); in) in >> limit;
+  return limit;
+}
+
+std::atomic<std::size_t>& mappings_held() {
+  static std::atomic<std::size_t> held{0};
+  return held;
+}
+
+std::atomic<std::size_t>& budget_of_mappings() {
+  // Nine tenths of what the system allows: the rest of the process (malloc, thread stacks, the
+  // interpreter, a sanitizer) keeps room to map memory when the robots have taken their share.
+  static std::atomic<std::size_t> budget{system_mapping_limit() / 10 * 9};
+  return budget;
+}
+
+/// Said once: copies that follow cost their full size, which a user running more robots than the
+/// limit allows would otherwise see only as memory running out.
+void say_copies_are_plain(const std::string& why) {
+  static std::atomic<bool> said{false};
+  if (said.exchange(true)) return;
+  log(LogLevel::Warning, "vwg.shared_pages",
+      why + ": copies of shared arrays (robots' maps and planning grids) are plain copies from now on, each costing its "
+            "full size. Each shared copy is a memory mapping (a robot holds about 5); Linux allows vm.max_map_count of them "
+            "per process (" + std::to_string(system_mapping_limit()) + " here) and vwg takes at most " +
+            std::to_string(budget_of_mappings().load()) + ". Raise the limit (sysctl -w vm.max_map_count=262144) to run more "
+            "robots in this memory.");
+}
+
+/// One more mapping of shared pages, if the budget allows it; give_back_mapping() when unmapped.
+bool take_mapping() {
+  if (mappings_held().fetch_add(1) < budget_of_mappings().load()) return true;
+  mappings_held().fetch_sub(1);
+  say_copies_are_plain("vwg's budget of memory mappings is spent");
+  return false;
+}
+
+void give_back_mapping() { mappings_held().fetch_sub(1); }
+
+/// mmap(), counted against the budget; nullptr if the budget or the system refuses.
+std::byte* map_counted(int fd, std::size_t size, int protection, int flags) {
+  if (!take_mapping()) return nullptr;
+  void* p = mmap(nullptr, round_up(size), protection, flags, fd, 0);
+  if (p != MAP_FAILED) return static_cast<std::byte*>(p);
+  const int error = errno;
+  give_back_mapping();
+  say_copies_are_plain("the system refused another memory mapping (" + std::string(std::strerror(error)) + ")");
+  return nullptr;
+}
+
+void unmap_counted(const void* p, std::size_t size) {
+  munmap(const_cast<void*>(p), round_up(size));
+  give_back_mapping();
+}
+
 }  // namespace
+
+std::size_t SharedPages::mappings() { return mappings_held().load(); }
+std::size_t SharedPages::mapping_budget() { return budget_of_mappings().load(); }
+void SharedPages::set_mapping_budget(std::size_t mappings) { budget_of_mappings().store(mappings); }
 
 /// An in-memory file holding a buffer's content as it was shared, and a read-only view of it (what
 /// copies and reshare() compare pages with). Never written after it is made.
@@ -30,7 +97,7 @@ struct SharedPages::File {
   File(const File&) = delete;
   File& operator=(const File&) = delete;
   ~File() {
-    if (view != nullptr) munmap(const_cast<std::byte*>(view), round_up(size));
+    if (view != nullptr) unmap_counted(view, size);
     if (fd >= 0) close(fd);
   }
 };
@@ -46,10 +113,7 @@ SharedPages::SharedPages(std::size_t size) : size_(size) {
   if (data_ == nullptr) throw std::bad_alloc();
 }
 
-std::byte* SharedPages::map_private(const File& file) {
-  void* p = mmap(nullptr, round_up(file.size), PROT_READ | PROT_WRITE, MAP_PRIVATE, file.fd, 0);
-  return p == MAP_FAILED ? nullptr : static_cast<std::byte*>(p);
-}
+std::byte* SharedPages::map_private(const File& file) { return map_counted(file.fd, file.size, PROT_READ | PROT_WRITE, MAP_PRIVATE); }
 
 SharedPages::SharedPages(const SharedPages& other) : size_(other.size_) {
   if (size_ == 0) return;
@@ -106,7 +170,7 @@ SharedPages::~SharedPages() { release(); }
 void SharedPages::release() noexcept {
   if (data_ != nullptr) {
     if (base_ != nullptr) {
-      munmap(data_, round_up(size_));
+      unmap_counted(data_, size_);
     } else {
       std::free(data_);
     }
@@ -123,14 +187,11 @@ void SharedPages::share() {
   file->size = size_;
   file->fd = memfd_create("vwg-shared-pages", MFD_CLOEXEC);
   if (file->fd < 0 || ftruncate(file->fd, static_cast<off_t>(size_)) != 0) return;  // stays a plain buffer
-  void* view = mmap(nullptr, round_up(size_), PROT_READ | PROT_WRITE, MAP_SHARED, file->fd, 0);
-  if (view == MAP_FAILED) return;
+  std::byte* view = map_counted(file->fd, size_, PROT_READ | PROT_WRITE, MAP_SHARED);
+  if (view == nullptr) return;  // stays a plain buffer
+  file->view = view;            // unmapped with the file from here on
   std::memcpy(view, data_, size_);
-  if (mprotect(view, round_up(size_), PROT_READ) != 0) {
-    munmap(view, round_up(size_));
-    return;
-  }
-  file->view = static_cast<const std::byte*>(view);
+  if (mprotect(view, round_up(size_), PROT_READ) != 0) return;
   std::vector<std::uint64_t> written((size_ + page_size() - 1) / page_size() / 64 + 1, 0);
   std::byte* mapped = map_private(*file);
   if (mapped == nullptr) return;  // stays a plain buffer

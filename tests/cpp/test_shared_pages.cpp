@@ -4,12 +4,15 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "helpers.hpp"
 #include "vwg/blob.hpp"
+#include "vwg/log.hpp"
 #include "vwg/shared_pages.hpp"
 
 using namespace vwg;
@@ -137,4 +140,47 @@ TEST(SharedPages, ABlobCopyKeepsContentRevisionAndHash) {
   EXPECT_FALSE(copy->same_content(map));
   EXPECT_EQ(copy->private_pages(), 1u);
   EXPECT_EQ(map.view<std::int16_t>()[77], 76);
+}
+
+TEST(SharedPages, CopiesPastTheMappingBudgetArePlainCopiesAndTheLogSaysWhy) {
+  // Each shared copy is a memory mapping, and Linux allows vm.max_map_count of them per process
+  // (65,530 by default). Past vwg's budget (set small here), copies must still hold the content,
+  // as plain copies; the log must say once why memory now goes faster; mappings given back make
+  // room again.
+  std::string said;
+  int warnings = 0;
+  set_log_sink([&](LogLevel level, std::string_view source, std::string_view message) {
+    if (level == LogLevel::Warning && source == "vwg.shared_pages") ++warnings, said = message;
+  });
+  const std::size_t budget = SharedPages::mapping_budget();
+  EXPECT_GT(budget, 1000u) << "nine tenths of vm.max_map_count";
+  SharedPages original(SharedPages::kMinShared);
+  original.data()[100] = std::byte{7};
+  original.share();
+  ASSERT_TRUE(original.shared());
+  const std::size_t before = SharedPages::mappings();
+  {
+    const SharedPages copy(original);
+    EXPECT_EQ(SharedPages::mappings(), before + 1) << "a copy is one mapping";
+  }
+  EXPECT_EQ(SharedPages::mappings(), before) << "and gives it back";
+  SharedPages::set_mapping_budget(before + 3);
+  std::vector<SharedPages> copies(5, original);
+  for (std::size_t k = 0; k < copies.size(); ++k) {
+    EXPECT_EQ(copies[k].shared(), k < 3) << k;
+    EXPECT_EQ(std::as_const(copies[k]).data()[100], std::byte{7}) << k;
+  }
+  EXPECT_EQ(SharedPages::mappings(), before + 3);
+  SharedPages plain(SharedPages::kMinShared);
+  plain.share();
+  EXPECT_FALSE(plain.shared()) << "share() too stays within the budget";
+  EXPECT_EQ(warnings, 1) << "said once";
+  EXPECT_NE(said.find("vm.max_map_count"), std::string::npos) << said;
+  copies.erase(copies.begin());  // a shared copy goes: room for one more
+  copies.push_back(original);
+  EXPECT_TRUE(copies.back().shared());
+  copies.clear();
+  SharedPages::set_mapping_budget(budget);
+  set_log_sink({});
+  EXPECT_EQ(SharedPages::mappings(), before);
 }

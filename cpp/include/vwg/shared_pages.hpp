@@ -29,9 +29,8 @@ class SharedPages {
   /// `size` zero bytes, on the heap.
   explicit SharedPages(std::size_t size);
   /// The same bytes: the pages `other` has not written since it was shared stay shared with it;
-  /// a buffer never shared is copied, and so is a shared one when the system refuses another
-  /// mapping (each shared copy is one; Linux allows vm.max_map_count, 65,530 by default, per
-  /// process).
+  /// a buffer never shared is copied, and so is a shared one when the mapping budget is spent or
+  /// the system refuses another mapping (see mapping_budget).
   SharedPages(const SharedPages& other);
   SharedPages& operator=(const SharedPages& other);
   SharedPages(SharedPages&& other) noexcept;
@@ -79,6 +78,16 @@ class SharedPages {
   std::weak_ptr<const void> origin() const { return base_; }
 
   static std::size_t page_size();
+
+  /// The memory mappings shared buffers hold now, in this process (a shared buffer and each of its
+  /// copies hold one; the content they share, one more).
+  static std::size_t mappings();
+  /// At most this many: nine tenths of the system's vm.max_map_count (65,530 by default) unless
+  /// set, so the rest of the process can still map memory. Past it, share() keeps a buffer plain
+  /// and copies are plain copies (the same bytes, at their full size), and the log
+  /// ("vwg.shared_pages") says so once.
+  static std::size_t mapping_budget();
+  static void set_mapping_budget(std::size_t mappings);
 
  private:
   struct File;  // the in-memory file a shared buffer maps: its content when shared, never written
