@@ -47,7 +47,7 @@ std::atomic<std::size_t>& budget_of_mappings() {
 void say_copies_are_plain(const std::string& why) {
   static std::atomic<bool> said{false};
   if (said.exchange(true)) return;
-  log(LogLevel::Warning, "vwg.shared_pages",
+  log(LogLevel::Warning, "shared_pages",
       why + ": copies of shared arrays (robots' maps and planning grids) are plain copies from now on, each costing its "
             "full size. Each shared copy is a memory mapping (a robot holds about 5); Linux allows vm.max_map_count of them "
             "per process (" + std::to_string(system_mapping_limit()) + " here) and vwg takes at most " +

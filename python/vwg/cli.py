@@ -397,14 +397,16 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = parser.parse_args(argv)
     import logging
 
-    # A Python part over its time budget is said on the terminal even when nothing else is.
-    slow = logging.getLogger("vwg.python")
-    if not slow.handlers:
-        handler = logging.StreamHandler(sys.stderr)
-        handler.setFormatter(logging.Formatter("vwg: warning: %(message)s"))
-        slow.addHandler(handler)
-        slow.setLevel(logging.WARNING)
-        slow.propagate = bool(args.verbose)
+    # A Python part over its time budget, and robots' memory no longer shared (the system's limit of
+    # memory mappings), are said on the terminal even when nothing else is.
+    for name in ("vwg.python", "vwg.shared_pages"):
+        said = logging.getLogger(name)
+        if not said.handlers:
+            handler = logging.StreamHandler(sys.stderr)
+            handler.setFormatter(logging.Formatter("vwg: warning: %(message)s"))
+            said.addHandler(handler)
+            said.setLevel(logging.WARNING)
+            said.propagate = bool(args.verbose)
     if args.verbose:
         logging.basicConfig(level=logging.DEBUG if args.verbose > 1 else logging.INFO,
                             format="%(name)s: %(levelname)s: %(message)s")

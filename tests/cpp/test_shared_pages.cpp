@@ -150,7 +150,7 @@ TEST(SharedPages, CopiesPastTheMappingBudgetArePlainCopiesAndTheLogSaysWhy) {
   std::string said;
   int warnings = 0;
   set_log_sink([&](LogLevel level, std::string_view source, std::string_view message) {
-    if (level == LogLevel::Warning && source == "vwg.shared_pages") ++warnings, said = message;
+    if (level == LogLevel::Warning && source == "shared_pages") ++warnings, said = message;
   });
   const std::size_t budget = SharedPages::mapping_budget();
   EXPECT_GT(budget, 1000u) << "nine tenths of vm.max_map_count";

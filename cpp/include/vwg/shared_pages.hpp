@@ -85,7 +85,7 @@ class SharedPages {
   /// At most this many: nine tenths of the system's vm.max_map_count (65,530 by default) unless
   /// set, so the rest of the process can still map memory. Past it, share() keeps a buffer plain
   /// and copies are plain copies (the same bytes, at their full size), and the log
-  /// ("vwg.shared_pages") says so once.
+  /// ("vwg.shared_pages" in Python) says so once.
   static std::size_t mapping_budget();
   static void set_mapping_budget(std::size_t mappings);
 
