@@ -22,9 +22,11 @@ void DiscIndex::rebuild(std::span<const Disc> discs) {
   if (!std::isfinite(x1 - x0_) || !std::isfinite(y1 - y0_)) {  // no finite disc, or a spread beyond doubles: one square
     x0_ = y0_ = 0.0, side_ = kSquare, cols_ = rows_ = 1;
   } else {
-    side_ = std::max({kSquare, (x1 - x0_) / (kMaxSquares - 1), (y1 - y0_) / (kMaxSquares - 1)});
-    cols_ = std::min(kMaxSquares, static_cast<int>((x1 - x0_) / side_) + 1);
-    rows_ = std::min(kMaxSquares, static_cast<int>((y1 - y0_) / side_) + 1);
+    // cols × rows <= (w/side + 1)(h/side + 1) <= w·h/side² + w/side + h/side + 1 <= 3 · cap + 1.
+    const double w = x1 - x0_, h = y1 - y0_, cap = static_cast<double>(std::max(kMinSquares, 4 * discs.size()));
+    side_ = std::max({kSquare, std::sqrt(w * h / cap), w / (cap - 1), h / (cap - 1)});
+    cols_ = static_cast<int>(std::min(w / side_, cap)) + 1;
+    rows_ = static_cast<int>(std::min(h / side_, cap)) + 1;
   }
   start_.assign(static_cast<std::size_t>(cols_) * static_cast<std::size_t>(rows_) + 1, 0);
   auto square_of = [&](const Disc& d) {
@@ -32,8 +34,8 @@ void DiscIndex::rebuild(std::span<const Disc> discs) {
   };
   for (const Disc& d : discs) ++start_[square_of(d) + 1];
   for (std::size_t q = 1; q < start_.size(); ++q) start_[q] += start_[q - 1];
-  std::vector<std::uint32_t> next(start_.begin(), start_.end() - 1);
-  for (std::uint32_t i = 0; i < discs.size(); ++i) items_[next[square_of(discs[i])]++] = i;
+  next_.assign(start_.begin(), start_.end() - 1);
+  for (std::uint32_t i = 0; i < discs.size(); ++i) items_[next_[square_of(discs[i])]++] = i;
 }
 
 }  // namespace vwg::sim

@@ -286,6 +286,11 @@ void PhysicsWorld::advance(double seconds) {
   const double total = pending_ + seconds;
   const auto steps = static_cast<std::int64_t>(std::floor(total / dt + 1e-9));
   pending_ = std::max(0.0, total - static_cast<double>(steps) * dt);
+  // The index follows the discs however this ends (a step that throws has moved some of them).
+  struct Reindex {
+    PhysicsWorld& world;
+    ~Reindex() { world.disc_index_.rebuild(world.discs_); }
+  } reindex{*this};
   for (std::int64_t k = 0; k < steps; ++k) {
     std::vector<b2Vec2> before(robots_.size());
     std::vector<float> angle_before(robots_.size());
@@ -336,7 +341,6 @@ void PhysicsWorld::advance(double seconds) {
       s.busy = r.follower.busy();
     }
   }
-  disc_index_.rebuild(discs_);
 }
 
 std::vector<Collision> PhysicsWorld::take_collisions() { return std::exchange(collisions_, {}); }

@@ -89,15 +89,7 @@ void Engine::generate(std::size_t k, const FrameInfo& info, EventList& out) {
 
 void Engine::collect_events_unlocked(EventList& events) {
   const Alphabet::FrameUse frozen(w_.alphabet());  // no names added while generators read them
-  // Buffers of another alphabet (set_string may bring one) are dropped, the rest emptied.
-  const auto empty = [&](EventList& list) {
-    if (list.alphabet_ptr() == w_.alphabet_ptr()) {
-      list.clear();
-    } else {
-      list = EventList(w_.alphabet_ptr());
-    }
-  };
-  empty(events);
+  events.clear();
   const FrameInfo info{frame_, time(), options_.dt, &w_};
   const std::size_t n = generators_.size();
   for (std::size_t k = 0; k < n;) {
@@ -108,12 +100,14 @@ void Engine::collect_events_unlocked(EventList& events) {
     if (options_.threads > 1 && end - k >= 2) {
       std::vector<EventList>& parts = part_events_;
       if (parts.size() < end - k) parts.resize(end - k, EventList(w_.alphabet_ptr()));
-      for (std::size_t j = 0; j < end - k; ++j) empty(parts[j]);
+      for (std::size_t j = 0; j < end - k; ++j) parts[j].clear();  // a generator that threw may have left some
       parallel_for(end - k, options_.threads, [&](std::size_t j) { generate(k + j, info, parts[j]); });
       std::size_t count = events.size(), values = events.value_count();
       for (std::size_t j = 0; j < end - k; ++j) count += parts[j].size(), values += parts[j].value_count();
       events.reserve(count, values);
-      for (std::size_t j = 0; j < end - k; ++j) events.append(parts[j]);
+      // Emptied once appended (their buffers stay): no event, and no blob it holds, is kept alive
+      // by a buffer beyond its frame (a blob held twice is copied instead of written in place).
+      for (std::size_t j = 0; j < end - k; ++j) events.append(parts[j]), parts[j].clear();
       k = end;
     } else {
       generate(k, info, events);
@@ -177,6 +171,7 @@ bool Engine::run_frame(EventList& events) {
   journal_.clear();
   w_ = std::move(*next);
   std::swap(last_events_, events);
+  events.clear();  // the frame before last's events: only their buffers are kept
   const std::uint64_t done = frame_++;
   const FrameRecord record{done, static_cast<double>(done) * options_.dt, last_events_, w_};
   for (const auto& observer : observers_) observer(record);

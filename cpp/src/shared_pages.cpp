@@ -25,9 +25,9 @@ std::size_t round_up(std::size_t n) {
 }
 
 std::size_t system_mapping_limit() {
-  std::size_t limit = 65530;  // Linux's default
-  if (std::ifstream in("/proc/sys/vm/max_map_count"); in) in >> limit;
-  return limit;
+  std::size_t limit = 0;
+  std::ifstream in("/proc/sys/vm/max_map_count");
+  return in >> limit && limit > 0 ? limit : 65530;  // Linux's default if it cannot be read
 }
 
 std::atomic<std::size_t>& mappings_held() {
@@ -36,9 +36,13 @@ std::atomic<std::size_t>& mappings_held() {
 }
 
 std::atomic<std::size_t>& budget_of_mappings() {
-  // Nine tenths of what the system allows: the rest of the process (malloc, thread stacks, the
-  // interpreter, a sanitizer) keeps room to map memory when the robots have taken their share.
-  static std::atomic<std::size_t> budget{system_mapping_limit() / 10 * 9};
+  // All but 4,096 of what the system allows (half, if it allows less than 8,192): the rest of the
+  // process (malloc, thread stacks, the interpreter and its modules: about 1,600 in a robot run,
+  // a sanitizer) keeps room to map memory when the robots have taken their share.
+  static std::atomic<std::size_t> budget{[] {
+    const std::size_t limit = system_mapping_limit();
+    return limit >= 8192 ? limit - 4096 : limit / 2;
+  }()};
   return budget;
 }
 
@@ -49,7 +53,7 @@ void say_copies_are_plain(const std::string& why) {
   if (said.exchange(true)) return;
   log(LogLevel::Warning, "shared_pages",
       why + ": copies of shared arrays (robots' maps and planning grids) are plain copies from now on, each costing its "
-            "full size. Each shared copy is a memory mapping (a robot holds about 5); Linux allows vm.max_map_count of them "
+            "full size. Each shared copy is a memory mapping (a robot holds 5 or 6); Linux allows vm.max_map_count of them "
             "per process (" + std::to_string(system_mapping_limit()) + " here) and vwg takes at most " +
             std::to_string(budget_of_mappings().load()) + ". Raise the limit (sysctl -w vm.max_map_count=262144) to run more "
             "robots in this memory.");

@@ -365,7 +365,7 @@ TEST(DiscIndex, NearVisitsEveryDiscWithinReachOnceAndFewBeyond) {
   // Against a walk over every disc: each disc whose centre is within `reach` of the query on both
   // axes is visited exactly once; discs far beyond the squares around the query are not. Among
   // the discs: two at one point, one at a point that is not finite, and (second round) a spread
-  // so wide that the squares must grow past kSquare.
+  // so wide that the squares must grow past kSquare to keep their table small.
   std::mt19937 rng(11);
   for (const double spread : {60.0, 3e7}) {
     std::uniform_real_distribution<double> at(-spread / 2, spread / 2), reach_of(0.0, 12.0);
@@ -376,12 +376,16 @@ TEST(DiscIndex, NearVisitsEveryDiscWithinReachOnceAndFewBeyond) {
     DiscIndex index;
     index.rebuild(discs);
     EXPECT_EQ(index.max_radius(), 0.25);
+    EXPECT_LE(index.squares(), 3 * 4 * discs.size() + 1) << "the table stays small however far the discs spread";
+    if (spread < 100) {
+      EXPECT_EQ(index.side(), DiscIndex::kSquare);
+    }
     for (int q = 0; q < 300; ++q) {
       const double x = q == 0 ? discs[7].x : at(rng), y = q == 0 ? discs[7].y : at(rng);
       const double reach = q == 0 ? 0.0 : reach_of(rng);
       std::vector<int> visits(discs.size(), 0);
       index.near(x, y, reach, [&](std::uint32_t i) { ++visits[i]; });
-      const double side = std::max(DiscIndex::kSquare, spread / (DiscIndex::kMaxSquares - 1));
+      const double side = index.side();
       for (std::size_t i = 0; i < discs.size(); ++i) {
         const double dx = std::abs(discs[i].x - x), dy = std::abs(discs[i].y - y);
         ASSERT_LE(visits[i], 1) << "disc " << i;

@@ -201,7 +201,7 @@ TEST(PlanningMap, GridsGiveBackThePagesOfWhatHasGone) {
   pm.update(*map, g, 0.2);
   for (const std::size_t at : seen) edit.set(at, kFreeCell);
   pm.update(*map, g, 0.2);
-  EXPECT_GT(held()[1], 0) << "21 looks: not yet given back";
+  EXPECT_GT(held()[1], 0) << "the 21st look at a new revision, not a multiple of 16: not yet given back";
   pm.reshare();
   EXPECT_EQ(held()[1], 0);
   EXPECT_EQ(held()[2], 0);

@@ -96,7 +96,8 @@ class ARobot final : public ActorBehavior {
     bits.sync(map.blob(), config_.map);
     edit(map, bits);
     bits.keep(map.blob());
-    // A robot that saw others pass keeps no page of them once they are gone (memory stays flat).
+    // A robot that saw others pass keeps no page of them within kReshareEvery edits of their going
+    // (memory stays flat).
     if (bits.reshare_due_after_edit()) {
       map.reshare();
       bits.reshare();

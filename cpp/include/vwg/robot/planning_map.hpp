@@ -47,7 +47,7 @@ class PlanningMap {
   geometry::BlockedGrid obstacles_, inflated_;
   std::vector<geometry::Cell> disc_;      // offsets covered by an obstacle cell's disc
   SharedArray<std::uint16_t> cover_;  // per cell: obstacle discs (and the map's edge) covering it
-  int looks_ = 0;  // at a new revision of the map, counted for reshare()
+  unsigned looks_ = 0;  // at a new revision of the map, counted for reshare()
   bool counted_ = false;              // cover_ is kept (false when a disc is too large to count)
 };
 

@@ -111,7 +111,7 @@ class ObstacleBits {
   void scan(std::span<const std::int16_t> cells, const geometry::MapGeometry& g);
 
   std::uint64_t revision_ = 0;
-  int edits_ = 0;  // of the map, counted for reshare_due_after_edit
+  unsigned edits_ = 0;  // of the map, counted for reshare_due_after_edit
   int columns_ = 0, rows_ = 0;  // of blocks
   struct Words {  // a block's cells, a bit each; side by side, so one read of memory finds both
     std::uint64_t seen = 0, obstacle = 0;

@@ -3,6 +3,7 @@
 // a hundred million tests a frame, almost all of them robots tens of metres away.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -17,10 +18,11 @@ struct Disc {
 
 class DiscIndex {
  public:
-  /// The side of a square, metres, unless the discs spread so far that the squares would exceed
-  /// kMaxSquares a side (then it grows to keep that).
+  /// The side of a square, metres, unless the discs spread so far that there would be more than
+  /// about three times max(kMinSquares, 4 × the discs) squares (then it grows to keep that: one
+  /// robot far from the rest must not cost a table of millions of squares).
   static constexpr double kSquare = 2.0;
-  static constexpr int kMaxSquares = 4096;
+  static constexpr std::size_t kMinSquares = 1024;
 
   /// Sort `discs` into squares (a counting sort, linear in their number). Their positions are
   /// read now: call it again whenever they move.
@@ -28,6 +30,9 @@ class DiscIndex {
 
   /// The largest radius of the discs (0 for none).
   double max_radius() const { return max_radius_; }
+  /// The side of a square now, metres (kSquare or more) and how many there are.
+  double side() const { return side_; }
+  std::size_t squares() const { return start_.empty() ? 0 : start_.size() - 1; }
 
   /// Calls visit(i) for the index i (in the span given to rebuild) of every disc whose centre lies
   /// within `reach` of (x, y) on each axis, and for some beyond (those in the same squares), each
@@ -58,6 +63,7 @@ class DiscIndex {
   // Squares row by row, columns within; the discs of square q are items_[start_[q] .. start_[q + 1]).
   // A row's squares are contiguous, so a query reads one run of items per row.
   std::vector<std::uint32_t> start_, items_;
+  std::vector<std::uint32_t> next_;  // rebuild's scratch, kept to spare an allocation each time
 };
 
 }  // namespace vwg::sim
