@@ -85,10 +85,14 @@ def crowd(n: int, seed: int = 0, world: vwg.robot.RobotWorld | None = None) -> v
     return dataclasses.replace(world, robots=robots, laser=LASER, orders=[])
 
 
-def vwg_rate(world: vwg.robot.RobotWorld, planner: str, frames: int) -> float:
+def room_goals(world: vwg.robot.RobotWorld) -> dict[int, str]:
+    """Each robot's order: the rooms in turn, robot k to room k mod the number of rooms."""
     rooms = list(world.rooms)
-    goals = {r.id: rooms[k % len(rooms)] for k, r in enumerate(world.robots)}
-    run = CaseStudy(world, planner, goals=goals, sensors=("laser",))
+    return {r.id: rooms[k % len(rooms)] for k, r in enumerate(world.robots)}
+
+
+def vwg_rate(world: vwg.robot.RobotWorld, planner: str, frames: int) -> float:
+    run = CaseStudy(world, planner, goals=room_goals(world), sensors=("laser",))
     run.run(frames=2)  # warm up: first plans, first scans
     t0 = time.perf_counter()
     done = run.run(frames=frames).frames - 2

@@ -19,7 +19,7 @@ from pathlib import Path
 from tqdm import tqdm
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from bench_frame import crowd, rooms_world
+from bench_frame import crowd, room_goals, rooms_world
 from machine import rss_mb, write_results
 
 from vwg.casestudy import CaseStudy
@@ -35,8 +35,7 @@ def main() -> int:
     rows = []
     for name, n in tqdm((("warehouse", 10), ("warehouse", 100), ("rooms500", 1000)), desc="bench_memory", unit="run"):
         world = crowd(n, world=rooms_world() if name == "rooms500" else None)
-        rooms = list(world.rooms)
-        goals = {r.id: rooms[k % len(rooms)] for k, r in enumerate(world.robots)}
+        goals = room_goals(world)
         gc.collect()
         before = rss_mb()
         trace = []  # (frame, MB)

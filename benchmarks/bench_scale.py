@@ -105,10 +105,11 @@ def irsim_row(world: Any, frames: int, python: str) -> dict[str, Any] | None:
 
 # ---- vwg ----------------------------------------------------------------------------------------------------------
 def vwg_row(world: Any, frames: int, threads: int, planner: str) -> dict[str, Any]:
+    from bench_frame import room_goals
+
     from vwg.casestudy import CaseStudy
 
-    rooms = list(world.rooms)
-    goals = {r.id: rooms[k % len(rooms)] for k, r in enumerate(world.robots)}
+    goals = room_goals(world)
     settle_memory()
     before = rss_mb()
     with CaseStudy(world, planner, goals=goals, sensors=("laser",), threads=threads) as run:

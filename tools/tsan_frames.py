@@ -13,15 +13,14 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
 
-from bench_frame import crowd
+from bench_frame import crowd, room_goals
 
 from vwg.casestudy import CaseStudy
 
 
 def main() -> None:
     world = crowd(12)
-    rooms = list(world.rooms)
-    goals = {r.id: rooms[k % len(rooms)] for k, r in enumerate(world.robots)}
+    goals = room_goals(world)
     for planner in ("astar", "jps", "dstar", "random"):
         with CaseStudy(world, planner, goals=goals, sensors=("laser",), threads=4) as run:
             run.run(frames=40)

@@ -83,9 +83,9 @@ class SharedPages {
   /// copies hold one; the content they share, one more).
   static std::size_t mappings();
   /// At most this many: all but 4,096 of the system's vm.max_map_count (65,530 by default), so the
-  /// rest of the process can still map memory (set_mapping_budget changes it, for tests). Past it, share() keeps a buffer plain
-  /// and copies are plain copies (the same bytes, at their full size), and the log
-  /// ("vwg.shared_pages" in Python) says so once.
+  /// rest of the process can still map memory (set_mapping_budget changes it, for tests). Past it,
+  /// share() keeps a buffer plain and copies are plain copies (the same bytes, at their full
+  /// size), and the log ("vwg.shared_pages" in Python) says so once.
   static std::size_t mapping_budget();
   static void set_mapping_budget(std::size_t mappings);
 
