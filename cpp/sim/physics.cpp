@@ -158,10 +158,16 @@ PhysicsWorld::PhysicsWorld(const OccupancyGrid& grid, std::span<const RobotSetti
   box2d_->world.SetContactListener(contacts_.get());
   robots_.reserve(robots.size());
   states_.reserve(robots.size());
-  for (const RobotSettings& rs : robots) add_robot(rs);
+  for (const RobotSettings& rs : robots) add_body(rs);
+  disc_index_.rebuild(discs_);  // once for all of them
 }
 
 void PhysicsWorld::add_robot(const RobotSettings& rs) {
+  add_body(rs);
+  disc_index_.rebuild(discs_);
+}
+
+void PhysicsWorld::add_body(const RobotSettings& rs) {
   const std::string who = "robot " + std::to_string(rs.id);
   check_settings(rs, who);
   for (std::size_t k = 0; k < robots_.size(); ++k) {
@@ -211,7 +217,6 @@ void PhysicsWorld::add_robot(const RobotSettings& rs) {
   st.pose = st.odometry = platform::quantize_pose({bd.position.x, bd.position.y, bd.angle});
   states_.push_back(st);
   discs_.push_back({st.pose.x, st.pose.y, st.radius, st.id});
-  disc_index_.rebuild(discs_);
   index_[rs.id] = states_.size() - 1;
 }
 

@@ -121,6 +121,8 @@ class PhysicsWorld final : public platform::RobotPlatform {
  private:
   struct Robot;
   class Contacts;
+  /// add_robot without rebuilding the disc index (the constructor rebuilds it once for all).
+  void add_body(const RobotSettings& robot);
   void step_robot(Robot& r, const RobotState& state, double dt);
   Robot& find(int id);
   std::size_t index_of(int id) const;
