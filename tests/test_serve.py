@@ -65,6 +65,8 @@ class Server:
         try:
             self.process.communicate(timeout=30)
         except subprocess.TimeoutExpired:
+            self.process.send_signal(signal.SIGUSR1)  # where it is stuck: every thread's stack, on stderr
+            time.sleep(2)
             self.process.kill()
             self.process.communicate()
         self.errors.seek(0)
@@ -331,4 +333,16 @@ def test_the_command_refuses_bad_input_and_stops_on_ctrl_c(tmp_path):
     s = Server("office", "--speed", "1")
     s.wait_for(lambda st: st["frame"] > 2)
     code, err = s.stop()
-    assert code == 130 and "interrupted" in err
+    assert code == 130 and "interrupted" in err, (code, err)
+
+
+def test_sigusr1_prints_every_threads_stack_and_the_server_goes_on():
+    s = Server("office", "--speed", "1")
+    s.wait_for(lambda st: st["frame"] > 1)
+    s.process.send_signal(signal.SIGUSR1)
+    frame = s.state()["frame"]
+    s.wait_for(lambda st: st["frame"] > frame + 2)  # still running
+    code, err = s.stop()
+    assert code == 130, (code, err)
+    # faulthandler's dump: the live run's thread (in live.py) and the main thread (the event loop).
+    assert err.count("(most recent call first)") >= 2 and "live.py" in err and "asyncio" in err, err

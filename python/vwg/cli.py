@@ -6,12 +6,17 @@ browser (``serve``).
 Exit status: 0 on success; 1 when a frame failed (an error in an actor, generator or backend); 2 for
 bad input (a file, an option); 3 when ``vwg run`` finished but a robot with an order did not reach
 its room (``--allow-unreached`` makes that 0); 4 when a real robot's link failed (the robot was
-stopped first; the summary lists the faults); 130 when interrupted."""
+stopped first; the summary lists the faults); 130 when interrupted.
+
+A run that seems stuck: ``kill -USR1 PID`` prints the Python stack of each of its threads on stderr
+(the standard library's faulthandler), and the run goes on."""
 
 from __future__ import annotations
 
 import argparse
 import dataclasses
+import faulthandler
+import signal
 import sys
 import time
 import traceback
@@ -396,6 +401,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     import logging
+
+    if argv is None and hasattr(signal, "SIGUSR1"):  # the program, not a call from Python code
+        faulthandler.register(signal.SIGUSR1, all_threads=True)
 
     # A Python part over its time budget, and robots' memory no longer shared (the system's limit of
     # memory mappings), are said on the terminal even when nothing else is.
