@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -73,7 +74,7 @@ void DStarLite::update_vertex(std::int32_t node) {
 void DStarLite::compute_shortest_path() {
   std::array<Step, 8> steps;
   while (!queue_.empty()) {
-    const Key top = queue_.front().key;
+    const Key top = key_of(queue_.front());
     // The paper stops once TopKey >= key(s_start) and s_start is consistent. With exact keys that
     // holds as written. In floating point, a vertex whose key ties with the start's in k1 (and so
     // comes first by k2) can compute a k1 one ulp above it and be left inconsistent on the
@@ -198,8 +199,19 @@ void DStarLite::update_cells(std::span<const Cell> cells, bool blocked) {
 
 // --- the priority queue ---
 
+DStarLite::Order DStarLite::order_of(const Key& key) const {
+  const auto k2 = std::bit_cast<std::uint64_t>(key.k2);
+  return (static_cast<Order>(std::bit_cast<std::uint64_t>(key.k1)) << 64) | (dive_ ? ~k2 : k2);
+}
+
+DStarLite::Key DStarLite::key_of(const Entry& e) const {
+  const auto k2 = static_cast<std::uint64_t>(e.order);
+  return {std::bit_cast<double>(static_cast<std::uint64_t>(e.order >> 64)), std::bit_cast<double>(dive_ ? ~k2 : k2)};
+}
+
 void DStarLite::stop_diving() {
   dive_ = false;
+  for (Entry& e : queue_) e.order ^= ~std::uint64_t{0};  // k2 the paper's way up
   // Floyd's heap construction in the new order (place() keeps the positions up to date).
   for (std::size_t slot = queue_.size() / 2; slot-- > 0;) sift_down(slot);
 }
@@ -213,7 +225,7 @@ void DStarLite::sift_up(std::size_t slot) {
   const Entry e = queue_[slot];
   while (slot > 0) {
     const std::size_t parent = (slot - 1) / 2;
-    if (!before(e.key, queue_[parent].key)) break;
+    if (!(e.order < queue_[parent].order)) break;
     place(slot, queue_[parent]);
     slot = parent;
   }
@@ -226,8 +238,8 @@ void DStarLite::sift_down(std::size_t slot) {
   for (;;) {
     std::size_t child = 2 * slot + 1;
     if (child >= n) break;
-    if (child + 1 < n && before(queue_[child + 1].key, queue_[child].key)) ++child;
-    if (!before(queue_[child].key, e.key)) break;
+    if (child + 1 < n) child += queue_[child + 1].order < queue_[child].order;
+    if (!(queue_[child].order < e.order)) break;
     place(slot, queue_[child]);
     slot = child;
   }
@@ -235,15 +247,15 @@ void DStarLite::sift_down(std::size_t slot) {
 }
 
 void DStarLite::queue_insert(std::int32_t node, Key key) {
-  queue_.push_back({key, node});
+  queue_.push_back({order_of(key), node});
   sift_up(queue_.size() - 1);
 }
 
 void DStarLite::queue_update(std::int32_t node, Key key) {
   const std::size_t slot = slot_[node];
-  const Key old = queue_[slot].key;
-  queue_[slot].key = key;
-  if (before(key, old)) sift_up(slot);
+  const Order old = queue_[slot].order;
+  queue_[slot].order = order_of(key);
+  if (queue_[slot].order < old) sift_up(slot);
   else sift_down(slot);
 }
 

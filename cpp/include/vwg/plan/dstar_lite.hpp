@@ -71,10 +71,16 @@ class DStarLite {
   }
   /// Leaves the dive for the paper's order and rebuilds the heap in it.
   void stop_diving();
+  __extension__ typedef unsigned __int128 Order;  // __extension__: GCC's and Clang's, not ISO C++'s
+  /// A queue entry: its key as one number whose order is before()'s, k1's bits above k2's (the bits
+  /// of non-negative doubles order like the doubles), k2's inverted while diving. One compare
+  /// instead of two branches, which on plateaus of equal k1 went either way at random.
   struct Entry {
-    Key key;
+    Order order;
     std::int32_t node;
   };
+  Order order_of(const Key& key) const;
+  Key key_of(const Entry& e) const;
   static constexpr std::uint32_t kNotQueued = 0xFFFFFFFFu;
 
   double heuristic_from_start(std::int32_t node) const;
