@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -199,19 +198,12 @@ void DStarLite::update_cells(std::span<const Cell> cells, bool blocked) {
 
 // --- the priority queue ---
 
-DStarLite::Order DStarLite::order_of(const Key& key) const {
-  const auto k2 = std::bit_cast<std::uint64_t>(key.k2);
-  return (static_cast<Order>(std::bit_cast<std::uint64_t>(key.k1)) << 64) | (dive_ ? ~k2 : k2);
-}
-
-DStarLite::Key DStarLite::key_of(const Entry& e) const {
-  const auto k2 = static_cast<std::uint64_t>(e.order);
-  return {std::bit_cast<double>(static_cast<std::uint64_t>(e.order >> 64)), std::bit_cast<double>(dive_ ? ~k2 : k2)};
-}
-
 void DStarLite::stop_diving() {
+  for (Entry& e : queue_) {
+    const Key key = key_of(e);
+    e.order = dstar_order::encode(key.k1, key.k2, false);
+  }
   dive_ = false;
-  for (Entry& e : queue_) e.order ^= ~std::uint64_t{0};  // k2 the paper's way up
   // Floyd's heap construction in the new order (place() keeps the positions up to date).
   for (std::size_t slot = queue_.size() / 2; slot-- > 0;) sift_down(slot);
 }
@@ -253,7 +245,7 @@ void DStarLite::queue_insert(std::int32_t node, Key key) {
 
 void DStarLite::queue_update(std::int32_t node, Key key) {
   const std::size_t slot = slot_[node];
-  const Order old = queue_[slot].order;
+  const dstar_order::Order old = queue_[slot].order;
   queue_[slot].order = order_of(key);
   if (queue_[slot].order < old) sift_up(slot);
   else sift_down(slot);

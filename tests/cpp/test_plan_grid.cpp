@@ -563,6 +563,31 @@ TEST(DStarLite, FirstPlanOnAnOpenGridGoesDownOnePath) {
   EXPECT_LE(d.expanded(), 2u * 199u);
 }
 
+// The queue's single-number keys order as the paper's lexicographic comparison (k1, then k2; k2
+// reversed while diving), written out here, on keys with many ties in k1 and in k2, zeros and
+// infinities; and give their key back.
+TEST(DStarLite, QueueOrderIsTheLexicographicOrderOfTheKeys) {
+  const double values[] = {0.0, 1e-300, 0.5, 1.0, 1.4142135623730951, 2.0, 2.0000000000000004, 198.0, 1e300,
+                           std::numeric_limits<double>::infinity()};
+  for (const bool dive : {true, false}) {
+    for (double a1 : values)
+      for (double a2 : values)
+        for (double b1 : values)
+          for (double b2 : values) {
+            const bool first = a1 < b1 || (a1 == b1 && (dive ? a2 > b2 : a2 < b2));
+            EXPECT_EQ(dstar_order::encode(a1, a2, dive) < dstar_order::encode(b1, b2, dive), first)
+                << a1 << " " << a2 << " / " << b1 << " " << b2 << " dive " << dive;
+          }
+    for (double k1 : values)
+      for (double k2 : values) {
+        double back1 = -1.0, back2 = -1.0;
+        dstar_order::decode(dstar_order::encode(k1, k2, dive), dive, back1, back2);
+        EXPECT_EQ(back1, k1);
+        EXPECT_EQ(back2, k2);
+      }
+  }
+}
+
 // 4-connected, Manhattan: exact keys, the paper's stop rule, and ties toward the start until the
 // first blocked cell. Freed cells and moves keep the dive; a blocked cell ends it (a vertex whose
 // g is now too low, tied with the start in k1, must not be left behind). Every plan is checked

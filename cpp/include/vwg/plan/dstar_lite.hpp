@@ -14,6 +14,7 @@
 // reaches the start, while the other way reaches the start along one path, as A* does.
 #pragma once
 
+#include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -23,6 +24,25 @@
 #include "vwg/plan/grid_graph.hpp"
 
 namespace vwg::plan {
+
+/// D* Lite's keys [k1; k2] as single numbers for its queue (here for the tests).
+namespace dstar_order {
+__extension__ typedef unsigned __int128 Order;  // __extension__: GCC's and Clang's, not ISO C++'s
+
+/// A key (k1, k2 >= 0, not NaN) as a number that orders as D* Lite's keys come out: smaller k1
+/// first; on equal k1, larger k2 first when `dive`, else smaller. k1's bits above k2's (the bits
+/// of non-negative doubles order like the doubles), k2's inverted when diving.
+inline Order encode(double k1, double k2, bool dive) {
+  const auto low = std::bit_cast<std::uint64_t>(k2);
+  return (static_cast<Order>(std::bit_cast<std::uint64_t>(k1)) << 64) | (dive ? ~low : low);
+}
+/// The key that encode(k1, k2, dive) made.
+inline void decode(Order order, bool dive, double& k1, double& k2) {
+  const auto low = static_cast<std::uint64_t>(order);
+  k1 = std::bit_cast<double>(static_cast<std::uint64_t>(order >> 64));
+  k2 = std::bit_cast<double>(dive ? ~low : low);
+}
+}  // namespace dstar_order
 
 /// Incremental replanning for a robot walking to a fixed goal. path() always returns a shortest
 /// path (same length as A* on the current grid from the current start, with the same options).
@@ -71,16 +91,18 @@ class DStarLite {
   }
   /// Leaves the dive for the paper's order and rebuilds the heap in it.
   void stop_diving();
-  __extension__ typedef unsigned __int128 Order;  // __extension__: GCC's and Clang's, not ISO C++'s
-  /// A queue entry: its key as one number whose order is before()'s, k1's bits above k2's (the bits
-  /// of non-negative doubles order like the doubles), k2's inverted while diving. One compare
+  /// A queue entry: its key as one number (dstar_order), so the heap compares with one comparison
   /// instead of two branches, which on plateaus of equal k1 went either way at random.
   struct Entry {
-    Order order;
+    dstar_order::Order order;
     std::int32_t node;
   };
-  Order order_of(const Key& key) const;
-  Key key_of(const Entry& e) const;
+  dstar_order::Order order_of(const Key& key) const { return dstar_order::encode(key.k1, key.k2, dive_); }
+  Key key_of(const Entry& e) const {
+    Key key;
+    dstar_order::decode(e.order, dive_, key.k1, key.k2);
+    return key;
+  }
   static constexpr std::uint32_t kNotQueued = 0xFFFFFFFFu;
 
   double heuristic_from_start(std::int32_t node) const;
