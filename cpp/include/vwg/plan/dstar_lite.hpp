@@ -85,10 +85,9 @@ class DStarLite {
     double k2;
   };
   /// Whether a comes out of the queue before b: smaller k1 first; on equal k1, larger k2 while
-  /// diving (nearer the start), else smaller k2 (the paper's order).
-  bool before(const Key& a, const Key& b) const {
-    return a.k1 < b.k1 || (a.k1 == b.k1 && (dive_ ? a.k2 > b.k2 : a.k2 < b.k2));
-  }
+  /// diving (nearer the start), else smaller k2 (the paper's order). By the queue's own numbers,
+  /// so the stop rule and the heap cannot disagree.
+  bool before(const Key& a, const Key& b) const { return order_of(a) < order_of(b); }
   /// Leaves the dive for the paper's order and rebuilds the heap in it.
   void stop_diving();
   /// A queue entry: its key as one number (dstar_order), so the heap compares with one comparison
