@@ -210,3 +210,88 @@ def test_python_subclasses_are_named_by_their_class():
     engine = vwg.Engine(make_world(), "Lamp", [Quiet(), Named()])
     assert [g.name for g in engine.generators] == ["Quiet", "gNamed"]
     assert Plain().name == "Plain"  # no recursion through the base class's property
+
+
+class Tally(vwg.Actor):
+    """beam<dist, angle>: sums dist and angle and counts the beams that reach it (by id)."""
+
+    events = ("beam",)
+    attributes = {"id": int, "dist": 0.0, "angle": 0.0, "beams": 0}
+
+    def on_beam(self, e):
+        return self.with_(dist=self.dist + e.dist, angle=self.angle + e.angle, beams=self.beams + 1)
+
+
+def tally_world() -> vwg.World:
+    return vwg.World(events={"beam": {"dist": 0.0, "angle": 0.0}}, actors=[Tally])
+
+
+class Scan(vwg.Generator):
+    """A scan of three beams to actor 2, then one beam to every actor; by columns or one by one."""
+
+    def __init__(self, by_columns: bool) -> None:
+        super().__init__()
+        self.by_columns = by_columns
+
+    def generate(self, frame):
+        dist, angle = np.array([1.0, 2.5, 0.25]), [0.5, -1.0, 0.125]
+        if self.by_columns:
+            scan = [vwg.EventColumns("beam", target=2, dist=dist, angle=angle)]
+        else:
+            scan = [vwg.Event("beam", target=2, dist=float(d), angle=a) for d, a in zip(dist, angle, strict=True)]
+        return [*scan, vwg.Event("beam", dist=10.0, angle=0.0)]
+
+
+def test_a_batch_by_columns_is_the_same_events_as_one_by_one():
+    strings, events = [], []
+    for by_columns in (True, False):
+        engine = vwg.Engine(tally_world(), "Tally<id=1> . Tally<id=2>", [Scan(by_columns)])
+        engine.run(2)
+        strings.append(str(engine.string))
+        events.append([str(e) for e in engine.last_events])
+    assert strings[0] == strings[1]
+    assert events[0] == events[1]
+    assert events[0][:2] == ["beam<to=2, dist=1.0, angle=0.5>", "beam<to=2, dist=2.5, angle=-1.0>"]
+    # By hand: actor 2 gets the three beams and the broadcast one each frame, actor 1 the broadcast.
+    assert strings[0] == ("Tally<id=1, dist=20.0, angle=0.0, beams=2> . "
+                          "Tally<id=2, dist=27.5, angle=-0.75, beams=8>")
+
+
+def test_event_columns_refuse_what_does_not_fit():
+    batch = vwg.EventColumns("beam", target=2, dist=[1, 2], angle=np.array([0.5, 0.25], dtype=np.float32))
+    assert len(batch) == 2 and batch.target == 2 and batch.type == "beam"
+    assert batch.columns["dist"].dtype == np.float64 and not batch.columns["dist"].flags.writeable
+    source = np.array([1.0, 2.0])
+    copied = vwg.EventColumns("beam", dist=source, angle=source)
+    source[0] = 99.0
+    assert copied.columns["dist"][0] == 1.0, "the batch keeps a copy of its own"
+    with pytest.raises(vwg.SchemaError, match=r"beam\.angle: has 3 values; dist has 2"):
+        vwg.EventColumns("beam", dist=[1, 2], angle=[0, 0, 0])
+    with pytest.raises(vwg.SchemaError, match=r"beam\.dist: expected a 1-D array of reals"):
+        vwg.EventColumns("beam", dist=[[1, 2]], angle=[0, 0])
+    with pytest.raises(vwg.SchemaError, match=r"beam\.dist: expected a 1-D array of reals.*got str"):
+        vwg.EventColumns("beam", dist="far", angle=[0])
+    with pytest.raises(vwg.SchemaError, match="needs a column for each field"):
+        vwg.EventColumns("beam")
+
+    def step_with(*batches):
+        class Once(vwg.Generator):
+            def generate(self, frame):
+                return list(batches)
+
+        engine = vwg.Engine(tally_world(), "Tally<id=1>", [Once()])
+        engine.step()
+        return engine
+
+    refused = (
+        (vwg.EventColumns("beam", dist=[1.0]), r"beam\.angle: missing"),
+        (vwg.EventColumns("beam", dist=[1.0], angle=[0.0], far=[2.0]), r"beam\.far: no such field"),
+        (vwg.EventColumns("ray", dist=[1.0]), "unknown event type 'ray'"),
+        (vwg.EventColumns("beam", dist=[1.0, np.inf], angle=[0.0, 0.0]), r"beam\.dist: expected a finite real"),
+    )
+    for batch, message in refused:
+        with pytest.raises(vwg.FrameError, match=message) as info:
+            step_with(vwg.Event("beam", dist=1.0, angle=0.0), batch)
+        assert info.value.stage == "generate"
+    empty = step_with(vwg.EventColumns("beam", dist=[], angle=[]))
+    assert str(empty.string) == "Tally<id=1, dist=0.0, angle=0.0, beams=0>"

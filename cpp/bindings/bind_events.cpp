@@ -1,6 +1,9 @@
 // vwg.Event (an event e^d_c: type, data, optional target) and vwg.FrameInfo (the time instant a
 // generator or backend is called for).
+#include <span>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "common.hpp"
 
@@ -13,6 +16,15 @@ struct PyEvent {
   std::optional<std::int64_t> target;
   py::dict fields;
   std::string text;  // canonical text when made from an event list, else empty
+};
+
+/// A batch of events of one type and target given by columns (vwg.EventColumns): one array of
+/// reals a field, one value an event. Each column is a read-only float64 array owned here.
+struct PyEventColumns {
+  std::string type;
+  std::optional<std::int64_t> target;
+  std::vector<std::pair<std::string, py::array_t<double>>> columns;  // in the order given
+  std::size_t size() const { return columns.empty() ? 0 : static_cast<std::size_t>(columns.front().second.size()); }
 };
 
 std::string event_repr(const PyEvent& e) {
@@ -56,13 +68,46 @@ py::object event_to_python(const EventView& e) {
   return slot;
 }
 
+namespace {
+
+std::string field_names(const EventTypeInfo& info) {
+  std::string names;
+  for (const auto& p : info.fields.params) names += (names.empty() ? "" : ", ") + p.name;
+  return names.empty() ? std::string("none") : names;
+}
+
+void emit_columns_python(EventList& out, const PyEventColumns& batch, const std::string& what) {
+  const auto id = out.alphabet().find_event_type(batch.type);
+  if (!id) throw SchemaError(what, "unknown event type '" + batch.type + "' (not in the alphabet)");
+  const EventTypeInfo& info = out.alphabet().event_type(*id);
+  std::vector<std::span<const double>> columns(info.fields.params.size());
+  std::vector<bool> given(columns.size(), false);
+  for (const auto& [name, array] : batch.columns) {
+    const int k = info.fields.index_of(name);
+    if (k < 0) throw SchemaError(info.name + "." + name, "no such field (fields: " + field_names(info) + ")");
+    columns[static_cast<std::size_t>(k)] = std::span<const double>(array.data(), static_cast<std::size_t>(array.size()));
+    given[static_cast<std::size_t>(k)] = true;
+  }
+  for (std::size_t k = 0; k < columns.size(); ++k) {
+    if (!given[k]) throw SchemaError(info.name + "." + info.fields.params[k].name, "missing: a batch by columns gives every field");
+  }
+  out.emit_columns(*id, columns, batch.target ? *batch.target : kNoTarget);
+}
+
+}  // namespace
+
 void emit_python(EventList& out, py::handle obj, const std::string& what) {
   if (PyUnicode_Check(obj.ptr())) {
     parse_event(out, obj.cast<std::string>(), "<" + what + ">");
     return;
   }
+  if (py::isinstance<PyEventColumns>(obj)) {
+    emit_columns_python(out, obj.cast<const PyEventColumns&>(), what);
+    return;
+  }
   if (!py::isinstance<PyEvent>(obj)) {
-    throw SchemaError(what, "expected a vwg.Event or an event's text, got " + std::string(py::str(py::type::handle_of(obj).attr("__name__"))));
+    throw SchemaError(what, "expected a vwg.Event, a vwg.EventColumns or an event's text, got " +
+                                std::string(py::str(py::type::handle_of(obj).attr("__name__"))));
   }
   const PyEvent& e = obj.cast<const PyEvent&>();
   const Alphabet& A = out.alphabet();
@@ -73,11 +118,7 @@ void emit_python(EventList& out, py::handle obj, const std::string& what) {
   for (auto item : e.fields) {
     const std::string key = py::str(item.first);
     const int k = info.fields.index_of(key);
-    if (k < 0) {
-      std::string names;
-      for (const auto& p : info.fields.params) names += (names.empty() ? "" : ", ") + p.name;
-      throw SchemaError(info.name + "." + key, "no such field (fields: " + (names.empty() ? std::string("none") : names) + ")");
-    }
+    if (k < 0) throw SchemaError(info.name + "." + key, "no such field (fields: " + field_names(info) + ")");
     slots[static_cast<std::size_t>(k)] = datum_from_python(item.second, &info.fields.params[static_cast<std::size_t>(k)], info.name + "." + key);
   }
   std::vector<Datum> fields;
@@ -136,6 +177,59 @@ that responds to the type. Fields read as attributes: ``e.dist``.)doc")
       })
       .def("__repr__", &event_repr)
       .def("__str__", [](const PyEvent& e) { return e.text.empty() ? event_repr(e) : e.text; });
+
+  py::class_<PyEventColumns>(m, "EventColumns", R"doc(
+A batch of events of one type, all for the same actor (or all untargeted), given by columns: one
+1-D array of reals a field, one value an event, e.g. a scan of 180 beams as
+``vwg.EventColumns("eLaser", target=3, dist=ranges, angle=angles)``. A generator returns it among
+its events; it stands for the events (dist[j], angle[j]) in order, and the engine stores them by
+columns instead of one object a beam. Every field of the type must be a real and given; the arrays
+are copied (as float64) and read-only here.)doc")
+      .def(py::init([](std::string type, std::optional<std::int64_t> target, py::kwargs columns) {
+             PyEventColumns b;
+             b.type = std::move(type);
+             b.target = target;
+             for (auto item : columns) {
+               const std::string name = py::str(item.first);
+               py::object converted;  // (a default array_t is an empty array, not none)
+               if (!py::isinstance<py::str>(item.second) && !py::isinstance<py::bytes>(item.second)) {  // numpy reads text as no values
+                 converted = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(item.second);
+               }
+               if (!converted || converted.cast<py::array>().ndim() != 1) {
+                 throw SchemaError(b.type + "." + name, "expected a 1-D array of reals (one value an event), got " +
+                                                            std::string(py::str(py::type::handle_of(item.second).attr("__name__"))) +
+                                                            (converted ? " of " + std::to_string(converted.cast<py::array>().ndim()) + " dimensions"
+                                                                       : std::string()));
+               }
+               // A copy of its own: the caller's array may change after.
+               py::array_t<double> array(converted.cast<py::array_t<double>>().request());
+               array.attr("setflags")(py::arg("write") = false);
+               if (!b.columns.empty() && array.size() != b.columns.front().second.size()) {
+                 throw SchemaError(b.type + "." + name, "has " + std::to_string(array.size()) + " values; " + b.columns.front().first +
+                                                            " has " + std::to_string(b.columns.front().second.size()) +
+                                                            " (one value an event in every column)");
+               }
+               b.columns.emplace_back(name, std::move(array));
+             }
+             if (b.columns.empty()) throw SchemaError(b.type, "EventColumns needs a column for each field, got none");
+             return b;
+           }),
+           py::arg("type"), py::arg("target") = py::none())
+      .def_readonly("type", &PyEventColumns::type)
+      .def_readonly("target", &PyEventColumns::target, "The id of the actor the events are for, or None (all actors).")
+      .def_property_readonly("columns", [](const PyEventColumns& b) {
+        py::dict out;
+        for (const auto& [name, array] : b.columns) out[py::str(name)] = array;
+        return out;
+      }, "The columns by field name (read-only float64 arrays).")
+      .def("__len__", &PyEventColumns::size, "The number of events.")
+      .def("__repr__", [](const PyEventColumns& b) {
+        std::string out = "vwg.EventColumns(" + std::string(py::repr(py::str(b.type)));
+        if (b.target) out += ", target=" + std::to_string(*b.target);
+        out += ", " + std::to_string(b.size()) + " events: ";
+        for (std::size_t k = 0; k < b.columns.size(); ++k) out += (k ? ", " : "") + b.columns[k].first;
+        return out + ")";
+      });
 
   py::class_<PyFrame, std::shared_ptr<PyFrame>>(m, "FrameInfo", "The time instant t a generator or backend is called for.")
       .def_readonly("frame", &PyFrame::frame, "t: the frame number, from 0.")

@@ -8,7 +8,8 @@ namespace vwg::bindings {
 
 namespace {
 
-/// A generator whose generate() is a Python method returning events (vwg.Event or their text).
+/// A generator whose generate() is a Python method returning events (vwg.Event, their text, or
+/// vwg.EventColumns).
 class PyGenerator : public Generator {
  public:
   void generate(const FrameInfo& info, EventList& out) override {
@@ -49,8 +50,9 @@ class PyGenerator : public Generator {
 void init_generators(py::module_& m) {
   py::class_<Generator, PyGenerator, std::shared_ptr<Generator>>(m, "Generator", R"doc(
 An event generator C^d(t) (paper eq. 10). Subclass it in Python and define
-``generate(self, frame: vwg.FrameInfo)`` returning an iterable of vwg.Event (or event texts); return
-None or [] for no events. Optionally define ``reset(self, seed: int)``: the engine calls it once
+``generate(self, frame: vwg.FrameInfo)`` returning an iterable of vwg.Event (or event texts, or
+vwg.EventColumns for a batch of events given by columns, such as a scan); return None or [] for no
+events. Optionally define ``reset(self, seed: int)``: the engine calls it once
 with a seed derived from its own seed and the generator's place, so random generators are
 reproducible. Generators run in the order given to the engine: their priority.)doc")
       .def(py::init<>())

@@ -112,11 +112,14 @@ void KinectGenerator::generate(const FrameInfo&, EventList& out) {
   camera_.render(robot_, pose, depth_, camera_.spec().noise ? &rng_ : nullptr);
   camera_.to_scan(depth_, ranges_);
   const auto angles = camera_.angles();
+  event_dist_.clear(), event_angle_.clear();
   for (std::size_t u = 0; u < ranges_.size(); ++u) {
     if (std::isnan(ranges_[u])) continue;
-    const Datum fields[] = {static_cast<double>(ranges_[u]), angles[u]};
-    out.emit(event_, fields, robot_);
+    event_dist_.push_back(ranges_[u]);
+    event_angle_.push_back(angles[u]);
   }
+  const std::span<const double> columns[] = {event_dist_, event_angle_};
+  out.emit_columns(event_, columns, robot_);
 }
 
 }  // namespace vwg::sim

@@ -102,9 +102,9 @@ void Engine::collect_events_unlocked(EventList& events) {
       if (parts.size() < end - k) parts.resize(end - k, EventList(w_.alphabet_ptr()));
       for (std::size_t j = 0; j < end - k; ++j) parts[j].clear();  // a generator that threw may have left some
       parallel_for(end - k, options_.threads, [&](std::size_t j) { generate(k + j, info, parts[j]); });
-      std::size_t count = events.size(), values = events.value_count();
-      for (std::size_t j = 0; j < end - k; ++j) count += parts[j].size(), values += parts[j].value_count();
-      events.reserve(count, values);
+      EventList::Sizes room = events.sizes();
+      for (std::size_t j = 0; j < end - k; ++j) room += parts[j].sizes();
+      events.reserve(room);
       // Emptied once appended (their buffers stay): no event, and no blob it holds, is kept alive
       // by a buffer beyond its frame (a blob held twice is copied instead of written in place).
       for (std::size_t j = 0; j < end - k; ++j) events.append(parts[j]), parts[j].clear();

@@ -67,22 +67,15 @@ class EventRouting {
     if (const auto found = types_.find(info.id); found != types_.end()) return found->second;
     TypeIndex& t = types_[info.id];  // node-based: references stay valid
     const Alphabet& A = events_.alphabet();
-    // Events addressed to one actor come in runs (a robot's laser scan): its list is looked up
-    // once a run.
-    std::int64_t last_target = kNoTarget;
-    std::vector<std::uint32_t>* last_list = nullptr;
-    for (std::size_t i = 0; i < events_.size(); ++i) {
-      const EventView e = events_[i];
-      const EventTypeId type = e.type();
-      if (!info.responds.contains(type)) continue;
-      if (visual_only_ && !A.event_type(type).visual) continue;
-      const auto pos = static_cast<std::uint32_t>(i);
-      t.all.push_back(pos);
-      if (e.has_target()) {
-        if (!last_list || e.target() != last_target) last_target = e.target(), last_list = &t.by_target[last_target];
-        last_list->push_back(pos);
-      } else {
-        t.untargeted.push_back(pos);
+    // Events come in batches (a robot's laser scan, all to one robot): a batch is looked up once.
+    for (std::size_t b = 0; b < events_.batch_count(); ++b) {
+      const EventList::Batch& batch = events_.batch(b);
+      if (!info.responds.contains(batch.type)) continue;
+      if (visual_only_ && !A.event_type(batch.type).visual) continue;
+      std::vector<std::uint32_t>& list = batch.target != kNoTarget ? t.by_target[batch.target] : t.untargeted;
+      for (std::uint32_t pos = batch.first_event; pos < batch.first_event + batch.count; ++pos) {
+        t.all.push_back(pos);
+        list.push_back(pos);
       }
     }
     return t;

@@ -9,7 +9,7 @@ import numpy.typing
 import os
 import typing
 import vwg.maps
-__all__: list[str] = ['ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'ArrivalCondition', 'Backend', 'BackendGroup', 'Blob', 'CameraGenerator', 'CameraRenderer', 'CameraSpec', 'Collision', 'CollisionGenerator', 'DStarLite', 'Decider', 'DecisionInput', 'DepthCameraSpec', 'Engine', 'Event', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'FrameSink', 'Generator', 'GridDecider', 'GridRaycaster', 'ImageFiles', 'ImageSequence', 'ImageSource', 'KinectGenerator', 'LaserGenerator', 'LaserSpec', 'MotionBackend', 'MotionFollower', 'Node', 'NoiseModel', 'NullBackend', 'OdometryGenerator', 'OmplDecider', 'OmplPlan', 'OmplPlanner', 'OrderGenerator', 'OverviewCamera', 'PhysicsSettings', 'PhysicsWorld', 'PythonActor', 'RandomDecider', 'RangeScanner', 'ReceivedImages', 'RenderStyle', 'RobotPlatform', 'RobotSettings', 'RobotState', 'SimView', 'SimulatedCamera', 'StopCondition', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoSource', 'add_arobot', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'arobot_event_types', 'astar', 'backend_names', 'beam_layout', 'build_string', 'create_backend', 'create_decider', 'create_platform', 'create_sensor', 'decider_names', 'default_threads', 'detect_apriltags', 'display', 'encode_image', 'estimate_tag_pose', 'evolve', 'grid_clearance', 'grid_inflate', 'jps', 'log_message', 'overview_camera', 'plan_ompl', 'platform_names', 'python_budget', 'quantize_pose', 'ranging_sensors', 'read_image', 'render_overview', 'robot_map', 'sensor_names', 'set_log_sink', 'set_python_budget', 'visualize', 'walker_behavior', 'write_image']
+__all__: list[str] = ['ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'ArrivalCondition', 'Backend', 'BackendGroup', 'Blob', 'CameraGenerator', 'CameraRenderer', 'CameraSpec', 'Collision', 'CollisionGenerator', 'DStarLite', 'Decider', 'DecisionInput', 'DepthCameraSpec', 'Engine', 'Event', 'EventColumns', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'FrameSink', 'Generator', 'GridDecider', 'GridRaycaster', 'ImageFiles', 'ImageSequence', 'ImageSource', 'KinectGenerator', 'LaserGenerator', 'LaserSpec', 'MotionBackend', 'MotionFollower', 'Node', 'NoiseModel', 'NullBackend', 'OdometryGenerator', 'OmplDecider', 'OmplPlan', 'OmplPlanner', 'OrderGenerator', 'OverviewCamera', 'PhysicsSettings', 'PhysicsWorld', 'PythonActor', 'RandomDecider', 'RangeScanner', 'ReceivedImages', 'RenderStyle', 'RobotPlatform', 'RobotSettings', 'RobotState', 'SimView', 'SimulatedCamera', 'StopCondition', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoSource', 'add_arobot', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'arobot_event_types', 'astar', 'backend_names', 'beam_layout', 'build_string', 'create_backend', 'create_decider', 'create_platform', 'create_sensor', 'decider_names', 'default_threads', 'detect_apriltags', 'display', 'encode_image', 'estimate_tag_pose', 'evolve', 'grid_clearance', 'grid_inflate', 'jps', 'log_message', 'overview_camera', 'plan_ompl', 'platform_names', 'python_budget', 'quantize_pose', 'ranging_sensors', 'read_image', 'render_overview', 'robot_map', 'sensor_names', 'set_log_sink', 'set_python_budget', 'visualize', 'walker_behavior', 'write_image']
 class Blob:
     """
     A large attribute value held by reference from world strings (an occupancy grid, an image, a path).
@@ -200,6 +200,36 @@ class Event:
     @property
     def type(self) -> str:
         ...
+class EventColumns:
+    """
+    A batch of events of one type, all for the same actor (or all untargeted), given by columns: one
+    1-D array of reals a field, one value an event, e.g. a scan of 180 beams as
+    ``vwg.EventColumns("eLaser", target=3, dist=ranges, angle=angles)``. A generator returns it among
+    its events; it stands for the events (dist[j], angle[j]) in order, and the engine stores them by
+    columns instead of one object a beam. Every field of the type must be a real and given; the arrays
+    are copied (as float64) and read-only here.
+    """
+    def __init__(self, type: str, target: typing.SupportsInt | typing.SupportsIndex | None = None, **kwargs) -> None:
+        ...
+    def __len__(self) -> int:
+        """
+        The number of events.
+        """
+    def __repr__(self) -> str:
+        ...
+    @property
+    def columns(self) -> dict:
+        """
+        The columns by field name (read-only float64 arrays).
+        """
+    @property
+    def target(self) -> int | None:
+        """
+        The id of the actor the events are for, or None (all actors).
+        """
+    @property
+    def type(self) -> str:
+        ...
 class FrameInfo:
     """
     The time instant t a generator or backend is called for.
@@ -258,8 +288,9 @@ class TraceBackend(Backend):
 class Generator:
     """
     An event generator C^d(t) (paper eq. 10). Subclass it in Python and define
-    ``generate(self, frame: vwg.FrameInfo)`` returning an iterable of vwg.Event (or event texts); return
-    None or [] for no events. Optionally define ``reset(self, seed: int)``: the engine calls it once
+    ``generate(self, frame: vwg.FrameInfo)`` returning an iterable of vwg.Event (or event texts, or
+    vwg.EventColumns for a batch of events given by columns, such as a scan); return None or [] for no
+    events. Optionally define ``reset(self, seed: int)``: the engine calls it once
     with a seed derived from its own seed and the generator's place, so random generators are
     reproducible. Generators run in the order given to the engine: their priority.
     """

@@ -333,27 +333,48 @@ TEST(Eta, ARunThatReplacesTheActorOrChangesItsIdIsAnError) {
   }
 }
 
-TEST(Events, EmitRealsStoresWhatEmitStoresAndRefusesWhatItRefuses) {
+TEST(Events, ColumnsStoreWhatEmitStoresAndRefuseWhatItRefuses) {
   auto a = std::make_shared<Alphabet>();
   a->add_event_type("beam", false, schema({real("dist"), real("angle")}));
   a->add_event_type("count", false, schema({integer("k")}));
   const EventTypeId beam = *a->find_event_type("beam"), count = *a->find_event_type("count");
   EventList fast(a), plain(a);
-  const double fields[] = {1.5, -0.25};
-  fast.emit_reals(beam, fields, 7);
-  plain.emit(beam, std::vector<Datum>{1.5, -0.25}, 7);
+  // Three beams to robot 7 by columns, between two events emitted one by one.
+  const std::vector<double> dist = {1.5, 2.0, 0.125}, angle = {-0.25, 0.0, 3.0};
+  const std::span<const double> columns[] = {dist, angle};
+  fast.emit(count, std::vector<Datum>{std::int64_t{4}});
+  fast.emit_columns(beam, columns, 7);
+  fast.emit(beam, std::vector<Datum>{9.0, 1.0});
+  plain.emit(count, std::vector<Datum>{std::int64_t{4}});
+  for (std::size_t j = 0; j < 3; ++j) plain.emit(beam, std::vector<Datum>{dist[j], angle[j]}, 7);
+  plain.emit(beam, std::vector<Datum>{9.0, 1.0});
   EXPECT_TRUE(fast == plain);
-  EXPECT_EQ(to_text(fast[0]), "beam<to=7, dist=1.5, angle=-0.25>");
-  auto message = [&](EventTypeId type, std::vector<double> values) {
+  ASSERT_EQ(fast.size(), 5u);
+  EXPECT_EQ(to_text(fast[1]), "beam<to=7, dist=1.5, angle=-0.25>");
+  EXPECT_EQ(to_text(fast[3]), "beam<to=7, dist=0.125, angle=3.0>");
+  EXPECT_EQ(fast[2].number(1), 0.0);
+  EXPECT_EQ(fast.batch_count(), 3u) << "one batch a call";
+  EXPECT_EQ(fast.sizes().reals, 6u) << "the beams' fields as bare reals";
+  // Copies keep the events: a whole list, and one event of a batch.
+  EventList copy(a), one(a);
+  copy.append(fast);
+  EXPECT_TRUE(copy == plain);
+  one.append_from(fast, 3);
+  EXPECT_EQ(to_text(one[0]), "beam<to=7, dist=0.125, angle=3.0>");
+  auto message = [&](EventTypeId type, std::vector<std::vector<double>> values) {
+    std::vector<std::span<const double>> spans(values.begin(), values.end());
     try {
-      fast.emit_reals(type, values);
+      fast.emit_columns(type, spans);
     } catch (const SchemaError& e) {
       return std::string(e.what());
     }
     return std::string("accepted");
   };
-  EXPECT_NE(message(beam, {std::nan(""), 0.0}).find("beam.dist"), std::string::npos);
-  EXPECT_NE(message(beam, {1.0, 2.0, 3.0}).find("has 2 fields, got 3"), std::string::npos);
-  EXPECT_NE(message(count, {1.0}).find("count.k"), std::string::npos);  // an integer field is not a real
-  EXPECT_EQ(fast.size(), 1u) << "a refused event leaves the list as it was";
+  EXPECT_NE(message(beam, {{1.0, std::nan("")}, {0.0, 0.0}}).find("beam.dist"), std::string::npos);
+  EXPECT_NE(message(beam, {{1.0}, {0.0}, {3.0}}).find("has 2 fields, got 3"), std::string::npos);
+  EXPECT_NE(message(beam, {{1.0, 2.0}, {0.0}}).find("beam.angle"), std::string::npos);  // columns of unequal length
+  EXPECT_NE(message(count, {{1.0}}).find("count.k"), std::string::npos);  // an integer field is not a real
+  EXPECT_EQ(fast.size(), 5u) << "a refused batch leaves the list as it was";
+  EXPECT_EQ(message(beam, {{}, {}}), "accepted");
+  EXPECT_EQ(fast.size(), 5u) << "an empty batch adds no event";
 }

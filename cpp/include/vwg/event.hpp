@@ -1,5 +1,8 @@
 // Events e^d_c (paper §II.C): an event type d with data c, optionally addressed to one actor.
-// A frame's events S are one EventList, in generator priority order.
+// A frame's events S are one EventList, in generator priority order. The list stores its events
+// in batches, one per emit: a sensor's scan (one event a beam, all to one robot) is one batch of
+// real fields stored by columns (its distances side by side, then its angles), 16 bytes a beam
+// rather than one record and one tagged value per field.
 #pragma once
 
 #include <cstdint>
@@ -29,7 +32,8 @@ class EventView {
   std::int64_t target() const;
   bool has_target() const { return target() != kNoTarget; }
   std::size_t field_count() const;
-  const Value& value(std::size_t i) const;
+  /// Field i (a copy: a batch stored by columns holds bare reals, not Values).
+  Value value(std::size_t i) const;
   Datum datum(std::size_t i) const;
   double number(std::size_t i) const;
   const ValueStore& store() const;
@@ -39,6 +43,7 @@ class EventView {
  private:
   const EventList* list_;
   std::size_t index_;
+  std::uint32_t batch_;
 };
 
 class EventList {
@@ -53,29 +58,54 @@ class EventList {
   void emit(EventTypeId type, std::span<const Datum> fields = {}, std::int64_t target = kNoTarget);
   void emit(std::string_view type, std::initializer_list<Datum> fields = {},
             std::int64_t target = kNoTarget);
-  /// emit() for an event whose fields are all reals, given in order, without a Datum for each (a
-  /// sensor emits one event a beam). Checked as emit() checks them.
-  void emit_reals(EventTypeId type, std::span<const double> fields, std::int64_t target = kNoTarget);
+  /// A batch of events of one type and target whose fields are all reals, given by columns:
+  /// columns[k][j] is field k of event j (a laser's distances, then its angles). The same events
+  /// as emit() of each in turn, checked as emit() checks them; a refused batch leaves the list as
+  /// it was. Every column has one value per event.
+  void emit_columns(EventTypeId type, std::span<const std::span<const double>> columns, std::int64_t target = kNoTarget);
   /// Append every event of another list of the same alphabet, in order (no re-check).
   void append(const EventList& other);
   /// Append event `i` of another list (no re-check).
   void append_from(const EventList& other, std::size_t i);
 
-  std::size_t size() const { return events_.size(); }
-  /// The fields of all events together.
-  std::size_t value_count() const { return store_.size(); }
-  /// Room for `events` events with `values` fields in all, so appending that many copies nothing.
-  void reserve(std::size_t events, std::size_t values) {
-    events_.reserve(events);
-    store_.reserve(values, 0);
+  std::size_t size() const { return batch_of_.size(); }
+  bool empty() const { return batch_of_.empty(); }
+  /// What a list holds, counted as its storage counts it: reserve() the sum of some lists' sizes
+  /// and appending them all copies nothing.
+  struct Sizes {
+    std::size_t events = 0, batches = 0, values = 0, reals = 0;
+    Sizes& operator+=(const Sizes& o) {
+      events += o.events, batches += o.batches, values += o.values, reals += o.reals;
+      return *this;
+    }
+  };
+  Sizes sizes() const { return {batch_of_.size(), batches_.size(), store_.size(), reals_.size()}; }
+  void reserve(const Sizes& room) {
+    batch_of_.reserve(room.events);
+    batches_.reserve(room.batches);
+    store_.reserve(room.values, 0);
+    reals_.reserve(room.reals);
   }
-  bool empty() const { return events_.empty(); }
+  /// A run of consecutive events of one type and target, as one emit made them.
+  struct Batch {
+    EventTypeId type;
+    std::uint32_t first_event;  // the position of its first event in the list
+    std::uint32_t count;        // its events
+    std::uint32_t first;        // its first value: in reals_ if by_columns, else in store_
+    std::int64_t target;
+    std::uint32_t fields;  // each event's (those of its type)
+    bool by_columns;       // field k of event j is reals_[first + k * count + j]; else store_[first + j * fields + k]
+  };
+  std::size_t batch_count() const { return batches_.size(); }
+  const Batch& batch(std::size_t b) const { return batches_[b]; }
   EventView operator[](std::size_t i) const { return EventView(*this, i); }
   const Alphabet& alphabet() const { return *alphabet_; }
   const std::shared_ptr<const Alphabet>& alphabet_ptr() const { return alphabet_; }
   void clear() {
-    events_.clear();
+    batch_of_.clear();
+    batches_.clear();
     store_.clear();
+    reals_.clear();
     touch();
   }
   bool operator==(const EventList& other) const;
@@ -85,17 +115,14 @@ class EventList {
 
  private:
   friend class EventView;
-  struct Record {
-    EventTypeId type;
-    std::uint32_t first_value;
-    std::uint32_t value_count;
-    std::int64_t target;
-  };
   std::shared_ptr<const Alphabet> alphabet_;
-  std::vector<Record> events_;
-  ValueStore store_;
+  std::vector<std::uint32_t> batch_of_;  // each event's batch
+  std::vector<Batch> batches_;
+  ValueStore store_;           // the fields of batches made by emit()
+  std::vector<double> reals_;  // the columns of batches made by emit_columns()
   std::uint64_t serial_;
   void touch();
+  void add_batch(EventTypeId type, std::uint32_t count, std::uint32_t first, std::int64_t target, std::uint32_t fields, bool by_columns);
 };
 
 /// Canonical text of one event, e.g. `eLaser<dist=1.5, angle=0.25>`; a target is printed first as

@@ -100,6 +100,7 @@ class LaserGenerator final : public Generator {
   EventTypeId event_;
   std::vector<double> angles_;
   std::vector<float> ranges_;
+  std::vector<double> event_dist_, event_angle_;  // the frame's events, by columns (kept: no allocation a frame)
   Rng rng_;
 };
 
