@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 import vwg
+from vwg.reference import Reference
 
 
 class Walker(vwg.Actor):
@@ -227,3 +228,133 @@ def test_blob_attributes_are_copied_on_write():
     w1 = vwg.evolve(w0, [vwg.Event("mark", cell=3)])
     np.testing.assert_array_equal(np.asarray(w0.actors()[0]["grid"]), [[0, 0], [0, 0]])
     np.testing.assert_array_equal(np.asarray(w1.actors()[0]["grid"]), [[0, 0], [0, 100]])
+
+
+# --- run λ: on_<event>_run ----------------------------------------------------------------------
+
+RUN_CALLS: list[tuple[int, int, int | None]] = []
+
+
+class ScanMapper(vwg.Actor):
+    """A scan's beams at once: counts them, keeps the nearest and sums the distances; mark<k>
+    (an int) adds k; ping<k, up> runs count the ups and sum the ks."""
+
+    events = ("beam", "mark", "ping")
+    attributes = {"id": int, "beams": 0, "nearest": 99.0, "total": 0.0, "marks": 0, "ups": 0}
+
+    def on_beam_run(self, events):
+        RUN_CALLS.append((self.id, len(events), events.target))
+        return self.with_(beams=self.beams + len(events), nearest=min(self.nearest, float(events.dist.min())),
+                          total=self.total + float(events.dist.sum()))
+
+    def on_mark(self, e):
+        return self.with_(marks=self.marks + e.k)
+
+    def on_ping_run(self, events, ctx):
+        assert events.k.dtype == np.int64 and events.up.dtype == np.bool_ and ctx.frame >= 0
+        return self.with_(marks=self.marks + int(events.k.sum()), ups=self.ups + int(events.up.sum()))
+
+
+class BeamByBeam(vwg.Actor):
+    """The same actor, one event at a time: the second method."""
+
+    name = "ScanMapper"
+    events = ScanMapper.events
+    attributes = ScanMapper.attributes
+
+    def on_beam(self, e):
+        return self.with_(beams=self.beams + 1, nearest=min(self.nearest, e.dist), total=self.total + e.dist)
+
+    def on_mark(self, e):
+        return self.with_(marks=self.marks + e.k)
+
+    def on_ping(self, e):
+        return self.with_(marks=self.marks + e.k, ups=self.ups + int(e.up))
+
+
+def mapper_world(actor: type[vwg.Actor]) -> vwg.World:
+    return vwg.World(events={"beam": {"dist": 0.0, "angle": 0.0}, "mark": {"k": 0}, "ping": {"k": 0, "up": False}},
+                     actors=[actor])
+
+
+class MapperScan(vwg.Generator):
+    """Three beams to robot 2 by columns, a mark to it, a beam to all, two pings to robot 1."""
+
+    def generate(self, frame):
+        return [vwg.EventColumns("beam", target=2, dist=[1.0, 0.5, 2.25], angle=[0.0, 0.5, 1.0]),
+                vwg.Event("mark", target=2, k=3),
+                vwg.Event("beam", dist=0.25, angle=0.0),
+                vwg.Event("ping", target=1, k=4, up=True), vwg.Event("ping", target=1, k=-1, up=False)]
+
+
+def test_a_run_handler_gives_what_the_handler_of_each_event_gives():
+    strings = []
+    for actor in (ScanMapper, BeamByBeam):
+        RUN_CALLS.clear()
+        engine = vwg.Engine(mapper_world(actor), "ScanMapper<id=1> . ScanMapper<id=2>", [MapperScan()])
+        engine.run(2)
+        strings.append(str(engine.string))
+    assert strings[0] == strings[1]
+    # The pure-Python reference calls the run handler on each event as a run of one.
+    world = mapper_world(ScanMapper)
+    ref = Reference(world.alphabet, [ScanMapper])
+    w = world.parse("ScanMapper<id=1> . ScanMapper<id=2>").tree()
+    events = vwg.Engine(world, "ScanMapper<id=1>", [MapperScan()]).collect_events()  # one by one
+    for frame in range(2):
+        w = ref.eta(w, events, frame)
+    assert ref.text(w) == strings[0]
+    # By hand, two frames: robot 1 gets the broadcast beam and the pings; robot 2 three beams, the
+    # mark, and the broadcast beam.
+    assert strings[1] == ("ScanMapper<id=1, beams=2, nearest=0.25, total=0.5, marks=6, ups=2> . "
+                          "ScanMapper<id=2, beams=8, nearest=0.25, total=8.0, marks=6, ups=0>")
+
+
+def test_a_run_is_the_consecutive_events_of_one_type_that_reach_the_actor():
+    RUN_CALLS.clear()
+    vwg.Engine(mapper_world(ScanMapper), "ScanMapper<id=1> . ScanMapper<id=2>", [MapperScan()]).step()
+    # Robot 1: the broadcast beam alone (a run of one, for all). Robot 2: the scan of three (to it),
+    # cut by the mark, then the broadcast beam.
+    assert RUN_CALLS == [(1, 1, None), (2, 3, 2), (2, 1, None)]
+
+
+def test_run_handlers_refuse_what_they_cannot_keep():
+    class Splits(vwg.Actor):
+        events = ("beam",)
+        attributes = {"id": int}
+
+        def on_beam_run(self, events):
+            return [self, self]
+
+    world = vwg.World(events={"beam": {"dist": 0.0, "angle": 0.0}}, actors=[Splits])
+    engine = vwg.Engine(world, "Splits<id=2>", [vwg.every_frame("beam", dist=1.0, angle=0.0)])
+    with pytest.raises(vwg.FrameError, match=r"Splits\.on_beam_run: returned .*a run handler returns self"):
+        engine.step()
+
+    class Named(vwg.Actor):
+        events = ("said",)
+
+        def on_said_run(self, events):
+            return self
+
+    with pytest.raises(vwg.SchemaError, match=r"Named\.on_said_run: 'said\.text' is text or a blob"):
+        vwg.World(events={"said": {"text": ""}}, actors=[Named])
+
+    class Both(vwg.Actor):
+        events = ("beam", "mark")
+
+        def on_beam_run(self, events):
+            return self
+
+        @classmethod
+        def on_mark_batch(cls, actors, e):
+            pass
+
+    with pytest.raises(vwg.SchemaError, match=r"both batch handlers .* and run handlers"):
+        mapper_world(Both)
+
+    with pytest.raises(vwg.SchemaError, match=r"Typo\.on_bean_run: 'bean' is not among"):
+        class Typo(vwg.Actor):
+            events = ("beam",)
+
+            def on_bean_run(self, events):
+                return self

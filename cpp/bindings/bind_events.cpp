@@ -18,12 +18,13 @@ struct PyEvent {
   std::string text;  // canonical text when made from an event list, else empty
 };
 
-/// A batch of events of one type and target given by columns (vwg.EventColumns): one array of
-/// reals a field, one value an event. Each column is a read-only float64 array owned here.
+/// A batch of events of one type and target given by columns (vwg.EventColumns): one array a
+/// field, one value an event. Each column is a read-only array owned here: float64 when made in
+/// Python; float64, int64 or bool when it shows a run of events to an actor's run handler.
 struct PyEventColumns {
   std::string type;
   std::optional<std::int64_t> target;
-  std::vector<std::pair<std::string, py::array_t<double>>> columns;  // in the order given
+  std::vector<std::pair<std::string, py::array>> columns;  // in the order given
   std::size_t size() const { return columns.empty() ? 0 : static_cast<std::size_t>(columns.front().second.size()); }
 };
 
@@ -81,11 +82,15 @@ void emit_columns_python(EventList& out, const PyEventColumns& batch, const std:
   if (!id) throw SchemaError(what, "unknown event type '" + batch.type + "' (not in the alphabet)");
   const EventTypeInfo& info = out.alphabet().event_type(*id);
   std::vector<std::span<const double>> columns(info.fields.params.size());
+  std::vector<py::array_t<double>> reals;  // the columns as float64 (a run's int columns are not)
+  reals.reserve(batch.columns.size());
   std::vector<bool> given(columns.size(), false);
   for (const auto& [name, array] : batch.columns) {
     const int k = info.fields.index_of(name);
     if (k < 0) throw SchemaError(info.name + "." + name, "no such field (fields: " + field_names(info) + ")");
-    columns[static_cast<std::size_t>(k)] = std::span<const double>(array.data(), static_cast<std::size_t>(array.size()));
+    reals.push_back(py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(array));
+    if (!reals.back()) throw SchemaError(info.name + "." + name, "expected reals");
+    columns[static_cast<std::size_t>(k)] = std::span<const double>(reals.back().data(), static_cast<std::size_t>(reals.back().size()));
     given[static_cast<std::size_t>(k)] = true;
   }
   for (std::size_t k = 0; k < columns.size(); ++k) {
@@ -95,6 +100,43 @@ void emit_columns_python(EventList& out, const PyEventColumns& batch, const std:
 }
 
 }  // namespace
+
+py::object event_run_to_python(const EventList& events, std::span<const std::uint32_t> at) {
+  const EventView first = events[at.front()];
+  const EventTypeInfo& info = first.info();
+  PyEventColumns out;
+  out.type = info.name;
+  // Every event of a run reaches the actor: each is addressed to it or to all.
+  bool targeted = true;
+  for (const std::uint32_t i : at) targeted = targeted && events[i].has_target();
+  if (targeted) out.target = first.target();
+  const auto n = static_cast<py::ssize_t>(at.size());
+  for (std::size_t k = 0; k < info.fields.params.size(); ++k) {
+    const ParamSpec& spec = info.fields.params[k];
+    py::array column;
+    if (spec.kind == ValueKind::Real) {
+      py::array_t<double> a(n);
+      double* d = a.mutable_data();
+      for (py::ssize_t j = 0; j < n; ++j) d[j] = events[at[static_cast<std::size_t>(j)]].value(k).r;
+      column = a;
+    } else if (spec.kind == ValueKind::Int) {
+      py::array_t<std::int64_t> a(n);
+      std::int64_t* d = a.mutable_data();
+      for (py::ssize_t j = 0; j < n; ++j) d[j] = events[at[static_cast<std::size_t>(j)]].value(k).i;
+      column = a;
+    } else if (spec.kind == ValueKind::Bool) {
+      py::array_t<bool> a(n);
+      bool* d = a.mutable_data();
+      for (py::ssize_t j = 0; j < n; ++j) d[j] = events[at[static_cast<std::size_t>(j)]].value(k).b;
+      column = a;
+    } else {
+      throw SchemaError(info.name + "." + spec.name, "is text or a blob: runs of events come as columns of numbers and bools");
+    }
+    column.attr("setflags")(py::arg("write") = false);
+    out.columns.emplace_back(spec.name, std::move(column));
+  }
+  return py::cast(std::move(out));
+}
 
 void emit_python(EventList& out, py::handle obj, const std::string& what) {
   if (PyUnicode_Check(obj.ptr())) {
@@ -184,7 +226,11 @@ A batch of events of one type, all for the same actor (or all untargeted), given
 ``vwg.EventColumns("eLaser", target=3, dist=ranges, angle=angles)``. A generator returns it among
 its events; it stands for the events (dist[j], angle[j]) in order, and the engine stores them by
 columns instead of one object a beam. Every field of the type must be a real and given; the arrays
-are copied (as float64) and read-only here.)doc")
+are copied (as float64) and read-only here. A column reads as an attribute: ``events.dist``.
+
+An actor's run handler ``on_<event>_run(self, events)`` receives the events of a run that reach it
+in the same form (see vwg.Actor); there ``target`` is the actor's id if every event was addressed
+to it, None if any was for all, and int and bool fields come as int64 and bool arrays.)doc")
       .def(py::init([](std::string type, std::optional<std::int64_t> target, py::kwargs columns) {
              PyEventColumns b;
              b.type = std::move(type);
@@ -202,7 +248,7 @@ are copied (as float64) and read-only here.)doc")
                                                                        : std::string()));
                }
                // A copy of its own: the caller's array may change after.
-               py::array_t<double> array(converted.cast<py::array_t<double>>().request());
+               py::array array = py::array_t<double>(converted.cast<py::array_t<double>>().request());
                array.attr("setflags")(py::arg("write") = false);
                if (!b.columns.empty() && array.size() != b.columns.front().second.size()) {
                  throw SchemaError(b.type + "." + name, "has " + std::to_string(array.size()) + " values; " + b.columns.front().first +
@@ -221,7 +267,15 @@ are copied (as float64) and read-only here.)doc")
         py::dict out;
         for (const auto& [name, array] : b.columns) out[py::str(name)] = array;
         return out;
-      }, "The columns by field name (read-only float64 arrays).")
+      }, "The columns by field name (read-only arrays: float64, or int64 and bool for such fields of a run).")
+      .def("__getattr__", [](const PyEventColumns& b, const std::string& name) -> py::object {
+        for (const auto& [field, array] : b.columns) {
+          if (field == name) return array;
+        }
+        std::string names;
+        for (const auto& [field, array] : b.columns) names += (names.empty() ? "" : ", ") + field;
+        throw py::attribute_error("events '" + b.type + "' have no field '" + name + "' (fields: " + names + ")");
+      }, "A column by field name: ``events.dist``.")
       .def("__len__", &PyEventColumns::size, "The number of events.")
       .def("__repr__", [](const PyEventColumns& b) {
         std::string out = "vwg.EventColumns(" + std::string(py::repr(py::str(b.type)));

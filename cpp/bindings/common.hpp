@@ -7,6 +7,7 @@
 
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 
 #include "vwg/vwg.hpp"
@@ -75,6 +76,8 @@ py::object node_to_python(const NodeView& node);
 // --- events ---
 /// A Python vwg.Event for one event.
 py::object event_to_python(const EventView& e);
+/// The events at positions `at` of `events` (a run of one type) as a vwg.EventColumns.
+py::object event_run_to_python(const EventList& events, std::span<const std::uint32_t> at);
 /// Append a Python vwg.Event (or its text) to `out`.
 void emit_python(EventList& out, py::handle obj, const std::string& what);
 EventList events_from_python(const std::shared_ptr<const Alphabet>& alphabet, py::handle events);

@@ -1,6 +1,8 @@
 // An actor type written in Python: λ handlers `on_<event>(self, e)`, θ handlers
-// `show_<event>(self, e)`, and optional batch λ handlers `on_<event>_batch(cls, actors, e)` that
-// receive numpy columns of all the actors of the type at once.
+// `show_<event>(self, e)`, optional run λ handlers `on_<event>_run(self, events)` that receive a
+// run of events (a scan) as numpy columns, and optional batch λ handlers
+// `on_<event>_batch(cls, actors, e)` that receive numpy columns of all the actors of the type.
+#include <span>
 #include <string>
 
 #include "common.hpp"
@@ -18,11 +20,12 @@ class PythonActor final : public ActorBehavior {
     bool wants_context = false;
   };
 
-  PythonActor(const Alphabet& alphabet, py::object cls, py::dict on, py::dict show, py::dict batch)
+  PythonActor(const Alphabet& alphabet, py::object cls, py::dict on, py::dict show, py::dict batch, py::dict run)
       : cls_(std::move(cls)), name_(py::str(cls_.attr("name"))) {
     on_.resize(alphabet.event_type_count());
     show_.resize(alphabet.event_type_count());
     batch_.resize(alphabet.event_type_count());
+    run_.resize(alphabet.event_type_count());
     auto fill = [&](py::dict handlers, std::vector<Handler>& into, bool visual_only) {
       for (auto item : handlers) {
         const std::string event = py::str(item.first);
@@ -37,7 +40,20 @@ class PythonActor final : public ActorBehavior {
     fill(on, on_, false);
     fill(show, show_, true);
     fill(batch, batch_, false);
+    fill(run, run_, false);
     batched_ = py::len(batch) > 0;
+    if (batched_ && py::len(run) > 0) {
+      throw SchemaError(name_, "has both batch handlers (on_<event>_batch) and run handlers (on_<event>_run); a class takes one or the other");
+    }
+    for (auto item : run) {
+      const std::string event = py::str(item.first);
+      for (const ParamSpec& spec : alphabet.event_type(alphabet.event_type_id(event)).fields.params) {
+        if (spec.kind != ValueKind::Int && spec.kind != ValueKind::Real && spec.kind != ValueKind::Bool) {
+          throw SchemaError(name_ + ".on_" + event + "_run",
+                            "'" + event + "." + spec.name + "' is text or a blob: a run comes as columns of numbers and bools");
+        }
+      }
+    }
     for (auto name : cls_.attr("_attribute_names")) attribute_names_.push_back(py::str(name));
     new_ = py::module_::import("builtins").attr("object").attr("__new__");
     actor_base_ = python_class("vwg.actor", "Actor");
@@ -54,6 +70,7 @@ class PythonActor final : public ActorBehavior {
     on_.clear();
     show_.clear();
     batch_.clear();
+    run_.clear();
     cls_ = py::object();
     new_ = py::object();
     actor_base_ = py::object();
@@ -61,6 +78,11 @@ class PythonActor final : public ActorBehavior {
   }
 
   void evolve(ActorState& self, const EventView& e, const EvolutionContext& ctx, Replacement& out) override {
+    if (takes_runs(e.type())) {  // a run of one
+      const auto at = static_cast<std::uint32_t>(e.index());
+      evolve_run(self, e.list(), std::span<const std::uint32_t>(&at, 1), ctx, out);
+      return;
+    }
     const Handler* h = e.type() < on_.size() && on_[e.type()].fn ? &on_[e.type()] : nullptr;
     if (!h) return;  // responds to the type but defines no λ for it: unchanged
     py::gil_scoped_acquire gil;
@@ -70,17 +92,8 @@ class PythonActor final : public ActorBehavior {
     py::object result = h->wants_context ? h->fn(instance, event, make_context(ctx)) : h->fn(instance, event);
     if (result.ptr() == instance.ptr()) return;  // `return self`: unchanged
     const std::string what = name_ + ".on_" + e.info().name;
-    const bool same_type = py::type::handle_of(result).is(cls_) ||
-                           (PyObject_IsInstance(result.ptr(), actor_base_.ptr()) == 1 &&
-                            std::string(py::str(py::type::handle_of(result).attr("name"))) == name_);
-    if (same_type) {
-      // Still one actor of this type: read its attributes back into the state.
-      py::tuple values = result.attr("_v");
-      const Schema& schema = self.info().schema;
-      if (py::len(values) != schema.params.size()) throw SchemaError(what, "returned an actor with the wrong number of attributes");
-      for (std::size_t k = 0; k < schema.params.size(); ++k) {
-        self.set(k, datum_from_python(values[k], &schema.params[k], name_ + "." + schema.params[k].name));
-      }
+    if (same_type(result)) {
+      read_back(self, result, what);  // still one actor of this type
       return;
     }
     append_python(out.replace(), result, what);
@@ -99,9 +112,45 @@ class PythonActor final : public ActorBehavior {
 
   bool batched() const override { return batched_; }
 
+  bool takes_runs(EventTypeId type) const override { return type < run_.size() && run_[type].fn; }
+
+  void evolve_run(ActorState& self, const EventList& events, std::span<const std::uint32_t> at, const EvolutionContext& ctx,
+                  Replacement& out) override {
+    (void)out;
+    const EventTypeId type = events[at.front()].type();
+    const Handler& h = run_[type];
+    const std::string what = name_ + ".on_" + events.alphabet().event_type(type).name + "_run";
+    py::gil_scoped_acquire gil;
+    PythonCallTimer timer([&] { return "the Python actor's λ " + what; });
+    py::object instance = make_instance(self);
+    py::object run = event_run_to_python(events, at);
+    py::object result = h.wants_context ? h.fn(instance, run, make_context(ctx)) : h.fn(instance, run);
+    if (result.ptr() == instance.ptr()) return;  // `return self`: unchanged
+    if (!same_type(result)) {
+      throw SchemaError(what, "returned " + std::string(py::str(py::repr(result))) +
+                                  "; a run handler returns self or self.with_(...): the actor stays one " + name_);
+    }
+    read_back(self, result, what);
+  }
+
   void evolve_batch(ActorBatch& batch, const EventView& e, const EvolutionContext& ctx) override;
 
  private:
+  bool same_type(py::handle result) const {
+    return py::type::handle_of(result).is(cls_) || (PyObject_IsInstance(result.ptr(), actor_base_.ptr()) == 1 &&
+                                                    std::string(py::str(py::type::handle_of(result).attr("name"))) == name_);
+  }
+
+  /// The attributes of `result`, an actor of this type, into the state.
+  void read_back(ActorState& self, py::handle result, const std::string& what) const {
+    py::tuple values = result.attr("_v");
+    const Schema& schema = self.info().schema;
+    if (py::len(values) != schema.params.size()) throw SchemaError(what, "returned an actor with the wrong number of attributes");
+    for (std::size_t k = 0; k < schema.params.size(); ++k) {
+      self.set(k, datum_from_python(values[k], &schema.params[k], name_ + "." + schema.params[k].name));
+    }
+  }
+
   py::object make_instance(const ActorState& state) const {
     py::tuple values(state.size());
     for (std::size_t k = 0; k < state.size(); ++k) values[k] = value_to_python(state.store(), state.value(k));
@@ -115,7 +164,7 @@ class PythonActor final : public ActorBehavior {
 
   void release_without_gil() {
     // At interpreter exit the objects cannot be released safely; leave them to the OS.
-    for (auto* v : {&on_, &show_, &batch_}) {
+    for (auto* v : {&on_, &show_, &batch_, &run_}) {
       for (auto& h : *v) h.fn.release();
     }
     cls_.release();
@@ -126,7 +175,7 @@ class PythonActor final : public ActorBehavior {
 
   py::object cls_;
   std::string name_;
-  std::vector<Handler> on_, show_, batch_;
+  std::vector<Handler> on_, show_, batch_, run_;
   std::vector<std::string> attribute_names_;
   bool batched_ = false;
   py::object new_, actor_base_, context_class_;
@@ -176,8 +225,8 @@ void PythonActor::evolve_batch(ActorBatch& batch, const EventView& e, const Evol
 void init_actors(py::module_& m) {
   py::class_<PythonActor, ActorBehavior, std::shared_ptr<PythonActor>>(m, "PythonActor",
                                                                         "λ and θ of an actor class written in Python (see vwg.Actor).")
-      .def(py::init<const Alphabet&, py::object, py::dict, py::dict, py::dict>(), py::arg("alphabet"), py::arg("cls"),
-           py::arg("on"), py::arg("show"), py::arg("batch"),
+      .def(py::init<const Alphabet&, py::object, py::dict, py::dict, py::dict, py::dict>(), py::arg("alphabet"), py::arg("cls"),
+           py::arg("on"), py::arg("show"), py::arg("batch"), py::arg("run"),
            "Handlers by event type name: {event: (function, wants_context)}.");
 
   py::class_<PyActorBatch>(m, "ActorBatch", R"doc(

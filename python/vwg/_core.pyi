@@ -207,8 +207,16 @@ class EventColumns:
     ``vwg.EventColumns("eLaser", target=3, dist=ranges, angle=angles)``. A generator returns it among
     its events; it stands for the events (dist[j], angle[j]) in order, and the engine stores them by
     columns instead of one object a beam. Every field of the type must be a real and given; the arrays
-    are copied (as float64) and read-only here.
+    are copied (as float64) and read-only here. A column reads as an attribute: ``events.dist``.
+    
+    An actor's run handler ``on_<event>_run(self, events)`` receives the events of a run that reach it
+    in the same form (see vwg.Actor); there ``target`` is the actor's id if every event was addressed
+    to it, None if any was for all, and int and bool fields come as int64 and bool arrays.
     """
+    def __getattr__(self, arg0: str) -> typing.Any:
+        """
+        A column by field name: ``events.dist``.
+        """
     def __init__(self, type: str, target: typing.SupportsInt | typing.SupportsIndex | None = None, **kwargs) -> None:
         ...
     def __len__(self) -> int:
@@ -220,7 +228,7 @@ class EventColumns:
     @property
     def columns(self) -> dict:
         """
-        The columns by field name (read-only float64 arrays).
+        The columns by field name (read-only arrays: float64, or int64 and bool for such fields of a run).
         """
     @property
     def target(self) -> int | None:
@@ -318,7 +326,7 @@ class PythonActor(ActorBehavior):
     """
     λ and θ of an actor class written in Python (see vwg.Actor).
     """
-    def __init__(self, alphabet: Alphabet, cls: typing.Any, on: dict, show: dict, batch: dict) -> None:
+    def __init__(self, alphabet: Alphabet, cls: typing.Any, on: dict, show: dict, batch: dict, run: dict) -> None:
         """
         Handlers by event type name: {event: (function, wants_context)}.
         """

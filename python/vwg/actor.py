@@ -18,9 +18,19 @@ third argument ``ctx`` (a ``Context`` with the frame, time and a seed). A handle
 these (concatenated); ``""`` or ``[]`` is ε. Actors are values: their attributes cannot be
 assigned, only replaced through ``with_``.
 
+Run λ: ``on_<event>_run(self, events)`` (or with ``ctx``) receives at once every event of a run
+that reaches the actor — consecutive events of that type, such as a laser's scan, one event a
+beam — as a ``vwg.EventColumns``: ``events.dist`` and ``events.angle`` are read-only numpy arrays,
+one value an event, in order (int and bool fields as int64 and bool arrays; the event type may
+have no text or blob field). It stands for ``on_<event>`` on each event in turn and must give the
+same result, so it returns ``self`` or ``self.with_(...)``: the actor stays one actor. With a run
+handler, every event of that type goes through it (a lone event is a run of one); ``ctx`` is the
+first event's.
+
 Batch λ: a classmethod ``on_<event>_batch(cls, actors, e)`` receives all the actors of the type
 that get the event at once, as writable numpy columns (``actors.x``). A class with batch handlers
-needs one for every event it responds to, and its actors stay single actors.
+needs one for every event it responds to, and its actors stay single actors. A class has run
+handlers or batch handlers, not both.
 """
 
 from __future__ import annotations
@@ -93,8 +103,11 @@ class Actor:
             for prefix in ("on_", "show_"):
                 if attr.startswith(prefix):
                     event = attr[len(prefix):]
-                    if event.endswith("_batch") and prefix == "on_":
-                        event = event[: -len("_batch")]
+                    if prefix == "on_" and event not in cls.events:
+                        for suffix in ("_batch", "_run"):
+                            if event.endswith(suffix):
+                                event = event[: -len(suffix)]
+                                break
                     if event not in cls.events:
                         raise SchemaError(
                             f"{cls.name}.{attr}: '{event}' is not among {cls.name}.events {cls.events}"
@@ -150,7 +163,7 @@ class Actor:
 
     @classmethod
     def handlers(cls) -> tuple[dict[str, tuple[Callable[..., Any], bool]], ...]:
-        """The λ, θ and batch λ handlers by event name: {event: (function, wants_context)}."""
+        """The λ, θ, batch λ and run λ handlers by event name: {event: (function, wants_context)}."""
 
         def wants_context(fn: Callable[..., Any], base: int) -> bool:
             params = [p for p in inspect.signature(fn).parameters.values()
@@ -163,6 +176,7 @@ class Actor:
         on: dict[str, tuple[Callable[..., Any], bool]] = {}
         show: dict[str, tuple[Callable[..., Any], bool]] = {}
         batch: dict[str, tuple[Callable[..., Any], bool]] = {}
+        run: dict[str, tuple[Callable[..., Any], bool]] = {}
         for e in cls.events:
             if (fn := cls.__dict__.get(f"on_{e}") or getattr(cls, f"on_{e}", None)) is not None:
                 on[e] = (fn, wants_context(fn, 2))
@@ -170,7 +184,10 @@ class Actor:
                 show[e] = (fn, wants_context(fn, 2))
             if (fn := getattr(cls, f"on_{e}_batch", None)) is not None:
                 batch[e] = (fn, wants_context(fn, 2))  # a bound classmethod: (actors, e)
-        return on, show, batch
+            # (on_<e>_run is the λ of an event named "<e>_run" if the class has one)
+            if f"{e}_run" not in cls.events and (fn := getattr(cls, f"on_{e}_run", None)) is not None:
+                run[e] = (fn, wants_context(fn, 2))
+        return on, show, batch, run
 
 
 class Sym:

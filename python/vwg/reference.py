@@ -4,7 +4,8 @@ canonical printer, written from the paper and DESIGN.md independently of the C++
 It works on the nested form of ``String.tree()``: ``("P", name, params)``, ``("A", name, params)``
 and ``("T", name, params, children)``. The tests compare the core against it on generated strings,
 and ``benchmarks/bench_core.py`` times it as the baseline. Actors are vwg.Actor classes with
-per-actor handlers (batch handlers are a core optimisation and are not modelled here). Text
+per-actor handlers (batch handlers are a core optimisation and are not modelled here; a run
+handler is called on each event as a run of one). Text
 returned by a handler is parsed with the core's parser; everything else is plain Python.
 """
 
@@ -14,10 +15,29 @@ import json
 from collections.abc import Sequence
 from typing import Any
 
+import numpy as np
+
 from . import _core
 from .actor import Actor, Context, Sym
 
 __all__ = ["Reference"]
+
+
+class _RunOfOne:
+    """One event as a run handler sees a run: its fields as arrays of one value."""
+
+    def __init__(self, e: _core.Event) -> None:
+        self.type, self.target = e.type, e.target
+        self.columns = {k: np.array([v]) for k, v in e.fields.items()}  # int64, float64 or bool
+
+    def __len__(self) -> int:
+        return 1
+
+    def __getattr__(self, name: str) -> Any:
+        try:
+            return self.__dict__["columns"][name]
+        except KeyError:
+            raise AttributeError(name) from None
 
 Tree = list[tuple[Any, ...]]
 
@@ -143,6 +163,9 @@ class Reference:
     def _call(self, actor: tuple[Any, ...], e: _core.Event, prefix: str, frame: int) -> Tree | None:
         cls = self.classes[actor[1]]
         fn = getattr(cls, f"{prefix}{e.type}", None)
+        if fn is None and prefix == "on_" and (run := getattr(cls, f"on_{e.type}_run", None)) is not None:
+            fn = run  # a run handler on a run of one (the same, by its contract)
+            e = _RunOfOne(e)
         if fn is None:
             return None if prefix == "on_" else []
         instance = object.__new__(cls)

@@ -64,7 +64,7 @@ class Alphabet(_core.Alphabet):
             return
         if not (isinstance(actor, type) and issubclass(actor, Actor)):
             raise SchemaError(f"actors: expected a vwg.Actor subclass, got {actor!r}")
-        on, show, batch = actor.handlers()
+        on, show, batch, run = actor.handlers()
         if batch:
             missing = [e for e in on if e not in batch]
             if missing:
@@ -72,7 +72,7 @@ class Alphabet(_core.Alphabet):
                                   f"needs one for every λ event (it has on_{missing[0]})")
         # The type is registered first (the behavior resolves event names through the alphabet).
         self.add_actor(actor.name, list(actor.events), dict(actor.attributes), None)
-        self.set_behavior(actor.name, _core.PythonActor(self, actor, on, show, batch))
+        self.set_behavior(actor.name, _core.PythonActor(self, actor, on, show, batch, run))
 
 
 class World:
