@@ -1,8 +1,8 @@
 // Events e^d_c (paper §II.C): an event type d with data c, optionally addressed to one actor.
 // A frame's events S are one EventList, in generator priority order. The list stores its events
 // in batches, one per emit: a sensor's scan (one event a beam, all to one robot) is one batch of
-// real fields stored by columns (its distances side by side, then its angles), 16 bytes a beam
-// rather than one record and one tagged value per field.
+// real fields stored by columns (its distances side by side, then its angles): about 20 bytes a
+// beam (two doubles and its batch's number) rather than a record and a tagged value per field.
 #pragma once
 
 #include <cstdint>
