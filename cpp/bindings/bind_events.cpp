@@ -111,24 +111,22 @@ py::object event_run_to_python(const EventList& events, std::span<const std::uin
   for (const std::uint32_t i : at) targeted = targeted && events[i].has_target();
   if (targeted) out.target = first.target();
   const auto n = static_cast<py::ssize_t>(at.size());
+  // Field k of each event of the run, as an array of T.
+  auto gather = [&]<class T>(std::size_t k, T Value::*member) -> py::array {
+    py::array_t<T> a(n);
+    T* d = a.mutable_data();
+    for (py::ssize_t j = 0; j < n; ++j) d[j] = events[at[static_cast<std::size_t>(j)]].value(k).*member;
+    return a;
+  };
   for (std::size_t k = 0; k < info.fields.params.size(); ++k) {
     const ParamSpec& spec = info.fields.params[k];
     py::array column;
     if (spec.kind == ValueKind::Real) {
-      py::array_t<double> a(n);
-      double* d = a.mutable_data();
-      for (py::ssize_t j = 0; j < n; ++j) d[j] = events[at[static_cast<std::size_t>(j)]].value(k).r;
-      column = a;
+      column = gather(k, &Value::r);
     } else if (spec.kind == ValueKind::Int) {
-      py::array_t<std::int64_t> a(n);
-      std::int64_t* d = a.mutable_data();
-      for (py::ssize_t j = 0; j < n; ++j) d[j] = events[at[static_cast<std::size_t>(j)]].value(k).i;
-      column = a;
+      column = gather(k, &Value::i);
     } else if (spec.kind == ValueKind::Bool) {
-      py::array_t<bool> a(n);
-      bool* d = a.mutable_data();
-      for (py::ssize_t j = 0; j < n; ++j) d[j] = events[at[static_cast<std::size_t>(j)]].value(k).b;
-      column = a;
+      column = gather(k, &Value::b);
     } else {
       throw SchemaError(info.name + "." + spec.name, "is text or a blob: runs of events come as columns of numbers and bools");
     }

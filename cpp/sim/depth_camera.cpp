@@ -112,14 +112,12 @@ void KinectGenerator::generate(const FrameInfo&, EventList& out) {
   camera_.render(robot_, pose, depth_, camera_.spec().noise ? &rng_ : nullptr);
   camera_.to_scan(depth_, ranges_);
   const auto angles = camera_.angles();
-  event_dist_.clear(), event_angle_.clear();
+  events_.clear();
   for (std::size_t u = 0; u < ranges_.size(); ++u) {
     if (std::isnan(ranges_[u])) continue;
-    event_dist_.push_back(ranges_[u]);
-    event_angle_.push_back(angles[u]);
+    events_.add(ranges_[u], angles[u]);
   }
-  const std::span<const double> columns[] = {event_dist_, event_angle_};
-  out.emit_columns(event_, columns, robot_);
+  events_.emit(out, event_, robot_);
 }
 
 }  // namespace vwg::sim

@@ -165,18 +165,16 @@ LaserGenerator::LaserGenerator(std::shared_ptr<const RangeScanner> scanner, int 
 void LaserGenerator::generate(const FrameInfo&, EventList& out) {
   const Pose2 pose = scanner_->world().robot(robot_).pose;
   scanner_->scan(robot_, pose, angles_, spec_.max_range, ranges_);
-  event_dist_.clear(), event_angle_.clear();
+  events_.clear();
   for (std::size_t i = 0; i < ranges_.size(); ++i) {
     double r = ranges_[i];
     if (r >= spec_.max_range) continue;  // no obstacle: no event (Table II: "if obstacle")
     if (spec_.noise > 0.0) r = std::clamp(r + rng_.normal(0.0, spec_.noise), spec_.min_range, spec_.max_range);
     ranges_[i] = static_cast<float>(r);
     if (r < spec_.min_range) continue;
-    event_dist_.push_back(r);
-    event_angle_.push_back(angles_[i]);
+    events_.add(r, angles_[i]);
   }
-  const std::span<const double> columns[] = {event_dist_, event_angle_};
-  out.emit_columns(event_, columns, robot_);
+  events_.emit(out, event_, robot_);
 }
 
 }  // namespace vwg::sim

@@ -67,15 +67,22 @@ class EventRouting {
     if (const auto found = types_.find(info.id); found != types_.end()) return found->second;
     TypeIndex& t = types_[info.id];  // node-based: references stay valid
     const Alphabet& A = events_.alphabet();
-    // Events come in batches (a robot's laser scan, all to one robot): a batch is looked up once.
+    // Events come in batches (a robot's laser scan, all to one robot), and batches addressed to
+    // one actor in runs: its list is looked up once a run.
+    std::int64_t last_target = kNoTarget;
+    std::vector<std::uint32_t>* last_list = nullptr;
     for (std::size_t b = 0; b < events_.batch_count(); ++b) {
       const EventList::Batch& batch = events_.batch(b);
       if (!info.responds.contains(batch.type)) continue;
       if (visual_only_ && !A.event_type(batch.type).visual) continue;
-      std::vector<std::uint32_t>& list = batch.target != kNoTarget ? t.by_target[batch.target] : t.untargeted;
+      std::vector<std::uint32_t>* list = &t.untargeted;
+      if (batch.target != kNoTarget) {
+        if (!last_list || batch.target != last_target) last_target = batch.target, last_list = &t.by_target[last_target];
+        list = last_list;
+      }
       for (std::uint32_t pos = batch.first_event; pos < batch.first_event + batch.count; ++pos) {
         t.all.push_back(pos);
-        list.push_back(pos);
+        list->push_back(pos);
       }
     }
     return t;

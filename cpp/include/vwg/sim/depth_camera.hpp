@@ -101,7 +101,7 @@ class KinectGenerator final : public Generator {
   EventTypeId event_;
   std::vector<float> depth_;
   std::vector<float> ranges_;
-  std::vector<double> event_dist_, event_angle_;  // the frame's events, by columns (kept: no allocation a frame)
+  ScanEvents events_;
   Rng rng_;
 };
 

@@ -75,6 +75,22 @@ class RangeScanner {
 /// >= 0); throws SchemaError naming `owner.field`.
 void check_settings(const LaserSpec& spec, const std::string& owner);
 
+/// A range sensor's events of one frame, `<event><to=robot, dist, angle>` a beam, gathered by
+/// columns and emitted as one batch (EventList::emit_columns). Kept by the generator, so a frame
+/// allocates nothing.
+class ScanEvents {
+ public:
+  void clear() { dist_.clear(), angle_.clear(); }
+  void add(double dist, double angle) { dist_.push_back(dist), angle_.push_back(angle); }
+  void emit(EventList& out, EventTypeId event, int robot) const {
+    const std::span<const double> columns[] = {dist_, angle_};
+    out.emit_columns(event, columns, robot);
+  }
+
+ private:
+  std::vector<double> dist_, angle_;
+};
+
 /// gLaser: each frame, a scan from the robot's true pose with range noise; an event
 /// `<event><to=robot, dist, angle>` for each beam that hit something within range.
 class LaserGenerator final : public Generator {
@@ -100,7 +116,7 @@ class LaserGenerator final : public Generator {
   EventTypeId event_;
   std::vector<double> angles_;
   std::vector<float> ranges_;
-  std::vector<double> event_dist_, event_angle_;  // the frame's events, by columns (kept: no allocation a frame)
+  ScanEvents events_;
   Rng rng_;
 };
 
