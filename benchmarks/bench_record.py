@@ -1,6 +1,8 @@
 """Frame logs: the size of a record of the demo run (the office world, A* to the kitchen, no world
 orders: `make demo`), what its parts take, and the time to write, read and replay it. The same
 run's size in record format 1 (event texts, whole blobs) is worked out from the record for scale.
+Then a crowd: the warehouse with 100 robots (A* to rooms, 2 threads, as bench_frame), the frame's
+time recorded against the same frame unrecorded in the same process.
 
     python benchmarks/bench_record.py      prints a table, writes benchmarks/results/bench_record.json
 """
@@ -24,9 +26,13 @@ from vwg.casestudy import CaseStudy, case_study_world, make_decider
 from vwg.record import Recorder, read_record, replay
 from vwg.robotworld import load_robot_world
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from bench_frame import crowd, room_goals
+
 ROOT = Path(__file__).resolve().parents[1]
 WORLD = ROOT / "maps" / "office.yaml"
 RESULTS = Path(__file__).resolve().parent / "results" / "bench_record.json"
+CROWD = 100  # robots
 
 
 def run(path: Path | None) -> tuple[float, int]:
@@ -41,6 +47,20 @@ def run(path: Path | None) -> tuple[float, int]:
         if recorder is not None:
             recorder.close()
         return time.perf_counter() - start, summary.frames
+
+
+def crowd_frame_ms(path: Path | None, robots: int = CROWD, frames: int = 20) -> float:
+    """ms a frame of the warehouse crowd, recorded to `path` or not (after 5 frames to settle)."""
+    world = crowd(robots)
+    with CaseStudy(world, "astar", goals=room_goals(world), sensors=("laser",), threads=2) as case:
+        case.engine.run(5)
+        recorder = Recorder(path, case.engine) if path is not None else None
+        start = time.perf_counter()
+        case.engine.run(frames)
+        elapsed = time.perf_counter() - start
+        if recorder is not None:
+            recorder.close()
+    return elapsed / frames * 1000
 
 
 def parts(path: Path) -> Counter:
@@ -96,6 +116,12 @@ def main() -> None:
         size = path.stat().st_size
         old = format1_size(path)
         sizes = parts(path)
+        # The crowd, twice each way, interleaved: this machine's speed drifts by 10-30 %.
+        crowd_path = Path(tmp) / "crowd.jsonl"
+        runs = [(crowd_frame_ms(None), crowd_frame_ms(crowd_path)) for _ in range(2)]
+        plain_ms = min(plain for plain, _ in runs)
+        recorded_ms = min(recorded for _, recorded in runs)
+        crowd_bytes = crowd_path.stat().st_size
     results = {
         "frames": frames,
         "bytes": size,
@@ -108,6 +134,8 @@ def main() -> None:
         "write_ms_per_frame": (wall - bare) / frames * 1000,
         "read_record_s": read,
         "replay_s": replayed,
+        "crowd": {"robots": CROWD, "frames": 20, "ms_per_frame": plain_ms, "recorded_ms_per_frame": recorded_ms,
+                  "recorded_over_plain": recorded_ms / plain_ms, "bytes_per_frame": crowd_bytes / 20},
         "machine": {"python": sys.version.split()[0], "platform": platform.platform(), "vwg": vwg.__version__},
     }
     print(f"office, A* to the kitchen: {frames} frames")
@@ -118,6 +146,9 @@ def main() -> None:
     print(f"  run              {bare:.2f} s; recorded {wall:.2f} s (+{results['write_ms_per_frame']:.1f} ms/frame)")
     print(f"  read_record      {read:.2f} s")
     print(f"  replay           {replayed:.2f} s")
+    print(f"warehouse, {CROWD} robots, A*, 2 threads, 20 frames")
+    print(f"  frame            {plain_ms:.1f} ms; recorded {recorded_ms:.1f} ms ({recorded_ms / plain_ms:.1f}x), "
+          f"{crowd_bytes / 20 / 1e3:.0f} kB/frame")
     RESULTS.parent.mkdir(parents=True, exist_ok=True)
     RESULTS.write_text(json.dumps(results, indent=2) + "\n")
 

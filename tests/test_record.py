@@ -262,15 +262,20 @@ def test_base85_is_pythons(tmp_path):
 
 def rewrite_events(path, world, edit):
     """Re-encode a record's events after `edit(t, texts)` changed the texts of frame t."""
-    from vwg.record import _Columns, _decode_events, _encode_events
+    from vwg.record import MIN_RUN, _Columns, _decode_events, _encode_events
 
     lines = [json.loads(x) for x in path.read_text().splitlines()]
     reader, writer = _Columns(), _Columns()
+    # An engine takes the edited events, so that the runs are the engine's as a recorder sees them.
+    engine = vwg.Engine(world, lines[0]["initial"], [])
+    runs = []
+    engine.add_observer(lambda r: runs.append(r.event_runs(MIN_RUN)))
     for obj in lines[1:]:
         if "events" in obj:
             texts = _decode_events(reader, obj["events"])
             edit(obj["t"], texts)
-            obj["events"] = _encode_events(writer, [world.event(t) for t in texts], texts)
+            engine.step_with([world.event(t) for t in texts])
+            obj["events"] = _encode_events(writer, runs[-1])
     path.write_text(chained(lines))
 
 
@@ -330,6 +335,109 @@ def test_a_recorded_robot_grid_is_stored_as_changes(tmp_path):
     record = read_record(path)
     assert record.blobs[new.name] == new
     assert len(path.read_text().splitlines()[1]) < 200  # two changed cells of a 360 KB grid
+
+
+UNSIGNED = {1: np.uint8, 2: np.uint16, 4: np.uint32, 8: np.uint64}
+
+
+@pytest.mark.parametrize("dtype", [np.int8, np.uint8, np.int16, np.int32, np.int64, np.float32, np.float64])
+def test_changes_from_finds_every_changed_element_and_stops_past_the_limit(dtype):
+    rng = np.random.default_rng(5)
+    base = rng.integers(0, 100, (37, 61)).astype(dtype)  # 2,257 elements: stretches of 256 bytes and a tail
+    new = base.copy()
+    flat = new.reshape(-1)
+    per_stretch = 256 // base.itemsize
+    picks = [0, 1, per_stretch - 1, per_stretch, 5 * per_stretch + 3, flat.size - 1, *rng.integers(0, flat.size, 20)]
+    for i in picks:
+        flat[i] += 1
+    if np.issubdtype(dtype, np.floating):
+        flat[100], base.reshape(-1)[100] = -0.0, 0.0  # equal as numbers, not as bits: a change
+    u = UNSIGNED[base.itemsize]
+    x = new.view(u).reshape(-1) ^ base.view(u).reshape(-1)
+    want = np.flatnonzero(x)  # numpy's own count, as bits
+    where, values = vwg.Blob(new).changes_from(vwg.Blob(base))
+    assert where.dtype == np.int64 and values.dtype == u
+    assert where.tolist() == want.tolist() and values.tolist() == x[want].tolist()
+    assert vwg.Blob(new).changes_from(vwg.Blob(base), len(want))[0].tolist() == want.tolist()
+    assert vwg.Blob(new).changes_from(vwg.Blob(base), len(want) - 1) is None
+    same = vwg.Blob(base).changes_from(vwg.Blob(base.copy()), 0)
+    assert same is not None and same[0].size == 0 and same[1].size == 0
+
+
+def test_changes_from_refuses_another_shape_or_a_negative_limit():
+    a = vwg.Blob(np.zeros((4, 5), np.int16))
+    with pytest.raises(vwg.SchemaError, match=r"base: expected a blob of the same dtype and shape as int16 \(4, 5\), "
+                                              r"got int16 \(5, 4\)"):
+        a.changes_from(vwg.Blob(np.zeros((5, 4), np.int16)))
+    with pytest.raises(vwg.SchemaError, match="got int8"):
+        a.changes_from(vwg.Blob(np.zeros((4, 5), np.int8)))
+    with pytest.raises(vwg.SchemaError, match="limit: expected a count of elements >= 0, got -1"):
+        a.changes_from(a, -1)
+
+
+class Painter(vwg.Actor):
+    """Paints one cell of its own grid each tick: where depends on its id and the frame."""
+
+    events = ("tick",)
+    attributes = {"id": int, "n": 0, "grid": vwg.Blob}
+
+    def on_tick(self, e):
+        g = np.array(self.grid)
+        g.flat[(self.n * 37 + self.id * 101) % g.size] += 1
+        return self.with_(n=self.n + 1, grid=g)
+
+
+class Ticker(vwg.Generator):
+    name = "ticker"
+
+    def generate(self, frame):
+        return [vwg.Event("tick")]
+
+
+def test_a_changed_grid_is_stored_against_what_its_slot_held_the_frame_before(tmp_path):
+    # Six actors share the start of one grid and each paints its own cells: the closest blob to
+    # an actor's new grid is its own grid a frame before, not the other actors' newer ones.
+    world = vwg.World(events={"tick": None}, actors=(Painter,))
+    rng = np.random.default_rng(8)
+    grids = {f"g{k}": vwg.Blob(rng.integers(0, 50, (60, 80)).astype(np.int16)) for k in range(6)}
+    initial = world.parse(" . ".join(f"Painter<id={k}, n=0, grid=@g{k}>" for k in range(6)), "<t>", grids)
+    engine = vwg.Engine(world, initial, [Ticker()])
+    held = [[a["grid"].name for a in initial.actors()]]
+    engine.add_observer(lambda r: held.append([a["grid"].name for a in r.after.actors()]))
+    path = tmp_path / "painters.jsonl"
+    with Recorder(path, engine, world_data={"note": "painters"}):
+        engine.run(5)
+    lines = [json.loads(x) for x in path.read_text().splitlines()]
+    for t in range(1, 6):
+        entries = lines[t]["blobs"]
+        assert set(entries) == set(held[t])
+        for k, name in enumerate(held[t]):
+            assert entries[name]["base"] == held[t - 1][k]  # the actor's own grid a frame before
+    assert str(replay(path, world=world).string) == str(engine.string)
+
+
+def test_every_double_a_run_holds_reads_back_as_its_repr(tmp_path):
+    # The record stores a run's floats by their bits and writes them back as Python's repr: that
+    # must be the engine's own text for every double, or replay would parse other texts.
+    rng = np.random.default_rng(11)
+    bits = rng.integers(-(2**63), 2**63 - 1, 4000, dtype=np.int64, endpoint=True).view(np.float64)
+    xs = [float(x) for x in bits if math.isfinite(x)] + SPECIAL_FLOATS
+
+    class Floats(vwg.Generator):
+        name = "floats"
+
+        def generate(self, frame):
+            return [vwg.Event("sample", 1, k=i, x=x, b=False) for i, x in enumerate(xs)]
+
+    world = folder_world()
+    engine = vwg.Engine(world, "Folder<id=1, h=0>", [Floats()])
+    path = tmp_path / "floats.jsonl"
+    with Recorder(path, engine, world_data={"note": "floats"}):
+        engine.run(1)
+    line = json.loads(path.read_text().splitlines()[1])
+    assert [item["n"] for item in line["events"]] == [len(xs)]  # one run, by columns
+    texts = read_record(path).frames[0]["events"]
+    assert texts == [f"sample<to=1, k={i}, x={x!r}, b=false>" for i, x in enumerate(xs)]
 
 
 def test_a_damaged_blob_change_is_detected(tmp_path):

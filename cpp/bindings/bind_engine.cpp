@@ -1,4 +1,5 @@
 // vwg._core.Engine: the system algorithm, run with the GIL released between Python callbacks.
+#include <algorithm>
 #include <chrono>
 #include <string>
 
@@ -74,6 +75,15 @@ done(self, w, frame).)doc")
         for (std::size_t i = 0; i < r.events->size(); ++i) out.append(to_text((*r.events)[i]));
         return out;
       })
+      .def("event_runs", [](const PyFrameRecord& r, std::size_t min_run) {
+        r.check();
+        return event_runs_to_python(*r.events, min_run);
+      }, py::arg("min_run"), R"doc(
+S as a recorder stores it: in order, each run of at least ``min_run`` consecutive events of one
+type whose fields are all numbers or bools (all with a target, or none) as a tuple ``(type, n,
+targets, fields)``: ``n`` the number of events, ``targets`` an int64 array or None, ``fields`` a list of ``(name, kind,
+column)`` in the type's order, kind "f", "i" or "b" for float64, int64 and bool columns. Every
+other event comes as its text. No Python object is made per event of a run.)doc")
       .def_property_readonly("blobs", [](const PyFrameRecord& r) {
         r.check();
         py::dict out;
@@ -84,9 +94,16 @@ done(self, w, frame).)doc")
           if (n.kind == NodeKind::Close) continue;
           for (std::uint16_t k = 0; k < n.value_count; ++k) add(r.after->store(), r.after->store()[n.first_value + k]);
         }
-        for (std::size_t i = 0; i < r.events->size(); ++i) {
-          const EventView e = (*r.events)[i];
-          for (std::size_t k = 0; k < e.field_count(); ++k) add(e.store(), e.value(k));
+        const EventList& events = *r.events;
+        for (std::size_t b = 0; b < events.batch_count(); ++b) {
+          const EventList::Batch& batch = events.batch(b);
+          const auto& params = events.alphabet().event_type(batch.type).fields.params;
+          // Most events (a scan's beams) hold no blob: their batch is skipped whole.
+          if (batch.by_columns || std::none_of(params.begin(), params.end(), [](const ParamSpec& p) { return p.kind == ValueKind::Blob; })) continue;
+          for (std::uint32_t i = batch.first_event; i < batch.first_event + batch.count; ++i) {
+            const EventView e = events[i];
+            for (std::size_t k = 0; k < e.field_count(); ++k) add(e.store(), e.value(k));
+          }
         }
         return out;
       }, "The blobs referred to by the strings and events of the frame, by name.");

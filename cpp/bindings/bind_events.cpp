@@ -136,6 +136,49 @@ py::object event_run_to_python(const EventList& events, std::span<const std::uin
   return py::cast(std::move(out));
 }
 
+py::list event_runs_to_python(const EventList& events, std::size_t min_run) {
+  py::list out;
+  const std::size_t n = events.size();
+  std::size_t i = 0;
+  while (i < n) {
+    const EventView first = events[i];
+    const EventTypeInfo& info = first.info();
+    bool numbers = true;
+    for (const ParamSpec& spec : info.fields.params) {
+      numbers = numbers && (spec.kind == ValueKind::Real || spec.kind == ValueKind::Int || spec.kind == ValueKind::Bool);
+    }
+    std::size_t j = i + 1;
+    while (numbers && j < n && events[j].type() == first.type() && events[j].has_target() == first.has_target()) ++j;
+    if (!numbers || j - i < min_run) {
+      for (; i < j; ++i) out.append(py::str(to_text(events[i])));
+      continue;
+    }
+    const auto count = static_cast<py::ssize_t>(j - i);
+    auto column = [&]<class T>(auto&& value_of) -> py::array {
+      py::array_t<T> a(count);
+      T* d = a.mutable_data();
+      for (py::ssize_t k = 0; k < count; ++k) d[k] = value_of(events[i + static_cast<std::size_t>(k)]);
+      return a;
+    };
+    py::object targets = py::none();
+    if (first.has_target()) targets = column.template operator()<std::int64_t>([](const EventView& e) { return e.target(); });
+    py::list fields;
+    for (std::size_t f = 0; f < info.fields.params.size(); ++f) {
+      const ParamSpec& spec = info.fields.params[f];
+      if (spec.kind == ValueKind::Real) {
+        fields.append(py::make_tuple(spec.name, "f", column.template operator()<double>([f](const EventView& e) { return e.value(f).r; })));
+      } else if (spec.kind == ValueKind::Int) {
+        fields.append(py::make_tuple(spec.name, "i", column.template operator()<std::int64_t>([f](const EventView& e) { return e.value(f).i; })));
+      } else {
+        fields.append(py::make_tuple(spec.name, "b", column.template operator()<bool>([f](const EventView& e) { return e.value(f).b; })));
+      }
+    }
+    out.append(py::make_tuple(info.name, j - i, targets, fields));
+    i = j;
+  }
+  return out;
+}
+
 void emit_python(EventList& out, py::handle obj, const std::string& what) {
   if (PyUnicode_Check(obj.ptr())) {
     parse_event(out, obj.cast<std::string>(), "<" + what + ">");

@@ -78,6 +78,11 @@ py::object node_to_python(const NodeView& node);
 py::object event_to_python(const EventView& e);
 /// The events at positions `at` of `events` (a run of one type) as a vwg.EventColumns.
 py::object event_run_to_python(const EventList& events, std::span<const std::uint32_t> at);
+/// The events in order, each run of at least `min_run` consecutive events of one type whose fields
+/// are all numbers or bools (all with a target or none) as (type, n, targets or None, [(field, kind,
+/// column)]) with kind "f", "i" or "b" and columns float64, int64 or bool; every other event as
+/// its text. A recorder stores such a run by columns.
+py::list event_runs_to_python(const EventList& events, std::size_t min_run);
 /// Append a Python vwg.Event (or its text) to `out`.
 void emit_python(EventList& out, py::handle obj, const std::string& what);
 EventList events_from_python(const std::shared_ptr<const Alphabet>& alphabet, py::handle events);

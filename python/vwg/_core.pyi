@@ -28,6 +28,14 @@ class Blob:
         """
     def __repr__(self) -> str:
         ...
+    def changes_from(self, base: Blob, limit: typing.SupportsInt | typing.SupportsIndex | None = None) -> typing.Any:
+        """
+        Where this blob differs from ``base`` (same dtype and shape), element by element as bits:
+        ``(positions, values)``, the flat C-order indices of the elements that differ (int64, ascending)
+        and those elements XOR the base's, as unsigned ints of the element's size. None when more than
+        ``limit`` elements differ (it stops counting there). Equal stretches are skipped 256 bytes at a
+        time, so a grid with a few changed cells costs about a pass over memory.
+        """
     def numpy(self) -> typing.Any:
         """
         A read-only numpy view of the data (no copy).
@@ -138,6 +146,10 @@ class String:
     def actors(self) -> list:
         """
         The actors in order.
+        """
+    def blob_slots(self) -> list:
+        """
+        The names of the blobs the string holds, one for each blob-valued attribute or parameter in the string's order (a blob held twice is named twice). A recorder stores a changed blob against what its slot held the frame before.
         """
     def blobs(self) -> dict:
         """
@@ -1196,6 +1208,14 @@ class FrameRecord:
     """
     A completed frame as observers see it (valid during the call): its events and the string they made. The string at its start is the previous frame's ``after``.
     """
+    def event_runs(self, min_run: typing.SupportsInt | typing.SupportsIndex) -> list:
+        """
+        S as a recorder stores it: in order, each run of at least ``min_run`` consecutive events of one
+        type whose fields are all numbers or bools (all with a target, or none) as a tuple ``(type, n,
+        targets, fields)``: ``n`` the number of events, ``targets`` an int64 array or None, ``fields`` a list of ``(name, kind,
+        column)`` in the type's order, kind "f", "i" or "b" for float64, int64 and bool columns. Every
+        other event comes as its text. No Python object is made per event of a run.
+        """
     @property
     def after(self) -> String:
         """

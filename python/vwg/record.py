@@ -27,8 +27,9 @@ all of them int, float or bool:
 fields in the event type's order with their kind, "i" (int64), "f" (float64) or "b" (bool). The
 run stands for the n texts ``eLaser<to=to[k], dist=dist[k], angle=angle[k]>``, k = 0..n-1, with
 ints in decimal, floats as Python's repr (the shortest text that reads back as the same double,
-the engine's own format) and bools as true/false; the writer checks that these are the engine's
-texts, so replay parses exactly what format 1 stored.
+which is how the engine writes reals) and bools as true/false: the engine's own texts, so replay
+parses exactly what format 1 stored. The runs come from the engine's event list as columns
+(FrameRecord.event_runs), without a Python object or a text per event.
 
 A column holds the n values as little-endian 8-byte words (bools: 1 byte) and is coded in steps:
 
@@ -85,9 +86,9 @@ __all__ = ["Record", "Recorder", "decode_blob", "encode_blob", "read_record", "r
 FORMAT = 3
 MAX_RECORD_BYTES = 2**40  # a record is read whole; it is as big as the run made it
 MIN_RUN = 8  # shorter runs cost less as text than their columns' framing
+SMALL_DEFLATE = 64 * 1024  # bytes: up to this, columns and changes are deflated the thorough way (_deflate)
 BASE_CANDIDATES = 4  # a new blob is stored against the closest of the last few of its dtype and shape
 
-_KIND_OF = {bool: "b", int: "i", float: "f"}  # by exact type: a bool is not an int here
 _DTYPE_OF = {"b": np.dtype(np.bool_), "i": np.dtype("<i8"), "f": np.dtype("<f8")}
 _UNSIGNED = {1: np.dtype("u1"), 2: np.dtype("<u2"), 4: np.dtype("<u4"), 8: np.dtype("<u8")}
 
@@ -171,20 +172,34 @@ def _b85decode(text: str) -> bytes:
 
 
 def _deflate(data: bytes, zdict: bytes = b"", planes: int = 1) -> str:
-    """zlib, then base85. Shuffled data is also tried with a deflate block (its own Huffman
-    code) per byte plane, noise beside near-constant bytes; the smaller stream is kept, and any
-    zlib reader inflates either."""
-    def stream(parts: list[bytes]) -> bytes:
-        c = zlib.compressobj(9, zdict=zdict) if zdict else zlib.compressobj(9)
-        out = [c.compress(part) + c.flush(zlib.Z_BLOCK) for part in parts[:-1]]
-        return b"".join(out) + c.compress(parts[-1]) + c.flush()
+    """zlib, then base85. Shuffled data (``planes`` bytes an element) may go in one deflate block
+    per byte plane, each with its own Huffman code: noise beside near-constant bytes. Any zlib
+    reader inflates either form.
 
-    best = stream([data])
-    if planes > 1 and len(data) % planes == 0 and len(data) >= 64 * planes:
-        n = len(data) // planes
-        split = stream([data[k * n:(k + 1) * n] for k in range(planes)])
+    Up to SMALL_DEFLATE bytes (a few robots' scans, a blob's change) both forms are made at level
+    9 and the smaller kept; above it (a crowd's scans), one form at zlib's default level, which
+    on 100 robots' scans took a fifth of the time for a record 1 % larger."""
+    if len(data) > SMALL_DEFLATE:
+        c = zlib.compressobj(6, zdict=zdict) if zdict else zlib.compressobj(6)
+        return _b85encode(_planes_stream(c, data, planes) if _splits(data, planes) else c.compress(data) + c.flush())
+    if not zdict and planes == 1:
+        return _b85encode(zlib.compress(data, 9))  # starts up faster than a compressobj
+    whole = (zlib.compressobj(9, zdict=zdict) if zdict else zlib.compressobj(9))
+    best = whole.compress(data) + whole.flush()
+    if _splits(data, planes):
+        split = _planes_stream(zlib.compressobj(9, zdict=zdict) if zdict else zlib.compressobj(9), data, planes)
         best = split if len(split) < len(best) else best
     return _b85encode(best)
+
+
+def _splits(data: bytes, planes: int) -> bool:
+    return planes > 1 and len(data) % planes == 0 and len(data) >= 64 * planes
+
+
+def _planes_stream(c: Any, data: bytes, planes: int) -> bytes:
+    n = len(data) // planes
+    head = b"".join(c.compress(data[k * n:(k + 1) * n]) + c.flush(zlib.Z_BLOCK) for k in range(planes - 1))
+    return head + c.compress(data[(planes - 1) * n:]) + c.flush()
 
 
 def _inflate(text: str, zdict: bytes = b"") -> bytes:
@@ -197,17 +212,18 @@ def _inflate(text: str, zdict: bytes = b"") -> bytes:
 
 # --- blobs ------------------------------------------------------------------------------------
 
+def _change_entry(base_name: str, where: np.ndarray, values: np.ndarray) -> dict[str, Any]:
+    gaps = where.astype("<i8")  # a copy
+    gaps[1:] -= where[:-1]
+    return {"base": base_name, "zlib_base85": _deflate(_shuffle(gaps) + _shuffle(values))}
+
+
 def encode_blob(blob: _core.Blob, base: _core.Blob | None = None, base_name: str = "") -> dict[str, Any]:
     """A blob's record entry: whole, or the change from `base` (named `base_name`) when given and
     of the same dtype and shape."""
-    a = np.asarray(blob)
     if base is not None and base.dtype == blob.dtype and tuple(base.shape) == tuple(blob.shape):
-        u = _UNSIGNED[a.itemsize]
-        x = np.ascontiguousarray(a).view(u).ravel() ^ np.ascontiguousarray(np.asarray(base)).view(u).ravel()
-        where = np.flatnonzero(x)
-        gaps = np.diff(where, prepend=0).astype("<i8")
-        return {"base": base_name, "zlib_base85": _deflate(_shuffle(gaps) + _shuffle(x[where]))}
-    return {"dtype": blob.dtype, "shape": list(blob.shape), "zlib_base85": _deflate(a.tobytes())}
+        return _change_entry(base_name, *blob.changes_from(base))
+    return {"dtype": blob.dtype, "shape": list(blob.shape), "zlib_base85": _deflate(np.asarray(blob).tobytes())}
 
 
 def decode_blob(d: dict[str, Any], blobs: dict[str, _core.Blob] | None = None) -> _core.Blob:
@@ -233,29 +249,39 @@ def decode_blob(d: dict[str, Any], blobs: dict[str, _core.Blob] | None = None) -
 
 
 class _BlobWriter:
-    """Chooses the base of each new blob: of the last BASE_CANDIDATES written blobs with its dtype
-    and shape, the one with the fewest different elements (the latest on a tie). Two robots' grids
-    alternate, so the latest alone is often the other robot's."""
+    """Chooses the base of each new blob. First the blob that the same slot of the string held
+    the frame before (a robot's own map a frame ago), when the change from it is under half the
+    blob; otherwise, of the last BASE_CANDIDATES written blobs with its dtype and shape, the one
+    with the fewest different elements (the latest on a tie)."""
 
     def __init__(self) -> None:
         self._recent: dict[tuple[str, tuple[int, ...]], deque[tuple[str, _core.Blob]]] = {}
 
-    def encode(self, name: str, blob: _core.Blob) -> dict[str, Any]:
+    def encode(self, name: str, blob: _core.Blob, parent: tuple[str, _core.Blob] | None = None) -> dict[str, Any]:
+        """The entry of a blob not written before; `parent` is what its slot held the frame before,
+        by name, if that is known."""
         key = (blob.dtype, tuple(blob.shape))
         recent = self._recent.setdefault(key, deque(maxlen=BASE_CANDIDATES))
-        a = np.asarray(blob)
-        best: tuple[int, str, _core.Blob] | None = None
-        if a.size > 0:
-            bits = np.ascontiguousarray(a).view(_UNSIGNED[a.itemsize])  # as bits: -0.0 is a change from 0.0
-            for base_name, base in reversed(recent):
-                diff = int(np.count_nonzero(bits != np.ascontiguousarray(np.asarray(base)).view(bits.dtype)))
-                if best is None or diff < best[0]:
-                    best = (diff, base_name, base)
-        recent.append((name, blob))
         # Changes cost 8 bytes of position and the element each (before deflate): only worth it
-        # while few elements changed.
-        if best is not None and best[0] * (8 + a.itemsize) < a.nbytes // 2:
-            return encode_blob(blob, best[2], best[1])
+        # while they are under half the whole blob. Each candidate after the best so far must beat
+        # it, so changes_from stops counting as soon as it cannot.
+        itemsize = blob.nbytes // max(1, int(np.prod(blob.shape)))
+        limit = (blob.nbytes // 2 - 1) // (8 + itemsize)
+        best: tuple[str, tuple[np.ndarray, np.ndarray]] | None = None
+        if limit >= 0 and parent is not None and parent[1].dtype == blob.dtype and tuple(parent[1].shape) == key[1]:
+            changes = blob.changes_from(parent[1], limit)
+            if changes is not None:
+                best = (parent[0], changes)
+        for base_name, base in reversed(recent) if best is None else ():
+            if limit < 0:
+                break
+            changes = blob.changes_from(base, limit)
+            if changes is not None:
+                best = (base_name, changes)
+                limit = len(changes[0]) - 1
+        recent.append((name, blob))
+        if best is not None:
+            return _change_entry(best[0], *best[1])
         return encode_blob(blob)
 
 
@@ -284,23 +310,6 @@ def _run_texts(sig: _Signature, targets: list[int] | None, columns: list[list[An
         return [type_] * n
     template = type_.replace("%", "%%") + "<" + ", ".join(s.replace("%", "%%") + "%s" for s in names) + ">"
     return [template % row for row in zip(*parts, strict=True)]
-
-
-def _signature(e: _core.Event) -> _Signature | None:
-    kinds = []
-    for name, value in e.fields.items():
-        kind = _KIND_OF.get(type(value))
-        if kind is None:
-            return None
-        kinds.append((name, kind))
-    return (e.type, e.target is not None, tuple(kinds))
-
-
-def _head(text: str) -> str:
-    # The type and the first field's name ("eLaser<to"): equal for the events of a run, and
-    # cheaper to get than the events' fields. What a run holds is checked on its texts.
-    k = text.find("=")
-    return text if k < 0 else text[:k]
 
 
 class _Columns:
@@ -334,49 +343,28 @@ class _Columns:
         return _undelta(_unshuffle(raw, np.dtype("<u8") if dtype.itemsize == 8 else dtype, n), dtype)
 
 
-def _columns_of(sig: _Signature, events: Sequence[_core.Event]) -> tuple[np.ndarray | None, list[np.ndarray]]:
-    targets = np.array([e.target for e in events], dtype=_DTYPE_OF["i"]) if sig[1] else None
-    fields = [e.fields for e in events]  # a new dict each time: read once
-    return targets, [np.array([f[name] for f in fields], dtype=_DTYPE_OF[kind]) for name, kind in sig[2]]
+# A run as FrameRecord.event_runs gives it: (type, n, targets or None, [(field, kind, column), ...]).
+_Run = tuple[str, int, "np.ndarray | None", list[tuple[str, str, np.ndarray]]]
 
 
-def _encode_events(columns: _Columns, events: Sequence[_core.Event], texts: list[str]) -> list[Any]:
+def _encode_events(columns: _Columns, items: Sequence[str | _Run]) -> list[Any]:
+    """A frame's events as the record stores them, from FrameRecord.event_runs(MIN_RUN): the
+    texts as they are, each run by its columns."""
     columns.start_frame()
     out: list[Any] = []
-    heads = list(map(_head, texts))
-    i = 0
-    while i < len(texts):
-        j = i + 1
-        while j < len(texts) and heads[j] == heads[i]:
-            j += 1
-        sig = _signature(events[i]) if j - i >= MIN_RUN else None
-        if sig is None:
-            out.extend(texts[i:j])
-            i = j
+    for entry in items:
+        if isinstance(entry, str):
+            out.append(entry)
             continue
-        try:
-            targets, cols = _columns_of(sig, events[i:j])
-        except (KeyError, TypeError, ValueError, OverflowError):  # the events differ after all
-            out.extend(texts[i:j])
-            i = j
-            continue
-        # The texts the columns read back as must be the engine's own, so that replay parses the
-        # same texts as from a format 1 record. Any event of another shape or kind (an int among
-        # floats, another field) shows here, and the run stays text.
-        back = _run_texts(sig, None if targets is None else targets.tolist(), [c.tolist() for c in cols], j - i)
-        if back != texts[i:j]:
-            out.extend(texts[i:j])
-            i = j
-            continue
+        type_, n, targets, fields = entry
+        sig: _Signature = (type_, targets is not None, tuple((name, kind) for name, kind, _ in fields))
         k = columns.occurrence(sig)
-        item: dict[str, Any] = {"run": sig[0], "n": j - i}
+        item: dict[str, Any] = {"run": type_, "n": n}
         if targets is not None:
             item["to"] = columns.encode((sig, k, "to="), targets)
-        if sig[2]:
-            item["fields"] = {name: [kind, columns.encode((sig, k, name), col)]
-                              for (name, kind), col in zip(sig[2], cols, strict=True)}
+        if fields:
+            item["fields"] = {name: [kind, columns.encode((sig, k, name), col)] for name, kind, col in fields}
         out.append(item)
-        i = j
     return out
 
 
@@ -428,6 +416,8 @@ class Recorder:
         self._columns = _Columns()
         initial = engine.string
         self._known = set(initial.blobs())
+        self._slots = initial.blob_slots()  # the names of the blobs the string held, slot by slot
+        self._slot_blobs = initial.blobs()  # and the blobs by name
         # A frame's line holds the string at its start: the previous frame's result, kept as text
         # (its blobs were written with that frame, while they had that content).
         self._before_text = str(initial)
@@ -461,13 +451,20 @@ class Recorder:
     def _on_frame(self, record: _core.FrameRecord) -> None:
         if self._file is None:
             return
-        events = _encode_events(self._columns, record.events, record.event_texts)
+        events = _encode_events(self._columns, record.event_runs(MIN_RUN))
         line: dict[str, Any] = {"t": record.frame, "time": record.time, "events": events,
                                 "string": self._before_text}
-        fresh = {n: b for n, b in record.blobs.items() if n not in self._known}
+        blobs = record.blobs
+        slots = record.after.blob_slots()
+        # What each slot held the frame before: a changed blob's likely base (its own past self).
+        parents = {n: (p, self._slot_blobs[p]) for n, p in zip(slots, self._slots, strict=False)
+                   if n != p and p in self._slot_blobs}
+        fresh = {n: b for n, b in blobs.items() if n not in self._known}
         if fresh:
-            line["blobs"] = {n: self._blobs.encode(n, b) for n, b in fresh.items()}
+            line["blobs"] = {n: self._blobs.encode(n, b, parents.get(n)) for n, b in fresh.items()}
             self._known.update(fresh)
+        self._slots = slots
+        self._slot_blobs = {n: blobs[n] for n in slots}
         self._before_text = record.after_text
         self._write(line)
         self.frames += 1
