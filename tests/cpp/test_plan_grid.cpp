@@ -21,6 +21,7 @@
 #include "vwg/error.hpp"
 #include "vwg/plan/astar.hpp"
 #include "vwg/plan/dstar_lite.hpp"
+#include "vwg/plan/dstar_lite_search.hpp"
 #include "vwg/plan/filled_array.hpp"
 #include "vwg/plan/jps.hpp"
 #include "vwg/plan/movingai.hpp"
@@ -627,6 +628,102 @@ TEST(DStarLite, FourConnectedEqualsAStarThroughTheEndOfTheDive) {
   }
   EXPECT_EQ(checks, 300 * 12);
   EXPECT_GT(found, checks / 2);
+}
+
+// Whole-number keys in 32 bits (ExactKeys) order as the lexicographic comparison written out, on
+// keys with ties, zero and the largest values; and give their key back.
+TEST(DStarLite, ExactQueueOrderIsTheLexicographicOrderOfTheKeys) {
+  const std::uint32_t values[] = {0, 1, 2, 198, 0x3FFFFFFF, 0x40000000, 0xBFFFFFFE, 0xFFFFFFFE, 0xFFFFFFFF};
+  for (const bool dive : {true, false}) {
+    for (std::uint32_t a1 : values)
+      for (std::uint32_t a2 : values)
+        for (std::uint32_t b1 : values)
+          for (std::uint32_t b2 : values) {
+            const bool first = a1 < b1 || (a1 == b1 && (dive ? a2 > b2 : a2 < b2));
+            EXPECT_EQ(dstar_order::encode(a1, a2, dive) < dstar_order::encode(b1, b2, dive), first)
+                << a1 << " " << a2 << " / " << b1 << " " << b2 << " dive " << dive;
+          }
+    for (std::uint32_t k1 : values)
+      for (std::uint32_t k2 : values) {
+        std::uint32_t back1 = 7, back2 = 7;
+        dstar_order::decode(dstar_order::encode(k1, k2, dive), dive, back1, back2);
+        EXPECT_EQ(back1, k1);
+        EXPECT_EQ(back2, k2);
+      }
+  }
+}
+
+// DStarLite takes whole-number keys exactly where every move costs 1 and the heuristic is
+// Manhattan or none.
+TEST(DStarLite, ExactKeysWhereEveryKeyIsAWholeNumber) {
+  auto with = [](bool diagonal, Heuristic h) {
+    GridSearchOptions o;
+    o.diagonal = diagonal;
+    o.heuristic = h;
+    return DStarLite(BlockedGrid(4, 4), {0, 0}, {3, 3}, o).exact();
+  };
+  EXPECT_TRUE(with(false, Heuristic::Manhattan));
+  EXPECT_TRUE(with(false, Heuristic::Zero));
+  EXPECT_FALSE(with(false, Heuristic::Euclidean));
+  EXPECT_FALSE(with(true, Heuristic::Octile));
+  EXPECT_FALSE(with(true, Heuristic::Zero));
+}
+
+// Whole-number keys with a km limit of 6 instead of 2^30, so that km passes it every few moves
+// and the queue's keys are computed anew: the same plans, expansions and cells as double keys
+// (whose km never resets) through moves and changes, and as long as A*'s from scratch.
+struct TinyKmKeys : ExactKeys {
+  static constexpr Cost kKmLimit = 6;
+};
+template class vwg::plan::DStarLiteSearch<TinyKmKeys>;
+
+TEST(DStarLite, WholeNumberKeysPlanAsDoubleKeysAlsoWhenKmStartsAgain) {
+  std::mt19937 rng(4242);
+  GridSearchOptions o;
+  o.diagonal = false;
+  o.heuristic = Heuristic::Manhattan;
+  int resets = 0, found = 0;
+  for (int trial = 0; trial < 150; ++trial) {
+    const auto [g, start, goal] = random_query(rng, 6, 30, 0.05 * (trial % 5));
+    const int rows = g.rows(), cols = g.cols();
+    DStarLiteSearch<TinyKmKeys> tiny(g, start, goal, o);
+    DStarLiteSearch<ExactKeys> exact(g, start, goal, o);
+    DStarLiteSearch<RealKeys> real(g, start, goal, o);
+    AStar reference;
+    for (int step = 0; step < 12; ++step) {
+      const GridPath p = real.path();
+      const GridPath e = exact.path();
+      const GridPath t = tiny.path();
+      ASSERT_EQ(e.cells, p.cells) << "trial " << trial << " step " << step;
+      ASSERT_EQ(e.length, p.length);
+      ASSERT_EQ(exact.expanded(), real.expanded()) << "trial " << trial << " step " << step;
+      const GridPath full = reference.search(real.grid(), real.start(), goal, o);
+      ASSERT_EQ(t.found(), full.found()) << "trial " << trial << " step " << step;
+      if (full.found()) {
+        ASSERT_EQ(t.length, full.length) << "trial " << trial << " step " << step;
+        expect_legal(tiny.grid(), t, tiny.start(), goal, o);
+        ++found;
+      }
+      ASSERT_LT(tiny.km(), TinyKmKeys::kKmLimit);
+      const bool moves = p.found() && p.cells.size() > 3;
+      if (moves) {
+        const Cell next = p.cells[1 + rng() % 3];
+        tiny.move_to(next);
+        exact.move_to(next);
+        real.move_to(next);
+      }
+      std::vector<Cell> cells;
+      for (int k = 0; k < 4; ++k) cells.push_back({static_cast<int>(rng() % rows), static_cast<int>(rng() % cols)});
+      std::erase_if(cells, [&](const Cell& c) { return c == real.start(); });
+      const bool blocked = rng() % 3 != 0;
+      tiny.update_cells(cells, blocked);
+      exact.update_cells(cells, blocked);
+      real.update_cells(cells, blocked);
+      resets += moves && tiny.km() == 0;  // km grows by at least 1 a move, unless it starts again
+    }
+  }
+  EXPECT_GT(resets, 50);
+  EXPECT_GT(found, 150 * 12 / 2);
 }
 
 // The case study's comparison: a robot walks its path across a 512 × 512 map and, eight times,
