@@ -15,7 +15,7 @@ namespace vwg::plan {
 /// A fixed-size array of T (a trivially copyable type of 4 or 8 bytes) whose elements read `fill`
 /// until they are written: each element is stored as its bits XOR fill's, in memory from calloc,
 /// which zeroes it faster than a loop writes the fill value (D* Lite's g, rhs and queue positions:
-/// 20 bytes a cell, 5 MB for 512 × 512, made anew for every plan).
+/// 12 or 20 bytes a cell, 3 or 5 MB for 512 × 512, made anew for every plan).
 template <class T>
 class FilledArray {
   static_assert(std::is_trivially_copyable_v<T> && (sizeof(T) == 4 || sizeof(T) == 8));
