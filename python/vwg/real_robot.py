@@ -210,10 +210,12 @@ class RealRobotPlatform(_core.RobotPlatform):
     def _fail(self, reason: str) -> None:
         """The link has failed: a fault, a stop to every robot that can still be stopped, and every
         advance from now on raises LinkError."""
-        self._failure = reason
-        self._fault(0, reason)
+        # In this order: advance() raises as soon as _failure is set, and by then the robots must
+        # have been sent their stop and the fault be listed.
         with contextlib.suppress(Exception):
             self.stop_all()
+        self._fault(0, reason)
+        self._failure = reason
 
     def _raise_if_failed(self) -> None:
         if self._failure:

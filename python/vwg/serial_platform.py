@@ -127,7 +127,7 @@ class SerialPlatform(RealRobotPlatform):
         self.base = SerialBase(port, int(baud))
         self._pose = (0.0, 0.0, 0.0)  # odometry, from zero where the robot starts
         self._ticks: tuple[int, int] | None = None
-        self._failure: str | None = None
+        self._line_failure: str | None = None
         self._lost_at: float | None = None
         self._running = True
         try:
@@ -168,7 +168,7 @@ class SerialPlatform(RealRobotPlatform):
                     self._lost_at = now
                     log.warning("serial %s: %s", self.base.port, e)
                 if now - self._lost_at > self.reconnect:
-                    self._failure = f"the line to {self.base.port} broke and did not come back within " \
+                    self._line_failure = f"the line to {self.base.port} broke and did not come back within " \
                                     f"{self.reconnect:g} s ({e})"
                     return
                 with contextlib.suppress(Exception):  # still down: try again next period
@@ -204,7 +204,7 @@ class SerialPlatform(RealRobotPlatform):
             return False
 
     def link_failure(self) -> str | None:
-        return self._failure
+        return self._line_failure
 
     def close_link(self) -> None:
         self._running = False
