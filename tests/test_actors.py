@@ -358,3 +358,33 @@ def test_run_handlers_refuse_what_they_cannot_keep():
 
             def on_bean_run(self, events):
                 return self
+
+
+def test_events_named_like_a_batch_or_a_run_handler_get_their_own_lambda():
+    # on_tick_batch and on_tick_run are the λ of the events tick_batch and tick_run when the actor
+    # takes those events, not a batch or a run handler of tick.
+    class Counter(vwg.Actor):
+        events = ("tick", "tick_batch", "tick_run")
+        attributes = {"ticks": 0, "batches": 0, "runs": 0}
+
+        def on_tick(self, e):
+            return self.with_(ticks=self.ticks + 1)
+
+        def on_tick_batch(self, e):
+            return self.with_(batches=self.batches + e.k)
+
+        def on_tick_run(self, e):
+            return self.with_(runs=self.runs + e.k)
+
+    world = vwg.World(events={"tick": None, "tick_batch": {"k": 0}, "tick_run": {"k": 0}}, actors=[Counter])
+
+    class Script(vwg.Generator):
+        name = "script"
+
+        def generate(self, frame):
+            return [vwg.Event("tick"), vwg.Event("tick_batch", k=10), vwg.Event("tick"), vwg.Event("tick_run", k=100),
+                    vwg.Event("tick_run", k=1000)]
+
+    engine = vwg.Engine(world, "Counter", [Script()])
+    engine.run(2)
+    assert str(engine.string) == "Counter<ticks=4, batches=20, runs=2200>"

@@ -182,9 +182,10 @@ class Actor:
                 on[e] = (fn, wants_context(fn, 2))
             if (fn := getattr(cls, f"show_{e}", None)) is not None:
                 show[e] = (fn, wants_context(fn, 2))
-            if (fn := getattr(cls, f"on_{e}_batch", None)) is not None:
+            # (on_<e>_batch and on_<e>_run are the λ of an event named "<e>_batch" or "<e>_run"
+            # if the class has one)
+            if f"{e}_batch" not in cls.events and (fn := getattr(cls, f"on_{e}_batch", None)) is not None:
                 batch[e] = (fn, wants_context(fn, 2))  # a bound classmethod: (actors, e)
-            # (on_<e>_run is the λ of an event named "<e>_run" if the class has one)
             if f"{e}_run" not in cls.events and (fn := getattr(cls, f"on_{e}_run", None)) is not None:
                 run[e] = (fn, wants_context(fn, 2))
         return on, show, batch, run
