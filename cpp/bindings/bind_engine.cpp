@@ -90,10 +90,7 @@ other event comes as its text. No Python object is made per event of a run.)doc"
         auto add = [&](const ValueStore& store, const Value& v) {
           if (v.kind == ValueKind::Blob) out[py::str(blob_name(*store.blob(v)).substr(1))] = blob_to_python(store.blob(v));
         };
-        for (const Node& n : r.after->nodes()) {
-          if (n.kind == NodeKind::Close) continue;
-          for (std::uint16_t k = 0; k < n.value_count; ++k) add(r.after->store(), r.after->store()[n.first_value + k]);
-        }
+        for_each_blob(*r.after, [&](const auto& blob) { out[py::str(blob_name(*blob).substr(1))] = blob_to_python(blob); });
         const EventList& events = *r.events;
         for (std::size_t b = 0; b < events.batch_count(); ++b) {
           const EventList::Batch& batch = events.batch(b);

@@ -1,5 +1,6 @@
 // vwg.Event (an event e^d_c: type, data, optional target) and vwg.FrameInfo (the time instant a
 // generator or backend is called for).
+#include <algorithm>
 #include <span>
 #include <string>
 #include <utility>
@@ -101,6 +102,36 @@ void emit_columns_python(EventList& out, const PyEventColumns& batch, const std:
 
 }  // namespace
 
+namespace {
+/// Field k of the events at positions position(0) .. position(n - 1), as a float64, int64 or bool
+/// array by the field's kind; None for a text or blob field.
+template <class Position>
+py::object field_column(const EventList& events, Position position, py::ssize_t n, std::size_t k, ValueKind kind) {
+  auto gather = [&]<class T>(T Value::*member) -> py::array {
+    py::array_t<T> a(n);
+    T* d = a.mutable_data();
+    for (py::ssize_t j = 0; j < n; ++j) d[j] = events[position(j)].value(k).*member;
+    return a;
+  };
+  switch (kind) {
+    case ValueKind::Real: return gather(&Value::r);
+    case ValueKind::Int: return gather(&Value::i);
+    case ValueKind::Bool: return gather(&Value::b);
+    default: return py::none();
+  }
+}
+
+/// "f", "i" or "b" for the kinds that come by columns; nullptr for text and blobs.
+const char* column_kind(ValueKind kind) {
+  switch (kind) {
+    case ValueKind::Real: return "f";
+    case ValueKind::Int: return "i";
+    case ValueKind::Bool: return "b";
+    default: return nullptr;
+  }
+}
+}  // namespace
+
 py::object event_run_to_python(const EventList& events, std::span<const std::uint32_t> at) {
   const EventView first = events[at.front()];
   const EventTypeInfo& info = first.info();
@@ -111,23 +142,10 @@ py::object event_run_to_python(const EventList& events, std::span<const std::uin
   for (const std::uint32_t i : at) targeted = targeted && events[i].has_target();
   if (targeted) out.target = first.target();
   const auto n = static_cast<py::ssize_t>(at.size());
-  // Field k of each event of the run, as an array of T.
-  auto gather = [&]<class T>(std::size_t k, T Value::*member) -> py::array {
-    py::array_t<T> a(n);
-    T* d = a.mutable_data();
-    for (py::ssize_t j = 0; j < n; ++j) d[j] = events[at[static_cast<std::size_t>(j)]].value(k).*member;
-    return a;
-  };
   for (std::size_t k = 0; k < info.fields.params.size(); ++k) {
     const ParamSpec& spec = info.fields.params[k];
-    py::array column;
-    if (spec.kind == ValueKind::Real) {
-      column = gather(k, &Value::r);
-    } else if (spec.kind == ValueKind::Int) {
-      column = gather(k, &Value::i);
-    } else if (spec.kind == ValueKind::Bool) {
-      column = gather(k, &Value::b);
-    } else {
+    py::object column = field_column(events, [&](py::ssize_t j) { return at[static_cast<std::size_t>(j)]; }, n, k, spec.kind);
+    if (column.is_none()) {
       throw SchemaError(info.name + "." + spec.name, "is text or a blob: runs of events come as columns of numbers and bools");
     }
     column.attr("setflags")(py::arg("write") = false);
@@ -143,10 +161,8 @@ py::list event_runs_to_python(const EventList& events, std::size_t min_run) {
   while (i < n) {
     const EventView first = events[i];
     const EventTypeInfo& info = first.info();
-    bool numbers = true;
-    for (const ParamSpec& spec : info.fields.params) {
-      numbers = numbers && (spec.kind == ValueKind::Real || spec.kind == ValueKind::Int || spec.kind == ValueKind::Bool);
-    }
+    const bool numbers = std::all_of(info.fields.params.begin(), info.fields.params.end(),
+                                     [](const ParamSpec& spec) { return column_kind(spec.kind) != nullptr; });
     std::size_t j = i + 1;
     while (numbers && j < n && events[j].type() == first.type() && events[j].has_target() == first.has_target()) ++j;
     if (!numbers || j - i < min_run) {
@@ -154,24 +170,17 @@ py::list event_runs_to_python(const EventList& events, std::size_t min_run) {
       continue;
     }
     const auto count = static_cast<py::ssize_t>(j - i);
-    auto column = [&]<class T>(auto&& value_of) -> py::array {
-      py::array_t<T> a(count);
-      T* d = a.mutable_data();
-      for (py::ssize_t k = 0; k < count; ++k) d[k] = value_of(events[i + static_cast<std::size_t>(k)]);
-      return a;
-    };
+    auto position = [i](py::ssize_t k) { return i + static_cast<std::size_t>(k); };
     py::object targets = py::none();
-    if (first.has_target()) targets = column.template operator()<std::int64_t>([](const EventView& e) { return e.target(); });
+    if (first.has_target()) {
+      py::array_t<std::int64_t> a(count);
+      for (py::ssize_t k = 0; k < count; ++k) a.mutable_data()[k] = events[position(k)].target();
+      targets = a;
+    }
     py::list fields;
     for (std::size_t f = 0; f < info.fields.params.size(); ++f) {
       const ParamSpec& spec = info.fields.params[f];
-      if (spec.kind == ValueKind::Real) {
-        fields.append(py::make_tuple(spec.name, "f", column.template operator()<double>([f](const EventView& e) { return e.value(f).r; })));
-      } else if (spec.kind == ValueKind::Int) {
-        fields.append(py::make_tuple(spec.name, "i", column.template operator()<std::int64_t>([f](const EventView& e) { return e.value(f).i; })));
-      } else {
-        fields.append(py::make_tuple(spec.name, "b", column.template operator()<bool>([f](const EventView& e) { return e.value(f).b; })));
-      }
+      fields.append(py::make_tuple(spec.name, column_kind(spec.kind), field_column(events, position, count, f, spec.kind)));
     }
     out.append(py::make_tuple(info.name, j - i, targets, fields));
     i = j;

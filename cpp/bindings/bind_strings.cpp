@@ -93,25 +93,12 @@ equal. Build one with ``World.parse`` or as the return value of an actor.)doc")
       }, "The actors in order.")
       .def("blobs", [](const WorldString& w) {
         py::dict out;
-        for (std::size_t i = 0; i < w.nodes().size(); ++i) {
-          const Node& n = w.nodes()[i];
-          if (n.kind == NodeKind::Close) continue;
-          for (std::uint16_t k = 0; k < n.value_count; ++k) {
-            const Value& v = w.store()[n.first_value + k];
-            if (v.kind == ValueKind::Blob) out[py::str(blob_name(*w.store().blob(v)).substr(1))] = blob_to_python(w.store().blob(v));
-          }
-        }
+        for_each_blob(w, [&](const auto& blob) { out[py::str(blob_name(*blob).substr(1))] = blob_to_python(blob); });
         return out;
       }, "The blobs the string refers to, by name (what a snapshot stores beside the text).")
       .def("blob_slots", [](const WorldString& w) {
         py::list out;
-        for (const Node& n : w.nodes()) {
-          if (n.kind == NodeKind::Close) continue;
-          for (std::uint16_t k = 0; k < n.value_count; ++k) {
-            const Value& v = w.store()[n.first_value + k];
-            if (v.kind == ValueKind::Blob) out.append(py::str(blob_name(*w.store().blob(v)).substr(1)));
-          }
-        }
+        for_each_blob(w, [&](const auto& blob) { out.append(py::str(blob_name(*blob).substr(1))); });
         return out;
       }, "The names of the blobs the string holds, one for each blob-valued attribute or parameter in the string's order (a blob held twice is named twice). A recorder stores a changed blob against what its slot held the frame before.")
       .def("tree", [](const WorldString& w) {

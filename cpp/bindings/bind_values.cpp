@@ -140,9 +140,7 @@ and those elements XOR the base's, as unsigned ints of the element's size. None 
 ``limit`` elements differ (it stops counting there). Equal stretches are skipped 256 bytes at a
 time, so a grid with a few changed cells costs about a pass over memory.)doc")
       .def("__repr__", [](const Blob& b) {
-        std::string shape;
-        for (auto e : b.shape()) shape += (shape.empty() ? "" : ", ") + std::to_string(e);
-        return "vwg.Blob(" + std::string(dtype_name(b.dtype())) + ", (" + shape + "), @" + blob_name(b).substr(1) + ")";
+        return "vwg.Blob(" + std::string(dtype_name(b.dtype())) + ", " + shape_text(b.shape()) + ", @" + blob_name(b).substr(1) + ")";
       });
 }
 

@@ -74,6 +74,18 @@ void append_python(StringBuilder& out, py::handle obj, const std::string& what);
 py::object node_to_python(const NodeView& node);
 
 // --- events ---
+/// Calls f(blob) for the blob of each blob-valued slot of `w`, in the string's order (a blob held
+/// twice, twice).
+template <class F>
+void for_each_blob(const WorldString& w, F&& f) {
+  for (const Node& n : w.nodes()) {
+    if (n.kind == NodeKind::Close) continue;
+    for (std::uint16_t k = 0; k < n.value_count; ++k) {
+      const Value& v = w.store()[n.first_value + k];
+      if (v.kind == ValueKind::Blob) f(w.store().blob(v));
+    }
+  }
+}
 /// A Python vwg.Event for one event.
 py::object event_to_python(const EventView& e);
 /// The events at positions `at` of `events` (a run of one type) as a vwg.EventColumns.

@@ -268,8 +268,7 @@ class _BlobWriter:
         # Changes cost 8 bytes of position and the element each (before deflate): only worth it
         # while they are under half the whole blob. Each candidate after the best so far must beat
         # it, so changes_from stops counting as soon as it cannot.
-        itemsize = blob.nbytes // max(1, int(np.prod(blob.shape)))
-        limit = (blob.nbytes // 2 - 1) // (8 + itemsize)
+        limit = (blob.nbytes // 2 - 1) // (8 + np.dtype(blob.dtype).itemsize)
         best: tuple[str, tuple[np.ndarray, np.ndarray]] | None = None
         if limit >= 0 and parent is not None and parent[1].dtype == blob.dtype and tuple(parent[1].shape) == key[1]:
             changes = blob.changes_from(parent[1], limit)

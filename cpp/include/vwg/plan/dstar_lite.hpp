@@ -85,10 +85,13 @@ struct ExactKeys {
   static Cost heuristic(Heuristic h, int drow, int dcol) {
     return h == Heuristic::Manhattan ? static_cast<Cost>((drow < 0 ? -drow : drow) + (dcol < 0 ? -dcol : dcol)) : 0;
   }
+  /// Whether with these options every key is a whole number (moves of cost 1, Manhattan or no heuristic).
+  static bool whole(const GridSearchOptions& options) {
+    return !options.diagonal && (options.heuristic == Heuristic::Manhattan || options.heuristic == Heuristic::Zero);
+  }
   /// Whether these options and this grid allow exact keys.
   static bool fits(const GridSearchOptions& options, std::size_t padded_cells) {
-    return !options.diagonal && (options.heuristic == Heuristic::Manhattan || options.heuristic == Heuristic::Zero) &&
-           padded_cells < kMaxCells;
+    return whole(options) && padded_cells < kMaxCells;
   }
 };
 

@@ -17,7 +17,7 @@ template <class Keys>
 DStarLiteSearch<Keys>::DStarLiteSearch(BlockedGrid grid, Cell start, Cell goal, const GridSearchOptions& options)
     : grid_(std::move(grid)), options_(options), start_(start), goal_(goal) {
   validate(options_);
-  exact_keys_ = !options_.diagonal && (options_.heuristic == Heuristic::Manhattan || options_.heuristic == Heuristic::Zero);
+  exact_keys_ = ExactKeys::whole(options_);
   check_cell(grid_, start, "start", true);
   check_cell(grid_, goal, "goal", false);
   const std::size_t n = grid_.padded().size();
