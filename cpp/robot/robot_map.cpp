@@ -212,13 +212,19 @@ struct BeamWalk {
   bool reaches_end;
 };
 
+/// A cell inside the map as one number, in the order of the map's cells (row-major), from which
+/// the row and column come back without a division.
+std::uint64_t place_of(int row, int col) { return (static_cast<std::uint64_t>(row) << 32) | static_cast<std::uint32_t>(col); }
+int row_of(std::uint64_t place) { return static_cast<int>(place >> 32); }
+int col_of(std::uint64_t place) { return static_cast<int>(place & 0xFFFFFFFFu); }
+
 /// A change a beam may make to a cell: cleared by beam `beam`'s walk (carve), or marked (mark).
 struct CellOp {
-  std::size_t cell;
+  std::uint64_t place;  // place_of(row, col)
   std::uint32_t beam;
   bool mark;  // within one beam the walk clears before the beam marks
   bool operator<(const CellOp& o) const {
-    return cell != o.cell ? cell < o.cell : beam != o.beam ? beam < o.beam : mark < o.mark;
+    return place != o.place ? place < o.place : beam != o.beam ? beam < o.beam : mark < o.mark;
   }
 };
 
@@ -231,16 +237,22 @@ int sense_scan(MapEdit& map, const geometry::MapGeometry& g, ObstacleBits& bits,
   double u0, v0;
   f.world_to_grid(x0, y0, u0, v0);
   const int rows = g.height, cols = g.width;
-  thread_local std::vector<BeamWalk> walks;
   struct Bearing {
     double bearing;
     std::uint32_t beam;
     bool operator<(const Bearing& o) const { return bearing < o.bearing; }
   };
-  thread_local std::vector<Bearing> by_bearing;  // normal beams (those that reach their end cell), by bearing
-  thread_local std::vector<CellOp> ops;
-  thread_local std::vector<std::size_t> marked;
-  walks.clear(), by_bearing.clear(), ops.clear(), marked.clear();
+  // Kept from scan to scan (no allocation a frame), and named once here: a thread_local used
+  // inside the loops was looked up again (__tls_get_addr) after every call.
+  thread_local struct {
+    std::vector<BeamWalk> walks;
+    std::vector<Bearing> by_bearing;  // normal beams (those that reach their end cell), by bearing
+    std::vector<CellOp> ops;
+    std::vector<std::uint64_t> marked;  // places
+    std::vector<std::pair<int, int>> crossed;  // blocks of reported obstacles some beam crosses
+  } scratch;
+  auto& [walks, by_bearing, ops, marked, crossed] = scratch;
+  walks.clear(), by_bearing.clear(), ops.clear(), marked.clear(), crossed.clear();
   // The rows and columns any beam's walk can reach (beams that miss their end cell aside).
   int lo_row = static_cast<int>(std::floor(v0)), hi_row = lo_row, lo_col = static_cast<int>(std::floor(u0)), hi_col = lo_col;
   for (std::uint32_t j = 0; j < beams.size(); ++j) {
@@ -261,9 +273,8 @@ int sense_scan(MapEdit& map, const geometry::MapGeometry& g, ObstacleBits& bits,
     }
     int r, c;
     if (g.cell_of(beams[j].mark_x, beams[j].mark_y, r, c)) {
-      const std::size_t cell = index(g, r, c);
-      ops.push_back(CellOp{cell, j, true});
-      marked.push_back(cell);
+      ops.push_back(CellOp{place_of(r, c), j, true});
+      marked.push_back(place_of(r, c));
     }
   }
   // A laser's beams come in the order of their angles: sorted already, or sorted but for where
@@ -317,9 +328,9 @@ int sense_scan(MapEdit& map, const geometry::MapGeometry& g, ObstacleBits& bits,
     return steps < b.stop && b.walk.visits(row, col);
   };
   auto cell_ops = [&](int row, int col) {
-    const std::size_t cell = index(g, row, col);
+    const std::uint64_t place = place_of(row, col);
     beams_across(col + 0.5, row + 0.5, 0.7072, [&](std::uint32_t j) {
-      if (clears(j, row, col)) ops.push_back(CellOp{cell, j, false});
+      if (clears(j, row, col)) ops.push_back(CellOp{place, j, false});
     });
   };
 
@@ -328,22 +339,27 @@ int sense_scan(MapEdit& map, const geometry::MapGeometry& g, ObstacleBits& bits,
     constexpr int kShift = ObstacleBits::kShift, kSide = 1 << kShift;
     const int first_br = std::max(0, lo_row - 1) >> kShift, last_br = std::min(rows - 1, hi_row + 1) >> kShift;
     const int first_bc = std::max(0, lo_col - 1) >> kShift, last_bc = std::min(cols - 1, hi_col + 1) >> kShift;
+    // First the blocks some beam crosses, their words read ahead (each a likely cache miss), then
+    // their cells.
     for (int br = first_br; br <= last_br; ++br) {
       for (int bc = first_bc; bc <= last_bc; ++bc) {
         if (!bits.block_flag(br, bc)) continue;
         bool any = false;
         beams_across((bc + 0.5) * kSide, (br + 0.5) * kSide, 0.7072 * kSide, [&](std::uint32_t) { any = true; });
         if (!any) continue;
-        for (std::uint64_t cells = bits.seen_cells(br, bc); cells != 0; cells &= cells - 1) {
-          const int bit = std::countr_zero(cells);
-          cell_ops((br << kShift) | (bit >> 3), (bc << kShift) | (bit & 7));
-        }
+        bits.prefetch(br << kShift, bc << kShift);
+        crossed.emplace_back(br, bc);
+      }
+    }
+    for (const auto& [br, bc] : crossed) {
+      for (std::uint64_t cells = bits.seen_cells(br, bc); cells != 0; cells &= cells - 1) {
+        const int bit = std::countr_zero(cells);
+        cell_ops((br << kShift) | (bit >> 3), (bc << kShift) | (bit & 7));
       }
     }
     // Cells this scan marks that were not reported obstacles before: later beams may clear them.
-    for (const std::size_t cell : marked) {
-      const int row = static_cast<int>(cell / static_cast<std::size_t>(cols)), col = static_cast<int>(cell % static_cast<std::size_t>(cols));
-      if (!bits.seen(row, col)) cell_ops(row, col);
+    for (const std::uint64_t place : marked) {
+      if (!bits.seen(row_of(place), col_of(place))) cell_ops(row_of(place), col_of(place));
     }
     // Beams that miss their end cell (rounding): walked cell by cell, as carve_free walks them.
     for (std::uint32_t j = 0; j < walks.size(); ++j) {
@@ -351,8 +367,8 @@ int sense_scan(MapEdit& map, const geometry::MapGeometry& g, ObstacleBits& bits,
       CellWalk walk = walks[j].walk;
       for (int k = 0; k < walks[j].stop && !walk.at_end(); ++k, walk.advance()) {
         if (static_cast<unsigned>(walk.row) >= static_cast<unsigned>(rows) || static_cast<unsigned>(walk.col) >= static_cast<unsigned>(cols)) continue;
-        const std::size_t cell = index(g, walk.row, walk.col);
-        if (bits.seen(walk.row, walk.col) || std::binary_search(marked.begin(), marked.end(), cell)) ops.push_back(CellOp{cell, j, false});
+        const std::uint64_t place = place_of(walk.row, walk.col);
+        if (bits.seen(walk.row, walk.col) || std::binary_search(marked.begin(), marked.end(), place)) ops.push_back(CellOp{place, j, false});
       }
     }
   }
@@ -361,19 +377,28 @@ int sense_scan(MapEdit& map, const geometry::MapGeometry& g, ObstacleBits& bits,
   // most beams stop) stays; a reported obstacle may be cleared; any other cell (free or unknown)
   // may be marked, then cleared. The map is read only where a cell changes.
   std::sort(ops.begin(), ops.end());
+  // The cells' words and map values, read ahead: in a crowd each is likely a cache miss, and the
+  // loop below would wait for them one by one.
+  for (std::size_t i = 0; i < ops.size(); ++i) {
+    if (i > 0 && ops[i].place == ops[i - 1].place) continue;
+    const int row = row_of(ops[i].place), col = col_of(ops[i].place);
+    bits.prefetch(row, col);
+    __builtin_prefetch(map.view().data() + index(g, row, col));
+  }
   enum State { kOther, kSeen, kCleared };
   int changed = 0;
   for (std::size_t i = 0; i < ops.size();) {
-    const std::size_t cell = ops[i].cell;
-    const int row = static_cast<int>(cell / static_cast<std::size_t>(cols)), col = static_cast<int>(cell % static_cast<std::size_t>(cols));
+    const std::uint64_t place = ops[i].place;
+    const int row = row_of(place), col = col_of(place);
+    const std::size_t cell = index(g, row, col);
     const bool seen = bits.seen(row, col);
     if (!seen && bits.obstacle(row, col)) {
-      while (i < ops.size() && ops[i].cell == cell) ++i;
+      while (i < ops.size() && ops[i].place == place) ++i;
       continue;
     }
     const State was = seen ? kSeen : kOther;
     State now = was;
-    for (; i < ops.size() && ops[i].cell == cell; ++i) {
+    for (; i < ops.size() && ops[i].place == place; ++i) {
       if (ops[i].mark) {
         now = kSeen;  // not a wall or a marker
       } else if (now == kSeen) {

@@ -234,23 +234,28 @@ std::vector<RobotSettings> random_crowd(std::size_t count, std::uniform_real_dis
 /// reverse order, taken back (unsorted: every beam tested against every robot). Returns how many
 /// ranges a robot made nearer than the walls.
 int expect_shortcuts_change_no_range(const RangeScanner& scanner, const std::vector<RobotSettings>& robots,
-                                     const LaserSpec& spec) {
-  const std::vector<double> angles = beam_angles(spec);
+                                     const std::vector<double>& angles, double max_range) {
+  const double fov = angles.back() - angles.front();
   const std::vector<double> reversed(angles.rbegin(), angles.rend());
   int nearer_than_walls = 0;
   for (const RobotSettings& r : robots) {
     std::vector<float> fast(angles.size()), full(angles.size()), walls(angles.size());
     const Pose2 pose = scanner.world().robot(r.id).pose;
-    scanner.scan(r.id, pose, angles, spec.max_range, fast);
-    scanner.scan(r.id, pose, reversed, spec.max_range, full);
-    scanner.raycaster().scan(pose, angles, spec.max_range, walls);
+    scanner.scan(r.id, pose, angles, max_range, fast);
+    scanner.scan(r.id, pose, reversed, max_range, full);
+    scanner.raycaster().scan(pose, angles, max_range, walls);
     for (std::size_t i = 0; i < angles.size(); ++i) {
-      EXPECT_EQ(fast[i], full[angles.size() - 1 - i]) << "robot " << r.id << " beam " << i << " fov " << spec.fov;
+      EXPECT_EQ(fast[i], full[angles.size() - 1 - i]) << "robot " << r.id << " beam " << i << " fov " << fov;
       if (fast[i] != full[angles.size() - 1 - i]) return nearer_than_walls;
       nearer_than_walls += fast[i] < walls[i];
     }
   }
   return nearer_than_walls;
+}
+
+int expect_shortcuts_change_no_range(const RangeScanner& scanner, const std::vector<RobotSettings>& robots,
+                                     const LaserSpec& spec) {
+  return expect_shortcuts_change_no_range(scanner, robots, beam_angles(spec), spec.max_range);
 }
 
 TEST(Physics, RobotsFoundByIdAndDiscsFollowThePosesAfterRemovals) {
@@ -335,6 +340,20 @@ TEST(RangeScanner, RobotsBehindWallsAreSkippedWithoutChangingARange) {
     nearer_than_walls += expect_shortcuts_change_no_range(scanner, robots, spec);
   }
   EXPECT_GT(nearer_than_walls, 500) << "robots were seen";
+
+  // Beams not evenly spaced (dense in places, sparse in others, two at one angle), where the
+  // scanner's first guess of a beam from the mean spacing is far off and must be settled.
+  std::uniform_real_distribution<double> within(-M_PI / 2, M_PI / 2), narrow(0.2, 0.3);
+  int uneven_nearer = 0;
+  for (int round = 0; round < 3; ++round) {
+    std::vector<double> angles;
+    for (int k = 0; k < 60; ++k) angles.push_back(within(rng));
+    for (int k = 0; k < 60; ++k) angles.push_back(narrow(rng));
+    angles.push_back(angles[5]);
+    std::sort(angles.begin(), angles.end());
+    uneven_nearer += expect_shortcuts_change_no_range(scanner, robots, angles, 10.0);
+  }
+  EXPECT_GT(uneven_nearer, 100) << "robots were seen";
 }
 
 TEST(RangeScanner, SkippingRobotsOutOfReachChangesNoRange) {
@@ -399,6 +418,20 @@ TEST(DiscIndex, NearVisitsEveryDiscWithinReachOnceAndFewBeyond) {
       }
       if (q == 0) {
         EXPECT_EQ(visits[7] + visits[3000], 2) << "two discs at one point";
+      }
+      // A box of unequal sides about the query point (a scan's half-plane): the same rules.
+      const double left = reach_of(rng), right = reach_of(rng), below = reach_of(rng), above = reach_of(rng);
+      std::fill(visits.begin(), visits.end(), 0);
+      index.within(x - left, x + right, y - below, y + above, [&](std::uint32_t i) { ++visits[i]; });
+      for (std::size_t i = 0; i < discs.size(); ++i) {
+        const double dx = discs[i].x - x, dy = discs[i].y - y;
+        ASSERT_LE(visits[i], 1) << "disc " << i;
+        if (dx >= -left && dx <= right && dy >= -below && dy <= above) {
+          ASSERT_EQ(visits[i], 1) << "disc " << i << " box " << q;
+        }
+        if (dx < -left - 2 * side || dx > right + 2 * side || dy < -below - 2 * side || dy > above + 2 * side) {
+          ASSERT_EQ(visits[i], 0) << "disc " << i << " box " << q;
+        }
       }
     }
   }

@@ -91,6 +91,9 @@ class ObstacleBits {
   /// Cell (row, col), inside the map: a reported obstacle / any obstacle.
   bool seen(int row, int col) const { return (words_[word(row >> kShift, col >> kShift)].seen >> bit(row, col)) & 1; }
   bool obstacle(int row, int col) const { return (words_[word(row >> kShift, col >> kShift)].obstacle >> bit(row, col)) & 1; }
+  /// Start reading the words of cell (row, col)'s block, inside the map, into the cache: a crowd's
+  /// bits are far larger than the caches, and a scan reads a few hundred scattered blocks.
+  void prefetch(int row, int col) const { __builtin_prefetch(&words_[word(row >> kShift, col >> kShift)]); }
   /// Cell (row, col), inside the map, now holds `value`.
   void set(int row, int col, std::int16_t value) {
     const std::size_t w = word(row >> kShift, col >> kShift);

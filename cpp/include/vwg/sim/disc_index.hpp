@@ -39,9 +39,14 @@ class DiscIndex {
   /// once; within a square in the order of the span.
   template <class Visit>
   void near(double x, double y, double reach, Visit&& visit) const {
+    within(x - reach, x + reach, y - reach, y + reach, visit);
+  }
+  /// The same for the box [x_lo, x_hi] × [y_lo, y_hi].
+  template <class Visit>
+  void within(double x_lo, double x_hi, double y_lo, double y_hi, Visit&& visit) const {
     if (items_.empty()) return;
-    const int c0 = square(x - reach, x0_, cols_), c1 = square(x + reach, x0_, cols_);
-    const int r0 = square(y - reach, y0_, rows_), r1 = square(y + reach, y0_, rows_);
+    const int c0 = square(x_lo, x0_, cols_), c1 = square(x_hi, x0_, cols_);
+    const int r0 = square(y_lo, y0_, rows_), r1 = square(y_hi, y0_, rows_);
     for (int r = r0; r <= r1; ++r) {
       const std::size_t row = static_cast<std::size_t>(r) * static_cast<std::size_t>(cols_);
       for (std::uint32_t k = start_[row + static_cast<std::size_t>(c0)], end = start_[row + static_cast<std::size_t>(c1) + 1]; k < end; ++k) visit(items_[k]);
