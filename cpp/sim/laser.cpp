@@ -7,6 +7,7 @@
 #include "vwg/error.hpp"
 #include "vwg/text.hpp"
 #include "vwg/geometry/pose.hpp"
+#include "vwg/sim/raycast.hpp"
 
 namespace vwg::sim {
 
@@ -74,13 +75,10 @@ void RangeScanner::scan(int self, const Pose2& pose, std::span<const double> ang
   // Kept from scan to scan, and named once here (a thread_local used in the loops below was
   // looked up again, __tls_get_addr, after every call).
   thread_local struct {
-    std::vector<double> dir_x, dir_y;
-    std::vector<std::uint8_t> have;
+    std::vector<double> turned, dir_x, dir_y;
   } scratch;
-  auto& [dir_x, dir_y, have] = scratch;
-  dir_x.resize(angles.size());
-  dir_y.resize(angles.size());
-  have.assign(angles.size(), 0);
+  auto& [turned, dir_x, dir_y] = scratch;
+  bool have_directions = false;
   // The first beam whose angle is >= a (std::lower_bound's answer), found from the mean spacing
   // and settled by comparisons: one or two steps for a laser's evenly spaced beams, where a
   // binary search was a fifth of this function (its branches mispredicted).
@@ -106,26 +104,6 @@ void RangeScanner::scan(int self, const Pose2& pose, std::span<const double> ang
     }
     return true;
   };
-  // Whether every beam that can meet a robot's disc already stops nearer than the disc (at a wall,
-  // or at a robot tested before): then the exact test below would change no range, and its arc
-  // tangent, arc sine and beam directions are spared. In a building most robots within reach are
-  // behind walls. The window of beams is found from an approximate bearing, widened by far more
-  // than its error, so it holds every beam the exact window holds.
-  auto hidden = [&](double cx, double cy, double squared, double radius) {
-    const double d = std::sqrt(squared);
-    if (!(d > 2 * radius)) return false;  // near robots: the exact code
-    // tan(asin(radius / d)) >= asin(radius / d); 1e-4 >> 1.2e-5 + rounding
-    const double half = radius / std::sqrt(squared - radius * radius) + 1e-4;
-    double bearing = approximate_atan2(cy, cx) - pose.theta;
-    if (!(std::abs(bearing) < 64.0)) bearing = std::remainder(bearing, 2 * M_PI);
-    while (bearing > M_PI) bearing -= 2 * M_PI;
-    while (bearing < -M_PI) bearing += 2 * M_PI;
-    // No point of the disc is nearer than d - radius; the margin covers the exact test's rounding.
-    const double nearest = (d - radius) * (1 - 1e-9) - 1e-9;
-    return beams_within(bearing, half, [&](std::size_t i) { return static_cast<double>(out[i]) <= nearest; });
-  };
-  // Only the robots in the squares of the floor within reach (a superset of those the distance
-  // test below keeps, with a margin well above its rounding).
   // A robot changes a range only where it is nearer than the walls: none farther than the
   // farthest wall range counts (ranges only shrink from here). In rooms that is often far less
   // than max_range. Unsorted angles (the tests' reference) keep max_range.
@@ -155,18 +133,16 @@ void RangeScanner::scan(int self, const Pose2& pose, std::span<const double> ang
     const double squared = cx * cx + cy * cy;
     if (squared > reach * reach * (1 + 1e-9) + 1e-9) return;
     if (half_plane && cx * mid_x + cy * mid_y < -(other.radius + 1e-9 * (std::abs(cx) + std::abs(cy) + 1.0))) return;
-    if (windowed && hidden(cx, cy, squared, other.radius)) return;
-    const double dist = std::hypot(cx, cy);
-    if (dist - other.radius > max_range) return;
     const double r2 = other.radius * other.radius;
     auto test = [&](std::size_t i) {
-      // A beam's direction is computed once per scan, when a robot first comes near it (in a
-      // crowd, dozens of robots fall within the same beams).
-      if (!have[i]) {
-        const double a = pose.theta + angles[i];
-        dir_x[i] = std::cos(a);
-        dir_y[i] = std::sin(a);
-        have[i] = 1;
+      // The beams' directions are worked out once per scan, all together (4 at a time), when a
+      // robot first needs them. Their sine and cosine are the raycaster's own (the same bits on
+      // every machine, where libm's may differ between its FMA and plain code).
+      if (!have_directions) {
+        turned.resize(n), dir_x.resize(n), dir_y.resize(n);
+        for (std::size_t j = 0; j < n; ++j) turned[j] = pose.theta + angles[j];
+        beam_directions(turned, "avx2", dir_x, dir_y);
+        have_directions = true;
       }
       const double dx = dir_x[i], dy = dir_y[i];
       const double along = cx * dx + cy * dy;
@@ -175,14 +151,25 @@ void RangeScanner::scan(int self, const Pose2& pose, std::span<const double> ang
       const double t = along - std::sqrt(r2 - across2);
       if (t >= 0.0 && t < out[i]) out[i] = static_cast<float>(t);
     };
-    if (!windowed || dist <= other.radius * 1.0001) {
-      for (std::size_t i = 0; i < angles.size(); ++i) test(i);
+    const double d = std::sqrt(squared);
+    if (!windowed || !(d > 2 * other.radius)) {  // unsorted angles, or a robot close by: every beam
+      for (std::size_t i = 0; i < n; ++i) test(i);
       return;
     }
-    // Beams whose angle (relative to the sensor) lies within the disc's half-angle of its bearing,
-    // widened a little so that rounding never leaves out a beam the exact test would accept.
-    const double bearing = geometry::wrap_angle(std::atan2(cy, cx) - pose.theta);
-    const double half = std::asin(other.radius / dist) + 1e-6;
+    // The beams whose angle (relative to the sensor) lies within the disc's half-angle asin(r / d)
+    // of its bearing, found from an approximate bearing and widened by far more than its error
+    // (tan(asin(r / d)) >= asin(r / d); 1e-4 >> 1.2e-5 + rounding): every beam that can meet the
+    // disc, and a few that cannot (the exact test turns them down).
+    const double half = other.radius / std::sqrt(squared - r2) + 1e-4;
+    double bearing = approximate_atan2(cy, cx) - pose.theta;
+    if (!(std::abs(bearing) < 64.0)) bearing = std::remainder(bearing, 2 * M_PI);
+    while (bearing > M_PI) bearing -= 2 * M_PI;
+    while (bearing < -M_PI) bearing += 2 * M_PI;
+    // Every one of them stops nearer than the disc (at a wall, or at a robot tested before): the
+    // exact test would change no range. In a building most robots within reach are behind walls.
+    // No point of the disc is nearer than d - radius; the margin covers the exact test's rounding.
+    const double nearest = (d - other.radius) * (1 - 1e-9) - 1e-9;
+    if (beams_within(bearing, half, [&](std::size_t i) { return static_cast<double>(out[i]) <= nearest; })) return;
     beams_within(bearing, half, [&](std::size_t i) { return test(i), true; });
   });
 }

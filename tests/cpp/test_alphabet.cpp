@@ -1,5 +1,9 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
 #include "helpers.hpp"
 
 using namespace vwg;
@@ -78,4 +82,37 @@ TEST(Rng, SameSeedSameSequenceAndUniformInRange) {
   double sum = 0;
   for (int i = 0; i < 100000; ++i) sum += r.uniform();
   EXPECT_NEAR(sum / 100000, 0.5, 5 * 0.000913);
+}
+
+TEST(Rng, NormalFollowsTheStandardNormalAndRestartsWithItsSeed) {
+  // 200,000 draws against the standard normal's own numbers: mean 0 and variance 1 within 5
+  // standard errors (sqrt(1/n) and sqrt(2/n)), the share beyond 3 sigma (0.0027, from erfc)
+  // within 5 of its standard errors, and Kolmogorov-Smirnov's distance to the CDF 0.5 erfc(-x/√2)
+  // under its 0.1 % critical value, 1.95 / sqrt(n).
+  constexpr int n = 200000;
+  Rng r(11);
+  std::vector<double> x(n);
+  double sum = 0, squares = 0;
+  int tails = 0;
+  for (double& v : x) {
+    v = r.normal();
+    sum += v, squares += v * v, tails += std::abs(v) > 3.0;
+  }
+  const double mean = sum / n, variance = squares / n - mean * mean;
+  EXPECT_NEAR(mean, 0.0, 5 * std::sqrt(1.0 / n));
+  EXPECT_NEAR(variance, 1.0, 5 * std::sqrt(2.0 / n));
+  const double beyond = std::erfc(3.0 / std::sqrt(2.0));  // 0.0026998
+  EXPECT_NEAR(static_cast<double>(tails) / n, beyond, 5 * std::sqrt(beyond * (1 - beyond) / n));
+  std::sort(x.begin(), x.end());
+  double ks = 0;
+  for (int i = 0; i < n; ++i) {
+    const double cdf = 0.5 * std::erfc(-x[i] / std::sqrt(2.0));
+    ks = std::max({ks, std::abs(cdf - static_cast<double>(i) / n), std::abs(cdf - static_cast<double>(i + 1) / n)});
+  }
+  EXPECT_LT(ks, 1.95 / std::sqrt(static_cast<double>(n)));
+  // The same seed gives the same values, also after a reseed in the middle of a pair.
+  Rng a(5), b(5);
+  a.normal();
+  a.reseed(5);
+  for (int i = 0; i < 9; ++i) EXPECT_EQ(a.normal(), b.normal()) << i;
 }

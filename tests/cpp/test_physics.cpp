@@ -465,8 +465,12 @@ TEST(RangeScanner, ACrowdOnALargeFloorGivesTheRangesOfEveryBeamAgainstEveryRobot
     std::vector<float> got(angles.size()), want(angles.size());
     scanner.scan(me.id, me.pose, angles, spec.max_range, got);
     scanner.raycaster().scan(me.pose, angles, spec.max_range, want);
+    // The beams' directions with the scanner's sine and cosine (the raycaster's).
+    std::vector<double> turned(angles.size()), cos_a(angles.size()), sin_a(angles.size());
+    for (std::size_t i = 0; i < angles.size(); ++i) turned[i] = me.pose.theta + angles[i];
+    beam_directions(turned, "avx2", cos_a, sin_a);
     for (std::size_t i = 0; i < angles.size(); ++i) {
-      const double dx = std::cos(me.pose.theta + angles[i]), dy = std::sin(me.pose.theta + angles[i]);
+      const double dx = cos_a[i], dy = sin_a[i];
       const float walls = want[i];
       for (const RobotState& other : world->robots()) {
         if (other.id == me.id) continue;
