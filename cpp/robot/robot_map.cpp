@@ -218,14 +218,92 @@ std::uint64_t place_of(int row, int col) { return (static_cast<std::uint64_t>(ro
 int row_of(std::uint64_t place) { return static_cast<int>(place >> 32); }
 int col_of(std::uint64_t place) { return static_cast<int>(place & 0xFFFFFFFFu); }
 
-/// A change a beam may make to a cell: cleared by beam `beam`'s walk (carve), or marked (mark).
-struct CellOp {
-  std::uint64_t place;  // place_of(row, col)
-  std::uint32_t beam;
-  bool mark;  // within one beam the walk clears before the beam marks
-  bool operator<(const CellOp& o) const {
-    return place != o.place ? place < o.place : beam != o.beam ? beam < o.beam : mark < o.mark;
+/// What a scan's beams do to the cells they change, cell by cell: the last beam that marks the
+/// cell and the last whose walk clears it (beam j counted as j + 1; 0 for none). Beams act in
+/// order, each clearing its walk before marking its end, so these two say how the cell ends (see
+/// sense_scan) and the order of the rest does not matter. An open-addressing table keyed by
+/// place, its entries kept in the order they came (that order, fixed by the beams, is the order
+/// the cells are written in).
+class CellFates {
+ public:
+  struct Fate {
+    std::uint64_t place;
+    std::uint32_t last_mark = 0, last_clear = 0;
+  };
+  void clear() {  // only the slots in use: a scan that once grew the table does not cost the next ones
+    for (const std::uint32_t s : used_) slots_[s] = 0;
+    fates_.clear(), used_.clear();
   }
+  /// The cell's entry, made if it has none.
+  Fate& at(std::uint64_t place) {
+    if (2 * (fates_.size() + 1) > slots_.size()) grow();
+    for (std::size_t s = slot(place);; s = (s + 1) & (slots_.size() - 1)) {
+      if (slots_[s] == 0) {
+        fates_.push_back(Fate{place});
+        slots_[s] = static_cast<std::uint32_t>(fates_.size());
+        used_.push_back(static_cast<std::uint32_t>(s));
+        return fates_.back();
+      }
+      if (fates_[slots_[s] - 1].place == place) return fates_[slots_[s] - 1];
+    }
+  }
+  /// The cell's entry, or nullptr.
+  const Fate* find(std::uint64_t place) const {
+    if (slots_.empty()) return nullptr;
+    for (std::size_t s = slot(place);; s = (s + 1) & (slots_.size() - 1)) {
+      if (slots_[s] == 0) return nullptr;
+      if (fates_[slots_[s] - 1].place == place) return &fates_[slots_[s] - 1];
+    }
+  }
+  std::span<const Fate> entries() const { return fates_; }
+  std::size_t size() const { return fates_.size(); }
+  const Fate& operator[](std::size_t k) const { return fates_[k]; }
+
+ private:
+  std::size_t slot(std::uint64_t place) const {
+    return static_cast<std::size_t>((place * 0x9E3779B97F4A7C15ull) >> (64 - std::countr_zero(slots_.size())));
+  }
+  void grow() {
+    slots_.assign(std::max<std::size_t>(1024, 2 * slots_.size()), 0u);
+    for (std::size_t k = 0; k < fates_.size(); ++k) {
+      std::size_t s = slot(fates_[k].place);
+      while (slots_[s] != 0) s = (s + 1) & (slots_.size() - 1);
+      slots_[s] = static_cast<std::uint32_t>(k + 1);
+      used_[k] = static_cast<std::uint32_t>(s);
+    }
+  }
+  std::vector<Fate> fates_;
+  std::vector<std::uint32_t> slots_;  // fates_ index + 1; 0 empty; a power of two long
+  std::vector<std::uint32_t> used_;   // the slot of each entry
+};
+
+/// Where a sorted list of bearings (pseudo-angles in [-2, 2]) crosses a value: a table of 256
+/// equal slices of [-2, 2], each with the first bearing at or past its start, so a search starts
+/// a step or two from its answer (a binary search's mispredicted branches were much of a scan).
+class BearingIndex {
+ public:
+  template <class Bearings>
+  void build(const Bearings& sorted) {
+    std::size_t i = 0;
+    for (int k = 0; k <= kSlices; ++k) {
+      const double start = -2.0 + 4.0 * k / kSlices;
+      while (i < sorted.size() && sorted[i].bearing < start) ++i;
+      first_[k] = static_cast<std::uint32_t>(i);
+    }
+  }
+  /// The first position whose bearing is >= x (std::lower_bound's answer), settled by comparisons.
+  template <class Bearings>
+  std::size_t lower_bound(const Bearings& sorted, double x) const {
+    const double slice = (x + 2.0) * (kSlices / 4.0);
+    std::size_t i = first_[!(slice > 0.0) ? 0 : slice >= kSlices ? kSlices : static_cast<int>(slice)];
+    while (i > 0 && sorted[i - 1].bearing >= x) --i;
+    while (i < sorted.size() && sorted[i].bearing < x) ++i;
+    return i;
+  }
+
+ private:
+  static constexpr int kSlices = 256;
+  std::uint32_t first_[kSlices + 1] = {};
 };
 
 }  // namespace
@@ -247,12 +325,12 @@ int sense_scan(MapEdit& map, const geometry::MapGeometry& g, ObstacleBits& bits,
   thread_local struct {
     std::vector<BeamWalk> walks;
     std::vector<Bearing> by_bearing;  // normal beams (those that reach their end cell), by bearing
-    std::vector<CellOp> ops;
-    std::vector<std::uint64_t> marked;  // places
+    BearingIndex bearing_index;
+    CellFates fates;
     std::vector<std::pair<int, int>> crossed;  // blocks of reported obstacles some beam crosses
   } scratch;
-  auto& [walks, by_bearing, ops, marked, crossed] = scratch;
-  walks.clear(), by_bearing.clear(), ops.clear(), marked.clear(), crossed.clear();
+  auto& [walks, by_bearing, bearing_index, fates, crossed] = scratch;
+  walks.clear(), by_bearing.clear(), fates.clear(), crossed.clear();
   // The rows and columns any beam's walk can reach (beams that miss their end cell aside).
   int lo_row = static_cast<int>(std::floor(v0)), hi_row = lo_row, lo_col = static_cast<int>(std::floor(u0)), hi_col = lo_col;
   for (std::uint32_t j = 0; j < beams.size(); ++j) {
@@ -272,11 +350,9 @@ int sense_scan(MapEdit& map, const geometry::MapGeometry& g, ObstacleBits& bits,
       lo_col = std::min(lo_col, walk.end_col), hi_col = std::max(hi_col, walk.end_col);
     }
     int r, c;
-    if (g.cell_of(beams[j].mark_x, beams[j].mark_y, r, c)) {
-      ops.push_back(CellOp{place_of(r, c), j, true});
-      marked.push_back(place_of(r, c));
-    }
+    if (g.cell_of(beams[j].mark_x, beams[j].mark_y, r, c)) fates.at(place_of(r, c)).last_mark = j + 1;
   }
+  const std::size_t marked = fates.size();  // the cells the beams mark: the first entries
   // A laser's beams come in the order of their angles: sorted already, or sorted but for where
   // they pass the direction -π = π (then rotated into order).
   const auto descent = std::is_sorted_until(by_bearing.begin(), by_bearing.end());
@@ -287,39 +363,46 @@ int sense_scan(MapEdit& map, const geometry::MapGeometry& g, ObstacleBits& bits,
       std::sort(by_bearing.begin(), by_bearing.end());
     }
   }
-  std::sort(marked.begin(), marked.end());
-  marked.erase(std::unique(marked.begin(), marked.end()), marked.end());
+  bearing_index.build(by_bearing);
 
   // The normal beams whose walk clears cell (row, col): those whose direction meets the disc
   // round the cell (or the block) of radius `radius` about (cu, cv), and whose walk then reaches
   // the cell before it stops.
   double farthest = 0.0;  // the longest normal beam, cells
   for (const Bearing& b : by_bearing) farthest = std::max(farthest, walks[b.beam].reach);
+  // each(j) returns false to stop. The beams come from the last bearing back (a laser's beams
+  // by falling index, but where they pass -π = π), so the first that clears a cell is about the
+  // last beam that does.
   auto beams_across = [&](double cu, double cv, double radius, auto&& each) {
     const double du = cu - u0, dv = cv - v0, d = std::sqrt(du * du + dv * dv);
     if (d - radius - 1e-6 > farthest) return;  // beyond every beam
-    auto try_beam = [&](std::uint32_t j) {
-      if (walks[j].reach >= d - radius - 1e-6) each(j);
+    auto try_beam = [&](std::uint32_t j) { return walks[j].reach >= d - radius - 1e-6 ? each(j) : true; };
+    auto span = [&](std::size_t first, std::size_t end) {
+      for (std::size_t k = end; k > first;)
+        if (!try_beam(by_bearing[--k].beam)) return false;
+      return true;
     };
     // The directions that meet the disc: within asin(radius / d) of its centre's, between the two
     // tangents (the sine a little larger than radius / d, against rounding).
     const double sine = radius / d + 1e-9;
     if (!(sine < 0.9)) {  // the start is in the disc or near it: any direction
-      for (const Bearing& b : by_bearing) try_beam(b.beam);
+      span(0, by_bearing.size());
       return;
     }
     const double cosine = std::sqrt(1 - sine * sine);
     const double lo = pseudo_angle(du * cosine + dv * sine, dv * cosine - du * sine);
     const double hi = pseudo_angle(du * cosine - dv * sine, dv * cosine + du * sine);
-    auto span = [&](double from, double to) {
-      auto it = std::lower_bound(by_bearing.begin(), by_bearing.end(), Bearing{from, 0});
-      for (; it != by_bearing.end() && it->bearing <= to; ++it) try_beam(it->beam);
+    // Positions of the bearings in [lo, hi] (the last: the first bearing past hi).
+    const auto at = [&](double x) { return bearing_index.lower_bound(by_bearing, x); };
+    auto past = [&](double x) {
+      std::size_t i = at(x);
+      while (i < by_bearing.size() && by_bearing[i].bearing <= x) ++i;
+      return i;
     };
     if (lo <= hi) {
-      span(lo, hi);
-    } else {  // across the direction -π = π
-      span(lo, 2.0);
-      span(-2.0, hi);
+      span(at(lo), past(hi));
+    } else if (span(0, past(hi))) {  // across the direction -π = π
+      span(at(lo), by_bearing.size());
     }
   };
   auto clears = [&](std::uint32_t j, int row, int col) {
@@ -327,11 +410,17 @@ int sense_scan(MapEdit& map, const geometry::MapGeometry& g, ObstacleBits& bits,
     const int steps = std::abs(col - b.walk.col0) + std::abs(row - b.walk.row0);
     return steps < b.stop && b.walk.visits(row, col);
   };
+  // The last beam whose walk clears cell (row, col), into the cell's fate.
   auto cell_ops = [&](int row, int col) {
-    const std::uint64_t place = place_of(row, col);
+    std::uint32_t last = 0;
     beams_across(col + 0.5, row + 0.5, 0.7072, [&](std::uint32_t j) {
-      if (clears(j, row, col)) ops.push_back(CellOp{place, j, false});
+      if (j + 1 > last && clears(j, row, col)) last = j + 1;
+      return true;
     });
+    if (last) {
+      CellFates::Fate& fate = fates.at(place_of(row, col));
+      fate.last_clear = std::max(fate.last_clear, last);
+    }
   };
 
   if (carve) {
@@ -345,7 +434,7 @@ int sense_scan(MapEdit& map, const geometry::MapGeometry& g, ObstacleBits& bits,
       for (int bc = first_bc; bc <= last_bc; ++bc) {
         if (!bits.block_flag(br, bc)) continue;
         bool any = false;
-        beams_across((bc + 0.5) * kSide, (br + 0.5) * kSide, 0.7072 * kSide, [&](std::uint32_t) { any = true; });
+        beams_across((bc + 0.5) * kSide, (br + 0.5) * kSide, 0.7072 * kSide, [&](std::uint32_t) { return any = true, false; });
         if (!any) continue;
         bits.prefetch(br << kShift, bc << kShift);
         crossed.emplace_back(br, bc);
@@ -358,7 +447,8 @@ int sense_scan(MapEdit& map, const geometry::MapGeometry& g, ObstacleBits& bits,
       }
     }
     // Cells this scan marks that were not reported obstacles before: later beams may clear them.
-    for (const std::uint64_t place : marked) {
+    for (std::size_t k = 0; k < marked; ++k) {
+      const std::uint64_t place = fates[k].place;
       if (!bits.seen(row_of(place), col_of(place))) cell_ops(row_of(place), col_of(place));
     }
     // Beams that miss their end cell (rounding): walked cell by cell, as carve_free walks them.
@@ -368,43 +458,38 @@ int sense_scan(MapEdit& map, const geometry::MapGeometry& g, ObstacleBits& bits,
       for (int k = 0; k < walks[j].stop && !walk.at_end(); ++k, walk.advance()) {
         if (static_cast<unsigned>(walk.row) >= static_cast<unsigned>(rows) || static_cast<unsigned>(walk.col) >= static_cast<unsigned>(cols)) continue;
         const std::uint64_t place = place_of(walk.row, walk.col);
-        if (bits.seen(walk.row, walk.col) || std::binary_search(marked.begin(), marked.end(), place)) ops.push_back(CellOp{place, j, false});
+        const CellFates::Fate* known = fates.find(place);
+        if (bits.seen(walk.row, walk.col) || (known && known->last_mark)) {
+          CellFates::Fate& fate = fates.at(place);
+          fate.last_clear = std::max(fate.last_clear, j + 1);
+        }
       }
     }
   }
 
-  // Each cell's changes in beam order, from what the bits say it holds: a wall or a marker (where
-  // most beams stop) stays; a reported obstacle may be cleared; any other cell (free or unknown)
-  // may be marked, then cleared. The map is read only where a cell changes.
-  std::sort(ops.begin(), ops.end());
+  // How each cell ends, from what the bits say it holds: a wall or a marker (where most beams
+  // stop) stays; a reported obstacle may be cleared; any other cell (free or unknown) may be
+  // marked, then cleared. Beams act in order, each clearing before it marks: a cell some beam
+  // marks is left marked by the last one, then cleared if a later beam's walk clears it; a cell
+  // none marks is cleared if it was a reported obstacle and some walk clears it. The map is read
+  // only where a cell changes.
   // The cells' words and map values, read ahead: in a crowd each is likely a cache miss, and the
   // loop below would wait for them one by one.
-  for (std::size_t i = 0; i < ops.size(); ++i) {
-    if (i > 0 && ops[i].place == ops[i - 1].place) continue;
-    const int row = row_of(ops[i].place), col = col_of(ops[i].place);
+  for (const CellFates::Fate& fate : fates.entries()) {
+    const int row = row_of(fate.place), col = col_of(fate.place);
     bits.prefetch(row, col);
     __builtin_prefetch(map.view().data() + index(g, row, col));
   }
   enum State { kOther, kSeen, kCleared };
   int changed = 0;
-  for (std::size_t i = 0; i < ops.size();) {
-    const std::uint64_t place = ops[i].place;
-    const int row = row_of(place), col = col_of(place);
+  for (const CellFates::Fate& fate : fates.entries()) {
+    const int row = row_of(fate.place), col = col_of(fate.place);
     const std::size_t cell = index(g, row, col);
     const bool seen = bits.seen(row, col);
-    if (!seen && bits.obstacle(row, col)) {
-      while (i < ops.size() && ops[i].place == place) ++i;
-      continue;
-    }
+    if (!seen && bits.obstacle(row, col)) continue;
     const State was = seen ? kSeen : kOther;
-    State now = was;
-    for (; i < ops.size() && ops[i].place == place; ++i) {
-      if (ops[i].mark) {
-        now = kSeen;  // not a wall or a marker
-      } else if (now == kSeen) {
-        now = kCleared;
-      }
-    }
+    const State now = fate.last_mark ? (fate.last_clear > fate.last_mark ? kCleared : kSeen)
+                                     : (was == kSeen && fate.last_clear ? kCleared : was);
     const std::int16_t value = now == kCleared ? kFreeCell : kSeenCell;
     if (now == was || (was == kOther && now == kCleared && map[cell] == kFreeCell)) continue;  // marked, then cleared
     map.set(cell, value);
