@@ -87,10 +87,8 @@ other event comes as its text. No Python object is made per event of a run.)doc"
       .def_property_readonly("blobs", [](const PyFrameRecord& r) {
         r.check();
         py::dict out;
-        auto add = [&](const ValueStore& store, const Value& v) {
-          if (v.kind == ValueKind::Blob) out[py::str(blob_name(*store.blob(v)).substr(1))] = blob_to_python(store.blob(v));
-        };
-        for_each_blob(*r.after, [&](const auto& blob) { out[py::str(blob_name(*blob).substr(1))] = blob_to_python(blob); });
+        auto put = [&](const auto& blob) { out[py::str(blob_name(*blob).substr(1))] = blob_to_python(blob); };
+        for_each_blob(*r.after, put);
         const EventList& events = *r.events;
         for (std::size_t b = 0; b < events.batch_count(); ++b) {
           const EventList::Batch& batch = events.batch(b);
@@ -99,7 +97,8 @@ other event comes as its text. No Python object is made per event of a run.)doc"
           if (batch.by_columns || std::none_of(params.begin(), params.end(), [](const ParamSpec& p) { return p.kind == ValueKind::Blob; })) continue;
           for (std::uint32_t i = batch.first_event; i < batch.first_event + batch.count; ++i) {
             const EventView e = events[i];
-            for (std::size_t k = 0; k < e.field_count(); ++k) add(e.store(), e.value(k));
+            for (std::size_t k = 0; k < e.field_count(); ++k)
+              if (e.value(k).kind == ValueKind::Blob) put(e.store().blob(e.value(k)));
           }
         }
         return out;

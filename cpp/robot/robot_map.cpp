@@ -411,7 +411,7 @@ int sense_scan(MapEdit& map, const geometry::MapGeometry& g, ObstacleBits& bits,
     return steps < b.stop && b.walk.visits(row, col);
   };
   // The last beam whose walk clears cell (row, col), into the cell's fate.
-  auto cell_ops = [&](int row, int col) {
+  auto note_clears = [&](int row, int col) {
     std::uint32_t last = 0;
     beams_across(col + 0.5, row + 0.5, 0.7072, [&](std::uint32_t j) {
       if (j + 1 > last && clears(j, row, col)) last = j + 1;
@@ -443,13 +443,13 @@ int sense_scan(MapEdit& map, const geometry::MapGeometry& g, ObstacleBits& bits,
     for (const auto& [br, bc] : crossed) {
       for (std::uint64_t cells = bits.seen_cells(br, bc); cells != 0; cells &= cells - 1) {
         const int bit = std::countr_zero(cells);
-        cell_ops((br << kShift) | (bit >> 3), (bc << kShift) | (bit & 7));
+        note_clears((br << kShift) | (bit >> 3), (bc << kShift) | (bit & 7));
       }
     }
     // Cells this scan marks that were not reported obstacles before: later beams may clear them.
     for (std::size_t k = 0; k < marked; ++k) {
       const std::uint64_t place = fates[k].place;
-      if (!bits.seen(row_of(place), col_of(place))) cell_ops(row_of(place), col_of(place));
+      if (!bits.seen(row_of(place), col_of(place))) note_clears(row_of(place), col_of(place));
     }
     // Beams that miss their end cell (rounding): walked cell by cell, as carve_free walks them.
     for (std::uint32_t j = 0; j < walks.size(); ++j) {

@@ -165,12 +165,15 @@ void RangeScanner::scan(int self, const Pose2& pose, std::span<const double> ang
     if (!(std::abs(bearing) < 64.0)) bearing = std::remainder(bearing, 2 * M_PI);
     while (bearing > M_PI) bearing -= 2 * M_PI;
     while (bearing < -M_PI) bearing += 2 * M_PI;
-    // Every one of them stops nearer than the disc (at a wall, or at a robot tested before): the
-    // exact test would change no range. In a building most robots within reach are behind walls.
-    // No point of the disc is nearer than d - radius; the margin covers the exact test's rounding.
+    // Only the beams that stop beyond the disc's nearest point are tested: the exact test would
+    // change no other range (at a wall, or at a robot tested before). In a building most robots
+    // within reach are behind walls, and none of their beams is tested. No point of the disc is
+    // nearer than d - radius; the margin covers the exact test's rounding.
     const double nearest = (d - other.radius) * (1 - 1e-9) - 1e-9;
-    if (beams_within(bearing, half, [&](std::size_t i) { return static_cast<double>(out[i]) <= nearest; })) return;
-    beams_within(bearing, half, [&](std::size_t i) { return test(i), true; });
+    beams_within(bearing, half, [&](std::size_t i) {
+      if (static_cast<double>(out[i]) > nearest) test(i);
+      return true;
+    });
   });
 }
 
