@@ -49,6 +49,31 @@ def test_laser_ranges_and_events_by_hand():
     assert laser.ranges.tolist() == pytest.approx(expected, abs=1e-6)
 
 
+def test_noisy_readings_are_float32_and_spread_as_the_noise_says():
+    # The same scanner without noise gives the true ranges (checked by hand above); the noisy laser
+    # must scatter around them with the spec's σ and report each reading as a float32, as a real
+    # laser's LaserScan does.
+    alphabet, _, scanner = sim_world(box_map(), [RobotSettings(id=7, start=(2.52, 2.51, 0.3))])
+    sigma = 0.02
+    clean = _core.LaserGenerator(scanner, 7, LaserSpec(beams=360, max_range=10.0, noise=0.0), alphabet)
+    noisy = _core.LaserGenerator(scanner, 7, LaserSpec(beams=360, max_range=10.0, noise=sigma), alphabet)
+    truth = vwg.Engine(vwg.World(alphabet), "Robot<7>", [clean])
+    truth.step()
+    true_dist = np.array([e.dist for e in truth.last_events])
+    assert true_dist.size == 360  # a closed room: every beam hits
+    engine = vwg.Engine(vwg.World(alphabet), "Robot<7>", [noisy], seed=5)
+    residuals = []
+    for _ in range(20):
+        engine.step()
+        dist = np.array([e.dist for e in engine.last_events])
+        assert dist.size == 360
+        assert np.array_equal(dist.astype(np.float32).astype(np.float64), dist)
+        residuals.append(dist - true_dist)
+    r = np.concatenate(residuals)
+    assert abs(r.mean()) < 4 * sigma / math.sqrt(r.size)
+    assert r.std() == pytest.approx(sigma, rel=0.05)
+
+
 def test_laser_sees_other_robots_and_only_hits_make_events():
     grid = box_map(200)  # 10 m room
     robots = [RobotSettings(id=1, start=(2.0, 5.0, 0.0)),

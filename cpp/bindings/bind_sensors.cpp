@@ -110,7 +110,8 @@ simulated laser. ``cast`` gives the hit cell, face and entry point; ``scan`` man
 
   py::class_<sim::LaserGenerator, Generator, std::shared_ptr<sim::LaserGenerator>>(m, "LaserGenerator", R"doc(
 gLaser: each frame a scan from the robot's true pose; eLaser<to=robot, dist, angle> for each beam
-that hit something. ``ranges`` and ``angles`` are numpy views of the last scan (no copy).)doc")
+that hit something. A noisy ``dist`` is a float32 reading, as a real laser's LaserScan carries it.
+``ranges`` and ``angles`` are copies of the last scan.)doc")
       .def(py::init<std::shared_ptr<const sim::RangeScanner>, int, sim::LaserSpec, const Alphabet&, const std::string&>(),
            py::arg("scanner"), py::arg("robot"), py::arg("spec"), py::arg("alphabet"), py::arg("event") = "eLaser")
       .def_property_readonly("ranges", [](py::object self) {

@@ -193,7 +193,12 @@ void LaserGenerator::generate(const FrameInfo&, EventList& out) {
   for (std::size_t i = 0; i < ranges_.size(); ++i) {
     double r = ranges_[i];
     if (r >= spec_.max_range) continue;  // no obstacle: no event (Table II: "if obstacle")
-    if (spec_.noise > 0.0) r = std::clamp(r + rng_.normal(0.0, spec_.noise), spec_.min_range, spec_.max_range);
+    // A noisy reading in single precision, as a real laser's scan (sensor_msgs/LaserScan) carries
+    // it: the events of the simulated and the real robot alike, and a frame log a third smaller.
+    if (spec_.noise > 0.0) {
+      const auto noisy = static_cast<float>(r + rng_.normal(0.0, spec_.noise));
+      r = std::clamp(static_cast<double>(noisy), spec_.min_range, spec_.max_range);
+    }
     ranges_[i] = static_cast<float>(r);
     if (r < spec_.min_range) continue;
     events_.add(r, angles_[i]);

@@ -1920,7 +1920,8 @@ class RangeScanner:
 class LaserGenerator(Generator):
     """
     gLaser: each frame a scan from the robot's true pose; eLaser<to=robot, dist, angle> for each beam
-    that hit something. ``ranges`` and ``angles`` are numpy views of the last scan (no copy).
+    that hit something. A noisy ``dist`` is a float32 reading, as a real laser's LaserScan carries it.
+    ``ranges`` and ``angles`` are copies of the last scan.
     """
     def __init__(self, scanner: RangeScanner, robot: typing.SupportsInt | typing.SupportsIndex, spec: LaserSpec, alphabet: Alphabet, event: str = 'eLaser') -> None:
         ...

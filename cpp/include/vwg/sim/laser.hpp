@@ -27,7 +27,7 @@ struct LaserSpec {
   double fov = 2 * M_PI;  ///< radians; a full circle has no duplicate beam at ±π
   double min_range = 0.05;
   double max_range = 8.0;
-  double noise = 0.01;  ///< standard deviation of each range, metres
+  double noise = 0.01;  ///< standard deviation of each range, metres (a noisy reading is rounded to float32)
 };
 
 /// Each field with its name and meaning, for bindings and file loaders.
@@ -92,7 +92,8 @@ class ScanEvents {
 };
 
 /// gLaser: each frame, a scan from the robot's true pose with range noise; an event
-/// `<event><to=robot, dist, angle>` for each beam that hit something within range.
+/// `<event><to=robot, dist, angle>` for each beam that hit something within range. A noisy dist is
+/// a float32 reading (as sensor_msgs/LaserScan's ranges), clamped to [min_range, max_range].
 class LaserGenerator final : public Generator {
  public:
   LaserGenerator(std::shared_ptr<const RangeScanner> scanner, int robot, LaserSpec spec, const Alphabet& alphabet,
