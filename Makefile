@@ -19,7 +19,7 @@ JOBS ?= $(shell nproc)
 # (a Python dependency); the ffmpeg package is here for its ffprobe and ffmpeg programs, with which
 # the tests read the videos back.
 APT_PACKAGES := build-essential cmake pkg-config python3-dev python3-venv \
-	libeigen3-dev libbox2d-dev libompl-dev libapriltag-dev \
+	libeigen3-dev libbox2d-dev libompl-dev libapriltag-dev libxxhash-dev \
 	libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev libopencv-videoio-dev libopencv-calib3d-dev \
 	libboost-serialization-dev libboost-filesystem-dev libboost-system-dev \
 	libgtest-dev ffmpeg

@@ -95,7 +95,7 @@ def test_same_seed_same_record_bit_for_bit(tmp_path):
 
 def test_bad_record_files(tmp_path):
     bad = tmp_path / "bad.jsonl"
-    bad.write_text('{"vwg_record": 3, "initial": "", "seed": 0, "dt": 0.1}\n{"t": 0, "events": [], "string": ""\n')
+    bad.write_text('{"vwg_record": 4, "initial": "", "seed": 0, "dt": 0.1}\n{"t": 0, "events": [], "string": ""\n')
     with pytest.raises(vwg.WorldFileError, match="not valid JSON") as info:
         read_record(bad)
     assert info.value.line == 2
@@ -323,7 +323,7 @@ def test_blob_change_round_trip(dtype, shape, changes):
 
 
 def write_record(path, header_blobs, frames=()):
-    header = {"vwg_record": 3, "initial": "", "seed": 0, "dt": 0.1, "blobs": header_blobs}
+    header = {"vwg_record": 4, "initial": "", "seed": 0, "dt": 0.1, "blobs": header_blobs}
     lines = [header, *({"t": t, "events": [], "string": "", "blobs": b} for t, b in enumerate(frames))]
     path.write_text(chained(lines))
 
@@ -465,7 +465,7 @@ def test_a_damaged_blob_change_is_detected(tmp_path):
 def test_a_format_1_record_is_refused(tmp_path):
     old = tmp_path / "old.jsonl"
     old.write_text('{"vwg_record": 1, "initial": "", "seed": 0, "dt": 0.1}\n{"t": 0, "events": [], "string": ""}\n')
-    with pytest.raises(vwg.WorldFileError, match="this record is format 1; this vwg reads format 3 only") as info:
+    with pytest.raises(vwg.WorldFileError, match="this record is format 1; this vwg reads format 4 only") as info:
         read_record(old)
     assert info.value.line == 1 and info.value.field == "vwg_record"
     with pytest.raises(vwg.WorldFileError, match="format 1"):

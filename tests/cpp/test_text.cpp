@@ -4,6 +4,7 @@
 #include <cstring>
 
 #include "helpers.hpp"
+#include "vwg/hash.hpp"
 
 using namespace vwg;
 using namespace vwg::testing;
@@ -199,6 +200,21 @@ TEST(Text, BlobsAreReferencedByContentHash) {
   EXPECT_NE(blob_name(other), blob_name(*grid));
   EXPECT_THROW(parse_string(a, "Mapper<grid=@nothere>", "<string>", &table), ParseError);
   EXPECT_THROW(parse_string(a, "Mapper<grid=@g>"), ParseError);  // no table
+}
+
+// Blob names are xxHash's XXH3: its published value for the empty input (seed 0, xxHash's sanity
+// test vectors), and every byte of a long input (XXH3's stripes of 64 bytes) counts.
+TEST(Text, BlobHashesAreXxh3) {
+  EXPECT_EQ(hash_bytes("", 0, 0), 0x2D06800538D394C2ULL);
+  std::vector<unsigned char> bytes(100000, 7);
+  const std::uint64_t whole = hash_bytes(bytes.data(), bytes.size());
+  for (std::size_t at : {std::size_t{0}, std::size_t{63}, std::size_t{64}, std::size_t{50000}, bytes.size() - 1}) {
+    bytes[at] ^= 1;
+    EXPECT_NE(hash_bytes(bytes.data(), bytes.size()), whole) << "byte " << at;
+    bytes[at] ^= 1;
+  }
+  EXPECT_EQ(hash_bytes(bytes.data(), bytes.size()), whole);
+  EXPECT_NE(hash_bytes(bytes.data(), bytes.size(), 1), whole);  // the seed counts
 }
 
 TEST(Text, EventsParseAndPrint) {

@@ -1,4 +1,5 @@
-// Stable, platform-independent 64-bit hashing used for blob names and determinism checks.
+// Stable, platform-independent 64-bit hashing used for blob names and determinism checks
+// (hash_bytes is xxHash's XXH3).
 #pragma once
 
 #include <cstddef>
