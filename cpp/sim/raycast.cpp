@@ -433,15 +433,21 @@ struct QuadLanes {
 };
 
 /// For each pattern of idle lanes (bit i: lane i idle), how many idle lanes come before each
-/// lane: the i-th idle lane takes beam next + i.
+/// lane: the i-th idle lane takes beam next + i. `rank` as 4 ints; `pick` as the indices of
+/// _mm256_permutevar8x32 that move double `rank` of the 4 read from beam next into each lane.
 struct IdleRanks {
   alignas(16) std::int32_t rank[16][4];
+  alignas(32) std::int32_t pick[16][8];
 };
 constexpr IdleRanks kIdleRanks = [] {
   IdleRanks table{};
   for (unsigned idle = 0; idle < 16; ++idle)
-    for (unsigned lane = 0; lane < 4; ++lane)
-      table.rank[idle][lane] = std::popcount(idle & ((1u << lane) - 1));
+    for (unsigned lane = 0; lane < 4; ++lane) {
+      const int rank = std::popcount(idle & ((1u << lane) - 1));
+      table.rank[idle][lane] = rank;
+      table.pick[idle][2 * lane] = 2 * rank;
+      table.pick[idle][2 * lane + 1] = 2 * rank + 1;
+    }
   return table;
 }();
 
@@ -452,10 +458,16 @@ VWG_AVX2 void start_lanes(QuadLanes& lanes) {
   lanes.col = lanes.row = lanes.t = _mm256_setzero_pd();
 }
 
-/// Starts beams next, next + 1, ... in the idle lanes, while there are beams left.
+/// The 4 doubles from `values` moved to the lanes `pick` says.
+VWG_AVX2 __m256d picked(const double* values, __m256i pick) {
+  return _mm256_castsi256_pd(_mm256_permutevar8x32_epi32(_mm256_castpd_si256(_mm256_loadu_pd(values)), pick));
+}
+
+/// Starts beams next, next + 1, ... in the idle lanes, while there are beams left. Without a
+/// branch, as advance() ends its lanes: the four beams from `next` are read whole (the beam arrays
+/// hold 4 more past n, as next may be n) and moved to the lanes that take them.
 VWG_AVX2 void refill(QuadLanes& lanes, const ScanSetup& s, const BeamDirections& beams, int n, int& next) {
   const int idle = _mm_movemask_ps(_mm_castsi128_ps(lanes.beam));
-  if (idle == 0 || next >= n) return;
   const __m128i ids = _mm_add_epi32(_mm_set1_epi32(next), _mm_load_si128(reinterpret_cast<const __m128i*>(kIdleRanks.rank[idle])));
   // Idle lanes (beam -1) that get a beam: those whose id is below n.
   const __m128i starting =
@@ -463,10 +475,11 @@ VWG_AVX2 void refill(QuadLanes& lanes, const ScanSetup& s, const BeamDirections&
   const __m128i start_mask = _mm_srai_epi32(starting, 31);  // all ones where starting
   const __m256d take = _mm256_castsi256_pd(_mm256_cvtepi32_epi64(start_mask));
   lanes.beam = _mm_blendv_epi8(lanes.beam, ids, start_mask);
-  lanes.du = _mm256_mask_i32gather_pd(lanes.du, beams.du, ids, take, 8);
-  lanes.dv = _mm256_mask_i32gather_pd(lanes.dv, beams.dv, ids, take, 8);
-  lanes.inv_du = _mm256_mask_i32gather_pd(lanes.inv_du, beams.inv_du, ids, take, 8);
-  lanes.inv_dv = _mm256_mask_i32gather_pd(lanes.inv_dv, beams.inv_dv, ids, take, 8);
+  const __m256i pick = _mm256_load_si256(reinterpret_cast<const __m256i*>(kIdleRanks.pick[idle]));
+  lanes.du = _mm256_blendv_pd(lanes.du, picked(beams.du + next, pick), take);
+  lanes.dv = _mm256_blendv_pd(lanes.dv, picked(beams.dv + next, pick), take);
+  lanes.inv_du = _mm256_blendv_pd(lanes.inv_du, picked(beams.inv_du + next, pick), take);
+  lanes.inv_dv = _mm256_blendv_pd(lanes.inv_dv, picked(beams.inv_dv + next, pick), take);
   lanes.col = _mm256_blendv_pd(lanes.col, _mm256_set1_pd(s.col0), take);
   lanes.row = _mm256_blendv_pd(lanes.row, _mm256_set1_pd(s.row0), take);
   lanes.t = _mm256_blendv_pd(lanes.t, _mm256_setzero_pd(), take);
@@ -490,82 +503,100 @@ VWG_AVX2 __m256d cell_before_x4(__m256d start, __m256d dir, __m256d inv_dir, __m
   return cell;
 }
 
-/// One jump of GridRaycaster::trace for every active lane. Beams that end are written to out
-/// (the hit range, max_range on a miss, -1 for the scalar code when the jump ends exactly on a
-/// grid corner) and their lanes go idle.
-VWG_AVX2 void advance(QuadLanes& lanes, const ScanSetup& s, float* out) {
-  const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
+constexpr int kGroups = 4;  ///< groups of 4 beams in flight
+/// Each statement of advance() is made for every group before the next statement: the four
+/// groups' chains of dependent operations then sit side by side in the core's window, where one
+/// group's whole jump after another (about 90 operations each) let only two overlap.
+#define VWG_EACH(statement) \
+  for (int k = 0; k < kGroups; ++k) {  \
+    statement;                          \
+  }
+
+/// One jump of GridRaycaster::trace for every active lane of every group. Beams that end are
+/// written to out (the hit range, max_range on a miss, -1 for the scalar code when the jump ends
+/// exactly on a grid corner) and their lanes go idle.
+VWG_AVX2 void advance(QuadLanes (&lanes)[kGroups], const ScanSetup& s, float* out) {
+  const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0), minus_one = _mm256_set1_pd(-1.0);
   const __m256d u0 = _mm256_set1_pd(s.u0), v0 = _mm256_set1_pd(s.v0);
   const __m256d width = _mm256_set1_pd(s.width), height = _mm256_set1_pd(s.height);
-  const __m256d active = _mm256_castsi256_pd(_mm256_cvtepi32_epi64(_mm_cmpgt_epi32(lanes.beam, _mm_set1_epi32(-1))));
-  const __m256d col = lanes.col, row = lanes.row;
+  const __m256d cells = _mm256_set1_pd(s.cells);
+  __m256d active[kGroups], col[kGroups], row[kGroups], back_u[kGroups], back_v[kGroups], exit_u[kGroups],
+      exit_v[kGroups], index[kGroups];
+  VWG_EACH(active[k] = _mm256_castsi256_pd(_mm256_cvtepi32_epi64(_mm_cmpgt_epi32(lanes[k].beam, _mm_set1_epi32(-1)))));
+  VWG_EACH(col[k] = lanes[k].col; row[k] = lanes[k].row);
 
   // Which way each beam goes, from the signs of its direction (the 8-lane code keeps these in its
   // lanes; here they are worked out again, which costs less than keeping them in registers).
-  const __m256d back_u = _mm256_cmp_pd(lanes.du, zero, _CMP_LT_OQ), back_v = _mm256_cmp_pd(lanes.dv, zero, _CMP_LT_OQ);
-  const __m256d exit_u = _mm256_andnot_pd(back_u, one), exit_v = _mm256_andnot_pd(back_v, one);
-  const __m256d cells = _mm256_set1_pd(s.cells);
-  const __m256d table = _mm256_add_pd(_mm256_and_pd(back_u, cells), _mm256_and_pd(back_v, _mm256_add_pd(cells, cells)));
+  VWG_EACH(back_u[k] = _mm256_cmp_pd(lanes[k].du, zero, _CMP_LT_OQ); back_v[k] = _mm256_cmp_pd(lanes[k].dv, zero, _CMP_LT_OQ));
+  VWG_EACH(exit_u[k] = _mm256_andnot_pd(back_u[k], one); exit_v[k] = _mm256_andnot_pd(back_v[k], one));
 
   // The clearance of each lane's cell (all inside the map); 0 means the ray stopped there. Read
-  // by four byte loads: AMD's Zen cores microcode gathers, and these were faster there.
-  const __m256d index = _mm256_and_pd(active, _mm256_add_pd(table_cell_x4(row, col, s.block_cols), table));
-  const __m128i at = _mm256_cvttpd_epi32(index);
-  const __m128i raw = _mm_setr_epi32(s.clearance[_mm_cvtsi128_si32(at)], s.clearance[_mm_extract_epi32(at, 1)],
-                                     s.clearance[_mm_extract_epi32(at, 2)], s.clearance[_mm_extract_epi32(at, 3)]);
-  const __m256d d = _mm256_cvtepi32_pd(raw);
-  const __m256d hit = _mm256_and_pd(active, _mm256_cmp_pd(d, zero, _CMP_EQ_OQ));
-  const __m256d moving = _mm256_andnot_pd(hit, active);
+  // by byte loads: AMD's Zen cores microcode gathers, and these were faster there.
+  VWG_EACH(index[k] = _mm256_and_pd(active[k], _mm256_add_pd(table_cell_x4(row[k], col[k], s.block_cols),
+                                                               _mm256_add_pd(_mm256_and_pd(back_u[k], cells),
+                                                                             _mm256_and_pd(back_v[k], _mm256_add_pd(cells, cells))))));
+  __m128i at[kGroups];
+  VWG_EACH(at[k] = _mm256_cvttpd_epi32(index[k]));
+  __m256d d[kGroups];
+  VWG_EACH(d[k] = _mm256_cvtepi32_pd(_mm_setr_epi32(
+               s.clearance[_mm_cvtsi128_si32(at[k])], s.clearance[_mm_extract_epi32(at[k], 1)],
+               s.clearance[_mm_extract_epi32(at[k], 2)], s.clearance[_mm_extract_epi32(at[k], 3)])));
+  __m256d hit[kGroups], moving[kGroups];
+  VWG_EACH(hit[k] = _mm256_and_pd(active[k], _mm256_cmp_pd(d[k], zero, _CMP_EQ_OQ)));
+  VWG_EACH(moving[k] = _mm256_andnot_pd(hit[k], active[k]));
 
   // Leave the free square: its far line is col + d going forward, col + 1 - d going back.
-  const __m256d minus_one = _mm256_set1_pd(-1.0);
-  const __m256d step_u = _mm256_blendv_pd(one, minus_one, back_u), step_v = _mm256_blendv_pd(one, minus_one, back_v);
-  const __m256d line_u = _mm256_add_pd(_mm256_sub_pd(col, _mm256_sub_pd(exit_u, one)), _mm256_mul_pd(step_u, d));
-  const __m256d line_v = _mm256_add_pd(_mm256_sub_pd(row, _mm256_sub_pd(exit_v, one)), _mm256_mul_pd(step_v, d));
-  const __m256d t_u = _mm256_mul_pd(_mm256_sub_pd(line_u, u0), lanes.inv_du);
-  const __m256d t_v = _mm256_mul_pd(_mm256_sub_pd(line_v, v0), lanes.inv_dv);
-  const __m256d t_next = _mm256_min_pd(t_u, t_v);
-  const __m256d out_of_range = _mm256_and_pd(moving, _mm256_cmp_pd(t_next, _mm256_set1_pd(s.t_max), _CMP_NLE_UQ));
+  __m256d step_u[kGroups], step_v[kGroups], t_next[kGroups], out_of_range[kGroups];
+  VWG_EACH(step_u[k] = _mm256_blendv_pd(one, minus_one, back_u[k]); step_v[k] = _mm256_blendv_pd(one, minus_one, back_v[k]));
+  VWG_EACH({
+    const __m256d line_u = _mm256_add_pd(_mm256_sub_pd(col[k], _mm256_sub_pd(exit_u[k], one)), _mm256_mul_pd(step_u[k], d[k]));
+    const __m256d line_v = _mm256_add_pd(_mm256_sub_pd(row[k], _mm256_sub_pd(exit_v[k], one)), _mm256_mul_pd(step_v[k], d[k]));
+    t_next[k] = _mm256_min_pd(_mm256_mul_pd(_mm256_sub_pd(line_u, u0), lanes[k].inv_du),
+                              _mm256_mul_pd(_mm256_sub_pd(line_v, v0), lanes[k].inv_dv));
+  });
+  VWG_EACH(out_of_range[k] = _mm256_and_pd(moving[k], _mm256_cmp_pd(t_next[k], _mm256_set1_pd(s.t_max), _CMP_NLE_UQ)));
 
-  __m256d cross_u, cross_v;
-  __m256d next_col = cell_before_x4(u0, lanes.du, lanes.inv_du, step_u, exit_u, col, t_next, cross_u);
-  __m256d next_row = cell_before_x4(v0, lanes.dv, lanes.inv_dv, step_v, exit_v, row, t_next, cross_v);
-  next_col = _mm256_add_pd(next_col, _mm256_and_pd(cross_u, step_u));
-  next_row = _mm256_add_pd(next_row, _mm256_and_pd(cross_v, step_v));
-  const __m256d corner = _mm256_andnot_pd(out_of_range, _mm256_and_pd(moving, _mm256_and_pd(cross_u, cross_v)));
-  const __m256d outside = _mm256_or_pd(
-      _mm256_or_pd(_mm256_cmp_pd(next_col, zero, _CMP_LT_OQ), _mm256_cmp_pd(next_col, width, _CMP_GE_OQ)),
-      _mm256_or_pd(_mm256_cmp_pd(next_row, zero, _CMP_LT_OQ), _mm256_cmp_pd(next_row, height, _CMP_GE_OQ)));
-  const __m256d missed = _mm256_or_pd(out_of_range, _mm256_andnot_pd(corner, _mm256_and_pd(moving, outside)));
-  const __m256d done = _mm256_or_pd(hit, _mm256_or_pd(missed, corner));
+  __m256d cross_u[kGroups], cross_v[kGroups], next_col[kGroups], next_row[kGroups];
+  VWG_EACH(next_col[k] = cell_before_x4(u0, lanes[k].du, lanes[k].inv_du, step_u[k], exit_u[k], col[k], t_next[k], cross_u[k]));
+  VWG_EACH(next_row[k] = cell_before_x4(v0, lanes[k].dv, lanes[k].inv_dv, step_v[k], exit_v[k], row[k], t_next[k], cross_v[k]));
+  VWG_EACH(next_col[k] = _mm256_add_pd(next_col[k], _mm256_and_pd(cross_u[k], step_u[k]));
+           next_row[k] = _mm256_add_pd(next_row[k], _mm256_and_pd(cross_v[k], step_v[k])));
+  __m256d corner[kGroups], missed[kGroups], done[kGroups];
+  VWG_EACH(corner[k] = _mm256_andnot_pd(out_of_range[k], _mm256_and_pd(moving[k], _mm256_and_pd(cross_u[k], cross_v[k]))));
+  VWG_EACH({
+    const __m256d outside = _mm256_or_pd(
+        _mm256_or_pd(_mm256_cmp_pd(next_col[k], zero, _CMP_LT_OQ), _mm256_cmp_pd(next_col[k], width, _CMP_GE_OQ)),
+        _mm256_or_pd(_mm256_cmp_pd(next_row[k], zero, _CMP_LT_OQ), _mm256_cmp_pd(next_row[k], height, _CMP_GE_OQ)));
+    missed[k] = _mm256_or_pd(out_of_range[k], _mm256_andnot_pd(corner[k], _mm256_and_pd(moving[k], outside)));
+  });
+  VWG_EACH(done[k] = _mm256_or_pd(hit[k], _mm256_or_pd(missed[k], corner[k])));
 
-  const int ended = _mm256_movemask_pd(done);
-  if (ended != 0) {  // the range as range() computes it
-    __m256d value = _mm256_add_pd(_mm256_mul_pd(lanes.t, _mm256_set1_pd(s.resolution)), zero);
-    value = _mm256_blendv_pd(value, _mm256_set1_pd(s.max_range), missed);
-    value = _mm256_blendv_pd(value, minus_one, corner);
+  // The range as range() computes it, written by every lane without a branch (a mispredicted one
+  // would throw away all four groups' work in flight): a lane that ended writes out[beam], the
+  // others out[-1], a spare slot. Ended lanes go idle (-1).
+  VWG_EACH({
+    __m256d value = _mm256_add_pd(_mm256_mul_pd(lanes[k].t, _mm256_set1_pd(s.resolution)), zero);
+    value = _mm256_blendv_pd(value, _mm256_set1_pd(s.max_range), missed[k]);
+    value = _mm256_blendv_pd(value, minus_one, corner[k]);
+    const __m128i ended = _mm256_castsi256_si128(
+        _mm256_permutevar8x32_epi32(_mm256_castpd_si256(done[k]), _mm256_setr_epi32(0, 2, 4, 6, 0, 2, 4, 6)));
     alignas(16) float range[4];
     alignas(16) std::int32_t beam[4];
     _mm_store_ps(range, _mm256_cvtpd_ps(value));
-    _mm_store_si128(reinterpret_cast<__m128i*>(beam), lanes.beam);
-    for (unsigned bits = static_cast<unsigned>(ended); bits != 0; bits &= bits - 1) {
-      const int lane = std::countr_zero(bits);
-      out[beam[lane]] = range[lane];
-    }
-    // Ended lanes go idle (-1).
-    const __m128i ended_lanes = _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(
-        _mm256_castpd_si256(done), _mm256_setr_epi32(0, 2, 4, 6, 0, 2, 4, 6)));
-    lanes.beam = _mm_or_si128(lanes.beam, ended_lanes);
-  }
-  lanes.col = _mm256_blendv_pd(col, next_col, moving);
-  lanes.row = _mm256_blendv_pd(row, next_row, moving);
-  lanes.t = _mm256_blendv_pd(lanes.t, t_next, moving);
+    _mm_store_si128(reinterpret_cast<__m128i*>(beam), _mm_or_si128(_mm_andnot_si128(ended, _mm_set1_epi32(-1)),
+                                                                   _mm_and_si128(ended, lanes[k].beam)));
+    for (int lane = 0; lane < 4; ++lane) out[beam[lane]] = range[lane];
+    lanes[k].beam = _mm_or_si128(lanes[k].beam, ended);
+  });
+  VWG_EACH(lanes[k].col = _mm256_blendv_pd(col[k], next_col[k], moving[k]);
+           lanes[k].row = _mm256_blendv_pd(row[k], next_row[k], moving[k]);
+           lanes[k].t = _mm256_blendv_pd(lanes[k].t, t_next[k], moving[k]));
 }
+#undef VWG_EACH
 
 /// The jumps of GridRaycaster::trace on 16 beams at once, in four independent groups of 4.
 __attribute__((target("avx2"))) void scan_avx2(const ScanSetup& s, const BeamDirections& beams, int n,
                                                float* out) {
-  constexpr int kGroups = 4;
   QuadLanes groups[kGroups];
   for (QuadLanes& lanes : groups) start_lanes(lanes);
   int next = 0;
@@ -576,7 +607,7 @@ __attribute__((target("avx2"))) void scan_avx2(const ScanSetup& s, const BeamDir
       busy = _mm_and_si128(busy, lanes.beam);  // stays -1 only while every lane of every group is idle
     }
     if (_mm_movemask_ps(_mm_castsi128_ps(busy)) == 0xF) break;
-    for (QuadLanes& lanes : groups) advance(lanes, s, out);
+    advance(groups, s, out);
   }
 }
 #undef VWG_AVX2
@@ -888,7 +919,10 @@ void GridRaycaster::scan(const Pose2& pose, std::span<const double> angles, doub
                           resolution_,
                           max_range};
     constexpr std::size_t kChunk = 256;  // beams set up at a time, on the stack
-    std::array<double, kChunk> relative, du, dv, inv_du, inv_dv;
+    // + 4: the AVX2 code reads 4 beams' directions from any beam up to n on; ranges[0] is its
+    // spare slot.
+    std::array<double, kChunk + 4> relative, du, dv, inv_du, inv_dv;
+    std::array<float, kChunk + 1> ranges;
     for (std::size_t first = 0; first < angles.size(); first += kChunk) {
       const std::size_t count = std::min(kChunk, angles.size() - first);
       for (std::size_t i = 0; i < count; ++i) {
@@ -898,11 +932,13 @@ void GridRaycaster::scan(const Pose2& pose, std::span<const double> angles, doub
       }
       grid_directions(relative.data(), count, du.data(), dv.data(), simd_ == Simd::kAvx512, simd_ == Simd::kAvx2);
       for (std::size_t i = 0; i < count; ++i) inv_du[i] = 1.0 / du[i], inv_dv[i] = 1.0 / dv[i];
+      for (std::size_t i = count; i < count + 4; ++i) du[i] = dv[i] = inv_du[i] = inv_dv[i] = 1.0;  // read, not used
       const BeamDirections beams{du.data(), dv.data(), inv_du.data(), inv_dv.data()};
       if (simd_ == Simd::kAvx512)
-        scan_avx512(setup, beams, static_cast<int>(count), out.data() + first);
+        scan_avx512(setup, beams, static_cast<int>(count), ranges.data() + 1);
       else
-        scan_avx2(setup, beams, static_cast<int>(count), out.data() + first);
+        scan_avx2(setup, beams, static_cast<int>(count), ranges.data() + 1);
+      std::copy(ranges.begin() + 1, ranges.begin() + 1 + static_cast<std::ptrdiff_t>(count), out.begin() + static_cast<std::ptrdiff_t>(first));
       for (std::size_t i = first; i < first + count; ++i)
         if (out[i] < 0.0f) scalar(i, i + 1);  // the rare beam through a grid corner
     }
