@@ -74,6 +74,33 @@ def test_noisy_readings_are_float32_and_spread_as_the_noise_says():
     assert r.std() == pytest.approx(sigma, rel=0.05)
 
 
+def test_clamped_noisy_readings_are_float32_within_the_range():
+    # The left wall's face is 0.31 m away: with σ = 0.2 many readings clamp to min_range (0.3, which
+    # float32 rounds up to 0.30000001) or to max_range. Each must still be a float32 in the range.
+    alphabet, _, scanner = sim_world(box_map(), [RobotSettings(id=7, start=(0.36, 2.5, 0.0))])
+    laser = _core.LaserGenerator(scanner, 7, LaserSpec(beams=360, min_range=0.3, max_range=0.625, noise=0.2), alphabet)
+    engine = vwg.Engine(vwg.World(alphabet), "Robot<7>", [laser], seed=3)
+    dist = []
+    for _ in range(10):
+        engine.step()
+        dist += [e.dist for e in engine.last_events]
+    d = np.array(dist)
+    assert d.size > 100
+    assert np.array_equal(d.astype(np.float32).astype(np.float64), d)
+    assert d.min() >= 0.3 and d.max() <= 0.625
+    assert (d < 0.3 + 1e-6).sum() > 10 and (d == 0.625).sum() > 10  # both bounds were reached
+
+
+def test_a_max_range_that_float32_rounds_down_reads_as_no_obstacle():
+    # float32(3.3) is 3.2999999523: a beam that met nothing must not become an event at that range.
+    alphabet, _, scanner = sim_world(box_map(200), [RobotSettings(id=1, start=(5.0, 5.0, 0.0))])
+    for noise in (0.0, 0.01):  # walls 4.95 m away
+        laser = _core.LaserGenerator(scanner, 1, LaserSpec(beams=90, max_range=3.3, noise=noise), alphabet)
+        engine = vwg.Engine(vwg.World(alphabet), "Robot<1>", [laser])
+        engine.step()
+        assert len(engine.last_events) == 0
+
+
 def test_laser_sees_other_robots_and_only_hits_make_events():
     grid = box_map(200)  # 10 m room
     robots = [RobotSettings(id=1, start=(2.0, 5.0, 0.0)),

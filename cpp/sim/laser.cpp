@@ -190,18 +190,23 @@ void LaserGenerator::generate(const FrameInfo&, EventList& out) {
   const Pose2 pose = scanner_->world().robot(robot_).pose;
   scanner_->scan(robot_, pose, angles_, spec_.max_range, ranges_);
   events_.clear();
+  // The scan writes max_range as a float: a max_range that float32 rounds down (3.3) must still
+  // read as no obstacle.
+  const auto nothing = static_cast<float>(spec_.max_range);
+  const auto low = static_cast<float>(spec_.min_range), high = static_cast<float>(spec_.max_range);
   for (std::size_t i = 0; i < ranges_.size(); ++i) {
-    double r = ranges_[i];
-    if (r >= spec_.max_range) continue;  // no obstacle: no event (Table II: "if obstacle")
-    // A noisy reading in single precision, as a real laser's scan (sensor_msgs/LaserScan) carries
-    // it: the events of the simulated and the real robot alike, and a frame log a third smaller.
+    if (ranges_[i] >= nothing) continue;  // no obstacle: no event (Table II: "if obstacle")
     if (spec_.noise > 0.0) {
-      const auto noisy = static_cast<float>(r + rng_.normal(0.0, spec_.noise));
-      r = std::clamp(static_cast<double>(noisy), spec_.min_range, spec_.max_range);
+      // A noisy reading in single precision, as a real laser's scan (sensor_msgs/LaserScan)
+      // carries it: the events of the simulated and the real robot alike, and a frame log a third
+      // smaller. Clamped to the float32 values within [min_range, max_range].
+      float reading = static_cast<float>(std::clamp(ranges_[i] + rng_.normal(0.0, spec_.noise), spec_.min_range, spec_.max_range));
+      if (reading < spec_.min_range) reading = std::nextafter(low, high);
+      if (reading > spec_.max_range) reading = std::nextafter(high, low);
+      ranges_[i] = reading;
     }
-    ranges_[i] = static_cast<float>(r);
-    if (r < spec_.min_range) continue;
-    events_.add(r, angles_[i]);
+    if (ranges_[i] < spec_.min_range) continue;
+    events_.add(ranges_[i], angles_[i]);
   }
   events_.emit(out, event_, robot_);
 }

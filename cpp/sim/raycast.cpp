@@ -353,10 +353,10 @@ __attribute__((target("avx2,avx512f"))) void scan_avx512(const ScanSetup& s, con
 #pragma GCC diagnostic pop
 
 // ---- The scan on CPUs with AVX2 but not AVX-512 ----------------------------------------------
-// The same jumps on 4 lanes of doubles, four groups in flight so that one group's gather and
-// compare chain overlaps the others'. No FMA is enabled here, so no expression is fused: every
-// product and sum is rounded on its own, as in the scalar code. The lanes stay in registers
-// between jumps; a lane whose beam ends takes the next beam by masked gathers.
+// The same jumps on 4 lanes of doubles, four groups in flight, each step made for all four before
+// the next so that their chains overlap. No FMA is enabled here, so no expression is fused: every
+// product and sum is rounded on its own, as in the scalar code. A lane whose beam ends writes its
+// range and takes the next beam without a branch.
 #define VWG_AVX2 __attribute__((target("avx2"), always_inline)) inline
 
 /// sincos_portable() on 4 lanes, by the same operations (angles within kReduceLimit).
@@ -507,27 +507,27 @@ constexpr int kGroups = 4;  ///< groups of 4 beams in flight
 /// Each statement of advance() is made for every group before the next statement: the four
 /// groups' chains of dependent operations then sit side by side in the core's window, where one
 /// group's whole jump after another (about 90 operations each) let only two overlap.
-#define VWG_EACH(statement) \
-  for (int k = 0; k < kGroups; ++k) {  \
+#define VWG_EACH(statement)           \
+  _Pragma("GCC unroll 4") for (int k = 0; k < kGroups; ++k) { \
     statement;                          \
   }
 
 /// One jump of GridRaycaster::trace for every active lane of every group. Beams that end are
 /// written to out (the hit range, max_range on a miss, -1 for the scalar code when the jump ends
 /// exactly on a grid corner) and their lanes go idle.
-VWG_AVX2 void advance(QuadLanes (&lanes)[kGroups], const ScanSetup& s, float* out) {
+VWG_AVX2 void advance(QuadLanes (&groups)[kGroups], const ScanSetup& s, float* out) {
   const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0), minus_one = _mm256_set1_pd(-1.0);
   const __m256d u0 = _mm256_set1_pd(s.u0), v0 = _mm256_set1_pd(s.v0);
   const __m256d width = _mm256_set1_pd(s.width), height = _mm256_set1_pd(s.height);
   const __m256d cells = _mm256_set1_pd(s.cells);
   __m256d active[kGroups], col[kGroups], row[kGroups], back_u[kGroups], back_v[kGroups], exit_u[kGroups],
       exit_v[kGroups], index[kGroups];
-  VWG_EACH(active[k] = _mm256_castsi256_pd(_mm256_cvtepi32_epi64(_mm_cmpgt_epi32(lanes[k].beam, _mm_set1_epi32(-1)))));
-  VWG_EACH(col[k] = lanes[k].col; row[k] = lanes[k].row);
+  VWG_EACH(active[k] = _mm256_castsi256_pd(_mm256_cvtepi32_epi64(_mm_cmpgt_epi32(groups[k].beam, _mm_set1_epi32(-1)))));
+  VWG_EACH(col[k] = groups[k].col; row[k] = groups[k].row);
 
   // Which way each beam goes, from the signs of its direction (the 8-lane code keeps these in its
   // lanes; here they are worked out again, which costs less than keeping them in registers).
-  VWG_EACH(back_u[k] = _mm256_cmp_pd(lanes[k].du, zero, _CMP_LT_OQ); back_v[k] = _mm256_cmp_pd(lanes[k].dv, zero, _CMP_LT_OQ));
+  VWG_EACH(back_u[k] = _mm256_cmp_pd(groups[k].du, zero, _CMP_LT_OQ); back_v[k] = _mm256_cmp_pd(groups[k].dv, zero, _CMP_LT_OQ));
   VWG_EACH(exit_u[k] = _mm256_andnot_pd(back_u[k], one); exit_v[k] = _mm256_andnot_pd(back_v[k], one));
 
   // The clearance of each lane's cell (all inside the map); 0 means the ray stopped there. Read
@@ -551,14 +551,14 @@ VWG_AVX2 void advance(QuadLanes (&lanes)[kGroups], const ScanSetup& s, float* ou
   VWG_EACH({
     const __m256d line_u = _mm256_add_pd(_mm256_sub_pd(col[k], _mm256_sub_pd(exit_u[k], one)), _mm256_mul_pd(step_u[k], d[k]));
     const __m256d line_v = _mm256_add_pd(_mm256_sub_pd(row[k], _mm256_sub_pd(exit_v[k], one)), _mm256_mul_pd(step_v[k], d[k]));
-    t_next[k] = _mm256_min_pd(_mm256_mul_pd(_mm256_sub_pd(line_u, u0), lanes[k].inv_du),
-                              _mm256_mul_pd(_mm256_sub_pd(line_v, v0), lanes[k].inv_dv));
+    t_next[k] = _mm256_min_pd(_mm256_mul_pd(_mm256_sub_pd(line_u, u0), groups[k].inv_du),
+                              _mm256_mul_pd(_mm256_sub_pd(line_v, v0), groups[k].inv_dv));
   });
   VWG_EACH(out_of_range[k] = _mm256_and_pd(moving[k], _mm256_cmp_pd(t_next[k], _mm256_set1_pd(s.t_max), _CMP_NLE_UQ)));
 
   __m256d cross_u[kGroups], cross_v[kGroups], next_col[kGroups], next_row[kGroups];
-  VWG_EACH(next_col[k] = cell_before_x4(u0, lanes[k].du, lanes[k].inv_du, step_u[k], exit_u[k], col[k], t_next[k], cross_u[k]));
-  VWG_EACH(next_row[k] = cell_before_x4(v0, lanes[k].dv, lanes[k].inv_dv, step_v[k], exit_v[k], row[k], t_next[k], cross_v[k]));
+  VWG_EACH(next_col[k] = cell_before_x4(u0, groups[k].du, groups[k].inv_du, step_u[k], exit_u[k], col[k], t_next[k], cross_u[k]));
+  VWG_EACH(next_row[k] = cell_before_x4(v0, groups[k].dv, groups[k].inv_dv, step_v[k], exit_v[k], row[k], t_next[k], cross_v[k]));
   VWG_EACH(next_col[k] = _mm256_add_pd(next_col[k], _mm256_and_pd(cross_u[k], step_u[k]));
            next_row[k] = _mm256_add_pd(next_row[k], _mm256_and_pd(cross_v[k], step_v[k])));
   __m256d corner[kGroups], missed[kGroups], done[kGroups];
@@ -575,7 +575,7 @@ VWG_AVX2 void advance(QuadLanes (&lanes)[kGroups], const ScanSetup& s, float* ou
   // would throw away all four groups' work in flight): a lane that ended writes out[beam], the
   // others out[-1], a spare slot. Ended lanes go idle (-1).
   VWG_EACH({
-    __m256d value = _mm256_add_pd(_mm256_mul_pd(lanes[k].t, _mm256_set1_pd(s.resolution)), zero);
+    __m256d value = _mm256_add_pd(_mm256_mul_pd(groups[k].t, _mm256_set1_pd(s.resolution)), zero);
     value = _mm256_blendv_pd(value, _mm256_set1_pd(s.max_range), missed[k]);
     value = _mm256_blendv_pd(value, minus_one, corner[k]);
     const __m128i ended = _mm256_castsi256_si128(
@@ -584,17 +584,18 @@ VWG_AVX2 void advance(QuadLanes (&lanes)[kGroups], const ScanSetup& s, float* ou
     alignas(16) std::int32_t beam[4];
     _mm_store_ps(range, _mm256_cvtpd_ps(value));
     _mm_store_si128(reinterpret_cast<__m128i*>(beam), _mm_or_si128(_mm_andnot_si128(ended, _mm_set1_epi32(-1)),
-                                                                   _mm_and_si128(ended, lanes[k].beam)));
+                                                                   _mm_and_si128(ended, groups[k].beam)));
     for (int lane = 0; lane < 4; ++lane) out[beam[lane]] = range[lane];
-    lanes[k].beam = _mm_or_si128(lanes[k].beam, ended);
+    groups[k].beam = _mm_or_si128(groups[k].beam, ended);
   });
-  VWG_EACH(lanes[k].col = _mm256_blendv_pd(col[k], next_col[k], moving[k]);
-           lanes[k].row = _mm256_blendv_pd(row[k], next_row[k], moving[k]);
-           lanes[k].t = _mm256_blendv_pd(lanes[k].t, t_next[k], moving[k]));
+  VWG_EACH(groups[k].col = _mm256_blendv_pd(col[k], next_col[k], moving[k]);
+           groups[k].row = _mm256_blendv_pd(row[k], next_row[k], moving[k]);
+           groups[k].t = _mm256_blendv_pd(groups[k].t, t_next[k], moving[k]));
 }
 #undef VWG_EACH
 
-/// The jumps of GridRaycaster::trace on 16 beams at once, in four independent groups of 4.
+/// The jumps of GridRaycaster::trace on 16 beams at once, in four independent groups of 4. out[-1]
+/// must be writable (a spare slot) and the beams' arrays readable up to beam n + 3.
 __attribute__((target("avx2"))) void scan_avx2(const ScanSetup& s, const BeamDirections& beams, int n,
                                                float* out) {
   QuadLanes groups[kGroups];
@@ -921,7 +922,8 @@ void GridRaycaster::scan(const Pose2& pose, std::span<const double> angles, doub
     constexpr std::size_t kChunk = 256;  // beams set up at a time, on the stack
     // + 4: the AVX2 code reads 4 beams' directions from any beam up to n on; ranges[0] is its
     // spare slot.
-    std::array<double, kChunk + 4> relative, du, dv, inv_du, inv_dv;
+    std::array<double, kChunk> relative;
+    std::array<double, kChunk + 4> du, dv, inv_du, inv_dv;
     std::array<float, kChunk + 1> ranges;
     for (std::size_t first = 0; first < angles.size(); first += kChunk) {
       const std::size_t count = std::min(kChunk, angles.size() - first);

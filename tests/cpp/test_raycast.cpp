@@ -429,19 +429,23 @@ TEST(Raycast, ScansAgreeOnABiggerMap) {
     for (int r = r0; r < std::min(300, r0 + (k % 2 ? h : w)); ++r)
       for (int c = c0; c < std::min(300, c0 + (k % 2 ? w : h)); ++c) set(grid, r, c);
   }
-  const GridRaycaster rc(grid);
-  std::vector<double> angles(360);
+  std::vector<double> angles(360);  // more than the 256 beams a scan sets up at a time
   for (int i = 0; i < 360; ++i) angles[i] = -kPi + 2.0 * kPi * i / 360.0;
   std::vector<float> out(360);
   long compared = 0;
-  for (int p = 0; p < 40; ++p) {
-    Pose2 pose;
-    grid.grid_to_world(uniform(rng) * 300, uniform(rng) * 300, pose.x, pose.y);
-    pose.theta = uniform(rng) * 6.0;
-    rc.scan(pose, angles, 10.0, out);
-    for (int i = 0; i < 360; ++i, ++compared)
-      ASSERT_EQ(out[i], static_cast<float>(rc.cast_dda(pose.x, pose.y, pose.theta + angles[i], 10.0).distance))
-          << "pose " << p << " beam " << i;
+  for (const char* simd : {"", "avx2"}) {  // this CPU's best code, and the AVX2 code on any
+    if (*simd) setenv("VWG_RAYCAST_SIMD", simd, 1);
+    const GridRaycaster rc(grid);
+    if (*simd) unsetenv("VWG_RAYCAST_SIMD");
+    for (int p = 0; p < 40; ++p) {
+      Pose2 pose;
+      grid.grid_to_world(uniform(rng) * 300, uniform(rng) * 300, pose.x, pose.y);
+      pose.theta = uniform(rng) * 6.0;
+      rc.scan(pose, angles, 10.0, out);
+      for (int i = 0; i < 360; ++i, ++compared)
+        ASSERT_EQ(out[i], static_cast<float>(rc.cast_dda(pose.x, pose.y, pose.theta + angles[i], 10.0).distance))
+            << rc.simd() << " pose " << p << " beam " << i;
+    }
   }
-  EXPECT_EQ(compared, 40 * 360);
+  EXPECT_EQ(compared, 2 * 40 * 360);
 }
