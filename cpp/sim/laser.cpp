@@ -190,17 +190,17 @@ void LaserGenerator::generate(const FrameInfo&, EventList& out) {
   const Pose2 pose = scanner_->world().robot(robot_).pose;
   scanner_->scan(robot_, pose, angles_, spec_.max_range, ranges_);
   events_.clear();
-  // The scan writes max_range as a float: a max_range that float32 rounds down (3.3) must still
-  // read as no obstacle.
-  const auto nothing = static_cast<float>(spec_.max_range);
+  // The bounds as floats. The scan writes max_range as a float: a max_range that float32 rounds
+  // down (3.3) must still read as no obstacle.
   const auto low = static_cast<float>(spec_.min_range), high = static_cast<float>(spec_.max_range);
   for (std::size_t i = 0; i < ranges_.size(); ++i) {
-    if (ranges_[i] >= nothing) continue;  // no obstacle: no event (Table II: "if obstacle")
+    if (ranges_[i] >= high) continue;  // no obstacle: no event (Table II: "if obstacle")
     if (spec_.noise > 0.0) {
       // A noisy reading in single precision, as a real laser's scan (sensor_msgs/LaserScan)
       // carries it: the events of the simulated and the real robot alike, and a frame log a third
       // smaller. Clamped to the float32 values within [min_range, max_range].
-      float reading = static_cast<float>(std::clamp(ranges_[i] + rng_.normal(0.0, spec_.noise), spec_.min_range, spec_.max_range));
+      const double noisy = ranges_[i] + rng_.normal(0.0, spec_.noise);
+      float reading = static_cast<float>(std::clamp(noisy, spec_.min_range, spec_.max_range));
       if (reading < spec_.min_range) reading = std::nextafter(low, high);
       if (reading > spec_.max_range) reading = std::nextafter(high, low);
       ranges_[i] = reading;

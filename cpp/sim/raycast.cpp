@@ -507,9 +507,9 @@ constexpr int kGroups = 4;  ///< groups of 4 beams in flight
 /// Each statement of advance() is made for every group before the next statement: the four
 /// groups' chains of dependent operations then sit side by side in the core's window, where one
 /// group's whole jump after another (about 90 operations each) let only two overlap.
-#define VWG_EACH(statement)           \
+#define VWG_EACH(statement)                                   \
   _Pragma("GCC unroll 4") for (int k = 0; k < kGroups; ++k) { \
-    statement;                          \
+    statement;                                                \
   }
 
 /// One jump of GridRaycaster::trace for every active lane of every group. Beams that end are
@@ -583,8 +583,7 @@ VWG_AVX2 void advance(QuadLanes (&groups)[kGroups], const ScanSetup& s, float* o
     alignas(16) float range[4];
     alignas(16) std::int32_t beam[4];
     _mm_store_ps(range, _mm256_cvtpd_ps(value));
-    _mm_store_si128(reinterpret_cast<__m128i*>(beam), _mm_or_si128(_mm_andnot_si128(ended, _mm_set1_epi32(-1)),
-                                                                   _mm_and_si128(ended, groups[k].beam)));
+    _mm_store_si128(reinterpret_cast<__m128i*>(beam), _mm_blendv_epi8(_mm_set1_epi32(-1), groups[k].beam, ended));
     for (int lane = 0; lane < 4; ++lane) out[beam[lane]] = range[lane];
     groups[k].beam = _mm_or_si128(groups[k].beam, ended);
   });
