@@ -49,7 +49,7 @@ simulated laser. ``cast`` gives the hit cell, face and entry point; ``scan`` man
              return hit_to_python(r.cast_dda(x, y, angle, max_range));
            }, py::arg("x"), py::arg("y"), py::arg("angle"), py::arg("max_range"), "The plain cell-walk reference of cast().")
       .def_property_readonly("simd", [](const sim::GridRaycaster& r) { return std::string(r.simd()); },
-                             "The code scans run on here: 'avx512', 'avx2' or 'none' (VWG_RAYCAST_SIMD lowers it).")
+                             "The code scans run on here: 'avx512', 'avx2' or 'none' (the widest the CPU has, but 'avx2' on AMD's Zen 3 and 4; VWG_RAYCAST_SIMD=avx512, avx2 or none chooses, at most what the CPU has).")
       .def("scan", [](const sim::GridRaycaster& r, PoseArg pose, py::array_t<double, py::array::c_style | py::array::forcecast> angles,
                       double max_range) {
              const sim::Pose2 p = pose_from_python(pose, "pose");

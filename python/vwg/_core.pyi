@@ -1905,7 +1905,7 @@ class GridRaycaster:
     @property
     def simd(self) -> str:
         """
-        The code scans run on here: 'avx512', 'avx2' or 'none' (VWG_RAYCAST_SIMD lowers it).
+        The code scans run on here: 'avx512', 'avx2' or 'none' (the widest the CPU has, but 'avx2' on AMD's Zen 3 and 4; VWG_RAYCAST_SIMD=avx512, avx2 or none chooses, at most what the CPU has).
         """
 class RangeScanner:
     """

@@ -321,7 +321,8 @@ OccupancyGrid random_map(std::mt19937_64& rng, int kind) {
 
 /// Starts on a quarter-cell lattice, at cell centres, anywhere, or outside the map; directions
 /// through lattice points (which make exact corner ties) or random.
-/// simd: "" for the best the CPU has, or a cap for VWG_RAYCAST_SIMD ("avx2", "none").
+/// simd: "" for the code preferred on this CPU, or a choice for VWG_RAYCAST_SIMD ("avx512", "avx2",
+/// "none"; at most what the CPU has).
 void check_agreement(std::uint64_t seed, int maps, int poses_per_map, const char* simd = "") {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
@@ -376,7 +377,9 @@ void check_agreement(std::uint64_t seed, int maps, int poses_per_map, const char
 
 TEST(Raycast, FastPathsAgreeExactlyWithTheCellWalk) { check_agreement(1, 100, 30); }
 
-// The code for CPUs without AVX-512, and without SIMD (chosen here by VWG_RAYCAST_SIMD).
+// Each code, chosen here by VWG_RAYCAST_SIMD (this CPU's preferred code may be another: AVX2 on a
+// Zen 4, which has AVX-512 too).
+TEST(Raycast, Avx512PathsAgreeExactlyWithTheCellWalk) { check_agreement(4, 40, 30, "avx512"); }
 TEST(Raycast, Avx2PathsAgreeExactlyWithTheCellWalk) { check_agreement(2, 40, 30, "avx2"); }
 TEST(Raycast, PortablePathsAgreeExactlyWithTheCellWalk) { check_agreement(3, 40, 30, "none"); }
 
@@ -433,7 +436,7 @@ TEST(Raycast, ScansAgreeOnABiggerMap) {
   for (int i = 0; i < 360; ++i) angles[i] = -kPi + 2.0 * kPi * i / 360.0;
   std::vector<float> out(360);
   long compared = 0;
-  for (const char* simd : {"", "avx2"}) {  // this CPU's best code, and the AVX2 code on any
+  for (const char* simd : {"", "avx512", "avx2"}) {  // this CPU's preferred code, its widest, and the AVX2 code
     if (*simd) setenv("VWG_RAYCAST_SIMD", simd, 1);
     const GridRaycaster rc(grid);
     if (*simd) unsetenv("VWG_RAYCAST_SIMD");

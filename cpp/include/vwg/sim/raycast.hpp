@@ -65,10 +65,11 @@ class GridRaycaster {
   /// cast(...).distance, without working out the entry point.
   double range(double x, double y, double angle, double max_range) const;
   /// A scan: out[i] = range(pose.x, pose.y, pose.theta + angles[i], max_range), as float. The hot
-  /// path of the laser: 16 beams are traced at once when the CPU has AVX-512 or AVX2. The
-  /// environment variable VWG_RAYCAST_SIMD=avx2 or =none, set when the raycaster is made, caps
-  /// that (for tests and comparisons). Throws vwg::Error if out.size() != angles.size() or on the
-  /// inputs cast() refuses.
+  /// path of the laser: 16 beams are traced at once when the CPU has AVX-512 or AVX2 (the AVX2
+  /// code on AMD's Zen 4 too, where it is the faster). The environment variable
+  /// VWG_RAYCAST_SIMD=avx512, =avx2 or =none, set when the raycaster is made, chooses the code,
+  /// at most what the CPU has (for tests and comparisons; every code gives the same ranges).
+  /// Throws vwg::Error if out.size() != angles.size() or on the inputs cast() refuses.
   void scan(const Pose2& pose, std::span<const double> angles, double max_range, std::span<float> out) const;
 
   /// The plain reference: an Amanatides-Woo cell walk (crossing parameters computed from the
@@ -76,7 +77,7 @@ class GridRaycaster {
   /// tests and as the benchmark baseline.
   RayHit cast_dda(double x, double y, double angle, double max_range) const;
 
-  /// The code scan() runs on this CPU: "avx512", "avx2" or "none" (VWG_RAYCAST_SIMD lowers it).
+  /// The code scan() runs on this CPU: "avx512", "avx2" or "none" (VWG_RAYCAST_SIMD chooses it).
   std::string_view simd() const { return simd_ == Simd::kAvx512 ? "avx512" : simd_ == Simd::kAvx2 ? "avx2" : "none"; }
 
   int width() const { return width_; }
