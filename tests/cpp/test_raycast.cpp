@@ -450,5 +450,5 @@ TEST(Raycast, ScansAgreeOnABiggerMap) {
             << rc.simd() << " pose " << p << " beam " << i;
     }
   }
-  EXPECT_EQ(compared, 2 * 40 * 360);
+  EXPECT_EQ(compared, 3 * 40 * 360);
 }
