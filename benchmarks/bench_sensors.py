@@ -2,7 +2,9 @@
 
     laser   full 360-beam scans from random free poses on 1000×1000-cell maps (0.05 m cells, 10 m
             range), one core: the fast scan, and the plain cell walk (DDA) on the same poses in the
-            same run (ranges checked equal)
+            same run (ranges checked equal); and each SIMD code the CPU has on the same poses
+            (VWG_RAYCAST_SIMD), against each other, to check that the code a raycaster runs by
+            default is the faster on this CPU (AVX2 on AMD's Zen 4, which has AVX-512 too)
     box2d   one physics step (Box2D, 0.01 s) with 1 to 1,000 robots driving about and colliding
 
     python benchmarks/bench_sensors.py [--quick]      prints tables, writes benchmarks/results/bench_sensors.json
@@ -13,6 +15,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 import platform
 import sys
 import time
@@ -76,11 +79,40 @@ def bench_laser(quick: bool) -> dict:
         equal = bool(np.array_equal(caster.scans(dda_poses, angles, 10.0),
                                     caster.scans(dda_poses, angles, 10.0, method="dda")))
         out[name] = {"rays_per_s": fast_rays, "dda_rays_per_s": dda_rays, "ratio": fast_rays / dda_rays,
-                     "poses": int(poses.shape[0]), "equal_to_dda": equal, "simd": caster.simd}
+                     "poses": int(poses.shape[0]), "equal_to_dda": equal, "simd": caster.simd,
+                     "codes": each_code(grid, poses, angles)}
         ratio = fast_rays / dda_rays
         print(f"  {name:<10} {fast_rays / 1e6:10.1f} M/s {dda_rays / 1e6:8.2f} M/s {ratio:6.1f}x  {equal}"
               f"  ({caster.simd})")
+    print("  each SIMD code this CPU has, on the same poses (M rays/s, CPU time, codes alternating, best of 3): "
+          + "; ".join(f"{name} " + ", ".join(f"{code} {rate / 1e6:.1f}" for code, rate in v["codes"].items())
+                      for name, v in out.items()))
     return out
+
+
+def each_code(grid: SimpleNamespace, poses: np.ndarray, angles: np.ndarray) -> dict[str, float]:
+    """Rays/s of each scan code the CPU has (VWG_RAYCAST_SIMD chooses it when a raycaster is made),
+    in CPU time, the codes taking turns so that a slow minute hits them alike."""
+    casters = {}
+    before = os.environ.get("VWG_RAYCAST_SIMD")
+    for code in ("avx512", "avx2", "none"):
+        os.environ["VWG_RAYCAST_SIMD"] = code
+        try:
+            caster = _core.GridRaycaster(grid)
+        finally:
+            if before is None:
+                del os.environ["VWG_RAYCAST_SIMD"]
+            else:
+                os.environ["VWG_RAYCAST_SIMD"] = before
+        if caster.simd == code:
+            casters[code] = caster
+    best_s = dict.fromkeys(casters, math.inf)
+    for _ in range(3):
+        for code, caster in casters.items():
+            c0 = time.process_time()
+            caster.scans(poses, angles, 10.0)
+            best_s[code] = min(best_s[code], time.process_time() - c0)
+    return {code: poses.shape[0] * len(angles) / s for code, s in best_s.items()}
 
 
 def bench_box2d(quick: bool) -> dict:
