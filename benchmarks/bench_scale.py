@@ -13,7 +13,7 @@ Prints a table and writes benchmarks/results/bench_scale.json: rows with engine 
 planner (vwg: "astar" on one thread and every core, "jps" on every core; IR-SIM: "dash"), map,
 n_robots, threads, robot_steps_per_s, rays_per_s, ms_per_frame, realtime_factor, rss_mb (the
 process's resident memory after the run, pages shared between robots counted once: machine.rss_mb)
-and rss_per_robot_mb (what the run added, per robot); and
+and rss_per_robot_mb (what the run added, per robot, from 100 robots; None below); and
 the ratio vwg / IR-SIM for each N and planner both ran (vwg on every core). IR-SIM runs in a
 subprocess with the interpreter given by --irsim-python (its own environment: its dependencies are
 not vwg's); without
@@ -37,6 +37,7 @@ from machine import rss_mb, write_results
 
 RESULTS = Path(__file__).resolve().parent / "results" / "bench_scale.json"
 BEAMS, FOV, RANGE, DT = 180, math.pi, 10.0, 0.1
+MEMORY_PER_ROBOT_FROM = 100  # robots: smaller crowds get no memory figure per robot (see vwg_row)
 
 
 def settle_memory() -> None:
@@ -120,7 +121,11 @@ def vwg_row(world: Any, frames: int, threads: int, planner: str) -> dict[str, An
         wall = time.perf_counter() - t0
         done = run.engine.frame - first
         rss = rss_mb()
-    return {**row("vwg", world, threads, done, wall, rss, (rss - before) / len(world.robots)), "planner": planner}
+    # Below a hundred robots what a run adds is the process's own noise (a few MB either way: the
+    # allocator, the first use of a module), not the robots': no figure per robot.
+    n = len(world.robots)
+    per_robot = (rss - before) / n if n >= MEMORY_PER_ROBOT_FROM else None
+    return {**row("vwg", world, threads, done, wall, rss, per_robot), "planner": planner}
 
 
 def row(engine: str, world: Any, threads: int, frames: int, wall: float, rss: float,
@@ -154,7 +159,7 @@ def main() -> None:
     irsim_frames = {1: 50, 10: 20, 100: 5} if args.quick else {1: 200, 10: 50, 100: 10}
     # A* (the paper's decider) on one thread and every core; Jump Point Search (A*'s path lengths,
     # fewer cells expanded) on every core.
-    # Ten thousand robots: A* on every core alone (each of these runs takes about ten minutes here).
+    # Ten thousand robots: A* on every core alone (their first plans take minutes).
     jobs = [(m, n, "vwg", t, "astar") for m, n in sizes for t in thread_counts if n < 10000 or t == cores]
     jobs += [(m, n, "vwg", cores, "jps") for m, n in sizes if n < 10000]
     jobs += [("warehouse", n, "irsim", 1, "dash") for n in irsim_frames if args.irsim_python]
