@@ -102,7 +102,7 @@ pytest: test-deps
 	$(PY) -m pytest -q
 
 lint:
-	$(VENV)/bin/ruff check python tests examples benchmarks
+	$(VENV)/bin/ruff check python tests examples benchmarks tools
 
 ## A long run (benchmarks/bench_stress.py): 10,000 frames of 100 robots, an order every 50 frames; fails
 ## if the memory grows or the run slows down (about 3 min).

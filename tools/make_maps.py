@@ -558,7 +558,8 @@ def readme(worlds: list[tuple[WorldDef, RobotWorld]]) -> str:
         rooms = ", ".join(f"{r.name} ({r.marker})" for r in w.rooms.values())
         lines.append(f"| {w.name} | {w.grid.width_m:g} × {w.grid.height_m:g} | {w.grid.width} × {w.grid.height} "
                      f"| {rooms} | {len(w.robots)} | {d.summary} |")
-    lines += ["", "Markers are AprilTag tag36h11, 0.3 m, centred 0.6 m above the floor (a level camera 0.5 m up sees the whole tag from 0.7 m), on a wall face; a room's goal",
+    lines += ["", "Markers are AprilTag tag36h11, 0.3 m, centred 0.6 m above the floor "
+                  "(a level camera 0.5 m up sees the whole tag from 0.7 m), on a wall face; a room's goal",
               "is 1 m in front of its marker. `willow/SOURCE.md` gives the source, licence and resolution of the one",
               "real building.", ""]
     return "\n".join(lines)
