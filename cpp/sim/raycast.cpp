@@ -732,10 +732,13 @@ GridRaycaster::GridRaycaster(const OccupancyGrid& grid, int threshold)
     throw Error("GridRaycaster: the resolution must be a positive number of metres per cell");
   if (!std::isfinite(grid.origin.x) || !std::isfinite(grid.origin.y) || !std::isfinite(grid.origin.theta))
     throw Error("GridRaycaster: the grid origin must be finite");
-  // VWG_RAYCAST_SIMD=avx512, =avx2 or =none chooses the code (at most what the CPU has); unset,
-  // or any other value, the preferred code for this CPU.
+  // VWG_RAYCAST_SIMD=avx512, =avx2 or =none chooses the code (at most what the CPU has); unset or
+  // empty, the preferred code for this CPU. A misspelt choice is an error, not the default.
   const char* env = std::getenv("VWG_RAYCAST_SIMD");
   const std::string_view asked = env == nullptr ? "" : env;
+  if (!asked.empty() && asked != "avx512" && asked != "avx2" && asked != "none")
+    throw Error("VWG_RAYCAST_SIMD: expected avx512, avx2 or none (or unset, for this CPU's preferred code), got '" +
+                std::string(asked) + "'");
   const std::string_view level =
       simd_level(asked == "avx512" || asked == "avx2" || asked == "none" ? asked : preferred_simd());
   simd_ = level == "avx512" ? Simd::kAvx512 : level == "avx2" ? Simd::kAvx2 : Simd::kNone;

@@ -8,6 +8,7 @@
 #include <cstring>
 #include <numbers>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "vwg/error.hpp"
@@ -419,6 +420,23 @@ TEST(Raycast, BeamDirectionsRefusesBadInput) {
   std::vector<double> angles(3), du(3), dv(2);
   EXPECT_THROW(beam_directions(angles, "none", du, dv), Error);
   EXPECT_THROW(beam_directions(angles, "sse", du, du), Error);
+}
+
+TEST(Raycast, AMisspeltSimdChoiceIsAnErrorNamingTheVariable) {
+  const OccupancyGrid grid = make_grid(8, 8, 0.1, {0.0, 0.0, 0.0});
+  for (const char* bad : {"avx-512", "AVX2", "sse4"}) {
+    setenv("VWG_RAYCAST_SIMD", bad, 1);
+    try {
+      const GridRaycaster rc(grid);
+      ADD_FAILURE() << bad << " was taken for " << rc.simd();
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("VWG_RAYCAST_SIMD: expected avx512, avx2 or none"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(std::string("got '") + bad + "'"), std::string::npos) << e.what();
+    }
+  }
+  setenv("VWG_RAYCAST_SIMD", "", 1);  // empty, as unset: this CPU's preferred code
+  EXPECT_NO_THROW(GridRaycaster{grid});
+  unsetenv("VWG_RAYCAST_SIMD");
 }
 
 TEST(Raycast, ScansAgreeOnABiggerMap) {

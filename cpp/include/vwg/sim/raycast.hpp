@@ -68,8 +68,9 @@ class GridRaycaster {
   /// path of the laser: 16 beams are traced at once when the CPU has AVX-512 or AVX2 (the AVX2
   /// code on AMD's Zen 4 too, where it is the faster). The environment variable
   /// VWG_RAYCAST_SIMD=avx512, =avx2 or =none, set when the raycaster is made, chooses the code,
-  /// at most what the CPU has (for tests and comparisons; every code gives the same ranges).
-  /// Throws vwg::Error if out.size() != angles.size() or on the inputs cast() refuses.
+  /// at most what the CPU has (for tests and comparisons; every code gives the same ranges); the
+  /// constructor throws vwg::Error naming the variable for any other value. Throws vwg::Error if
+  /// out.size() != angles.size() or on the inputs cast() refuses.
   void scan(const Pose2& pose, std::span<const double> angles, double max_range, std::span<float> out) const;
 
   /// The plain reference: an Amanatides-Woo cell walk (crossing parameters computed from the
