@@ -74,9 +74,11 @@ def test_decision_swaps_without_touching_anything_else():
 
 
 def test_dstar_jps_and_astar_take_paths_of_the_same_length():
+    # The octile heuristic only changes how many cells a search expands (and which of equally
+    # short paths it returns), not the length of the path.
     w = world("maze")
     lengths = {}
-    for planner in ("astar", "dstar", "jps"):
+    for planner in ("astar", "dstar", "jps", "astar-octile", "jps-octile"):
         run = CaseStudy(w, planner, goals={1: "dead_end_4" if "dead_end_4" in w.rooms else next(iter(w.rooms))},
                         sensors=("laser",), world_orders=False)
         summary = run.run(frames=3000)
@@ -84,6 +86,17 @@ def test_dstar_jps_and_astar_take_paths_of_the_same_length():
         lengths[planner] = summary.path_length_m
     assert lengths["astar"] == pytest.approx(lengths["dstar"], rel=0.05)
     assert lengths["astar"] == pytest.approx(lengths["jps"], rel=0.05)
+    assert lengths["astar"] == pytest.approx(lengths["astar-octile"], rel=0.05)
+    assert lengths["astar"] == pytest.approx(lengths["jps-octile"], rel=0.05)
+
+
+def test_a_grid_decider_takes_a_heuristic_by_name():
+    assert vwg.robot.GridDecider("jps", heuristic="octile").name == "jps-octile"
+    assert vwg.robot.GridDecider().name == "astar"
+    with pytest.raises(vwg.SchemaError, match="unknown heuristic 'octal'"):
+        vwg.robot.GridDecider("astar", heuristic="octal")
+    with pytest.raises(vwg.SchemaError, match="expected 'astar', 'dstar' or 'jps', got 'dijkstra'"):
+        vwg.robot.GridDecider("dijkstra")
 
 
 def test_ompl_paths_never_cross_an_occupied_cell():

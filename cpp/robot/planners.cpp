@@ -127,6 +127,19 @@ bool NoWayMemo::shut(const geometry::BlockedGrid& grid, geometry::Cell start, ge
   return true;
 }
 
+GridDecider::GridDecider(Algorithm algorithm, plan::Heuristic heuristic) : algorithm_(algorithm) {
+  options_.heuristic = heuristic;
+  plan::validate(options_);
+  if (algorithm == Algorithm::DStarLite && heuristic != plan::Heuristic::Euclidean)
+    throw SchemaError("heuristic", "D* Lite's decider keeps its own heuristic (euclidean), not " +
+                                       std::string(plan::heuristic_name(heuristic)));
+}
+
+std::string GridDecider::name() const {
+  const std::string base = algorithm_ == Algorithm::AStar ? "astar" : algorithm_ == Algorithm::DStarLite ? "dstar" : "jps";
+  return options_.heuristic == plan::Heuristic::Euclidean ? base : base + "-" + std::string(plan::heuristic_name(options_.heuristic));
+}
+
 double GridDecider::search_seconds() const {
   const std::lock_guard<std::mutex> lock(mutex_);
   return stats_.seconds;
@@ -149,10 +162,10 @@ plan::GridPath GridDecider::search(RobotState& s, geometry::Cell start, geometry
     // One A* per thread, kept for every search: its node arrays (the size of the map) are made
     // once, not per search (they stay until the thread ends).
     thread_local plan::AStar astar;
-    path = astar.search(s.map.inflated(), start, goal);
+    path = astar.search(s.map.inflated(), start, goal, options_);
   } else if (algorithm_ == Algorithm::JumpPoint) {
     thread_local plan::JumpPointSearch jps;  // as A*'s: one per thread
-    path = jps.search(s.map.inflated(), start, goal);
+    path = jps.search(s.map.inflated(), start, goal, options_);
   } else {
     if (!s.dstar || !(s.goal == goal) || s.dstar->grid().rows() != s.map.inflated().rows()) {
       s.dstar.emplace(s.map.inflated(), start, goal);

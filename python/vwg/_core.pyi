@@ -2222,10 +2222,13 @@ class RandomDecider(Decider):
 class GridDecider(Decider):
     """
     Shortest paths on the robot's own map, inflated by its radius: full A* (8-connected, √2 diagonals,
-    no corner cutting, Euclidean heuristic, obstacles infinite — the paper's second algorithm) or D* Lite,
-    which repairs its search as obstacles appear. Replans when the path becomes blocked.
+    no corner cutting, Euclidean heuristic, obstacles infinite — the paper's second algorithm), Jump
+    Point Search (A*'s path lengths, fewer cells expanded) or D* Lite, which repairs its search as
+    obstacles appear. Replans when the path becomes blocked. heuristic: "euclidean" (the paper's) or
+    "octile" (A* and JPS only: exact on an open grid, so the same lengths with fewer cells expanded;
+    registered as "astar-octile" and "jps-octile").
     """
-    def __init__(self, algorithm: str = 'astar') -> None:
+    def __init__(self, algorithm: str = 'astar', heuristic: str = 'euclidean') -> None:
         ...
     @property
     def search_seconds(self) -> float:

@@ -38,8 +38,8 @@ __all__ = ["CaseStudy", "Orders", "RobotSummary", "RunSummary", "case_study_worl
 
 
 def make_decider(planner: str | _core.Decider) -> _core.Decider:
-    """A decider by its registered name (vwg.registry.deciders: random, astar, dstar, rrtconnect,
-    rrtstar, prm, and any a third party registers), or the one given."""
+    """A decider by its registered name (vwg.registry.deciders: random, astar, astar-octile, dstar,
+    jps, jps-octile, rrtconnect, rrtstar, prm, and any a third party registers), or the one given."""
     if isinstance(planner, _core.Decider):
         return planner
     name = planner.lower()

@@ -306,8 +306,8 @@ def build_parser() -> argparse.ArgumentParser:
     robot.add_argument("--url", help="the rosbridge server of --platform rosbridge (ws://HOST:PORT)")
     robot.add_argument("--port", help="the serial port of --platform serial (/dev/ttyUSB0, socket://HOST:PORT)")
     robot.add_argument("--planner",
-                       help="the decision inside eDecide: random, astar, jps, dstar, rrtconnect, rrtstar, prm "
-                            "(default astar)")
+                       help="the decision inside eDecide: random, astar, jps, dstar, rrtconnect, rrtstar, prm, "
+                            "astar-octile, jps-octile (A* and JPS with the octile heuristic) (default astar)")
     robot.add_argument("--goal", action="append", metavar="[ROBOT:]ROOM",
                        help="send a robot (default the first) to a room at the start; repeatable; replaces "
                             "the world file's orders")

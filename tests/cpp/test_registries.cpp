@@ -6,6 +6,7 @@
 
 #include "vwg/alphabet.hpp"
 #include "vwg/backend.hpp"
+#include "vwg/robot/planners.hpp"
 #include "vwg/robot/registries.hpp"
 #include "vwg/sim/laser.hpp"
 
@@ -34,21 +35,30 @@ geometry::OccupancyGrid room(int cells, double res) {
 
 TEST(Registries, BuiltInDecidersAreMadeByName) {
   const auto names = robot::deciders().names();
-  for (const char* name : {"random", "astar", "jps", "dstar", "rrtconnect", "rrtstar", "prm"}) {
+  for (const char* name : {"random", "astar", "jps", "dstar", "rrtconnect", "rrtstar", "prm", "astar-octile", "jps-octile"}) {
     EXPECT_NE(std::find(names.begin(), names.end(), name), names.end()) << name;
   }
-  EXPECT_EQ(robot::deciders().create("astar")->name(), "astar");
-  EXPECT_EQ(robot::deciders().create("dstar")->name(), "dstar");
-  EXPECT_EQ(robot::deciders().create("jps")->name(), "jps");
+  // Each grid decider says its own name, heuristic included.
+  for (const char* name : {"astar", "dstar", "jps", "astar-octile", "jps-octile"}) EXPECT_EQ(robot::deciders().create(name)->name(), name);
   EXPECT_NE(robot::deciders().create("astar"), robot::deciders().create("astar"));  // a new one each time
 }
 
 TEST(Registries, UnknownAndDuplicateNamesAreRefusedWithTheKnownOnes) {
   const std::string unknown = error_of([] { robot::deciders().create("dijkstra"); });
-  EXPECT_NE(unknown.find("unknown decider 'dijkstra' (known: astar, dstar, jps, prm, random, rrtconnect, rrtstar"),
+  EXPECT_NE(unknown.find("unknown decider 'dijkstra' (known: astar, astar-octile, dstar, jps, jps-octile, prm, random, rrtconnect, rrtstar"),
             std::string::npos) << unknown;
   const std::string twice = error_of([] { backends().add("trace", [] { return std::make_shared<NullBackend>(); }); });
   EXPECT_NE(twice.find("backend 'trace': is already registered"), std::string::npos) << twice;
+}
+
+TEST(Registries, AGridDeciderRefusesAHeuristicItCannotUse) {
+  using Algorithm = robot::GridDecider::Algorithm;
+  // Manhattan overestimates a diagonal move: the searches would return longer paths.
+  const std::string manhattan = error_of([] { robot::GridDecider(Algorithm::AStar, plan::Heuristic::Manhattan); });
+  EXPECT_NE(manhattan.find("heuristic"), std::string::npos) << manhattan;
+  const std::string dstar = error_of([] { robot::GridDecider(Algorithm::DStarLite, plan::Heuristic::Octile); });
+  EXPECT_NE(dstar.find("D* Lite's decider keeps its own heuristic (euclidean), not octile"), std::string::npos) << dstar;
+  EXPECT_EQ(robot::GridDecider(Algorithm::JumpPoint, plan::Heuristic::Zero).name(), "jps-zero");
 }
 
 TEST(Registries, AThirdPartyRegistersWithoutEditingVwg) {

