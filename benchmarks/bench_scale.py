@@ -15,10 +15,11 @@ planner (vwg: "astar" on one thread and every core, "astar-octile" and "jps" on 
 "dash"), map, n_robots, threads, robot_steps_per_s, rays_per_s, ms_per_frame, realtime_factor,
 rss_mb (the process's resident memory after the run, pages shared between robots counted once:
 machine.rss_mb) and rss_per_robot_mb (what the run added, per robot, from 100 robots; None below);
-and the ratio vwg / IR-SIM for each N and planner both ran (vwg on every core). IR-SIM runs in a
-subprocess with the interpreter given by --irsim-python (its own environment: its dependencies are
-not vwg's); without
-one, its rows are left out and the table says so.
+vwg's rows also searches_per_robot_step and search_s_per_frame (the planner's searches in the timed
+frames, their seconds summed over the threads); and the ratio vwg / IR-SIM for each N and planner
+both ran (vwg on every core). IR-SIM runs in a subprocess with the interpreter given by
+--irsim-python (its own environment: its dependencies are not vwg's); without one, its rows are
+left out and the table says so.
 """
 
 from __future__ import annotations
@@ -123,17 +124,21 @@ def vwg_row(world: Any, frames: int, threads: int, planner: str) -> dict[str, An
     before = rss_mb()
     with CaseStudy(world, planner, goals=goals, sensors=("laser",), threads=threads) as run:
         run.run(frames=WARMUP_FRAMES)  # first plans, first scans, and the crowd's robots met
-        first = run.engine.frame
+        first, searches, search_s = run.engine.frame, run.decider.searches, run.decider.search_seconds
         t0 = time.perf_counter()
         run.engine.run(frames)  # the frames alone (no summary)
         wall = time.perf_counter() - t0
         done = run.engine.frame - first
+        searches, search_s = run.decider.searches - searches, run.decider.search_seconds - search_s
         rss = rss_mb()
     # Below a hundred robots what a run adds is the process's own noise (a few MB either way: the
     # allocator, the first use of a module), not the robots': no figure per robot.
     n = len(world.robots)
     per_robot = (rss - before) / n if n >= MEMORY_PER_ROBOT_FROM else None
-    return {**row("vwg", world, threads, done, wall, rss, per_robot), "planner": planner}
+    # The replanning in the timed frames: how often a robot searched, and the searches' share of
+    # the CPU time the frames took on every thread (search_seconds sums the threads' searches).
+    return {**row("vwg", world, threads, done, wall, rss, per_robot), "planner": planner,
+            "searches_per_robot_step": searches / max(1, n * done), "search_s_per_frame": search_s / max(1, done)}
 
 
 def row(engine: str, world: Any, threads: int, frames: int, wall: float, rss: float,
@@ -184,14 +189,17 @@ def main() -> None:
             rows.append(vwg_row(world, frames[n], threads, planner))
         elif r := irsim_row(world, irsim_frames[n], args.irsim_python):
             rows.append(r)
-    print(f"{'engine':>6} {'planner':>7} {'map':>9} {'robots':>6} {'threads':>7} {'robot-steps/s':>14} {'rays/s':>12} "
-          f"{'ms/frame':>9} {'× real time':>11} {'RSS MB':>7} {'MB/robot':>8}")
+    print(f"{'engine':>6} {'planner':>12} {'map':>9} {'robots':>6} {'threads':>7} {'robot-steps/s':>14} {'rays/s':>12} "
+          f"{'ms/frame':>9} {'× real time':>11} {'RSS MB':>7} {'MB/robot':>8} {'searches/step':>13} "
+          f"{'search ms/frame':>15}")
     for r in rows:
         per = "" if r["rss_per_robot_mb"] is None else f"{r['rss_per_robot_mb']:.2f}"
-        print(f"{r['engine']:>6} {r['planner']:>7} {r['map']:>9} {r['n_robots']:>6} {r['threads']:>7} "
+        searches = f"{r['searches_per_robot_step']:.4f}" if "searches_per_robot_step" in r else ""
+        search_ms = f"{1000 * r['search_s_per_frame']:.1f}" if "search_s_per_frame" in r else ""
+        print(f"{r['engine']:>6} {r['planner']:>12} {r['map']:>9} {r['n_robots']:>6} {r['threads']:>7} "
               f"{r['robot_steps_per_s']:>14,.0f} "
               f"{r['rays_per_s']:>12,.0f} {r['ms_per_frame']:>9.1f} {r['realtime_factor']:>11.2f} "
-              f"{r['rss_mb']:>7.0f} {per:>8}")
+              f"{r['rss_mb']:>7.0f} {per:>8} {searches:>13} {search_ms:>15}")
     ratios: dict[str, float] = {}
     for r in rows:
         peer = next((p for p in rows if p["engine"] == "irsim" and p["n_robots"] == r["n_robots"]), None)
