@@ -655,6 +655,9 @@ void grid_directions(const double* relative, std::size_t n, double* du, double* 
   for (std::size_t i = 0; i < n; ++i) du[i] += 0.0, dv[i] += 0.0;
 }
 
+/// Whether `name` names a scan code: "avx512", "avx2" or "none".
+bool is_simd_name(std::string_view name) { return name == "avx512" || name == "avx2" || name == "none"; }
+
 /// The widest SIMD code this CPU runs, at most `cap` ("avx512", "avx2" or "none").
 std::string_view simd_level(std::string_view cap) {
 #ifdef VWG_RAYCAST_X86
@@ -685,7 +688,7 @@ std::string_view beam_directions(std::span<const double> relative, std::string_v
   if (du.size() != relative.size() || dv.size() != relative.size())
     throw Error("beam_directions: " + std::to_string(relative.size()) + " angles for " + std::to_string(du.size()) +
                 " and " + std::to_string(dv.size()) + " outputs");
-  if (simd != "avx512" && simd != "avx2" && simd != "none")
+  if (!is_simd_name(simd))
     throw Error("beam_directions: simd must be avx512, avx2 or none, not '" + std::string(simd) + "'");
   const std::string_view level = simd_level(simd);
   grid_directions(relative.data(), relative.size(), du.data(), dv.data(), level == "avx512", level == "avx2");
@@ -736,11 +739,10 @@ GridRaycaster::GridRaycaster(const OccupancyGrid& grid, int threshold)
   // empty, the preferred code for this CPU. A misspelt choice is an error, not the default.
   const char* env = std::getenv("VWG_RAYCAST_SIMD");
   const std::string_view asked = env == nullptr ? "" : env;
-  if (!asked.empty() && asked != "avx512" && asked != "avx2" && asked != "none")
+  if (!asked.empty() && !is_simd_name(asked))
     throw Error("VWG_RAYCAST_SIMD: expected avx512, avx2 or none (or unset, for this CPU's preferred code), got '" +
                 std::string(asked) + "'");
-  const std::string_view level =
-      simd_level(asked == "avx512" || asked == "avx2" || asked == "none" ? asked : preferred_simd());
+  const std::string_view level = simd_level(asked.empty() ? preferred_simd() : asked);
   simd_ = level == "avx512" ? Simd::kAvx512 : level == "avx2" ? Simd::kAvx2 : Simd::kNone;
 
   // Per quadrant, the largest free square anchored at each cell: 1 + the smallest of its three
