@@ -19,8 +19,6 @@ bool planning_obstacle(std::int16_t v) { return is_obstacle(v) || v == kUnknownC
 void PlanningMap::rebuild(std::span<const std::int16_t> cells, const geometry::MapGeometry& g, double radius) {
   const int rows = g.height, cols = g.width;
   const double rc = radius / g.resolution;
-  seen_ = SharedArray<std::int16_t>(cells.size());
-  std::copy(cells.begin(), cells.end(), seen_.data());
   std::vector<std::uint8_t> mask(cells.size());
   for (std::size_t i = 0; i < cells.size(); ++i) mask[i] = planning_obstacle(cells[i]);
   obstacles_ = geometry::BlockedGrid::from_mask(std::span<const std::uint8_t>(mask), rows, cols);
@@ -82,7 +80,6 @@ bool PlanningMap::start_from_original(const Blob& map, const geometry::MapGeomet
   const auto original = originals.get(map.origin(), std::tuple{g.height, g.width, g.resolution, radius}, [&] {
     PlanningMap m;
     m.rebuild(map.original_view<std::int16_t>(), g, radius);
-    m.seen_.share();
     m.obstacles_.share();
     m.inflated_.share();
     m.cover_.share();
@@ -95,37 +92,42 @@ bool PlanningMap::start_from_original(const Blob& map, const geometry::MapGeomet
 }
 
 std::size_t PlanningMap::private_pages() const {
-  return seen_.private_pages() + obstacles_.private_pages() + inflated_.private_pages() + cover_.private_pages();
+  return obstacles_.private_pages() + inflated_.private_pages() + cover_.private_pages();
+}
+
+bool PlanningMap::follow(std::size_t i, std::int16_t value, int cols) {
+  const geometry::Cell cell{static_cast<int>(i / static_cast<std::size_t>(cols)), static_cast<int>(i % static_cast<std::size_t>(cols))};
+  // The obstacle grid holds what the cell was, as far as planning goes.
+  const bool is = planning_obstacle(value);
+  if (obstacles_.blocked(cell) == is) return false;
+  if (counted_) {
+    set_obstacle(cell.row, cell.col, is);
+  } else {
+    obstacles_.set_blocked(cell, is);
+  }
+  return true;
 }
 
 bool PlanningMap::update(const Blob& map, const geometry::MapGeometry& g, double radius) {
   check_robot_map(map, g);
   const auto cells = map.view<std::int16_t>();
+  const Blob::Mark then = looked_;
   bool changed = false;
   if (radius != radius_ || obstacles_.rows() != g.height || obstacles_.cols() != g.width) {
     if (!map.shared() || !start_from_original(map, g, radius)) {
       rebuild(cells, g, radius);
-      revision_ = map.revision();
+      looked_ = map.mark();
       return true;
     }
-    changed = true;  // a first look: the cells this copy changed are followed below
-  } else if (map.revision() == revision_) {
-    return false;
-  }
-  revision_ = map.revision();
-  // The cells that differ from the last look.
-  for_each_changed_cell(cells, seen_.span(), [&](std::size_t i) {
+    // A first look: the cells this copy changed from the shared content.
+    for_each_changed_cell(cells, map.original_view<std::int16_t>(), [&](std::size_t i) { follow(i, cells[i], g.width); });
     changed = true;
-    const bool was = planning_obstacle(seen_[i]), is = planning_obstacle(cells[i]);
-    seen_.set(i, cells[i]);
-    if (was == is) return;
-    const int row = static_cast<int>(i / static_cast<std::size_t>(g.width)), col = static_cast<int>(i % static_cast<std::size_t>(g.width));
-    if (counted_) {
-      set_obstacle(row, col, is);
-    } else {
-      obstacles_.set_blocked({row, col}, is);
-    }
-  });
+  } else if (then.revision == map.revision()) {
+    return false;
+  } else if (!map.written_since(then, [&](std::size_t i) { changed |= follow(i, cells[i], g.width); })) {
+    for (std::size_t i = 0; i < cells.size(); ++i) changed |= follow(i, cells[i], g.width);  // it cannot tell which: all of them
+  }
+  looked_ = map.mark();
   if (changed && !counted_) inflated_ = geometry::inflate(obstacles_, radius / g.resolution);
   // The pages of what has gone again go back to the shared grids, every kReshareEvery looks at a
   // new revision.
@@ -134,7 +136,6 @@ bool PlanningMap::update(const Blob& map, const geometry::MapGeometry& g, double
 }
 
 void PlanningMap::reshare() {
-  seen_.reshare();
   obstacles_.reshare();
   inflated_.reshare();
   cover_.reshare();

@@ -1,7 +1,9 @@
 #include "vwg/blob.hpp"
 
 #include <atomic>
+#include <algorithm>
 #include <cstring>
+#include <limits>
 #include <string>
 
 #include "vwg/error.hpp"
@@ -72,12 +74,30 @@ void Blob::note_written() {
   bytes_.note_written();
   hash_valid_.store(false, std::memory_order_relaxed);
   revision_ = new_revision();
+  if (log_) {  // what the log knows stops here: it starts again from this content
+    log_->from = log_->edits;
+    log_->from_revision = revision_;
+  }
 }
 
 void Blob::note_written_at(std::size_t offset) {
   bytes_.note_written(offset);
   hash_valid_.store(false, std::memory_order_relaxed);
+  const std::uint64_t before = revision_;
   revision_ = new_revision();
+  const std::size_t element = offset / dtype_size(dtype_);
+  if (!log_) {
+    log_ = std::make_unique<EditLog>();
+    log_->ring.resize(std::max<std::size_t>(1, std::min(kLoggedWrites, size_)));
+    log_->from_revision = before;
+  }
+  if (element > std::numeric_limits<std::uint32_t>::max()) {  // not loggable: as a write of the whole
+    log_->from = log_->edits;
+    log_->from_revision = revision_;
+    return;
+  }
+  log_->ring[log_->edits % log_->ring.size()] = {static_cast<std::uint32_t>(element), revision_};
+  ++log_->edits;
 }
 
 Blob::Blob(DType dtype, std::vector<std::int64_t> shape, const void* data, std::size_t nbytes)
@@ -108,7 +128,8 @@ bool Blob::same_content(const Blob& other) const {
 }
 
 Blob::Blob(const Blob& other)
-    : dtype_(other.dtype_), shape_(other.shape_), size_(other.size_), bytes_(other.bytes_), revision_(other.revision_) {
+    : dtype_(other.dtype_), shape_(other.shape_), size_(other.size_), bytes_(other.bytes_), revision_(other.revision_),
+      log_(other.log_ ? std::make_unique<EditLog>(*other.log_) : nullptr) {
   if (other.hash_valid_.load(std::memory_order_acquire)) {
     hash_.store(other.hash_.load(std::memory_order_relaxed), std::memory_order_relaxed);
     hash_valid_.store(true, std::memory_order_relaxed);

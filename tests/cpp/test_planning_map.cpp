@@ -221,6 +221,42 @@ TEST(PlanningMap, ACellChangedAndChangedBackIsNoChange) {
   EXPECT_TRUE(pm.obstacles().blocked({5, 5}));
 }
 
+TEST(PlanningMap, FollowsAMapThatCannotTellWhatWasWritten) {
+  // Between two looks: more writes than the map's log keeps, or a write of the whole map. The
+  // grids then compare every cell; checked against grids made from scratch (geometry::inflate).
+  const int rows = 60, cols = 70;
+  const geometry::MapGeometry g{cols, rows, 0.05, {}};
+  const double radius = 0.12;
+  std::mt19937 rng(17);
+  Blob map(DType::Int16, {rows, cols});
+  PlanningMap pm;
+  pm.update(map, g, radius);
+  auto expect_as_rebuilt = [&](const char* what) {
+    const auto cells = map.view<std::int16_t>();
+    std::vector<std::uint8_t> mask(cells.size());
+    for (std::size_t i = 0; i < cells.size(); ++i) mask[i] = blocks(cells[i]);
+    const auto obstacles = geometry::BlockedGrid::from_mask(std::span<const std::uint8_t>(mask), rows, cols);
+    const auto inflated = geometry::inflate(obstacles, radius / g.resolution);
+    for (int r = 0; r < rows; ++r) {
+      for (int c = 0; c < cols; ++c) {
+        ASSERT_EQ(pm.obstacles().blocked({r, c}), obstacles.blocked({r, c})) << what << " " << r << "," << c;
+        ASSERT_EQ(pm.inflated().blocked({r, c}), inflated.blocked({r, c})) << what << " " << r << "," << c;
+      }
+    }
+  };
+  BlobEdit<std::int16_t> edit(map);
+  const std::int16_t values[] = {kFreeCell, kFreeCell, kUnknownCell, kSeenCell};
+  for (std::size_t k = 0; k < 3 * Blob::kLoggedWrites; ++k) edit.set(rng() % map.size(), values[rng() % 4]);
+  EXPECT_FALSE(map.written_since(Blob::Mark{}, [](std::size_t) {})) << "the case under test: the log cannot tell";
+  EXPECT_TRUE(pm.update(map, g, radius));
+  expect_as_rebuilt("after more writes than the log keeps");
+  auto whole = map.mutable_view<std::int16_t>();
+  for (int c = 0; c < cols; ++c) whole[static_cast<std::size_t>(30) * cols + c] = kWallCell;  // a wall across
+  EXPECT_TRUE(pm.update(map, g, radius));
+  expect_as_rebuilt("after a write of the whole map");
+  EXPECT_FALSE(pm.update(map, g, radius));
+}
+
 TEST(PlanningMap, RefusesAMapOfAnotherShape) {
   PlanningMap pm;
   Blob map(DType::Int16, {4, 4});

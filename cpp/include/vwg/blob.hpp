@@ -50,7 +50,8 @@ class Blob {
   /// Call after writing through a pointer taken earlier: forgets the cached hash and takes a new
   /// revision.
   void note_written();
-  /// note_written() for the element at byte `offset` alone (reshare() then looks at its page only).
+  /// note_written() for the element at byte `offset` alone (reshare() then looks at its page only),
+  /// remembered in the blob's log of element writes (see written_since).
   void note_written_at(std::size_t offset);
   /// Give back to the shared content the pages written since the last call that are equal to it
   /// again (SharedPages::reshare); returns how many. Changes no byte, so no revision either.
@@ -75,6 +76,30 @@ class Blob {
   /// content: equal revisions mean equal content (a copy keeps its original's until written).
   /// Cheaper than content_hash() to tell whether a blob changed since it was last looked at.
   std::uint64_t revision() const { return revision_; }
+
+  /// Where the blob's content stands now, to ask later which elements were written since
+  /// (written_since).
+  struct Mark {
+    std::uint64_t revision = 0;
+    std::uint64_t edits = 0;  // element writes logged when the mark was taken
+  };
+  Mark mark() const { return {revision_, log_ ? log_->edits : 0}; }
+  /// Calls each(k) for the flat index k of every element written (note_written_at) since `then`, a
+  /// mark of this blob or of the blob it was copied from, oldest first; an element written twice
+  /// comes twice, and one written back to its old value comes too. Returns false, calling nothing,
+  /// when the blob cannot tell: it was written whole since (note_written), `then` marks another
+  /// history, or more than kLoggedWrites writes were made since. For a reader that keeps
+  /// something worked out from a large blob (a planner's grids of a robot's map) and follows the
+  /// few elements that change instead of comparing a copy of the whole blob.
+  template <class Each>
+  bool written_since(const Mark& then, Each&& each) const {
+    if (then.revision == revision_) return true;
+    if (!log_ || !log_->holds(then)) return false;
+    for (std::uint64_t k = then.edits; k < log_->edits; ++k) each(std::size_t{log_->ring[k % log_->ring.size()].element});
+    return true;
+  }
+  /// How many element writes the log keeps at most (fewer for a smaller blob: its size).
+  static constexpr std::size_t kLoggedWrites = 2048;
 
   template <class T>
   std::span<const T> view() const {
@@ -101,6 +126,22 @@ class Blob {
   mutable std::atomic<std::uint64_t> hash_{0};
   mutable std::atomic<bool> hash_valid_{false};
   std::uint64_t revision_;
+  // The last element writes, made when the first is: most blobs are never written by element.
+  struct EditLog {
+    struct Write {
+      std::uint32_t element;
+      std::uint64_t revision;  // the blob's revision after the write
+    };
+    std::vector<Write> ring;  // write k at k % ring.size()
+    std::uint64_t edits = 0;  // element writes so far
+    std::uint64_t from = 0, from_revision = 0;  // the log is whole from write `from` on, made at that revision
+    bool holds(const Mark& then) const {
+      if (then.edits < from || then.edits > edits || edits - then.edits >= ring.size()) return false;
+      const std::uint64_t at = then.edits == from ? from_revision : ring[(then.edits - 1) % ring.size()].revision;
+      return at == then.revision;
+    }
+  };
+  std::unique_ptr<EditLog> log_;
 };
 
 }  // namespace vwg

@@ -16,11 +16,12 @@ namespace vwg::robot {
 class PlanningMap {
  public:
   /// Bring the grids up to `map` (a robot map of geometry `g`) for a robot of `radius` metres;
-  /// true if the map changed since the last call (any cell), false if it is the same. The first
-  /// call for a copy of a shared map (Blob::share: the known map every robot starts from) starts
-  /// from the grids of the shared content, made once for all robots and shared page by page, and
-  /// follows the cells this copy changed. Every kReshareEvery calls that see a new revision of the
-  /// map, it calls reshare().
+  /// true if the grids changed since the last call (a cell became an obstacle, or unknown, or
+  /// stopped being one), false if they are the same. The first call for a copy of a shared map (Blob::share: the known map every robot
+  /// starts from) starts from the grids of the shared content, made once for all robots and shared
+  /// page by page, and follows the cells this copy changed. Later calls follow the cells written
+  /// since the last one (Blob::written_since), or compare every cell with the grids when the map
+  /// cannot tell. Every kReshareEvery calls that see a new revision of the map, it calls reshare().
   bool update(const Blob& map, const geometry::MapGeometry& g, double radius);
   /// Give back the pages of the grids that are equal to the shared grids again (what a robot saw
   /// pass and then saw gone): SharedPages::reshare.
@@ -40,10 +41,11 @@ class PlanningMap {
   /// Become the shared grids of `map`'s original content; false if it has none.
   bool start_from_original(const Blob& map, const geometry::MapGeometry& g, double radius);
   void set_obstacle(int row, int col, bool blocked);
+  /// Follow cell `i` of the map, which holds `value` now; true if the grids changed.
+  bool follow(std::size_t i, std::int16_t value, int cols);
 
-  std::uint64_t revision_ = 0;  // Blob::revision() of the map last looked at
+  Blob::Mark looked_;  // the map as last looked at
   double radius_ = -1.0;
-  SharedArray<std::int16_t> seen_;  // its cells
   geometry::BlockedGrid obstacles_, inflated_;
   std::vector<geometry::Cell> disc_;      // offsets covered by an obstacle cell's disc
   SharedArray<std::uint16_t> cover_;  // per cell: obstacle discs (and the map's edge) covering it
