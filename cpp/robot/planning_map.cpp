@@ -108,6 +108,26 @@ bool PlanningMap::follow(std::size_t i, std::int16_t value, int cols) {
   return true;
 }
 
+bool PlanningMap::follow_all(std::span<const std::int16_t> cells, int cols) {
+  // Row by row, 64 cells at a time against the obstacle grid's bytes (a loop the compiler makes
+  // vector code of): a robot's map differs from its grids in a few cells, if any.
+  bool changed = false;
+  const std::uint8_t* grid = obstacles_.padded().data();
+  for (int r = 0; r < obstacles_.rows(); ++r) {
+    const std::size_t first = static_cast<std::size_t>(r) * static_cast<std::size_t>(cols);
+    const std::int16_t* row = cells.data() + first;
+    const std::uint8_t* was = grid + obstacles_.index({r, 0});
+    for (int c0 = 0; c0 < cols; c0 += 64) {
+      const int end = std::min(cols, c0 + 64);
+      bool differ = false;
+      for (int c = c0; c < end; ++c) differ |= planning_obstacle(row[c]) != (was[c] != 0);
+      if (!differ) continue;
+      for (int c = c0; c < end; ++c) changed |= follow(first + static_cast<std::size_t>(c), row[c], cols);
+    }
+  }
+  return changed;
+}
+
 bool PlanningMap::update(const Blob& map, const geometry::MapGeometry& g, double radius) {
   check_robot_map(map, g);
   const auto cells = map.view<std::int16_t>();
@@ -125,7 +145,7 @@ bool PlanningMap::update(const Blob& map, const geometry::MapGeometry& g, double
   } else if (then.revision == map.revision()) {
     return false;
   } else if (!map.written_since(then, [&](std::size_t i) { changed |= follow(i, cells[i], g.width); })) {
-    for (std::size_t i = 0; i < cells.size(); ++i) changed |= follow(i, cells[i], g.width);  // it cannot tell which: all of them
+    changed = follow_all(cells, g.width);  // it cannot tell which
   }
   looked_ = map.mark();
   if (changed && !counted_) inflated_ = geometry::inflate(obstacles_, radius / g.resolution);

@@ -74,10 +74,7 @@ void Blob::note_written() {
   bytes_.note_written();
   hash_valid_.store(false, std::memory_order_relaxed);
   revision_ = new_revision();
-  if (log_) {  // what the log knows stops here: it starts again from this content
-    log_->from = log_->edits;
-    log_->from_revision = revision_;
-  }
+  if (log_) log_->restart(revision_);
 }
 
 void Blob::note_written_at(std::size_t offset) {
@@ -90,14 +87,27 @@ void Blob::note_written_at(std::size_t offset) {
     log_ = std::make_unique<EditLog>();
     log_->ring.resize(std::max<std::size_t>(1, std::min(kLoggedWrites, size_)));
     log_->from_revision = before;
+    log_->history = EditLog::next_history();
   }
   if (element > std::numeric_limits<std::uint32_t>::max()) {  // not loggable: as a write of the whole
-    log_->from = log_->edits;
-    log_->from_revision = revision_;
+    log_->restart(revision_);
     return;
   }
-  log_->ring[log_->edits % log_->ring.size()] = {static_cast<std::uint32_t>(element), revision_};
+  log_->ring[log_->edits % log_->ring.size()] = static_cast<std::uint32_t>(element);
   ++log_->edits;
+}
+
+std::uint64_t Blob::EditLog::next_history() { return next_unique_number<EditLog>(); }
+
+std::unique_ptr<Blob::EditLog> Blob::copy_log() const {
+  if (!log_) return nullptr;
+  auto copy = std::make_unique<EditLog>(*log_);
+  // From here on the copy's writes and the original's differ: a mark the copy takes later is not
+  // one of the original's, nor the reverse; a mark of the original up to here holds for both.
+  copy->parent = log_->history;
+  copy->forked_at = log_->edits;
+  copy->history = EditLog::next_history();
+  return copy;
 }
 
 Blob::Blob(DType dtype, std::vector<std::int64_t> shape, const void* data, std::size_t nbytes)
@@ -129,7 +139,7 @@ bool Blob::same_content(const Blob& other) const {
 
 Blob::Blob(const Blob& other)
     : dtype_(other.dtype_), shape_(other.shape_), size_(other.size_), bytes_(other.bytes_), revision_(other.revision_),
-      log_(other.log_ ? std::make_unique<EditLog>(*other.log_) : nullptr) {
+      log_(other.copy_log()) {
   if (other.hash_valid_.load(std::memory_order_acquire)) {
     hash_.store(other.hash_.load(std::memory_order_relaxed), std::memory_order_relaxed);
     hash_valid_.store(true, std::memory_order_relaxed);

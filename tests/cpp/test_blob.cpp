@@ -64,6 +64,14 @@ TEST(Blob, WrittenSinceSaysWhenItCannotTell) {
   BlobEdit<std::int16_t>(*copy).set(10, 1);
   const Blob::Mark copy_mark = copy->mark();  // a content the original never had
   EXPECT_FALSE(blob.written_since(copy_mark, [&](std::size_t) { ++named; })) << "a mark of another history";
+  // The original written whole right after the copy: a mark of it then is not of the copy's history.
+  {
+    Blob original(DType::Int16, {10, 10});
+    BlobEdit<std::int16_t>(original).set(1, 1);
+    const auto forked = original.clone();
+    original.mutable_view<std::int16_t>()[2] = 2;
+    EXPECT_FALSE(forked->written_since(original.mark(), [&](std::size_t) { ++named; }));
+  }
   // More writes than the log keeps.
   for (std::size_t k = 0; k < Blob::kLoggedWrites; ++k) edit.set(k, static_cast<std::int16_t>(edit[k] + 1));
   EXPECT_FALSE(blob.written_since(mark, [&](std::size_t) { ++named; }));

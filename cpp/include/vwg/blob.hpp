@@ -81,25 +81,28 @@ class Blob {
   /// (written_since).
   struct Mark {
     std::uint64_t revision = 0;
-    std::uint64_t edits = 0;  // element writes logged when the mark was taken
+    std::uint64_t edits = 0;    // element writes logged when the mark was taken
+    std::uint64_t history = 0;  // whose log counted them
   };
-  Mark mark() const { return {revision_, log_ ? log_->edits : 0}; }
+  Mark mark() const { return log_ ? Mark{revision_, log_->edits, log_->history} : Mark{revision_, 0, 0}; }
   /// Calls each(k) for the flat index k of every element written (note_written_at) since `then`, a
-  /// mark of this blob or of the blob it was copied from, oldest first; an element written twice
-  /// comes twice, and one written back to its old value comes too. Returns false, calling nothing,
-  /// when the blob cannot tell: it was written whole since (note_written), `then` marks another
-  /// history, or more than kLoggedWrites writes were made since. For a reader that keeps
-  /// something worked out from a large blob (a planner's grids of a robot's map) and follows the
-  /// few elements that change instead of comparing a copy of the whole blob.
+  /// mark of this blob or of the blob it was copied from (taken before the copy), oldest first; an
+  /// element written twice comes twice, and one written back to its old value comes too. Returns
+  /// false, calling nothing, when the blob cannot tell: it was written whole since (note_written),
+  /// `then` marks another history, or more than kLoggedWrites writes were made since. For a reader
+  /// that keeps something worked out from a large blob (a planner's grids of a robot's map) and
+  /// follows the few elements that change instead of comparing a copy of the whole blob.
   template <class Each>
   bool written_since(const Mark& then, Each&& each) const {
     if (then.revision == revision_) return true;
     if (!log_ || !log_->holds(then)) return false;
-    for (std::uint64_t k = then.edits; k < log_->edits; ++k) each(std::size_t{log_->ring[k % log_->ring.size()].element});
+    for (std::uint64_t k = then.edits; k < log_->edits; ++k) each(std::size_t{log_->ring[k % log_->ring.size()]});
     return true;
   }
-  /// How many element writes the log keeps at most (fewer for a smaller blob: its size).
-  static constexpr std::size_t kLoggedWrites = 2048;
+  /// How many element writes the log keeps at most (fewer for a smaller blob: its size). A robot
+  /// in a crowd of ten thousand writes 2,000-4,000 cells of its map between two looks of its
+  /// planner now and then (it waits for its motors while others pass).
+  static constexpr std::size_t kLoggedWrites = 8192;
 
   template <class T>
   std::span<const T> view() const {
@@ -128,19 +131,28 @@ class Blob {
   std::uint64_t revision_;
   // The last element writes, made when the first is: most blobs are never written by element.
   struct EditLog {
-    struct Write {
-      std::uint32_t element;
-      std::uint64_t revision;  // the blob's revision after the write
-    };
-    std::vector<Write> ring;  // write k at k % ring.size()
-    std::uint64_t edits = 0;  // element writes so far
+    std::vector<std::uint32_t> ring;  // the element of write k at k % ring.size()
+    std::uint64_t edits = 0;          // element writes so far
     std::uint64_t from = 0, from_revision = 0;  // the log is whole from write `from` on, made at that revision
+    // Which history the writes belong to: a copy's writes are its own from the copy on (write
+    // `forked_at` of the original's history, `parent`).
+    std::uint64_t history = 0, parent = 0, forked_at = 0;
+    /// What the log knows stops here (the blob was written whole): it starts again from this
+    /// content, a history of its own.
+    void restart(std::uint64_t revision) {
+      from = edits;
+      from_revision = revision;
+      history = next_history();
+      parent = forked_at = 0;
+    }
+    static std::uint64_t next_history();
     bool holds(const Mark& then) const {
-      if (then.edits < from || then.edits > edits || edits - then.edits >= ring.size()) return false;
-      const std::uint64_t at = then.edits == from ? from_revision : ring[(then.edits - 1) % ring.size()].revision;
-      return at == then.revision;
+      if (then.edits < from || then.edits > edits || edits - then.edits > ring.size()) return false;
+      if (then.edits == from) return then.revision == from_revision;  // equal revisions: equal content
+      return then.history == history || (then.history == parent && then.edits <= forked_at);
     }
   };
+  std::unique_ptr<EditLog> copy_log() const;
   std::unique_ptr<EditLog> log_;
 };
 

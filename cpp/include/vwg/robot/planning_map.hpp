@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "vwg/blob.hpp"
@@ -42,6 +43,8 @@ class PlanningMap {
   bool start_from_original(const Blob& map, const geometry::MapGeometry& g, double radius);
   void set_obstacle(int row, int col, bool blocked);
   /// Follow cell `i` of the map, which holds `value` now; true if the grids changed.
+  /// follow() every cell of the map (`cells`), looking only at those the obstacle grid differs from.
+  bool follow_all(std::span<const std::int16_t> cells, int cols);
   bool follow(std::size_t i, std::int16_t value, int cols);
 
   Blob::Mark looked_;  // the map as last looked at
