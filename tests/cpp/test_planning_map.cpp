@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "helpers.hpp"
@@ -34,6 +35,22 @@ bool within(const std::vector<std::int16_t>& cells, int rows, int cols, int row,
     }
   }
   return false;
+}
+
+/// The grids `pm` keeps of `map` (rows × cols) equal those made from scratch by geometry::inflate
+/// (stamping discs: a second method) over the map's cells.
+void expect_grids_as_rebuilt(const PlanningMap& pm, const Blob& map, int rows, int cols, double rc, const std::string& what) {
+  const auto cells = map.view<std::int16_t>();
+  std::vector<std::uint8_t> mask(cells.size());
+  for (std::size_t i = 0; i < cells.size(); ++i) mask[i] = blocks(cells[i]);
+  const auto obstacles = geometry::BlockedGrid::from_mask(std::span<const std::uint8_t>(mask), rows, cols);
+  const auto inflated = geometry::inflate(obstacles, rc);
+  for (int r = 0; r < rows; ++r) {
+    for (int c = 0; c < cols; ++c) {
+      ASSERT_EQ(pm.obstacles().blocked({r, c}), obstacles.blocked({r, c})) << what << " " << r << "," << c;
+      ASSERT_EQ(pm.inflated().blocked({r, c}), inflated.blocked({r, c})) << what << " " << r << "," << c;
+    }
+  }
 }
 
 }  // namespace
@@ -111,17 +128,8 @@ TEST(PlanningMap, ACopyOfASharedMapStartsFromItsGridsAndFollowsItsChanges) {
   for (int step = 0; step < 8; ++step) {
     if (step > 0) random_sightings(*seeing, rng, 40);
     pm_seeing.update(*seeing, g, radius);
-    const auto cells = seeing->view<std::int16_t>();
-    std::vector<std::uint8_t> mask(cells.size());
-    for (std::size_t i = 0; i < cells.size(); ++i) mask[i] = blocks(cells[i]);
-    const auto obstacles = geometry::BlockedGrid::from_mask(std::span<const std::uint8_t>(mask), rows, cols);
-    const auto inflated = geometry::inflate(obstacles, radius / g.resolution);
-    for (int r = 0; r < rows; ++r) {
-      for (int c = 0; c < cols; ++c) {
-        ASSERT_EQ(pm_seeing.obstacles().blocked({r, c}), obstacles.blocked({r, c})) << "step " << step << " " << r << "," << c;
-        ASSERT_EQ(pm_seeing.inflated().blocked({r, c}), inflated.blocked({r, c})) << "step " << step << " " << r << "," << c;
-      }
-    }
+    expect_grids_as_rebuilt(pm_seeing, *seeing, rows, cols, radius / g.resolution, "step " + std::to_string(step));
+    if (::testing::Test::HasFatalFailure()) return;
   }
   EXPECT_GT(pm_seeing.private_pages(), 0u);
   // The idle robot's grids are still those of the shared map.
@@ -231,29 +239,16 @@ TEST(PlanningMap, FollowsAMapThatCannotTellWhatWasWritten) {
   Blob map(DType::Int16, {rows, cols});
   PlanningMap pm;
   pm.update(map, g, radius);
-  auto expect_as_rebuilt = [&](const char* what) {
-    const auto cells = map.view<std::int16_t>();
-    std::vector<std::uint8_t> mask(cells.size());
-    for (std::size_t i = 0; i < cells.size(); ++i) mask[i] = blocks(cells[i]);
-    const auto obstacles = geometry::BlockedGrid::from_mask(std::span<const std::uint8_t>(mask), rows, cols);
-    const auto inflated = geometry::inflate(obstacles, radius / g.resolution);
-    for (int r = 0; r < rows; ++r) {
-      for (int c = 0; c < cols; ++c) {
-        ASSERT_EQ(pm.obstacles().blocked({r, c}), obstacles.blocked({r, c})) << what << " " << r << "," << c;
-        ASSERT_EQ(pm.inflated().blocked({r, c}), inflated.blocked({r, c})) << what << " " << r << "," << c;
-      }
-    }
-  };
   BlobEdit<std::int16_t> edit(map);
   const std::int16_t values[] = {kFreeCell, kFreeCell, kUnknownCell, kSeenCell};
   for (std::size_t k = 0; k < 3 * Blob::kLoggedWrites; ++k) edit.set(rng() % map.size(), values[rng() % 4]);
   EXPECT_FALSE(map.written_since(Blob::Mark{}, [](std::size_t) {})) << "the case under test: the log cannot tell";
   EXPECT_TRUE(pm.update(map, g, radius));
-  expect_as_rebuilt("after more writes than the log keeps");
+  expect_grids_as_rebuilt(pm, map, rows, cols, radius / g.resolution, "after more writes than the log keeps");
   auto whole = map.mutable_view<std::int16_t>();
   for (int c = 0; c < cols; ++c) whole[static_cast<std::size_t>(30) * cols + c] = kWallCell;  // a wall across
   EXPECT_TRUE(pm.update(map, g, radius));
-  expect_as_rebuilt("after a write of the whole map");
+  expect_grids_as_rebuilt(pm, map, rows, cols, radius / g.resolution, "after a write of the whole map");
   EXPECT_FALSE(pm.update(map, g, radius));
 }
 
