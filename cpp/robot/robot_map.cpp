@@ -117,7 +117,9 @@ void check_robot_map(const Blob& map, const geometry::MapGeometry& g) {
 void ObstacleBits::scan(std::span<const std::int16_t> cells, const geometry::MapGeometry& g) {
   columns_ = (g.width + (1 << kShift) - 1) >> kShift;
   rows_ = (g.height + (1 << kShift) - 1) >> kShift;
-  words_ = SharedArray<Words>(static_cast<std::size_t>(rows_) * columns_);
+  constexpr int kTile = 1 << kTileShift;
+  tiles_across_ = (columns_ + kTile - 1) / kTile;
+  words_ = SharedArray<Words>(static_cast<std::size_t>((rows_ + kTile - 1) / kTile) * tiles_across_ * kTile * kTile);
   blocks_.assign((words_.size() + 63) / 64, 0);
   for (int r = 0; r < g.height; ++r) {
     for (int c = 0; c < g.width; ++c) {
@@ -129,7 +131,7 @@ void ObstacleBits::scan(std::span<const std::int16_t> cells, const geometry::Map
 void ObstacleBits::sync(const Blob& map, const geometry::MapGeometry& g) {
   check(map, g);
   const int columns = (g.width + (1 << kShift) - 1) >> kShift, rows = (g.height + (1 << kShift) - 1) >> kShift;
-  if (revision_ == map.revision() && columns == columns_ && words_.size() == static_cast<std::size_t>(rows) * columns) return;
+  if (revision_ == map.revision() && columns == columns_ && rows == rows_) return;
   const auto cells = map.view<std::int16_t>();
   static OriginCache<std::pair<int, int>, ObstacleBits> originals;  // one per shared content, for every robot
   const auto original = map.shared() ? originals.get(map.origin(), std::pair{g.height, g.width}, [&] {
