@@ -42,15 +42,17 @@ class FrameError(Error, RuntimeError):
 
 
 class WorldFileError(SchemaError):
-    """A bad world, map or record file. ``path`` is the file, ``line`` its line (or 0 when not
-    known) and ``field`` the key path inside it, e.g. ``"alphabet.events.show.visual"``."""
+    """A bad world, map or record file. ``path`` is the file, ``line`` its line and ``column`` its
+    column (1-based, or 0 when not known) and ``field`` the key path inside it, e.g.
+    ``"alphabet.events.show.visual"``."""
 
-    def __init__(self, path: str, field: str, message: str, line: int = 0) -> None:
-        where = f"{path}:{line}" if line else str(path)
+    def __init__(self, path: str, field: str, message: str, line: int = 0, column: int = 0) -> None:
+        where = (f"{path}:{line}:{column}" if column else f"{path}:{line}") if line else str(path)
         super().__init__(f"{where}: {field}: {message}" if field else f"{where}: {message}")
         self.path = str(path)
         self.field = field
         self.line = line
+        self.column = column
 
 
 class ReplayError(Error):
