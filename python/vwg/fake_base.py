@@ -2,6 +2,9 @@
 ``socket://127.0.0.1:PORT``) that speaks the ros_arduino_bridge commands (``e``, ``m L R``, ``r``,
 ``b``) and moves one differential-drive robot on a world's map, its wheel encoders counting as it
 goes. Like the firmware, it stops the motors when no ``m`` has come for ``auto_stop`` seconds.
+For fault tests: ``cut()`` pulls the cable for good; ``flap(after, hold)`` closes every connection
+``after`` seconds from the call and from then on each new one ``hold`` seconds after it opened.
+``connections`` holds what each connection saw: when it opened and each command line, with its time.
 
     with FakeSerialBase(world) as base:
         vwg.start(world, vwg.RunOptions(platform="serial", port=base.url, goals=["office"])).execute()
@@ -9,14 +12,25 @@ goes. Like the firmware, it stops the motors when no ``m`` has come for ``auto_s
 
 from __future__ import annotations
 
+import contextlib
 import math
+import socket
 import socketserver
 import threading
 import time
+from dataclasses import dataclass, field
 
 from .robotworld import RobotWorld
 
-__all__ = ["FakeSerialBase"]
+__all__ = ["BaseConnection", "FakeSerialBase"]
+
+
+@dataclass
+class BaseConnection:
+    """One connection to the base as it saw it, times on its monotonic clock."""
+
+    opened: float
+    lines: list[tuple[float, str]] = field(default_factory=list)  # (time, command) as each came
 
 
 class FakeSerialBase:
@@ -36,10 +50,29 @@ class FakeSerialBase:
         self._lock = threading.Lock()
         self._running = True   # taking connections and commands
         self._alive = True     # the motors (they run on after a cut, until the firmware's auto-stop)
+        self.connections: list[BaseConnection] = []
+        self._open: set[socket.socket] = set()
+        self._flap_hold: float | None = None  # flapping: each connection is closed this long after it opened
         fake = self
 
         class Handler(socketserver.StreamRequestHandler):
             def handle(self) -> None:
+                connection = BaseConnection(time.monotonic())
+                with fake._lock:
+                    fake.connections.append(connection)
+                    fake._open.add(self.request)
+                    hold = fake._flap_hold
+                if hold is not None:
+                    closer = threading.Timer(hold, fake._hang_up, args=(self.request,))
+                    closer.daemon = True
+                    closer.start()
+                try:
+                    self._serve(connection)
+                finally:
+                    with fake._lock:
+                        fake._open.discard(self.request)
+
+            def _serve(self, connection: BaseConnection) -> None:
                 buffer = b""
                 while fake._running:
                     try:
@@ -51,7 +84,9 @@ class FakeSerialBase:
                     buffer += chunk
                     while b"\r" in buffer:
                         line, _, buffer = buffer.partition(b"\r")
-                        reply = fake._answer(line.decode("ascii", errors="replace").strip())
+                        command = line.decode("ascii", errors="replace").strip()
+                        connection.lines.append((time.monotonic(), command))
+                        reply = fake._answer(command)
                         try:
                             self.request.sendall((reply + "\r\n").encode("ascii"))
                         except OSError:
@@ -126,6 +161,26 @@ class FakeSerialBase:
                     self.pose = (x2, y2, math.atan2(math.sin(yaw + dtheta), math.cos(yaw + dtheta)))
                 # against a wall the wheels stall: no ticks, no motion
             time.sleep(dt)
+
+    @staticmethod
+    def _hang_up(sock: socket.socket) -> None:
+        """Close a connection from this side: its handler's recv returns b"", the client's next read fails."""
+        with contextlib.suppress(OSError):  # already closed by the client
+            sock.shutdown(socket.SHUT_RDWR)
+
+    def flap(self, after: float = 0.0, hold: float = 0.15) -> None:
+        """In `after` seconds, close every connection; from then on take each new one and close it
+        `hold` seconds after it opened."""
+        def start() -> None:
+            with self._lock:
+                self._flap_hold = hold
+                current = list(self._open)
+            for sock in current:
+                self._hang_up(sock)
+
+        timer = threading.Timer(after, start)
+        timer.daemon = True
+        timer.start()
 
     def cut(self) -> None:
         """Pull the cable: every connection closes and no new one is taken."""

@@ -15,8 +15,13 @@ test 3 (platform option ``lockstep: /vwg/step``).
 
 A base stops by itself when no command has come for ``cmd_timeout`` seconds, as real bases do.
 For fault tests: ``cut()`` closes every connection and refuses new ones until ``restore()``;
-``silence(robot)`` stops its odometry until ``speak(robot)``. ``commands[robot]`` lists the
-(time, speed, turn rate) of every Twist received, the time on the server's monotonic clock.
+``silence(robot)`` stops its odometry until ``speak(robot)``; ``flap(after, hold)`` closes every
+connection ``after`` seconds from the call and from then on each new one ``hold`` seconds after it
+opened (a link that keeps dropping); ``odometry_delay`` holds back the odometry of each new
+connection for that long (a driver that takes a moment). ``commands[robot]`` lists the (time,
+speed, turn rate) of every Twist received, the time on the server's monotonic clock, and
+``connections`` what each connection saw (when it opened and closed, when its first odometry went
+out, the Twists that came over it).
 """
 
 from __future__ import annotations
@@ -28,6 +33,7 @@ import json
 import math
 import threading
 import time
+from dataclasses import dataclass, field
 from typing import Any
 
 from . import _core
@@ -42,16 +48,27 @@ from .ros_messages import (
 )
 from .rosbridge_platform import topics_for
 
-__all__ = ["FakeRosbridgeRobot"]
+__all__ = ["Connection", "FakeRosbridgeRobot"]
 
 
 STEP_SERVICE = "/vwg/step"
 
 
+@dataclass
+class Connection:
+    """One client connection as the server saw it, times on the server's monotonic clock."""
+
+    opened: float
+    closed: float | None = None         # when the server closed it (began to), or saw it closed
+    closed_by_server: bool = False      # flap() closed it (not the client)
+    first_odometry: float | None = None  # when its first odometry message was sent
+    twists: list[tuple[float, int, float, float]] = field(default_factory=list)  # (time, robot, speed, turn rate)
+
+
 class FakeRosbridgeRobot:
     def __init__(self, world: RobotWorld, *, rate: float = 50.0, ros2: bool = False, cmd_timeout: float = 0.5,
                  odom_offset: tuple[float, float, float] = (0.0, 0.0, 0.0), lockstep: bool = False,
-                 physics: _core.PhysicsSettings | None = None) -> None:
+                 physics: _core.PhysicsSettings | None = None, odometry_delay: float = 0.0) -> None:
         self.world = world
         # Where each base's odometry count stood when vwg connected (a base that has run before).
         self.odom_offset = odom_offset
@@ -59,6 +76,10 @@ class FakeRosbridgeRobot:
         self.rate = rate
         self.ros2 = ros2
         self.lockstep = lockstep
+        self.odometry_delay = odometry_delay
+        self.connections: list[Connection] = []
+        self._connection_of: dict[Any, Connection] = {}
+        self._flap_hold: float | None = None  # flapping: each connection is closed this long after it opened
         # The simulator's own physics (its odometry noise too: the odometry published is the noisy one).
         self.physics = _core.PhysicsWorld(world.grid, list(world.robots),
                                           physics or _core.PhysicsSettings(noise=world.noise, seed=world.seed))
@@ -139,6 +160,20 @@ class FakeRosbridgeRobot:
     def restore(self) -> None:
         self._cut = False
 
+    def flap(self, after: float = 0.0, hold: float = 0.15) -> None:
+        """In `after` seconds, close every connection; from then on accept each new one and close it
+        `hold` seconds after it opened, until ``steady()``."""
+        async def start() -> None:
+            await asyncio.sleep(after)
+            self._flap_hold = hold
+            for ws in list(self._clients):
+                await self._hang_up(ws)
+
+        asyncio.run_coroutine_threadsafe(start(), self._loop)
+
+    def steady(self) -> None:
+        self._flap_hold = None
+
     def silence(self, robot: int) -> float:
         """Stop publishing `robot`'s odometry; returns when (the server's monotonic clock)."""
         with self._lock:
@@ -161,9 +196,23 @@ class FakeRosbridgeRobot:
             return connection.respond(http.HTTPStatus.SERVICE_UNAVAILABLE, "the link is cut\n")
         return None
 
+    async def _hang_up(self, ws: Any) -> None:
+        connection = self._connection_of.get(ws)
+        if connection is not None and connection.closed is None:
+            connection.closed, connection.closed_by_server = time.monotonic(), True
+        await ws.close()
+
+    async def _close_after(self, ws: Any, hold: float) -> None:
+        await asyncio.sleep(hold)
+        await self._hang_up(ws)
+
     async def _client(self, ws: Any) -> None:
+        connection = Connection(time.monotonic())
+        self.connections.append(connection)
+        self._connection_of[ws] = connection
         self._clients.add(ws)
         self._subscriptions[ws] = set()
+        closer = asyncio.ensure_future(self._close_after(ws, self._flap_hold)) if self._flap_hold is not None else None
         try:
             async for text in ws:
                 try:
@@ -178,16 +227,20 @@ class FakeRosbridgeRobot:
                 if op == "subscribe":
                     self._subscriptions[ws].add(message.get("topic"))
                 elif op == "publish":
-                    self._command(message.get("topic"), message.get("msg"))
+                    self._command(message.get("topic"), message.get("msg"), connection)
                 elif op == "call_service":
                     await self._call(ws, message)
         except Exception:
             pass
         finally:
+            connection.closed = connection.closed or time.monotonic()
+            if closer is not None:
+                closer.cancel()
             self._clients.discard(ws)
             self._subscriptions.pop(ws, None)
+            self._connection_of.pop(ws, None)
 
-    def _command(self, topic: Any, msg: Any) -> None:
+    def _command(self, topic: Any, msg: Any, connection: Connection | None = None) -> None:
         for rid, named in self.topics.items():
             if named["cmd_vel"] == topic:
                 try:
@@ -198,6 +251,8 @@ class FakeRosbridgeRobot:
                     self.physics.drive(rid, v, w)
                     self._commanded_at[rid] = time.monotonic()
                     self.commands[rid].append((self._commanded_at[rid], v, w))
+                    if connection is not None:
+                        connection.twists.append((self._commanded_at[rid], rid, v, w))
 
     async def _call(self, ws: Any, message: dict[str, Any]) -> None:
         """The step service of a lockstep robot: advance the simulator, publish, then answer."""
@@ -260,10 +315,15 @@ class FakeRosbridgeRobot:
                     out.append((self.topics[rid]["camera"],
                                 compressed_image_message(now, _core.encode_image(grey, "jpeg", 95), "jpeg",
                                                          ros2=self.ros2)))
+        odometry_topics = {named["odom"] for named in self.topics.values()}
         for ws in list(self._clients):
             wanted = self._subscriptions.get(ws, set())
+            connection = self._connection_of.get(ws)
+            held = connection is not None and time.monotonic() - connection.opened < self.odometry_delay
             for topic, msg in out:
-                if topic in wanted:
+                if topic in wanted and not (held and topic in odometry_topics):
+                    if topic in odometry_topics and connection is not None and connection.first_odometry is None:
+                        connection.first_odometry = time.monotonic()  # before it goes: no client has it earlier
                     try:
                         await ws.send(json.dumps({"op": "publish", "topic": topic, "msg": msg}))
                     except Exception:

@@ -3,16 +3,20 @@ velocity commands closed on the robot's odometry, frames run at wall-clock rate,
 kept safe when its link goes quiet or away.
 
 The link itself (rosbridge, a serial base) is a subclass: it sends velocities (``send_velocity``),
-says whether it has failed (``link_failure``), and calls ``on_odometry`` (and ``on_scan``) from its
-own thread as messages come.
+says whether it has failed (``link_failure``), calls ``link_up`` and ``link_down`` as its connection
+comes and goes, and ``on_odometry`` (and ``on_scan``) from its own thread as messages come.
 
 Safety, in this order of precedence:
 
 - every velocity is clamped to the robot's limits (speed, turn rate and both accelerations);
 - a watchdog: when no odometry has come for ``watchdog`` seconds the robot is sent a stop at once,
   and kept stopped until odometry comes again; the fault is logged and listed in ``faults``;
-- a link that fails (lost for longer than its ``reconnect`` time) stops the run: ``advance``
-  raises LinkError after a last stop to every robot;
+- every time the link drops and every time it comes back is a fault (robot 0, with its time); after
+  a reconnection a robot is sent nothing but stops until odometry has come over the new connection
+  (its plan goes on from rest then);
+- a link that fails (lost for longer than its ``reconnect`` time) or flaps (drops more than
+  ``flap_limit.drops`` times within ``flap_limit.seconds``) stops the run: ``advance`` raises
+  LinkError after a last stop to every robot;
 - ``close()`` (the end of any run) sends a stop to every robot before the link closes.
 """
 
@@ -23,14 +27,17 @@ import logging
 import math
 import threading
 import time
+from collections import deque
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
 from . import _core
+from .errors import SchemaError
 from .ros_messages import LaserScan, Odometry, pose_compose, pose_relative
 from .rosbridge import LinkError
 
-__all__ = ["Fault", "RealRobotPlatform"]
+__all__ = ["Fault", "FlapLimit", "RealRobotPlatform"]
 
 log = logging.getLogger("vwg.robot")
 
@@ -47,6 +54,43 @@ class Fault:
         return {"time_s": round(self.time, 3), "robot": self.robot, "what": self.what}
 
 
+@dataclass(frozen=True)
+class FlapLimit:
+    """A link that drops more than ``drops`` times within ``seconds`` is given up on (world file:
+    ``platform: {flap_limit: {drops: 3, seconds: 10}}``): each reconnection feeds the watchdog
+    again, so without a limit a link that keeps dropping would keep the robot going half-blind."""
+
+    drops: int = 3
+    seconds: float = 10.0
+
+    MAX_DROPS = 1_000_000
+    MAX_SECONDS = 86_400.0
+
+    @classmethod
+    def of(cls, value: FlapLimit | Mapping[str, Any] | None) -> FlapLimit:
+        """The limit a platform option gives (a mapping with ``drops`` and/or ``seconds``, the others'
+        defaults); SchemaError naming the field for anything else."""
+        if value is None:
+            return cls()
+        if isinstance(value, FlapLimit):
+            return value
+        if not isinstance(value, Mapping):
+            raise SchemaError(f"platform.flap_limit: expected a mapping {{drops: N, seconds: S}}, got {value!r}")
+        unknown = sorted(str(k) for k in value if k not in ("drops", "seconds"))
+        if unknown:
+            raise SchemaError(f"platform.flap_limit: unknown key(s) {', '.join(unknown)} (known: drops, seconds)")
+        drops = value.get("drops", cls.drops)
+        seconds = value.get("seconds", cls.seconds)
+        if isinstance(drops, bool) or not isinstance(drops, int) or not 1 <= drops <= cls.MAX_DROPS:
+            raise SchemaError(f"platform.flap_limit.drops: expected a whole number from 1 to {cls.MAX_DROPS}, "
+                              f"got {drops!r}")
+        if (isinstance(seconds, bool) or not isinstance(seconds, (int, float)) or not math.isfinite(seconds)
+                or not 0 < seconds <= cls.MAX_SECONDS):
+            raise SchemaError(f"platform.flap_limit.seconds: expected seconds > 0 and <= {cls.MAX_SECONDS:g}, "
+                              f"got {seconds!r}")
+        return cls(drops, float(seconds))
+
+
 @dataclass
 class _Robot:
     settings: _core.RobotSettings
@@ -54,6 +98,7 @@ class _Robot:
     odom: Odometry | None = None     # relative to the first odometry this run received
     origin: Odometry | None = None   # that first odometry: the base's own count may not start at zero
     odom_at: float = 0.0            # monotonic time the last odometry came
+    odom_connection: int = 0        # the link's connection that odometry came over
     silent: bool = False            # the watchdog has stopped it
     commands: int = 0
     travelled: float = 0.0
@@ -62,12 +107,13 @@ class _Robot:
 
 class RealRobotPlatform(_core.RobotPlatform):
     """The robots of a world on a real link (a subclass gives the link). ``watchdog`` seconds of
-    silence stop a robot; ``control_rate`` is how often (Hz) velocities are sent between frames."""
+    silence stop a robot; ``control_rate`` is how often (Hz) velocities are sent between frames;
+    ``flap_limit`` how many drops of the link (within how many seconds) end the run."""
 
     kind = "real"
 
     def __init__(self, robots: list[_core.RobotSettings], *, watchdog: float = 0.5, control_rate: float = 20.0,
-                 lockstep: bool = False) -> None:
+                 lockstep: bool = False, flap_limit: FlapLimit | Mapping[str, Any] | None = None) -> None:
         super().__init__()
         if not (math.isfinite(watchdog) and watchdog > 0):
             raise LinkError(f"platform watchdog: expected seconds > 0, got {watchdog}")
@@ -75,6 +121,7 @@ class RealRobotPlatform(_core.RobotPlatform):
             raise LinkError(f"platform control_rate: expected 1 to 1000 Hz, got {control_rate}")
         self.watchdog = watchdog
         self.control_period = 1.0 / control_rate
+        self.flap_limit = FlapLimit.of(flap_limit)
         self.lockstep = lockstep
         self._clock = 0.0    # lockstep: the robot's simulated time
         self._pending = 0.0  # lockstep: time asked for that is less than a control period
@@ -84,7 +131,14 @@ class RealRobotPlatform(_core.RobotPlatform):
         self._t0 = time.monotonic()
         self._frame_end = self._t0
         self._closed = False
+        self._failing = False              # _fail has begun (from one thread: the other leaves it)
         self._failure: str | None = None
+        # The link's connections, as the subclass reports them: 0 until it reports any (a link that
+        # does not report them is taken as always the same connection).
+        self._connection = 0
+        self._down_at: float | None = None  # when the link dropped, until it is back
+        self._drops: deque[float] = deque()  # when it dropped, within the last flap_limit.seconds
+        self._flapping: str | None = None   # the flap limit was passed: the run ends at the next check
         for r in robots:
             self.add_robot(r)
         # The robots are controlled and watched on a thread of their own, at control_rate, whatever
@@ -108,6 +162,7 @@ class RealRobotPlatform(_core.RobotPlatform):
                 r.travelled += math.hypot(local.x - r.odom.x, local.y - r.odom.y)
             r.odom = local
             r.odom_at = time.monotonic()
+            r.odom_connection = self._connection
 
     def on_scan(self, robot: int, scan: LaserScan) -> None:
         with self._lock:
@@ -120,8 +175,44 @@ class RealRobotPlatform(_core.RobotPlatform):
             r = self._robots.get(robot)
             return r.scan if r else None
 
+    def link_up(self, connection: int) -> None:
+        """The link's connection number `connection` is up (called by the subclass from the thread
+        that delivers odometry, before any odometry of that connection). Every one after the first is
+        a reconnection: a fault, and each robot is sent only stops until odometry has come over it."""
+        with self._lock:
+            self._connection = connection
+            if self._down_at is not None:
+                gap = time.monotonic() - self._down_at
+                self._down_at = None
+                self._fault_locked(0, f"link back after {gap:.2f} s (connection {connection}); "
+                                      "robots wait for odometry over it", level=logging.WARNING)
+
+    def link_down(self, reason: str) -> None:
+        """The link's connection dropped (called by the subclass from its own thread, which must not
+        block: no velocity is sent here). A fault; the robots halt; more drops than the flap limit
+        within its seconds end the run (at the control thread's or the frames' next check)."""
+        with self._lock:
+            now = time.monotonic()
+            if self._down_at is not None:
+                return  # still down: one drop
+            self._down_at = now
+            self._drops.append(now)
+            while now - self._drops[0] > self.flap_limit.seconds:
+                self._drops.popleft()
+            self._fault_locked(0, f"link lost ({reason}); drop {len(self._drops)} within "
+                                  f"{self.flap_limit.seconds:g} s")
+            for r in self._robots.values():
+                r.follower.halt()  # its plan goes on from rest once odometry comes over a new connection
+            limit = self.flap_limit
+            if len(self._drops) > limit.drops and self._flapping is None:
+                self._flapping = (f"the link dropped {len(self._drops)} times within {limit.seconds:g} s "
+                                  f"(flap_limit: more than {limit.drops} drops in {limit.seconds:g} s)")
+
     # ---- what a link subclass gives ---------------------------------------------------------------------------
-    def send_velocity(self, robot: int, speed: float, turn_rate: float) -> bool:  # pragma: no cover - abstract
+    def send_velocity(self, robot: int, speed: float, turn_rate: float, *,
+                      connection: int | None = None) -> bool:  # pragma: no cover - abstract
+        """Send a velocity; with `connection`, only over that connection of the link (a motion
+        computed from one connection's odometry is not sent over the next): False when not sent."""
         raise NotImplementedError
 
     def link_failure(self) -> str | None:  # pragma: no cover - abstract
@@ -194,9 +285,8 @@ class RealRobotPlatform(_core.RobotPlatform):
         for _ in range(steps):
             self._raise_if_failed()
             with self._lock:
-                sends = [(rid, *r.follower.tick(self._map_pose(r), period)) for rid, r in self._robots.items()]
-            for rid, v, w in sends:
-                self.send_velocity(rid, v, w)
+                sends = [self._next_velocity(rid, r, period) for rid, r in self._robots.items()]
+            self._send_all(sends)
             try:
                 self.step_clock(period)
             except LinkError as e:
@@ -207,9 +297,30 @@ class RealRobotPlatform(_core.RobotPlatform):
                 for r in self._robots.values():
                     r.follower.settle(self._map_pose(r))
 
+    def _next_velocity(self, rid: int, r: _Robot, dt: float) -> tuple[int, float, float, int | None]:
+        """(robot, speed, turn rate, the connection it may go over): a stop while the link is down or
+        the robot has had no odometry over its current connection (a reconnection), else the
+        follower's next."""
+        if self._down_at is not None or r.odom_connection != self._connection:
+            r.follower.halt()
+            return rid, 0.0, 0.0, None
+        v, w = r.follower.tick(self._map_pose(r), dt)
+        return rid, v, w, self._connection or None
+
+    def _send_all(self, sends: list[tuple[int, float, float, int | None]]) -> None:
+        for rid, v, w, connection in sends:
+            if connection is None:  # a stop goes over whatever connection there is
+                self.send_velocity(rid, v, w)
+            else:
+                self.send_velocity(rid, v, w, connection=connection)
+
     def _fail(self, reason: str) -> None:
         """The link has failed: a fault, a stop to every robot that can still be stopped, and every
         advance from now on raises LinkError."""
+        with self._lock:
+            if self._failing:
+                return  # the other thread is failing it already
+            self._failing = True
         # In this order: advance() raises as soon as _failure is set, and by then the robots must
         # have been sent their stop and the fault be listed.
         with contextlib.suppress(Exception):
@@ -217,7 +328,15 @@ class RealRobotPlatform(_core.RobotPlatform):
         self._fault(0, reason)
         self._failure = reason
 
+    def _link_failure(self) -> str | None:
+        """Why the run must end because of the link: it flapped, or the subclass says it failed."""
+        return self._flapping or self.link_failure()
+
     def _raise_if_failed(self) -> None:
+        if not self._failing:
+            failure = self._link_failure()
+            if failure:
+                self._fail(failure)
         if self._failure:
             raise LinkError(f"{self.name()} link: {self._failure}")
 
@@ -226,7 +345,7 @@ class RealRobotPlatform(_core.RobotPlatform):
         while not self._stop_control.wait(self.control_period):
             now = time.monotonic()
             try:
-                failure = self.link_failure()
+                failure = self._link_failure()
                 if failure:
                     self._fail(failure)
                     return
@@ -239,11 +358,11 @@ class RealRobotPlatform(_core.RobotPlatform):
 
     def _control(self, dt: float) -> None:
         now = time.monotonic()
-        sends: list[tuple[int, float, float]] = []
+        sends: list[tuple[int, float, float, int | None]] = []
         with self._lock:
             for rid, r in self._robots.items():
                 if r.odom is None and now - r.odom_at <= self.watchdog:
-                    sends.append((rid, 0.0, 0.0))  # waiting for the first odometry: keep still
+                    sends.append((rid, 0.0, 0.0, None))  # waiting for the first odometry: keep still
                     continue
                 if r.odom is None or now - r.odom_at > self.watchdog:
                     if not r.silent:
@@ -252,24 +371,25 @@ class RealRobotPlatform(_core.RobotPlatform):
                         self._fault_locked(rid, f"no odometry for {quiet:.2f} s (watchdog {self.watchdog:g} s): "
                                                 "stopped")
                     r.follower.halt()
-                    sends.append((rid, 0.0, 0.0))
+                    sends.append((rid, 0.0, 0.0, None))
                     continue
                 if r.silent:
                     r.silent = False
                     log.warning("%s: robot %d: odometry again; moving on", self.name(), rid)
-                v, w = r.follower.tick(self._map_pose(r), dt)
-                sends.append((rid, v, w))
-        for rid, v, w in sends:
-            self.send_velocity(rid, v, w)
+                sends.append(self._next_velocity(rid, r, dt))
+        self._send_all(sends)
 
     def _fault(self, robot: int, what: str) -> None:
         with self._lock:
             self._fault_locked(robot, what)
 
-    def _fault_locked(self, robot: int, what: str) -> None:
+    def _fault_locked(self, robot: int, what: str, level: int | None = None) -> None:
         fault = Fault(time.monotonic() - self._t0, robot, what)
         self.faults.append(fault)
-        log.warning("%s: robot %d: %s", self.name(), robot, what) if robot else log.error("%s: %s", self.name(), what)
+        if robot:
+            log.log(level or logging.WARNING, "%s: robot %d: %s", self.name(), robot, what)
+        else:
+            log.log(level or logging.ERROR, "%s: %s", self.name(), what)
 
     def stop_all(self) -> None:
         with self._lock:

@@ -122,7 +122,8 @@ def _register_builtins() -> None:
             raise SchemaError("platform rosbridge: url: missing (ws://HOST:PORT, or --url)")
         numbers = {k: float(options[k]) for k in ("watchdog", "reconnect", "control_rate") if k in options}
         platform = RosbridgePlatform(list(world.robots), options["url"], topics=options.get("topics"),
-                                     ros=options.get("ros", 1), lockstep=options.get("lockstep"), **numbers)
+                                     ros=options.get("ros", 1), lockstep=options.get("lockstep"),
+                                     flap_limit=options.get("flap_limit"), **numbers)
         return RealRobots(world, platform)
 
     from .rosbridge_platform import OPTIONS as ROSBRIDGE_OPTIONS

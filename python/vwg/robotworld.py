@@ -418,7 +418,20 @@ def _platform(doc: YamlDoc) -> PlatformSpec:
     allowed = getattr(platforms.get(kind), "options", None)
     if allowed is not None:
         _check_keys(doc, ("platform",), options, tuple(allowed))
+    if "flap_limit" in options:
+        _flap_limit(doc)
     return PlatformSpec(kind, options)
+
+
+def _flap_limit(doc: YamlDoc) -> None:
+    """A real robot's ``flap_limit: {drops: N, seconds: S}``, checked where the file says it (the
+    platform checks it again, for worlds made in Python)."""
+    from .real_robot import FlapLimit
+
+    path = ("platform", "flap_limit")
+    _check_keys(doc, path, doc.get(path, dict), ("drops", "seconds"))
+    doc.number((*path, "drops"), None, minimum=1, maximum=FlapLimit.MAX_DROPS, integer=True)
+    doc.number((*path, "seconds"), None, minimum=0.0, exclusive_minimum=True, maximum=FlapLimit.MAX_SECONDS)
 
 
 def load_robot_world(path: str | Path) -> RobotWorld:

@@ -6,7 +6,8 @@ The link keeps what it advertised and subscribed, and says so again after a reco
 message that is not JSON, not a mapping, larger than ``max_message`` or that a handler cannot
 read is logged and dropped: it never stops the link. A lost connection is retried with backoff for
 ``reconnect`` seconds; after that the link has ``failed`` (with the reason), and a platform on it
-ends the run.
+ends the run. Every connection made and lost is told to ``on_state``; ``connection`` numbers them
+(1 for the first), and ``publish(..., connection=n)`` sends only over connection ``n``.
 
     link = RosbridgeLink("ws://127.0.0.1:9090", on_message=lambda topic, msg: ...)
     link.connect()
@@ -43,11 +44,11 @@ class LinkError(Error):
 
 class RosbridgeLink:
     """One WebSocket connection to a rosbridge server. ``on_message(topic, msg)`` runs on the link's
-    thread for every message published to a subscribed topic; ``on_state(connected)`` when the
-    connection comes or goes."""
+    thread for every message published to a subscribed topic; ``on_state(connected, detail)`` on
+    the same thread when a connection comes (before any of its messages) or goes (``detail``: why)."""
 
     def __init__(self, url: str, *, on_message: Callable[[str, Any], None],
-                 on_state: Callable[[bool], None] | None = None, reconnect: float = 5.0,
+                 on_state: Callable[[bool, str], None] | None = None, reconnect: float = 5.0,
                  connect_timeout: float = 5.0, max_message: int = 8 * 1024 * 1024) -> None:
         if not url.startswith(("ws://", "wss://")):
             raise LinkError(f"rosbridge url: expected ws://HOST:PORT or wss://HOST:PORT, got {url!r}")
@@ -56,7 +57,7 @@ class RosbridgeLink:
         self.connect_timeout = connect_timeout
         self.max_message = max_message
         self._on_message = on_message
-        self._on_state = on_state or (lambda connected: None)
+        self._on_state = on_state or (lambda connected, detail: None)
         self._topics: dict[str, tuple[str, str]] = {}  # topic -> (op, type): what to say again on reconnection
         self._topics_lock = threading.Lock()
         self._loop = asyncio.new_event_loop()
@@ -64,6 +65,8 @@ class RosbridgeLink:
         self._connected = threading.Event()
         self._closing = False
         self.failed: str | None = None  # why the link gave up, once it has
+        self.connection = 0             # connections made so far: the current one's number while up
+        self._last_error = "closed"     # why the last connection attempt ended
         self.dropped = 0                # malformed or oversized messages logged and ignored
         self._calls: dict[str, Future[Any]] = {}  # call_service ids waiting for their response
         self._call_ids = itertools.count(1)
@@ -89,44 +92,50 @@ class RosbridgeLink:
 
         lost_at: float | None = None
         delay = 0.1
+        opened = False  # a connection was made on this pass (its loss is told to on_state)
         while not self._closing:
             try:
                 # Pings notice a peer that went away without closing (power, Wi-Fi) within the reconnect time.
                 ping = max(0.5, min(1.0, self.reconnect / 2))
                 async with websockets.connect(self.url, open_timeout=self.connect_timeout, max_size=None,
                                               ping_interval=ping, ping_timeout=ping, close_timeout=1.0) as ws:
+                    # Up from the handshake on: a server that closes while vwg declares its topics
+                    # has dropped a connection too (and counts towards a platform's flap limit).
                     self._ws = ws
+                    self.connection += 1
+                    opened = True
+                    if lost_at is not None:  # a platform on the link reports it (a fault)
+                        log.info("rosbridge %s: connected again after %.2f s", self.url, time.monotonic() - lost_at)
+                    self._on_state(True, "")
                     with self._topics_lock:
                         declared = list(self._topics.items())
                     for topic, (op, kind) in declared:
                         await ws.send(json.dumps(self._op(op, topic, kind)))
                     self._connected.set()
-                    self._on_state(True)
-                    if lost_at is not None:
-                        log.warning("rosbridge %s: connected again after %.2f s", self.url, time.monotonic() - lost_at)
                     lost_at, delay = None, 0.1
                     async for text in ws:
                         self._receive(text)
+                    self._last_error = "closed by the server"
             except asyncio.CancelledError:
                 raise
             except Exception as e:  # refused, reset, closed, timed out: all mean "not connected"
                 reason = f"{type(e).__name__}: {e}" if str(e) else type(e).__name__
-                if self._connected.is_set() or lost_at is None:
-                    log.warning("rosbridge %s: link lost or refused (%s)", self.url, reason)
-                self.failed_reason = reason
+                if opened or lost_at is None:
+                    log.info("rosbridge %s: link lost or refused (%s)", self.url, reason)
+                self._last_error = reason
             self._ws = None
-            if self._connected.is_set():
-                self._connected.clear()
-                self._on_state(False)
+            self._connected.clear()
+            if opened:
+                opened = False
+                self._on_state(False, self._last_error)
             if self._closing:
                 break
             now = time.monotonic()
             lost_at = now if lost_at is None else lost_at
             if now - lost_at >= self.reconnect:
                 self.failed = (f"the link to {self.url} was lost and did not come back within "
-                               f"{self.reconnect:g} s ({getattr(self, 'failed_reason', 'closed')})")
+                               f"{self.reconnect:g} s ({self._last_error})")
                 log.error("rosbridge: %s", self.failed)
-                self._on_state(False)
                 return
             await asyncio.sleep(delay)
             delay = min(delay * 2, 1.0)
@@ -184,9 +193,10 @@ class RosbridgeLink:
             self._topics[topic] = ("subscribe", kind)
         self._send(self._op("subscribe", topic, kind))
 
-    def publish(self, topic: str, msg: dict[str, Any]) -> bool:
-        """Send `msg` on `topic` (advertised first); False when not connected (the message is lost)."""
-        return self._send({"op": "publish", "topic": topic, "msg": msg})
+    def publish(self, topic: str, msg: dict[str, Any], connection: int | None = None) -> bool:
+        """Send `msg` on `topic` (advertised first); False when not connected (the message is lost),
+        or when `connection` is given and is no longer the one that is up."""
+        return self._send({"op": "publish", "topic": topic, "msg": msg}, connection=connection)
 
     def call_service(self, service: str, args: dict[str, Any], timeout: float) -> Any:
         """Call `service` and wait for its response's values; messages published before the response
@@ -204,14 +214,22 @@ class RosbridgeLink:
         finally:
             self._calls.pop(call_id, None)
 
-    def _send(self, message: dict[str, Any], timeout: float = 1.0) -> bool:
+    def _send(self, message: dict[str, Any], timeout: float = 1.0, connection: int | None = None) -> bool:
         ws = self._ws
         if ws is None or not self._connected.is_set():
             return False
         text = json.dumps(message, allow_nan=False)
-        try:
-            asyncio.run_coroutine_threadsafe(ws.send(text), self._loop).result(timeout)
+
+        async def send() -> bool:
+            # Checked on the link's thread, which alone changes connections: no new one can come
+            # between this check and the send.
+            if connection is not None and (connection != self.connection or self._ws is not ws):
+                return False
+            await ws.send(text)
             return True
+
+        try:
+            return asyncio.run_coroutine_threadsafe(send(), self._loop).result(timeout)
         except Exception as e:  # closed under us: the reconnection loop takes it from here
             log.debug("rosbridge %s: send failed (%s)", self.url, e)
             return False

@@ -6,6 +6,7 @@ and ``vwg run --platform rosbridge --url ws://HOST:PORT``.
       url: ws://192.168.1.10:9090
       watchdog: 0.5        # seconds without odometry before a robot is stopped
       reconnect: 5         # seconds a lost link is retried before the run ends
+      flap_limit: {drops: 3, seconds: 10}  # more drops than this within the seconds end the run
       topics: {cmd_vel: /cmd_vel, odom: /odom, scan: /scan, camera: /camera/image/compressed}
       ros: 1               # 2: type names spelled pkg/msg/Name (rosbridge for ROS 2 takes both)
       control_rate: 20     # Hz: velocities sent between frames
@@ -22,6 +23,11 @@ each control tick publishes the velocities, then calls SERVICE with ``{"seconds"
 waits (up to ``watchdog`` seconds) for its response, by which time the robot has published its
 odometry and scan after the step. With ``control_rate`` equal to the simulator's rate (100 Hz for
 its 0.01 s step), the frames are those of ``--platform sim`` bit for bit (noise off).
+
+Every drop of the link and every reconnection is a fault in the run's summary, with its time; after
+a reconnection the robots are sent only stops until odometry has come over the new connection; a
+link that drops more than ``flap_limit.drops`` times within ``flap_limit.seconds`` ends the run
+(exit status 4), as one that stays away longer than ``reconnect`` seconds does.
 """
 
 from __future__ import annotations
@@ -31,7 +37,7 @@ from typing import Any
 
 from . import _core
 from .errors import SchemaError
-from .real_robot import RealRobotPlatform
+from .real_robot import FlapLimit, RealRobotPlatform
 from .ros_messages import compressed_image, laser_scan, odometry, twist_message
 from .rosbridge import RosbridgeLink
 
@@ -40,7 +46,7 @@ __all__ = ["DEFAULT_TOPICS", "RosbridgePlatform", "topics_for"]
 DEFAULT_TOPICS = {"cmd_vel": "/cmd_vel", "odom": "/odom", "scan": "/scan", "camera": "/camera/image/compressed"}
 TYPES = {"cmd_vel": "geometry_msgs/Twist", "odom": "nav_msgs/Odometry", "scan": "sensor_msgs/LaserScan",
          "camera": "sensor_msgs/CompressedImage"}
-OPTIONS = ("url", "topics", "ros", "watchdog", "reconnect", "control_rate", "lockstep")
+OPTIONS = ("url", "topics", "ros", "watchdog", "reconnect", "control_rate", "lockstep", "flap_limit")
 
 
 def topics_for(robot: int, several: bool, topics: dict[str, str] | None = None) -> dict[str, str]:
@@ -60,7 +66,7 @@ class RosbridgePlatform(RealRobotPlatform):
 
     def __init__(self, robots: list[_core.RobotSettings], url: str, *, topics: dict[str, str] | None = None,
                  ros: int = 1, watchdog: float = 0.5, reconnect: float = 5.0, control_rate: float = 20.0,
-                 lockstep: str | None = None) -> None:
+                 lockstep: str | None = None, flap_limit: FlapLimit | dict[str, Any] | None = None) -> None:
         self.link: RosbridgeLink | None = None
         unknown = set(topics or {}) - set(DEFAULT_TOPICS)
         if unknown:
@@ -85,10 +91,11 @@ class RosbridgePlatform(RealRobotPlatform):
         if lockstep is not None and (not isinstance(lockstep, str) or not lockstep.startswith("/")):
             raise SchemaError(f"platform.lockstep: expected a service name such as /vwg/step, got {lockstep!r}")
         self.step_service = lockstep
-        super().__init__(robots, watchdog=watchdog, control_rate=control_rate, lockstep=lockstep is not None)
+        super().__init__(robots, watchdog=watchdog, control_rate=control_rate, lockstep=lockstep is not None,
+                         flap_limit=flap_limit)
         # Each robot's latest camera image, decoded when its gCamera asks (sensor_msgs/CompressedImage).
         self.images = {r.id: _core.ReceivedImages() for r in robots if "camera" in r.sensors}
-        self.link = RosbridgeLink(url, on_message=self._on_message, reconnect=reconnect)
+        self.link = RosbridgeLink(url, on_message=self._on_message, on_state=self._on_link_state, reconnect=reconnect)
         self.link.connect()
         for rid, named in self.topics.items():
             self.link.advertise(named["cmd_vel"], self.types["cmd_vel"])
@@ -110,10 +117,19 @@ class RosbridgePlatform(RealRobotPlatform):
         elif key == "camera" and robot in self.images:
             self.images[robot].push(compressed_image(msg))
 
-    def send_velocity(self, robot: int, speed: float, turn_rate: float) -> bool:
+    def _on_link_state(self, connected: bool, detail: str) -> None:
+        # On the link's thread, before any message of a new connection: its odometry is stamped with it.
+        if self.link is None:
+            return
+        if connected:
+            self.link_up(self.link.connection)
+        else:
+            self.link_down(detail)
+
+    def send_velocity(self, robot: int, speed: float, turn_rate: float, *, connection: int | None = None) -> bool:
         topics = self.topics.get(robot)
-        return bool(topics) and self.link is not None and self.link.publish(topics["cmd_vel"],
-                                                                             twist_message(speed, turn_rate))
+        return bool(topics) and self.link is not None and self.link.publish(
+            topics["cmd_vel"], twist_message(speed, turn_rate), connection=connection)
 
     def step_clock(self, seconds: float) -> None:
         assert self.link is not None and self.step_service is not None

@@ -12,11 +12,18 @@ any pyserial URL: ``socket://127.0.0.1:PORT``, ``loop://``).
       pid_rate: 30           # the firmware's PID loop, Hz: motor speeds are ticks per PID interval
       watchdog: 0.5
       reconnect: 5
+      flap_limit: {drops: 3, seconds: 10}
 
 The commands (each ends with a carriage return): ``e`` → ``LEFT RIGHT`` encoder counts; ``m L R``
 → ``OK``, motor speeds in ticks per PID interval; ``r`` → ``OK``, encoders reset; ``b`` → the baud
 rate. Odometry is integrated from the encoders (midpoint rule), from zero where the robot starts.
 One base per line: a world with several robots needs several platforms.
+
+A line that breaks (an error, or no answer within the timeout) is reopened every odometry period
+for ``reconnect`` seconds. Each break and each reopening that answers again is a fault in the run's
+summary; the encoder counts read on a reopened line are the robot's first odometry over it, and no
+motion is sent over it before them; more breaks than ``flap_limit.drops`` within
+``flap_limit.seconds`` end the run (exit status 4).
 """
 
 from __future__ import annotations
@@ -31,7 +38,7 @@ from typing import Any
 
 from . import _core
 from .errors import SchemaError
-from .real_robot import RealRobotPlatform
+from .real_robot import FlapLimit, RealRobotPlatform
 from .ros_messages import Odometry
 
 __all__ = ["OPTIONS", "SerialBase", "SerialPlatform", "encoder_counts"]
@@ -39,7 +46,7 @@ __all__ = ["OPTIONS", "SerialBase", "SerialPlatform", "encoder_counts"]
 log = logging.getLogger("vwg.serial")
 
 OPTIONS = ("port", "baud", "wheel_radius", "track_width", "ticks_per_rev", "pid_rate", "watchdog", "reconnect",
-           "control_rate", "odometry_rate")
+           "control_rate", "odometry_rate", "flap_limit")
 
 
 def encoder_counts(reply: str) -> tuple[int, int]:
@@ -55,7 +62,8 @@ def encoder_counts(reply: str) -> tuple[int, int]:
 
 
 class SerialBase:
-    """The line to one base: commands and replies, one at a time (a lock), reopened when it breaks."""
+    """The line to one base: commands and replies, one at a time (a lock), reopened when it breaks;
+    ``opened`` counts the openings (the current one's number while open)."""
 
     def __init__(self, port: str, baud: int = 57600, timeout: float = 0.2) -> None:
         self.port = port
@@ -63,23 +71,33 @@ class SerialBase:
         self.timeout = timeout
         self._lock = threading.Lock()
         self._serial: Any = None
+        self.opened = 0
 
     def open(self) -> None:
         import serial
 
         self.close()
-        self._serial = serial.serial_for_url(self.port, baudrate=self.baud, timeout=self.timeout,
-                                             write_timeout=self.timeout)
-        self._serial.reset_input_buffer()
+        line = serial.serial_for_url(self.port, baudrate=self.baud, timeout=self.timeout, write_timeout=self.timeout)
+        try:
+            line.reset_input_buffer()
+        except Exception:
+            line.close()
+            raise
+        with self._lock:
+            self._serial = line
+            self.opened += 1
 
-    def ask(self, command: str) -> str:
+    def ask(self, command: str, opening: int | None = None) -> str:
         """Send one command, return its reply line; OSError (pyserial's errors are) when the line is
-        down or the base does not answer within the timeout."""
+        down or the base does not answer within the timeout, or when `opening` is given and the line
+        has been reopened since (a command meant for the line as it was)."""
         import serial
 
         with self._lock:
             if self._serial is None:
                 raise OSError(f"serial {self.port}: not open")
+            if opening is not None and opening != self.opened:
+                raise OSError(f"serial {self.port}: reopened since (opening {self.opened}, not {opening})")
             try:
                 # A late reply to an earlier command must not be taken for this one's.
                 self._serial.reset_input_buffer()
@@ -113,12 +131,12 @@ class SerialPlatform(RealRobotPlatform):
     def __init__(self, robot: _core.RobotSettings, port: str, *, baud: int = 57600, wheel_radius: float = 0.0325,
                  track_width: float = 0.16, ticks_per_rev: float = 1920, pid_rate: float = 30,
                  watchdog: float = 0.5, reconnect: float = 5.0, control_rate: float = 20.0,
-                 odometry_rate: float = 30.0) -> None:
+                 odometry_rate: float = 30.0, flap_limit: FlapLimit | dict[str, Any] | None = None) -> None:
         for name, value in (("wheel_radius", wheel_radius), ("track_width", track_width),
                             ("ticks_per_rev", ticks_per_rev), ("pid_rate", pid_rate), ("odometry_rate", odometry_rate)):
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
                 raise SchemaError(f"platform.{name}: expected a number > 0, got {value!r}")
-        super().__init__([robot], watchdog=watchdog, control_rate=control_rate)
+        super().__init__([robot], watchdog=watchdog, control_rate=control_rate, flap_limit=flap_limit)
         self.robot_id = robot.id
         self.metres_per_tick = 2 * math.pi * wheel_radius / ticks_per_rev
         self.track_width = track_width
@@ -136,6 +154,7 @@ class SerialPlatform(RealRobotPlatform):
         except OSError as e:
             self.base.close()
             raise SchemaError(f"platform serial: cannot use {port}: {e}") from None
+        self.link_up(self.base.opened)
         self._thread = threading.Thread(target=self._poll, args=(1.0 / odometry_rate,), name="vwg-serial", daemon=True)
         self._thread.start()
 
@@ -159,14 +178,17 @@ class SerialPlatform(RealRobotPlatform):
         start = time.monotonic()
         while self._running:
             try:
-                left, right = encoder_counts(self.base.ask("e"))
+                opening = self.base.opened
+                left, right = encoder_counts(self.base.ask("e", opening))
+                if self._lost_at is not None:
+                    self.link_up(opening)  # back: these counts are the first odometry over it
                 self._integrate(left, right, time.monotonic() - start)
                 self._lost_at = None
             except (OSError, ValueError, IndexError) as e:
                 now = time.monotonic()
                 if self._lost_at is None:
                     self._lost_at = now
-                    log.warning("serial %s: %s", self.base.port, e)
+                    self.link_down(str(e))
                 if now - self._lost_at > self.reconnect:
                     self._line_failure = f"the line to {self.base.port} broke and did not come back within " \
                                     f"{self.reconnect:g} s ({e})"
@@ -194,12 +216,12 @@ class SerialPlatform(RealRobotPlatform):
         self._pose = (x, y, yaw)
         self.on_odometry(self.robot_id, Odometry(t, x, y, yaw, 0.0, 0.0))
 
-    def send_velocity(self, robot: int, speed: float, turn_rate: float) -> bool:
+    def send_velocity(self, robot: int, speed: float, turn_rate: float, *, connection: int | None = None) -> bool:
         # Wheel speeds in ticks per PID interval, as the firmware's `m` takes them.
         left = (speed - turn_rate * self.track_width / 2) / self.metres_per_tick / self.pid_rate
         right = (speed + turn_rate * self.track_width / 2) / self.metres_per_tick / self.pid_rate
         try:
-            return self.base.ask(f"m {round(left)} {round(right)}") == "OK"
+            return self.base.ask(f"m {round(left)} {round(right)}", connection) == "OK"
         except OSError:
             return False
 
