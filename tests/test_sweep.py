@@ -7,6 +7,7 @@ import csv
 import io
 import json
 import math
+import re
 import subprocess
 import sys
 import time
@@ -97,10 +98,6 @@ def test_a_rerun_runs_only_what_is_missing(sweep, tmp_path):
     assert (resumed.done_before, resumed.ran) == (10, 6)
     rows = read_rows(cut)
     assert len(rows) == 16  # the torn row was cut off: its cell ran again
-
-    def untimed(r):
-        return tuple(r[c] for c in COLUMNS if c not in TIMINGS)
-
     assert sorted(map(untimed, rows)) == sorted(map(untimed, read_rows(out)))
 
 
@@ -120,6 +117,68 @@ def test_the_command_line(sweep, tmp_path):
                           capture_output=True, text=True, timeout=120)
     assert done.returncode == 2
     assert f"{bad}:2" in done.stderr and "planners[1]" in done.stderr and "teleport" in done.stderr
+
+
+def untimed(row):
+    return tuple(row[c] for c in COLUMNS if c not in TIMINGS)
+
+
+def test_a_last_row_that_lacks_only_its_line_break_runs_again(sweep, tmp_path):
+    # A stop between a row's last character and its line break: the row looks whole, but its last
+    # field may be cut short, so it is not counted as finished. It was counted and then cut off,
+    # so the rerun ran one cell and left 15 of 16 rows.
+    folder, out, _ = sweep
+    lines = out.read_bytes().splitlines(keepends=True)  # the header and 16 rows, each ending in \r\n
+    assert len(lines) == 17 and all(line.endswith(b"\r\n") for line in lines)
+    cut = tmp_path / "cut.csv"
+    cut.write_bytes(b"".join(lines[:15]) + lines[15].removesuffix(b"\r\n"))
+    assert len(finished_keys(cut)) == 14
+    resumed = run_sweep(load_spec(folder / "spec.yaml"), cut, workers=1, progress=False)
+    assert (resumed.done_before, resumed.ran) == (14, 2)
+    assert "line 16 was left half-written" in resumed.repaired
+    rows = read_rows(cut)
+    assert len(rows) == 16
+    assert sorted(map(untimed, rows)) == sorted(map(untimed, read_rows(out)))
+
+
+def test_a_row_torn_inside_a_quoted_line_break_runs_again(sweep, tmp_path):
+    # An error text of two lines is written quoted; a stop just after its line break leaves a quote
+    # open. Cutting at the last line break kept it, and the next row appended went inside the quote.
+    folder, out, _ = sweep
+    lines = out.read_bytes().splitlines(keepends=True)
+    torn = lines[15].removesuffix(b",\r\n") + b',"first line\nsecond line"\r\n'  # the error column, last
+    assert next(csv.reader(io.StringIO(torn.decode(), newline="")))[-1] == "first line\nsecond line"
+    cut = tmp_path / "cut.csv"
+    cut.write_bytes(b"".join(lines[:15]) + torn[:torn.index(b"\n") + 1])
+    assert len(finished_keys(cut)) == 14
+    resumed = run_sweep(load_spec(folder / "spec.yaml"), cut, workers=1, progress=False)
+    assert (resumed.done_before, resumed.ran) == (14, 2)
+    rows = read_rows(cut)
+    assert len(rows) == 16 and all(r["error"] == "" for r in rows)
+    assert sorted(map(untimed, rows)) == sorted(map(untimed, read_rows(out)))
+
+
+def test_a_header_cut_short_is_written_again(tmp_path):
+    # A stop while the header was being written: the file is started again, not refused for good.
+    (tmp_path / "spec.yaml").write_text("worlds: [office]\nplanners: [astar]\nseeds: [1]\nframes: 5\n")
+    out = tmp_path / "r.csv"
+    out.write_text("world,planner,se", newline="")
+    done = subprocess.run([sys.executable, "-m", "vwg.cli", "sweep", str(tmp_path / "spec.yaml"), "-o", str(out),
+                           "--workers", "1"], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert f"{out}: its header was cut short: started again" in done.stderr
+    assert "1 cells, 0 already in" in done.stdout and "1 run now" in done.stdout
+    assert out.read_bytes().split(b"\r\n")[0] == ",".join(COLUMNS).encode()
+    rows = read_rows(out)
+    assert [(r["world"], r["planner"], r["seed"], r["frames_limit"]) for r in rows] == [("office", "astar", "1", "5")]
+
+
+def test_a_results_file_broken_in_the_middle_is_refused_with_its_line(tmp_path):
+    out = tmp_path / "r.csv"
+    row = ",".join(["x"] * len(COLUMNS)) + "\r\n"
+    out.write_text(",".join(COLUMNS) + "\r\n" + row + '"x"y' + row[1:] + row, newline="")
+    with pytest.raises(Error, match=re.escape(f"{out}:3: not a row as vwg sweep writes them") + ".*mend or delete"):
+        finished_keys(out)
 
 
 @pytest.mark.parametrize(("text", "line", "field", "words"), [
@@ -159,7 +218,7 @@ def test_a_world_file_beside_the_spec_and_a_results_file_of_another_kind(tmp_pat
     assert spec.worlds == [str(tmp_path / "mine.yaml")]
     other = tmp_path / "other.csv"
     other.write_text("a,b\n1,2\n")
-    with pytest.raises(Error, match="not a results file of vwg sweep"):
+    with pytest.raises(Error, match=r"not a results file of vwg sweep.*name another file with -o, or move this one"):
         run_sweep(spec, other, workers=1, progress=False)
 
 

@@ -188,6 +188,8 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     spec = load_spec(args.spec)
     _check_workers(args)
     result = run_sweep(spec, args.output, scheduler=args.scheduler, workers=args.workers, progress=args.progress)
+    if result.repaired:
+        print(f"vwg sweep: {result.repaired}", file=sys.stderr)
     print(f"vwg sweep {args.spec}: {result.cells} cells, {result.done_before} already in {result.out}, "
           f"{result.ran} run now" + (f" ({result.failed} with a failed frame)" if result.failed else ""))
     return 0

@@ -142,18 +142,76 @@ def _world_name(name: str, base: Path) -> str:
     raise Error(f"{name}: no file {local}, and no shipped world of that name (shipped: {', '.join(shipped_worlds())})")
 
 
-def finished_keys(out: Path) -> set[tuple[str, ...]]:
-    """The cells a results file holds already (their first five columns)."""
+HEADER_LINE = ",".join(COLUMNS) + "\r\n"  # as csv.DictWriter writes it
+
+
+@dataclass
+class _ResultsFile:
+    """What a results file holds: the ``keys`` of its finished cells (the first five columns of each
+    complete row after the header) and ``good_bytes``, where its last complete record ends. Bytes after
+    that are what a stop left half-written (``torn`` says what): a last row, or the header."""
+
+    keys: set[tuple[str, ...]] = field(default_factory=set)
+    good_bytes: int = 0
+    torn: str = ""
+    torn_header: bool = False
+
+
+def _read_results(out: Path) -> _ResultsFile:
+    """Read a results file record by record (a quoted field may hold a line break), streaming: only
+    records that end with their line break count; a last one without is torn (not finished)."""
     if not out.exists() or out.stat().st_size == 0:
-        return set()
-    with out.open(newline="", encoding="utf-8") as f:
-        reader = csv.reader(f)
-        header = next(reader, None)
-        if header != list(COLUMNS):
-            raise Error(f"{out}: not a results file of vwg sweep (its header is not {','.join(COLUMNS)}); "
-                        "name another file with -o")
-        # A row cut short by a stop in the middle of writing is not finished: it runs again.
-        return {tuple(row[:5]) for row in reader if len(row) == len(COLUMNS)}
+        return _ResultsFile()
+    size = out.stat().st_size
+    found = _ResultsFile()
+    # surrogateescape: a stop may cut a character in two, and each line's bytes are counted exactly
+    with out.open(newline="", encoding="utf-8", errors="surrogateescape") as f:
+        head = f.read(len(HEADER_LINE) + 1)
+        if HEADER_LINE.startswith(head) and head != HEADER_LINE:
+            return _ResultsFile(torn=f"{out}: its header was cut short", torn_header=True)
+        f.seek(0)
+        consumed = 0
+        last_line = ""
+
+        def counted() -> Iterator[str]:
+            nonlocal consumed, last_line
+            for text in f:
+                consumed += len(text.encode("utf-8", "surrogateescape"))
+                last_line = text
+                yield text
+
+        # strict: a quote a stop left open raises at the end here, rather than passing for a record
+        reader = csv.reader(counted(), strict=True)
+        header: list[str] | None = None
+        line = 1  # where the record being read starts
+        try:
+            for fields in reader:
+                if fields and consumed == size and not last_line.endswith("\n"):  # its line break never written
+                    found.torn = f"{out}: line {line} was left half-written"
+                    break
+                if header is None:
+                    header = fields
+                    if header != list(COLUMNS):
+                        break
+                elif len(fields) == len(COLUMNS):
+                    found.keys.add(tuple(fields[:5]))
+                found.good_bytes = consumed
+                line = reader.line_num + 1
+        except csv.Error as e:
+            if consumed < size:  # broken in the middle, not torn at the end
+                raise Error(f"{out}:{reader.line_num}: not a row as vwg sweep writes them ({e}); mend or delete "
+                            "that line, or name another file with -o") from None
+            found.torn = f"{out}: line {line} was left half-written"
+    if header != list(COLUMNS):
+        raise Error(f"{out}: not a results file of vwg sweep (its first line is not the header "
+                    f"{','.join(COLUMNS)}); name another file with -o, or move this one away")
+    return found
+
+
+def finished_keys(out: Path) -> set[tuple[str, ...]]:
+    """The cells a results file holds already (their first five columns). A row a stop left
+    half-written at the end (even one that lacks only its line break) is not finished: its cell runs again."""
+    return _read_results(out).keys
 
 
 @dataclass
@@ -163,6 +221,7 @@ class SweepResult:
     ran: int        # run now
     failed: int     # of those, rows with an error
     out: Path
+    repaired: str = ""  # what was mended in the results file before the sweep (a torn last row or header)
 
 
 def run_sweep(spec: SweepSpec, out: str | Path, *, scheduler: str | None = None, workers: int | None = None,
@@ -172,12 +231,14 @@ def run_sweep(spec: SweepSpec, out: str | Path, *, scheduler: str | None = None,
     on `client` if given (several sweeps on one cluster), else on a cluster of its own (dask_client)."""
     out = Path(out)
     trials = spec.trials()
+    # The torn tail is cut before the finished cells are counted: a row cut short (even one that lacks
+    # only its line break) is not counted as done, and its cell runs again.
+    repaired = _repair(out)
     done = finished_keys(out)
     todo = [t for t in trials if t.key not in done]
-    result = SweepResult(len(trials), len(trials) - len(todo), 0, 0, out)
+    result = SweepResult(len(trials), len(trials) - len(todo), 0, 0, out, repaired)
     if not todo:
         return result
-    _repair_tail(out)
     new_file = not out.exists() or out.stat().st_size == 0
     out.parent.mkdir(parents=True, exist_ok=True)
     with out.open("a", newline="", encoding="utf-8") as f, \
@@ -196,14 +257,17 @@ def run_sweep(spec: SweepSpec, out: str | Path, *, scheduler: str | None = None,
     return result
 
 
-def _repair_tail(out: Path) -> None:
-    """Cut a row a stop left half-written off the end of a results file (its cell runs again): a quote
-    it left open would swallow the next row."""
-    if out.exists() and out.stat().st_size:
-        data = out.read_bytes()
-        if not data.endswith(b"\n"):
-            with out.open("rb+") as f:
-                f.truncate(data.rfind(b"\n") + 1)
+def _repair(out: Path) -> str:
+    """Cut what a stop left half-written off the end of a results file: a last row (a quote it left
+    open would swallow the next row) or the header (the file is then started again). Says what it cut."""
+    found = _read_results(out)
+    if not found.torn:
+        return ""
+    with out.open("rb+") as f:
+        f.truncate(found.good_bytes)
+    if found.torn_header:
+        return f"{found.torn}: started again"
+    return f"{found.torn} (a stop in the middle of writing it): cut off, its cell runs again"
 
 
 def _results(client: Any, trials: list[Trial]) -> Iterator[dict[str, Any]]:
