@@ -179,6 +179,15 @@ class CaseStudy:
                  world_orders: bool | None = None, knows_map: bool = True, known_map: OccupancyGrid | None = None,
                  backends: Iterable[_core.Backend | Callable[[Simulation], _core.Backend]] = (),
                  platform: str | PlatformSpec | None = None) -> None:
+        from .launch import MAX_DT, MAX_TIME, MIN_DT
+
+        # A world made in Python (or changed with dataclasses.replace) is checked as a world file is: a
+        # frame time of 5e-324 s would make an order's frame number (time / dt) overflow.
+        if not (math.isfinite(world.dt) and MIN_DT <= world.dt <= MAX_DT):
+            raise SchemaError(f"dt: expected {MIN_DT:g} to {MAX_DT:g} seconds per frame, got {world.dt!r}")
+        for order in world.orders:
+            if not (math.isfinite(order.time) and 0 <= order.time <= MAX_TIME):
+                raise SchemaError(f"orders: expected a time from 0 to {MAX_TIME:g} seconds, got {order.time!r}")
         self.world = world
         self.knows_map = knows_map
         if known_map is not None and known_map.data.shape != world.grid.data.shape:

@@ -407,9 +407,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     if argv is None and hasattr(signal, "SIGUSR1"):  # the program, not a call from Python code
         faulthandler.register(signal.SIGUSR1, all_threads=True)
 
-    # A Python part over its time budget, and robots' memory no longer shared (the system's limit of
-    # memory mappings), are said on the terminal even when nothing else is.
-    for name in ("vwg.python", "vwg.shared_pages"):
+    # A Python part over its time budget, robots' memory no longer shared (the system's limit of
+    # memory mappings), and a shipped world run in place of a folder of its name, are said on the
+    # terminal even when nothing else is.
+    for name in ("vwg.python", "vwg.shared_pages", "vwg.worlds"):
         said = logging.getLogger(name)
         if not said.handlers:
             handler = logging.StreamHandler(sys.stderr)

@@ -33,6 +33,15 @@ EXIT_UNREACHED = 3
 #: Exit status of a run a real robot's link ended (the robot was stopped; the faults are in the summary).
 EXIT_LINK_FAULT = 4
 
+# What a run may be told, in world files and on the command line alike: the engine counts frames and
+# seeds in 64 bits, and a frame time of 5e-324 s would make a second 10**323 frames.
+#: The largest seed and number of frames (the engine's unsigned 64-bit integers).
+MAX_SEED = MAX_FRAMES = 2**64 - 1
+#: Seconds per frame.
+MIN_DT, MAX_DT = 1e-6, 3600.0
+#: Seconds from the start of a scripted order or event: 31 years, under 2**63 frames at MIN_DT.
+MAX_TIME = 1e9
+
 
 @dataclass
 class RunOptions:
@@ -68,14 +77,14 @@ class RunOptions:
 
     def check(self) -> None:
         """Values no world could take: named by their command-line spelling."""
-        if self.frames is not None and self.frames < 0:
-            raise Error(f"--frames: expected a number of frames >= 0, got {self.frames}")
-        if self.seed is not None and not 0 <= self.seed < 2**64:
+        if self.frames is not None and not 0 <= self.frames <= MAX_FRAMES:
+            raise Error(f"--frames: expected a number of frames from 0 to 2**64 - 1, got {self.frames}")
+        if self.seed is not None and not 0 <= self.seed <= MAX_SEED:
             raise Error(f"--seed: expected an integer from 0 to 2**64 - 1, got {self.seed}")
-        if self.dt is not None and not (math.isfinite(self.dt) and 0 < self.dt <= 3600):
-            raise Error(f"--dt: expected a number of seconds in (0, 3600], got {self.dt}")
-        if self.max_symbols < 0:
-            raise Error(f"--max-symbols: expected a count >= 0 (0: no limit), got {self.max_symbols}")
+        if self.dt is not None and not (math.isfinite(self.dt) and MIN_DT <= self.dt <= MAX_DT):
+            raise Error(f"--dt: expected a number of seconds from {MIN_DT:g} to {MAX_DT:g}, got {self.dt}")
+        if not 0 <= self.max_symbols < 2**63:
+            raise Error(f"--max-symbols: expected a count from 0 (no limit) to 2**63 - 1, got {self.max_symbols}")
         if not 0 <= self.threads <= 256:
             raise Error(f"--threads: expected 0 (the machine's cores) to 256 threads, got {self.threads}")
 

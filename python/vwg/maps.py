@@ -49,16 +49,24 @@ import numpy as np
 from . import _core
 from .errors import Error, WorldFileError
 from .files import MAX_IMAGE_BYTES, MAX_MAP_BYTES, check_regular_file, read_bytes
+from .image_size import ImageHeaderError, image_size
 from .yamldoc import YamlDoc
 
-__all__ = ["FREE", "OCCUPIED", "UNKNOWN", "OccupancyGrid", "load_map", "load_map_server", "load_movingai",
-           "movingai_cell"]
+__all__ = ["FREE", "MAX_IMAGE_PIXELS", "MAX_ORIGIN", "OCCUPIED", "UNKNOWN", "OccupancyGrid", "load_map",
+           "load_map_server", "load_movingai", "movingai_cell"]
 
 UNKNOWN = -1
 FREE = 0
 OCCUPIED = 100
 
 MODES = ("trinary", "scale", "raw")
+#: Pixels of a map image, read from its header and refused before it is decoded (10,000 × 10,000):
+#: the limit is on what the file expands to, not on its bytes (a 409 KB PNG can hold 400 M pixels).
+MAX_IMAGE_PIXELS = 100_000_000
+#: Metres from (0, 0) of a map's corners, and radians of its yaw: the simulator's bounds
+#: (platform::kMaxCoordinate and kMaxAngle: Box2D keeps coordinates as float).
+MAX_ORIGIN, MAX_YAW = 1e6, 1e3
+_PIXEL_ROWS = 2**20  # pixels turned into cells at a time: the float64 arithmetic needs 8 bytes a value
 # MovingAI terrain by character code: free, occupied, or -2 for a character the format does not have
 _MOVINGAI_CELLS = np.full(256, -2, dtype=np.int8)
 _MOVINGAI_CELLS[[ord(ch) for ch in ".GS"]] = 0
@@ -143,7 +151,7 @@ class OccupancyGrid:
     def world_to_cell(self, x: float, y: float) -> tuple[int, int]:
         """(row, col) of the cell holding the world point (x, y); may lie outside the grid (see ``inside``)."""
         u, v = self.world_to_grid(x, y)
-        return math.floor(v), math.floor(u)
+        return _cell_index(v), _cell_index(u)
 
     def cell_to_world(self, row: int, col: int) -> tuple[float, float]:
         """World (x, y) of the centre of cell (row, col)."""
@@ -234,6 +242,14 @@ class OccupancyGrid:
                 f"{self.width_m:g}×{self.height_m:g} m, origin=({ox:g}, {oy:g}, {yaw:g}), mode={self.mode!r}{src})")
 
 
+def _cell_index(t: float) -> int:
+    """floor(t); a point so far away that its cell number is not finite (1e308 m at 0.05 m a cell)
+    gets one far outside every grid instead of an OverflowError."""
+    if math.isfinite(t):
+        return math.floor(t)
+    return 2**62 if t > 0 else -(2**62)
+
+
 def movingai_cell(x: int, y: int, height: int) -> tuple[int, int]:
     """(row, col) in an OccupancyGrid of the MovingAI cell (x, y) of a map ``height`` rows high
     (MovingAI x is the column, y the row from the top)."""
@@ -242,7 +258,17 @@ def movingai_cell(x: int, y: int, height: int) -> tuple[int, int]:
 
 # ---- map_server -------------------------------------------------------------------------------------------
 def _pixels_to_grid(img: np.ndarray, mode: str, negate: bool, occupied: float, free: float) -> np.ndarray:
-    """Apply map_server's loading rule to an image (top row first); returns int8 data, bottom row first."""
+    """Apply map_server's loading rule to an image (top row first); returns int8 data, bottom row first.
+    A block of rows at a time: the rule's float64 values of a whole 100 M-pixel RGBA image would take 3.2 GB."""
+    out = np.empty(img.shape[:2], dtype=np.int8)
+    rows = max(1, _PIXEL_ROWS // max(1, img.shape[1]))
+    for top in range(0, img.shape[0], rows):
+        out[top:top + rows] = _pixels_to_cells(img[top:top + rows], mode, negate, occupied, free)
+    return np.ascontiguousarray(out[::-1])
+
+
+def _pixels_to_cells(img: np.ndarray, mode: str, negate: bool, occupied: float, free: float) -> np.ndarray:
+    """map_server's rule on a block of pixels: int8 cells in the same order."""
     values = img.astype(np.float64)
     if img.dtype == np.uint16:
         values /= 257.0  # 16-bit to the 0..255 scale the thresholds are written for
@@ -270,15 +296,52 @@ def _pixels_to_grid(img: np.ndarray, mode: str, negate: bool, occupied: float, f
             out = np.where(opaque, middle, out).astype(np.int8)
         out[p < free] = FREE
         out[p > occupied] = OCCUPIED
-    return np.ascontiguousarray(out[::-1])
+    return out
 
 
 def _origin(doc: YamlDoc, path: tuple[Any, ...]) -> tuple[float, float, float]:
     value = doc.get(path, list)
     if len(value) != 3:
         raise doc.error(path, f"expected [x, y, yaw], got {len(value)} values")
-    x, y, yaw = (float(doc.number((*path, i))) for i in range(3))
+    x, y = (float(doc.number((*path, i), minimum=-MAX_ORIGIN, maximum=MAX_ORIGIN)) for i in range(2))
+    yaw = float(doc.number((*path, 2), minimum=-MAX_YAW, maximum=MAX_YAW))
     return x, y, yaw
+
+
+def _check_extent(doc: YamlDoc, path: tuple[Any, ...], grid: OccupancyGrid) -> OccupancyGrid:
+    """The map's far corners within the simulator's ±MAX_ORIGIN metres too, named by the origin's line."""
+    extent = max(grid.width_m, grid.height_m)
+    if max(abs(grid.origin[0]), abs(grid.origin[1])) + extent > MAX_ORIGIN:
+        raise doc.error(path, f"a map of {grid.width_m:g} × {grid.height_m:g} m placed at ({grid.origin[0]:g}, "
+                              f"{grid.origin[1]:g}) reaches beyond ±{MAX_ORIGIN:g} m, the simulator's bounds")
+    return grid
+
+
+def _regular_file(doc: YamlDoc, path: tuple[Any, ...], file: Path, limit: int, what: str) -> Path:
+    """`file` if it is a regular file of at most `limit` bytes; an error at `path` saying what it is otherwise
+    (a folder, a named pipe, a device such as /dev/zero, missing)."""
+    try:
+        return check_regular_file(file, limit)
+    except WorldFileError as e:
+        reason = str(e).removeprefix(f"{file}: ")
+        raise doc.error(path, f"{what} {str(file)!r}: {reason}") from None
+
+
+def _checked_image_size(doc: YamlDoc, file: Path) -> tuple[int, int]:
+    """(width, height) of a map image from its header; an error at ``image`` when it is not a format read
+    here or holds more than MAX_IMAGE_PIXELS pixels (nothing decoded yet)."""
+    try:
+        with file.open("rb") as f:
+            kind, width, height = image_size(f)
+    except ImageHeaderError as e:
+        raise doc.error(("image",), f"cannot read image {str(file)!r}: {e}") from None
+    except OSError as e:
+        raise doc.error(("image",), f"cannot read image {str(file)!r}: {e.strerror}") from None
+    if width * height > MAX_IMAGE_PIXELS:
+        raise doc.error(("image",), f"image {str(file)!r} is a {kind} of {width} × {height} = {width * height:,} "
+                                    f"pixels, over the limit of {MAX_IMAGE_PIXELS:,} pixels of a map image "
+                                    "(read from its header; it was not decoded)")
+    return width, height
 
 
 def _map_server(doc: YamlDoc, base: Path) -> OccupancyGrid:
@@ -303,18 +366,14 @@ def _map_server(doc: YamlDoc, base: Path) -> OccupancyGrid:
     image_path = Path(image_ref).expanduser()
     if not image_path.is_absolute():
         image_path = base / image_path
-    if not image_path.is_file():
-        raise doc.error(("image",), f"image file {str(image_path)!r} not found")
-    try:
-        check_regular_file(image_path, MAX_IMAGE_BYTES)
-    except WorldFileError as e:
-        raise doc.error(("image",), str(e)) from None
+    _regular_file(doc, ("image",), image_path, MAX_IMAGE_BYTES, "image file")
+    _checked_image_size(doc, image_path)
     try:
         img = _core.read_image(str(image_path))
     except Error as e:
         raise doc.error(("image",), f"cannot read image {str(image_path)!r}: {e}") from None
     data = _pixels_to_grid(img, mode, bool(negate_raw), occupied, free)
-    return OccupancyGrid(data, resolution, origin, mode, str(doc.path))
+    return _check_extent(doc, ("origin",), OccupancyGrid(data, resolution, origin, mode, str(doc.path)))
 
 
 def load_map_server(path: str | Path) -> OccupancyGrid:
@@ -334,6 +393,9 @@ def load_movingai(path: str | Path, resolution: float = 1.0,
         raise WorldFileError(p, "resolution", f"expected a finite number > 0, got {resolution!r}")
     if len(origin) != 3 or not all(isinstance(v, (int, float)) and math.isfinite(v) for v in origin):
         raise WorldFileError(p, "origin", f"expected three finite numbers [x, y, yaw], got {list(origin)!r}")
+    if max(abs(origin[0]), abs(origin[1])) > MAX_ORIGIN or abs(origin[2]) > MAX_YAW:
+        raise WorldFileError(p, "origin", f"expected x and y within ±{MAX_ORIGIN:g} m and yaw within ±{MAX_YAW:g} "
+                                          f"rad (the simulator's bounds), got {list(origin)!r}")
 
     def bad(field: str, message: str, line: int) -> WorldFileError:
         return WorldFileError(p, field, message, line)
@@ -364,6 +426,9 @@ def load_movingai(path: str | Path, resolution: float = 1.0,
     if len(lines) < 4 or lines[3].strip() != "map":
         raise bad("map", f"expected 'map' on line 4, got {lines[3].strip() if len(lines) > 3 else 'end of file'!r}", 4)
     h, w = dims["height"], dims["width"]
+    if h * w > len(raw):
+        # Checked before the grid is made: a header may say a width of 10**12 in 20 bytes.
+        raise bad("width", f"the header says {h} rows of {w} cells, more than the file's {len(raw)} bytes hold", 3)
     while len(lines) > 4 and not lines[-1].strip():
         lines.pop()  # trailing blank lines end the file, they are not rows
     rows = lines[4:]
@@ -382,7 +447,11 @@ def load_movingai(path: str | Path, resolution: float = 1.0,
                       5 + i)
         grid[i] = cells
     x, y, yaw = (float(v) for v in origin)
-    return OccupancyGrid(np.ascontiguousarray(grid[::-1]), float(resolution), (x, y, yaw), "trinary", p)
+    result = OccupancyGrid(np.ascontiguousarray(grid[::-1]), float(resolution), (x, y, yaw), "trinary", p)
+    if max(abs(x), abs(y)) + max(result.width_m, result.height_m) > MAX_ORIGIN:
+        raise WorldFileError(p, "origin", f"a map of {result.width_m:g} × {result.height_m:g} m placed at ({x:g}, "
+                                          f"{y:g}) reaches beyond ±{MAX_ORIGIN:g} m, the simulator's bounds")
+    return result
 
 
 def _movingai_spec(doc: YamlDoc, path: tuple[Any, ...], base: Path) -> OccupancyGrid:
@@ -392,13 +461,12 @@ def _movingai_spec(doc: YamlDoc, path: tuple[Any, ...], base: Path) -> Occupancy
         if key not in ("movingai", "resolution", "origin"):
             raise doc.error((*path, key), "unknown key (expected movingai, resolution, origin)")
     ref = doc.get((*path, "movingai"), str)
-    resolution = float(doc.number((*path, "resolution"), 1.0, minimum=0.0, exclusive_minimum=True))
+    resolution = float(doc.number((*path, "resolution"), 1.0, minimum=1e-4, maximum=100.0))  # as map_server's
     origin = _origin(doc, (*path, "origin")) if doc.get((*path, "origin"), default=None) is not None else (0., 0., 0.)
     file = Path(ref).expanduser()
     if not file.is_absolute():
         file = base / file
-    if not file.is_file():
-        raise doc.error((*path, "movingai"), f"map file {str(file)!r} not found")
+    _regular_file(doc, (*path, "movingai"), file, MAX_MAP_BYTES, "map file")
     return load_movingai(file, resolution, origin)
 
 

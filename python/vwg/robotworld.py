@@ -68,7 +68,9 @@ import yaml
 
 from ._core import CameraSpec, DepthCameraSpec, LaserSpec, NoiseModel, RobotSettings
 from .errors import SchemaError, WorldFileError
-from .maps import OccupancyGrid, _movingai_spec, load_map
+from .files import MAX_MAP_BYTES
+from .launch import MAX_DT, MAX_FRAMES, MAX_SEED, MAX_TIME, MIN_DT
+from .maps import OccupancyGrid, _movingai_spec, _regular_file, load_map
 from .worlds import shipped_world
 from .yamldoc import YamlDoc, field_text
 
@@ -185,9 +187,8 @@ def _check_keys(doc: YamlDoc, path: tuple[Any, ...], value: dict[Any, Any], allo
             raise doc.error((*path, key), f"unknown key{hint}")
 
 
-def _duplicate_keys(path: Path, text: str) -> None:
+def _duplicate_keys(path: Path, root: yaml.Node | None) -> None:
     """PyYAML keeps the last of two equal keys silently; a world file with one is an error."""
-    root = yaml.compose(text, Loader=yaml.SafeLoader)
 
     def walk(node: yaml.Node, where: str) -> None:
         if isinstance(node, yaml.MappingNode):
@@ -259,8 +260,8 @@ def _load_grid(doc: YamlDoc, base: Path) -> tuple[OccupancyGrid, Path]:
     file = Path(spec).expanduser()
     if not file.is_absolute():
         file = base / file
-    if not file.is_file():
-        raise doc.error(("map",), f"map file {str(file)!r} not found")
+    # A device (/dev/zero) or a named pipe is said to be one, not "not found"; load_map checks the size.
+    _regular_file(doc, ("map",), file, MAX_MAP_BYTES, "map file")
     return load_map(file), file
 
 
@@ -391,7 +392,7 @@ def _orders(doc: YamlDoc, rooms: dict[str, Room], robots: list[RobotSettings]) -
         if not isinstance(entry, dict):
             raise doc.error(path, f"expected {{time, robot, room}}, got {entry!r}")
         _check_keys(doc, path, entry, _ORDER_KEYS)
-        time = float(doc.number((*path, "time"), minimum=0.0))
+        time = float(doc.number((*path, "time"), minimum=0.0, maximum=MAX_TIME))
         robot = int(doc.number((*path, "robot"), integer=True))
         if robot not in ids:
             raise doc.error((*path, "robot"), f"no robot with id {robot} (robots: {sorted(ids)})")
@@ -442,7 +443,7 @@ def load_robot_world(path: str | Path) -> RobotWorld:
     doc = YamlDoc(path)
     if not isinstance(doc.data, dict):
         raise doc.error((), "expected a mapping with map and robots")
-    _duplicate_keys(path, doc.text)
+    _duplicate_keys(path, doc.node)
     _check_keys(doc, (), doc.data, _TOP_KEYS)
     base = path.parent
     name = doc.get(("name",), str, default=path.stem)
@@ -452,9 +453,9 @@ def load_robot_world(path: str | Path) -> RobotWorld:
     robots = _robots(doc, grid)
     rooms = _rooms(doc, grid, wall_height, max(r.radius for r in robots))
     laser, kinect, camera, noise = _sensors(doc, wall_height)
-    frames = int(doc.number(("frames",), 3000, minimum=0, integer=True))
-    dt = float(doc.number(("dt",), 0.1, minimum=0.0, exclusive_minimum=True, maximum=3600.0))
-    seed = int(doc.number(("seed",), 0, minimum=0, integer=True))
+    frames = int(doc.number(("frames",), 3000, minimum=0, maximum=MAX_FRAMES, integer=True))
+    dt = float(doc.number(("dt",), 0.1, minimum=MIN_DT, maximum=MAX_DT))
+    seed = int(doc.number(("seed",), 0, minimum=0, maximum=MAX_SEED, integer=True))
     orders = _orders(doc, rooms, robots)
     platform = _platform(doc)
     tolerance = float(doc.number(("goal_tolerance",), 0.25, minimum=0.0, exclusive_minimum=True))

@@ -34,6 +34,7 @@ from . import _core
 from .actor import Actor
 from .errors import Error, WorldFileError
 from .generators import Schedule, every_frame, resolve_generators
+from .launch import MAX_DT, MAX_FRAMES, MAX_SEED, MAX_TIME, MIN_DT
 from .registry import backends
 from .registry import generators as generator_registry
 from .world import Alphabet, World
@@ -151,6 +152,9 @@ def _generator(doc: YamlDoc, world: World, i: int, entry: Any, dt: float) -> Any
         for key, events in table.items():
             if not isinstance(events, list):
                 raise doc.error((*path, kind, key), "expected a list of events")
+            if kind == "schedule_times" and isinstance(key, (int, float)) and not isinstance(key, bool) \
+                    and key > MAX_TIME:
+                raise doc.error((*path, kind, key), f"expected a time of at most {MAX_TIME:g} seconds, got {key!r}")
         if kind == "schedule":
             return _wrap(doc, (*path, kind), Schedule, table)
         return _wrap(doc, (*path, kind), Schedule.at_times, table, dt)
@@ -192,7 +196,7 @@ def load_world(path: str | Path, *, seed: int | None = None, frames: int | None 
     world = build_world(doc)
     initial_text = doc.get(("initial",), str)
     initial = _wrap(doc, ("initial",), world.parse, initial_text, f"{doc.path}:initial")
-    dt_value = dt if dt is not None else doc.number(("dt",), 0.1, minimum=0.0, exclusive_minimum=True, maximum=3600.0)
+    dt_value = dt if dt is not None else doc.number(("dt",), 0.1, minimum=MIN_DT, maximum=MAX_DT)
     gens = [_generator(doc, world, i, g, dt_value) for i, g in enumerate(doc.get(("generators",), list, default=[]))]
     backend_obj = _wrap(doc, ("backend",), backends.create, backend, world=world) if backend else _backend(doc, world)
     return WorldSpec(
@@ -202,8 +206,9 @@ def load_world(path: str | Path, *, seed: int | None = None, frames: int | None 
         initial=initial,
         generators=gens,
         backend=backend_obj,
-        frames=frames if frames is not None else doc.number(("frames",), 100, minimum=0, integer=True),
-        seed=seed if seed is not None else doc.number(("seed",), 0, minimum=0, integer=True),
+        frames=frames if frames is not None else doc.number(("frames",), 100, minimum=0, maximum=MAX_FRAMES,
+                                                            integer=True),
+        seed=seed if seed is not None else doc.number(("seed",), 0, minimum=0, maximum=MAX_SEED, integer=True),
         dt=dt_value,
         data=doc.data,
     )

@@ -6,11 +6,14 @@ an installed vwg runs them from any directory:
     vwg worlds                 # lists them
     vwg run office             # the same as vwg run path/to/office.yaml
 
-A name that is also a file in the current directory means the file.
+A name that is also a file in the current directory means the file. A name that is a folder here
+(``office/``, as beside the shipped ``office.yaml`` in ``maps/``) cannot be a world file: it means the
+shipped world, and a warning says so (logger ``vwg.worlds``, which ``vwg`` prints).
 """
 
 from __future__ import annotations
 
+import logging
 from importlib import resources
 from pathlib import Path
 
@@ -36,13 +39,22 @@ def shipped_worlds() -> dict[str, Path]:
     return {p.stem: p for p in sorted(worlds_dir().glob("*.yaml"))}
 
 
+_log = logging.getLogger("vwg.worlds")
+
+
 def shipped_world(arg: str | Path) -> Path | None:
     """The shipped world a bare name stands for (``office`` or ``office.yaml``, no folder), when no
-    file of that name exists here; None otherwise."""
+    file of that name exists here; None otherwise. When the name is a folder (or a pipe, a device)
+    here, the shipped world is the one meant, and a warning names both."""
     path = Path(arg).expanduser()
-    if path.exists() or path.parent != Path("."):
+    if path.parent != Path(".") or path.is_file():
         return None
-    return shipped_worlds().get(path.name.removesuffix(".yaml"))
+    shipped = shipped_worlds().get(path.name.removesuffix(".yaml"))
+    if shipped is not None and path.exists():
+        what = "a folder" if path.is_dir() else "not a regular file"
+        _log.warning("%s here is %s, not a world file: running the shipped world %s (%s)", path, what,
+                     path.name.removesuffix(".yaml"), shipped)
+    return shipped
 
 
 def resolve_world(arg: str | Path) -> Path:
@@ -51,11 +63,11 @@ def resolve_world(arg: str | Path) -> Path:
     path = Path(arg).expanduser()
     if path.is_file():
         return path
-    if path.exists():
-        raise Error(f"{path}: is not a file (expected a world file, .yaml)")
     shipped = shipped_world(path)
     if shipped is not None:
         return shipped
+    if path.exists():
+        raise Error(f"{path}: is not a file (expected a world file, .yaml)")
     if path.parent == Path("."):
         raise Error(f"{arg}: no such file, and no shipped world of that name (shipped: "
                     f"{', '.join(shipped_worlds())}; `vwg worlds` lists them)")

@@ -14,7 +14,79 @@ __all__ = ["REQUIRED", "YamlDoc", "field_text"]
 
 REQUIRED: Any = object()
 MAX_NODES = 1_000_000  # values in a document, aliases expanded
+MAX_DEPTH = 100        # lists and mappings inside each other (a world file needs fewer than 10)
+MAX_INT_DIGITS = 100   # digits of an integer (a seed up to 2**64 - 1 has 20)
 Path_ = tuple[Any, ...]
+_INT_TAG = "tag:yaml.org,2002:int"
+
+
+class _Refused(yaml.MarkedYAMLError):
+    """What the loader refuses before building any value, at the place in the text."""
+
+    def __init__(self, problem: str, mark: Any) -> None:
+        super().__init__(problem=problem, problem_mark=mark)
+
+
+class _Loader(yaml.SafeLoader):
+    """PyYAML's safe loader with limits on what a small text expands to, checked while the tree is
+    composed, before any value is built: PyYAML composes and builds recursively, so a deep nesting
+    (``[[[...]]]``) or an alias inside the node it names (``a: &x [*x]``) would end in a
+    RecursionError, and a 5,000-digit integer in Python's ValueError for long integers."""
+
+    def __init__(self, text: str) -> None:
+        super().__init__(text)
+        self._depth = 0
+        self._open: list[str] = []  # anchors of the nodes being composed (PyYAML refuses a duplicate anchor)
+
+    def compose_node(self, parent: Any, index: Any) -> Any:
+        event = self.peek_event()
+        if isinstance(event, yaml.AliasEvent):
+            if event.anchor in self._open:
+                raise _Refused(f"the alias *{event.anchor} is inside the value it names (&{event.anchor}): a value "
+                               "cannot contain itself", event.start_mark)
+            return super().compose_node(parent, index)
+        if self._depth >= MAX_DEPTH:
+            raise _Refused(f"nested more than {MAX_DEPTH} levels deep: vwg's YAML files hold at most {MAX_DEPTH} "
+                           "levels of lists and mappings inside each other", event.start_mark)
+        anchor = getattr(event, "anchor", None)
+        self._depth += 1
+        if anchor is not None:
+            self._open.append(anchor)
+        try:
+            return super().compose_node(parent, index)
+        finally:
+            self._depth -= 1
+            if anchor is not None:
+                self._open.pop()
+
+    def compose_scalar_node(self, anchor: Any) -> Any:
+        node = super().compose_scalar_node(anchor)
+        if node.tag == _INT_TAG:
+            digits = node.value.lstrip("+-").replace("_", "")
+            if digits[:2].lower() in ("0x", "0o", "0b"):
+                digits = digits[2:]
+            if len(digits) > MAX_INT_DIGITS:
+                raise _Refused(f"an integer of {len(digits)} digits: vwg's YAML files hold integers of at most "
+                               f"{MAX_INT_DIGITS} digits", node.start_mark)
+        if any("\ud800" <= ch <= "\udfff" for ch in node.value):
+            # PyYAML reads the escapes "\ud83d\ude00" as two halves: a pair is one character, a half alone none.
+            try:
+                node.value = node.value.encode("utf-16-le", "surrogatepass").decode("utf-16-le")
+            except UnicodeDecodeError as e:
+                half = node.value.encode("utf-16-le", "surrogatepass")[e.start:e.start + 2].decode(
+                    "utf-16-le", "surrogatepass")
+                raise _Refused(f"\\u{ord(half):04X} is half of a UTF-16 surrogate pair without its other half, "
+                               "not a character", node.start_mark) from None
+        return node
+
+    def construct_object(self, node: Any, deep: bool = False) -> Any:
+        try:
+            return super().construct_object(node, deep)
+        except yaml.YAMLError:
+            raise
+        except Exception as e:  # PyYAML's own constructors: int("abc") for `!!int abc`, a 13th month
+            raise _Refused(f"cannot read this {node.tag.rpartition(':')[2] or 'value'}: {e}", node.start_mark) \
+                from None
 
 
 def field_text(path: Path_) -> str:
@@ -35,18 +107,24 @@ class YamlDoc:
 
             text = read_text(self.path)
         self.text = text
+        loader = _Loader(text)
         try:
-            self.data = yaml.safe_load(text)
-            node = yaml.compose(text, Loader=yaml.SafeLoader)
+            node = loader.get_single_node()
+            self.lines: dict[Path_, int] = {}
+            self._budget = MAX_NODES
+            if node is not None:
+                self._walk(node, ())  # counted before the values are built: a billion laughs stays text
+            self.data = loader.construct_document(node) if node is not None else None
         except yaml.YAMLError as e:
             mark = getattr(e, "problem_mark", None)
             problem = getattr(e, "problem", None) or str(e)
-            raise WorldFileError(str(self.path), "", f"not valid YAML: {problem}",
-                                 line=mark.line + 1 if mark else 0) from None
-        self.lines: dict[Path_, int] = {}
-        self._budget = MAX_NODES
-        if node is not None:
-            self._walk(node, ())
+            prefix = "" if isinstance(e, _Refused) else "not valid YAML: "
+            raise WorldFileError(str(self.path), "", f"{prefix}{problem}", line=mark.line + 1 if mark else 0,
+                                 column=mark.column + 1 if mark else 0) from None
+        finally:
+            loader.dispose()
+        #: The composed tree (the line of every node), for checks of the text itself (duplicate keys).
+        self.node: yaml.Node | None = node
 
     def _walk(self, node: yaml.Node, path: Path_) -> None:
         # Aliases make a document's tree exponentially bigger than its text ("billion laughs"): a
