@@ -15,6 +15,7 @@ does not apply to a world is refused by name rather than ignored.
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import json
 import math
@@ -204,6 +205,9 @@ class RecordedRun:
             planned = options.frames if options.frames is not None else getattr(world, "frames", None)
             self.recorder = (Recorder(options.record, run.engine, world_file=world.path, world_data=run.record_data,
                                       world_kind=run.kind, frames_planned=planned) if options.record else None)
+        except OSError as e:  # a folder that cannot be made, a full disk (/dev/full) for the header
+            run.close()
+            raise Error(f"{options.record}: {e.strerror}: the record could not be started") from None
         except BaseException:
             run.close()
             raise
@@ -214,20 +218,54 @@ class RecordedRun:
     def execute(self, progress: bool | None = False) -> Outcome:
         try:
             outcome = self.run.execute(progress=progress)
-        finally:
+        except OSError as e:
+            # The only Python code of a frame whose errors are not FrameErrors is the engine's observers,
+            # here the recorder: its file could not take a frame's line (a full disk, a file size limit).
+            if self.recorder is None:
+                raise
+            raise self._record_failed(e) from None
+        try:
             if self.recorder:
                 self.recorder.close()
+        except OSError as e:
+            raise self._record_failed(e, end=True) from None
         if self.recorder:
             frames = "" if self.run.kind == "robot" else f" ({self.recorder.frames} frames)"
             outcome.outputs["record"] = f"{self.options.record}{frames}"
         if self.options.summary_json:
             outcome.outputs["summary"] = str(self.options.summary_json)
-            write_summary(self.options.summary_json, {**outcome.summary, "outputs": dict(outcome.outputs)})
+            try:
+                write_summary(self.options.summary_json, {**outcome.summary, "outputs": dict(outcome.outputs)})
+            except OSError as e:
+                raise Error(f"{self.options.summary_json}: {e.strerror}: the summary could not be written"
+                            + (f" (the record {self.options.record} is complete)" if self.recorder else "")) \
+                    from None
         return outcome
 
+    def _record_failed(self, e: OSError, end: bool = False) -> Error:
+        """What a failed write of the record leaves, said: the lines before it were flushed as their
+        frames ended and stay; no end line is written after a torn one, so vwg replay reads the record
+        as cut short, up to its last whole line."""
+        recorder, self.recorder = self.recorder, None
+        # The recorder's file is closed without writing more (a close flushes, and fails the same way).
+        file = getattr(recorder, "_file", None)
+        if file is not None:
+            recorder._file = None  # type: ignore[union-attr]
+            with contextlib.suppress(OSError):
+                file.close()
+        written = getattr(recorder, "frames", 0)
+        lost = "its end line" if end else "the frame being written and those after it"
+        return Error(f"{self.options.record}: {e.strerror}: the record holds its header and the first {written} "
+                     f"frames, not {lost}; vwg replay replays it as cut short")
+
     def close(self) -> None:
-        if self.recorder:
-            self.recorder.close()
+        try:
+            if self.recorder:
+                self.recorder.close()
+        except OSError as e:
+            error = self._record_failed(e, end=True)
+            self.run.close()
+            raise error from None
         self.run.close()
 
     def __enter__(self) -> RecordedRun:
