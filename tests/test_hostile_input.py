@@ -241,3 +241,238 @@ def test_a_python_part_over_its_time_budget_is_reported_by_name(caplog):
     assert not [r for r in caplog.records if r.name == "vwg.python"]
     with pytest.raises(vwg.SchemaError, match="python_budget"):
         vwg.set_python_budget(-1)
+
+
+# ---- issue 34: what a small file expands to, numbers at the edges of floats, full disks -------------------
+def vwg_cli(*args: str, cwd=None, limit_file_bytes: int | None = None) -> subprocess.CompletedProcess:
+    """`vwg ARGS` in a fresh process (its exit status and messages as a user sees them)."""
+    def limit() -> None:
+        import resource
+
+        resource.setrlimit(resource.RLIMIT_FSIZE, (limit_file_bytes, limit_file_bytes))
+
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(ROOT / "python"), os.environ.get("PYTHONPATH", "")])}
+    return subprocess.run([sys.executable, "-m", "vwg.cli", *args], capture_output=True, text=True, timeout=300,
+                          cwd=cwd, env=env, preexec_fn=limit if limit_file_bytes else None)
+
+
+@pytest.mark.parametrize(("text", "line", "column", "words"), [
+    # An alias inside the value it names: PyYAML builds a list holding itself (a RecursionError before).
+    ("name: x\nloop: &x [1, *x]\nmap: x\n", 2, 14, "the alias *x is inside the value it names"),
+    ("loop: &x {a: {b: *x}}\n", 1, 18, "the alias *x is inside the value it names"),
+    # 1,000 lists inside each other (a RecursionError before). The top mapping is level 1, the list at
+    # column 6 level 2: level 101 is the "[" at column 105.
+    ("map: " + "[" * 1000 + "]" * 1000 + "\n", 1, 105, "nested more than 100 levels deep"),
+    # A 5,000-digit integer (Python's ValueError for long integers before); 101 digits are refused too.
+    ("map: x\nseed: " + "9" * 5000 + "\n", 2, 7, "an integer of 5000 digits"),
+    ("seed: 0x" + "f" * 101 + "\n", 1, 7, "an integer of 101 digits"),
+    # A lone surrogate escape: a string that cannot be printed or written as UTF-8 (UnicodeEncodeError before).
+    ('name: "\\ud800"\nmap: x\n', 1, 7, "\\uD800 is half of a UTF-16 surrogate pair"),
+    ("seed: !!int abc\n", 1, 7, "cannot read this int"),
+])
+def test_yaml_that_expands_or_cannot_be_a_value_is_refused_at_its_place(tmp_path, text, line, column, words):
+    path = tmp_path / "w.yaml"
+    path.write_text(text, encoding="utf-8")
+    with pytest.raises(WorldFileError) as info:
+        vwg.robot.load_robot_world(path)
+    assert (info.value.line, info.value.column) == (line, column), str(info.value)
+    assert str(info.value).startswith(f"{path}:{line}:{column}: ") and words in str(info.value)
+    done = vwg_cli("check", str(path))
+    assert done.returncode == 2 and "Traceback" not in done.stderr, done.stderr
+    assert done.stderr.startswith(f"vwg: error: {path}:{line}:{column}: "), done.stderr
+
+
+def test_an_escaped_surrogate_pair_is_one_character(tmp_path):
+    text = OFFICE.replace("name: office", 'name: "\\ud83d\\ude00 office"')
+    assert vwg.robot.load_robot_world(world_file(tmp_path, text)).name == "\U0001F600 office"
+
+
+def test_a_sweep_spec_with_a_recursive_alias_is_refused_at_its_place(tmp_path):
+    from vwg.sweep import load_spec
+
+    spec = tmp_path / "spec.yaml"
+    spec.write_text("worlds: &w [office, *w]\nplanners: [astar]\nseeds: 1\nframes: 10\n")
+    with pytest.raises(WorldFileError) as info:
+        load_spec(spec)
+    assert (info.value.line, info.value.column) == (1, 21) and "inside the value it names" in str(info.value)
+
+
+def office_map(tmp_path, origin: str):
+    """The office's map_server YAML with another origin, beside a copy of its image."""
+    folder = tmp_path / "map"
+    folder.mkdir()
+    text = (ROOT / "maps" / "office" / "map.yaml").read_text()
+    (folder / "map.yaml").write_text("\n".join(f"origin: {origin}" if line.startswith("origin:") else line
+                                              for line in text.splitlines()) + "\n")
+    (folder / "map.pgm").write_bytes((ROOT / "maps" / "office" / "map.pgm").read_bytes())
+    return folder / "map.yaml"
+
+
+@pytest.mark.parametrize(("old", "new", "field", "words"), [
+    # A point 1e308 m away: its cell number (x / 0.05 m) is infinite (OverflowError in math.floor before).
+    ("at: [5.5, 17.8]", "at: [1.0e+308, 17.8]", "rooms.kitchen.at", "outside the map"),
+    ("at: [5.5, 17.8]", "at: [-1.0e+308, 17.8]", "rooms.kitchen.at", "outside the map"),
+    # The smallest float as seconds per frame: an order at 0 s is frame 0 / 5e-324 (inf before).
+    ("dt: 0.1", "dt: 4.9e-324", "dt", ">= 1e-06"),
+    ("time: 0.0", "time: 1.0e+308", "orders[0].time", "<= 1000000000.0"),
+    # One more than the engine's 64-bit seed: vwg check passed it and vwg run refused it without the file.
+    ("seed: 0", "seed: 18446744073709551616", "seed", "<= 18446744073709551615"),
+    ("frames: 3000", "frames: 18446744073709551616", "frames", "<= 18446744073709551615"),
+])
+def test_numbers_at_the_edges_of_floats_and_integers_are_refused_by_field(tmp_path, old, new, field, words):
+    assert old in OFFICE
+    text = OFFICE.replace(old, new, 1)
+    path = world_file(tmp_path, text)
+    line = line_of(text, new)
+    with pytest.raises(WorldFileError) as info:
+        vwg.robot.load_robot_world(path)
+    assert str(info.value).startswith(f"{path}:{line}: {field}: ") and words in str(info.value), str(info.value)
+    done = vwg_cli("check", str(path))
+    assert done.returncode == 2 and done.stderr.startswith(f"vwg: error: {path}:{line}: {field}: "), done.stderr
+
+
+@pytest.mark.parametrize(("origin", "field", "words"), [
+    ("[1.0e+308, 1.0e+308, 0]", "origin[0]", "<= 1000000.0"),  # an OverflowError before
+    ("[0, 0, 1.0e+308]", "origin[2]", "<= 1000.0"),
+    ("[999990.0, 0, 0]", "origin", "reaches beyond ±1e+06 m"),  # the office is 30 m wide
+])
+def test_a_map_origin_beyond_the_simulator_is_refused_with_its_line(tmp_path, origin, field, words):
+    path = office_map(tmp_path, origin)
+    line = line_of(path.read_text(), "origin:")
+    with pytest.raises(WorldFileError) as info:
+        vwg.maps.load_map(path)
+    assert str(info.value).startswith(f"{path}:{line}: {field}: ") and words in str(info.value), str(info.value)
+    text = OFFICE.replace("map: office/map.yaml", f"map: {path}")
+    (tmp_path / "w.yaml").write_text(text)
+    done = vwg_cli("check", str(tmp_path / "w.yaml"))
+    assert done.returncode == 2 and done.stderr.startswith(f"vwg: error: {path}:{line}: {field}: "), done.stderr
+
+
+@pytest.mark.parametrize(("args", "words"), [
+    (["--frames", "100000000000000000000000"], "--frames: expected a number of frames from 0 to 2**64 - 1"),
+    (["--dt", "1e-320"], "--dt: expected a number of seconds from 1e-06 to 3600"),
+    (["--max-symbols", "100000000000000000000000"], "--max-symbols: expected a count from 0"),
+])
+def test_options_beyond_the_engines_integers_and_floats_exit_2_naming_the_option(args, words):
+    done = vwg_cli("run", "office", *args)
+    assert done.returncode == 2 and done.stderr.startswith(f"vwg: error: {words}"), done.stderr
+
+
+def test_a_movingai_header_larger_than_its_file_is_refused_before_the_grid_is_made(tmp_path):
+    path = tmp_path / "wide.map"
+    path.write_text("type octile\nheight 1\nwidth 1000000000000\nmap\n..\n")  # 10**12 cells: 931 GiB before
+    with pytest.raises(WorldFileError) as info:
+        vwg.maps.load_movingai(path)
+    assert info.value.field == "width" and info.value.line == 3
+    assert "1 rows of 1000000000000 cells, more than the file's 48 bytes hold" in str(info.value)
+
+
+def grey_png(width: int, height: int, rows: bytes) -> bytes:
+    """A PNG of 8-bit grey pixels: its signature, header chunk (IHDR), compressed rows (IDAT) and end."""
+    import struct
+    import zlib
+
+    def chunk(kind: bytes, data: bytes) -> bytes:
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
+
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 0, 0, 0, 0))
+            + chunk(b"IDAT", rows) + chunk(b"IEND", b""))
+
+
+def test_a_map_image_over_the_pixel_limit_is_refused_from_its_header(tmp_path):
+    import zlib
+
+    # 20,000 × 20,000 grey pixels, all free: 439 KB on disk, 400 M pixels (3.2 GB as float64) decoded.
+    packer = zlib.compressobj(9)
+    row = b"\x00" + b"\xfe" * 20_000  # filter type 0, then the row's pixels
+    png = grey_png(20_000, 20_000, b"".join(packer.compress(row) for _ in range(20_000)) + packer.flush())
+    path = office_map(tmp_path, "[0, 0, 0]")
+    (path.parent / "map.pgm").write_bytes(png)  # a PNG named .pgm: the format is told by its first bytes
+    assert len(png) < 500_000
+    with pytest.raises(WorldFileError) as info:
+        vwg.maps.load_map(path)
+    assert info.value.field == "image" and info.value.line == 1
+    assert "a PNG of 20000 × 20000 = 400,000,000 pixels, over the limit of 100,000,000 pixels" in str(info.value)
+
+
+@pytest.mark.parametrize(("name", "size"), [("m.png", (7, 5)), ("m.pgm", (7, 5)), ("m.bmp", (7, 5)),
+                                            ("m.jpg", (16, 9)), ("m.ppm", (3, 11))])
+def test_image_sizes_are_read_from_headers(tmp_path, name, size):
+    import numpy as np
+
+    from vwg.image_size import image_size
+
+    width, height = size
+    channels = (height, width, 3) if name.endswith((".jpg", ".ppm")) else (height, width)
+    vwg._core.write_image(str(tmp_path / name), np.zeros(channels, np.uint8))
+    with (tmp_path / name).open("rb") as f:
+        assert image_size(f)[1:] == (width, height)
+
+
+def test_image_headers_with_comments_and_unknown_formats():
+    import io
+
+    from vwg.image_size import ImageHeaderError, image_size
+
+    assert image_size(io.BytesIO(b"P5\n# made by hand\n# two comments\n 640\t480\n255\n" + b"\0" * 10)) == \
+        ("PNM", 640, 480)
+    assert image_size(io.BytesIO(b"P7\nWIDTH 4\nHEIGHT 2\nDEPTH 1\nMAXVAL 255\nTUPLTYPE GRAYSCALE\nENDHDR\n")) == \
+        ("PAM", 4, 2)
+    # A JPEG whose frame header comes after an application segment and fill bytes.
+    jpeg = b"\xff\xd8\xff\xe0\x00\x04ab\xff\xff\xc0\x00\x11\x08\x01\x2c\x01\x90\x03" + b"\0" * 20
+    assert image_size(io.BytesIO(jpeg)) == ("JPEG", 400, 300)
+    for head in (b"II*\x00" + b"\0" * 40, b"GIF89a" + b"\0" * 40, b"", b"P5\n# only a comment"):
+        with pytest.raises(ImageHeaderError):
+            image_size(io.BytesIO(head))
+
+
+@pytest.mark.parametrize(("make", "what"), [(lambda p: os.mkfifo(p), "a named pipe"), (None, "a device")])
+def test_a_map_that_is_a_device_or_a_pipe_is_named_as_such_not_as_missing(tmp_path, make, what):
+    if make is None:
+        target = "/dev/zero"
+    else:
+        target = str(tmp_path / "map.yaml")
+        make(target)
+    for spec in (target, f"{{movingai: {target}}}"):
+        text = OFFICE.replace("map: office/map.yaml", f"map: {spec}")
+        path = tmp_path / "w.yaml"
+        path.write_text(text)
+        with pytest.raises(WorldFileError) as info:
+            vwg.robot.load_robot_world(path)
+        assert f"{path}:{line_of(text, 'map:')}: map" in str(info.value) and what in str(info.value), \
+            str(info.value)
+        assert "not found" not in str(info.value)
+
+
+def test_a_folder_named_like_a_shipped_world_runs_the_shipped_world_and_says_so(tmp_path):
+    (tmp_path / "office").mkdir()
+    done = vwg_cli("run", "office", "--frames", "1", "--allow-unreached", cwd=tmp_path)
+    assert done.returncode == 0, done.stderr
+    assert "vwg: warning: office here is a folder, not a world file: running the shipped world office (" \
+        in done.stderr and "office.yaml)" in done.stderr
+    assert "vwg run office — office, planner astar" in done.stdout
+
+
+@pytest.mark.parametrize("flag", ["--record", "--summary-json"])
+def test_a_full_disk_is_an_error_naming_the_file(flag):
+    done = vwg_cli("run", "office", "--frames", "3", flag, "/dev/full")
+    assert done.returncode == 2 and "Traceback" not in done.stderr, done.stderr
+    assert done.stderr.startswith("vwg: error: /dev/full: No space left on device: "), done.stderr
+
+
+def test_a_record_cut_by_a_file_size_limit_says_what_it_holds(tmp_path):
+    import json
+    import re
+
+    record = tmp_path / "r.jsonl"
+    done = vwg_cli("run", "office", "--frames", "300", "--record", str(record), limit_file_bytes=60_000)
+    assert done.returncode == 2 and "Traceback" not in done.stderr, done.stderr
+    said = re.match(rf"vwg: error: {re.escape(str(record))}: File too large: the record holds its header and the "
+                    r"first (\d+) frames", done.stderr)
+    assert said, done.stderr
+    # What it says is in the file: the header and that many frame lines whole, then at most a torn line.
+    lines = record.read_bytes().split(b"\n")
+    whole = [json.loads(line) for line in lines[:-1]]
+    assert len(whole) == 1 + int(said[1]) and "vwg_record" in whole[0]
+    assert [line["t"] for line in whole[1:]] == list(range(int(said[1])))
+    assert os.path.getsize(record) <= 60_000
