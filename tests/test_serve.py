@@ -7,6 +7,7 @@ and stops with its test."""
 from __future__ import annotations
 
 import asyncio
+import http.client
 import json
 import select
 import shutil
@@ -214,6 +215,146 @@ def test_bad_messages_are_refused_by_name_and_the_server_goes_on(server):
     assert server.state()["frame"] >= 0  # the server is still there
 
 
+def _message_of(size: int) -> str:
+    """An order to an unknown room, of exactly `size` bytes."""
+    text = json.dumps({"type": "order", "robot": 1, "room": ""})
+    message = json.dumps({"type": "order", "robot": 1, "room": "x" * (size - len(text))})
+    assert len(message.encode()) == size
+    return message
+
+
+@pytest.mark.parametrize("compression", [None, "deflate"])
+def test_a_message_of_4096_bytes_is_taken_and_one_of_4097_closes(server, compression):
+    # The README: "one over 4 KB closes that connection". 4,096 bytes is the most a message may have,
+    # sent plain or compressed (permessage-deflate: the limit is on the inflated message).
+    async def send(text: str) -> dict | int:
+        async with websockets.connect(server.ws, compression=compression) as ws:
+            await ws.send(text)
+            try:
+                while True:
+                    reply = json.loads(await asyncio.wait_for(ws.recv(), 10))
+                    if reply["type"] != "frame":
+                        return reply
+            except websockets.ConnectionClosed as e:
+                return e.rcvd.code
+
+    reply = asyncio.run(send(_message_of(4096)))
+    assert isinstance(reply, dict) and reply["type"] == "error" and "unknown room 'xxx" in reply["message"], reply
+    assert asyncio.run(send(_message_of(4097))) == 1009
+    assert server.state()["frame"] >= 0
+
+
+def test_a_thousand_resets_from_one_client_hold_the_frames_back_under_a_second(server):
+    # Each reset builds the world again (~0.1-0.3 s); 1,000 of them, 17 bytes each, were done one by
+    # one and stalled the frames for 263 s. Repeated, they are one: the frames run again within 1 s.
+    server.wait_for(lambda s: s["frame"] > 50)
+
+    async def flood() -> tuple[list[int], list[int]]:
+        async with websockets.connect(server.ws, max_queue=None) as ws:
+            for _ in range(1000):
+                await ws.send('{"type": "reset"}')
+            await ws.send('{"type": "teleport"}')  # answered once every reset before it is queued
+            while json.loads(await asyncio.wait_for(ws.recv(), 10))["type"] != "error":
+                pass
+            queued = time.monotonic()
+            seen: list[int] = []  # the frames sent within a second of that
+            while (left := queued + 1.0 - time.monotonic()) > 0:
+                try:
+                    message = json.loads(await asyncio.wait_for(ws.recv(), left))
+                except asyncio.TimeoutError:
+                    break
+                seen.append(message["frame"])
+            later = []
+            for _ in range(5):  # and afterwards: no reset was left waiting, the frames go on
+                later.append(server.state()["frame"])
+                await asyncio.sleep(0.1)
+            return seen, later
+
+    seen, later = asyncio.run(flood())
+    # After the last drop back to the first frames (the last reset done), the frames counted up again.
+    last_drop = max((i for i in range(1, len(seen)) if seen[i] < seen[i - 1]), default=0)
+    assert seen and seen[-1] >= seen[last_drop] + 10, seen
+    assert later == sorted(later) and later[-1] > later[0], later
+
+
+def test_a_client_over_its_bound_of_waiting_commands_is_told_and_others_go_on(server):
+    # A reset keeps the run's thread busy; meanwhile commands that do not repeat the one before
+    # (pause, resume, pause, ...) queue up to the bound, and each one over it gets an error back.
+    async def flood() -> tuple[list[str], dict]:
+        async with websockets.connect(server.ws, max_queue=None) as ws:
+            await ws.send('{"type": "reset"}')
+            for i in range(80):
+                await ws.send(json.dumps({"type": ("pause", "resume")[i % 2]}))
+            await ws.send('{"type": "teleport"}')
+            refused = []
+            while True:
+                reply = json.loads(await asyncio.wait_for(ws.recv(), 10))
+                if reply["type"] == "error":
+                    if "teleport" in reply["message"]:
+                        break
+                    refused.append(reply["message"])
+        async with websockets.connect(server.ws) as ws:  # another client: its order is taken, its resume done
+            await ws.send(json.dumps({"type": "order", "robot": 1, "room": "kitchen"}))
+            await ws.send(json.dumps({"type": "resume"}))
+            while (reply := json.loads(await asyncio.wait_for(ws.recv(), 10)))["type"] == "frame":
+                pass
+        return refused, reply
+
+    refused, other = asyncio.run(flood())
+    assert refused, "no command was refused"
+    assert len(refused) <= 80 - 31  # the bound's 32 less the reset, were it still waiting
+    assert all(("pause: refused" in m or "resume: refused" in m) and "still waiting" in m for m in refused), refused
+    assert other["type"] == "ok"  # another client's order is taken
+    server.wait_for(lambda s: robot(s, 1)["objective"] == "kitchen", timeout=20)
+
+
+def test_the_command_queue_bounds_each_client_and_merges_repeats():
+    from vwg.errors import Error
+    from vwg.serve.live import CommandQueue
+
+    queue = CommandQueue(bound=4)
+    for _ in range(1000):
+        queue.put("reset", client="a")
+    for kind, value in (("step", None), ("step", None), ("step", None), ("speed", 1.0), ("speed", 2.0),
+                        ("pause", None), ("pause", None)):
+        queue.put(kind, value, client="a")
+    assert len(queue) == 4  # reset, step (three), speed (the last value), pause: a's bound
+    with pytest.raises(Error, match="order: refused, 4 commands from this client are still waiting"):
+        queue.put("order", (1, "kitchen"), client="a")
+    queue.put("pause", client="a")  # a repeat of the last merges, at the bound too
+    queue.put("order", (1, "kitchen"), client="b")  # another client has a bound of its own
+    with pytest.raises(Error, match="speed: refused"):
+        queue.put("speed", 3.0, client="a")  # repeats a's speed, but not the last command (b's order)
+    taken = [(c.kind, c.value, c.count, c.client) for c in queue.take(0)]
+    assert taken == [("reset", None, 1, "a"), ("step", None, 3, "a"), ("speed", 2.0, 1, "a"), ("pause", None, 1, "a"),
+                     ("order", (1, "kitchen"), 1, "b")]
+    queue.put("order", (1, "kitchen"), client="a")  # all taken: a may send again
+    assert len(queue) == 1
+
+
+def test_only_the_last_of_the_resets_taken_at_once_is_done():
+    from vwg.robotworld import load_robot_world
+    from vwg.serve.live import LiveRun
+
+    live = LiveRun(load_robot_world("office"), world_orders=False)  # not started: its commands are done here
+    built = []
+    new_case = live._new_case
+    live._new_case = lambda: built.append(1) or new_case()
+    for _ in range(3):
+        live.reset()
+        live.pause()
+        live.order(1, "kitchen")  # dropped by the reset after it
+    live.reset()
+    live.order(2, "lab")
+    live.step()
+    live._apply_commands(timeout=0)
+    assert len(built) == 1
+    assert live._paused and live._steps == 1
+    live._frame()
+    assert live.case.orders.last == {2: "lab"}
+    live.stop()
+
+
 def test_only_its_own_page_and_name(server):
     port = server.url.rsplit(":", 1)[1].rstrip("/")
     # Another web site open in the browser cannot open the WebSocket (its Origin is not this server).
@@ -225,6 +366,26 @@ def test_only_its_own_page_and_name(server):
     with pytest.raises(urllib.error.HTTPError, match="403"):
         urllib.request.urlopen(request, timeout=10)
     assert server.state()["frame"] >= 0  # by its own name it answers
+
+
+def test_two_origin_headers_are_refused(server):
+    # Own, then foreign (or the other way round): the page is not its own page's; one own Origin is.
+    host = server.url.removeprefix("http://").rstrip("/")
+    upgrade = {"Connection": "Upgrade", "Upgrade": "websocket", "Sec-WebSocket-Version": "13",
+               "Sec-WebSocket-Key": "dGhlIHNhbXBsZSBub25jZQ=="}
+    for origins, status in (([f"http://{host}", "http://evil.example"], 403),
+                            (["http://evil.example", f"http://{host}"], 403), ([f"http://{host}"], 101)):
+        for path, headers in (("/ws", upgrade), ("/api/state", {})):
+            connection = http.client.HTTPConnection(host, timeout=10)
+            connection.putrequest("GET", path)
+            for origin in origins:
+                connection.putheader("Origin", origin)
+            for name, value in headers.items():
+                connection.putheader(name, value)
+            connection.endheaders()
+            got = connection.getresponse().status
+            connection.close()
+            assert got == (status if path == "/ws" or status == 403 else 200), (origins, path, got)
 
 
 async def _exchange_with_origin(url: str, origin: str) -> None:

@@ -14,7 +14,9 @@ API and a WebSocket. I chose aiohttp for its HTTP server and WebSocket in one as
 - ``/ws``: a frame message after each frame (the latest only: a slow client skips frames, it never
   slows the run); the page sends ``order``, ``select``, ``pause``, ``resume``, ``step``, ``speed``,
   ``reset`` messages (JSON). A message that cannot be done gets ``{"type": "error", "message": ...}``
-  back; one over MAX_MESSAGE bytes closes that connection (code 1009). Other clients go on.
+  back; one over MAX_MESSAGE (4,096) bytes closes that connection (code 1009); 4,096 bytes are taken.
+  A client's commands wait in a queue bounded per client (vwg.serve.live.MAX_WAITING): one over is
+  answered with an error. Other clients go on.
 """
 
 from __future__ import annotations
@@ -24,6 +26,7 @@ import contextlib
 import json
 import threading
 import time
+from collections.abc import Hashable
 from importlib import resources
 from pathlib import Path
 from typing import Any
@@ -36,7 +39,7 @@ from .live import LiveRun, Snapshot
 
 __all__ = ["MAX_MESSAGE", "Viewer", "serve"]
 
-MAX_MESSAGE = 4096  # bytes: the page's messages are a few dozen
+MAX_MESSAGE = 4096  # bytes a message from the page may have (it sends a few dozen); one over closes
 STATIC = Path(str(resources.files("vwg"))) / "serve" / "static"
 MAP_WIDTH = 900  # pixels of the map image
 OVERVIEW_SECONDS = 1.0  # the 3D view is drawn again at most this often
@@ -105,9 +108,12 @@ class Viewer:
         its own page (another site open in the browser cannot drive the robots)."""
         if self.hosts and request.host not in self.hosts:
             raise web.HTTPForbidden(text=f"vwg serve answers to {', '.join(sorted(self.hosts))}, not {request.host}")
-        origin = request.headers.get("Origin")
-        if origin is not None and origin not in {f"http://{h}" for h in self.hosts | {request.host}}:
-            raise web.HTTPForbidden(text=f"vwg serve takes orders from its own page, not from {origin}")
+        # Every Origin header is checked: a request with two (its own, then a foreign one) is not its page's.
+        origins = request.headers.getall("Origin", [])
+        if len(origins) > 1:
+            raise web.HTTPForbidden(text=f"vwg serve takes orders from its own page: {len(origins)} Origin headers")
+        if origins and origins[0] not in {f"http://{h}" for h in self.hosts | {request.host}}:
+            raise web.HTTPForbidden(text=f"vwg serve takes orders from its own page, not from {origins[0]}")
         return await handler(request)
 
     # ---- pages and the API -----------------------------------------------------------------------------
@@ -170,14 +176,21 @@ class Viewer:
 
     # ---- the WebSocket ---------------------------------------------------------------------------------
     async def websocket(self, request: web.Request) -> web.WebSocketResponse:
-        ws = web.WebSocketResponse(max_msg_size=MAX_MESSAGE, heartbeat=20)
+        # aiohttp refuses a plain message of max_msg_size bytes or more, but a compressed one only when
+        # it inflates to more: its limit is one over ours, and a compressed message of exactly that is
+        # refused here (too_big).
+        ws = web.WebSocketResponse(max_msg_size=MAX_MESSAGE + 1, heartbeat=20)
         await ws.prepare(request)
         self.clients.add(ws)
         sender = asyncio.create_task(self._send_frames(ws))
         try:
             async for msg in ws:
+                if msg.type in (WSMsgType.TEXT, WSMsgType.BINARY) and too_big(msg.data):
+                    await ws.close(code=WSCloseCode.MESSAGE_TOO_BIG,
+                                   message=f"message over {MAX_MESSAGE} bytes".encode())
+                    break
                 if msg.type == WSMsgType.TEXT:
-                    reply = self.handle(msg.data)
+                    reply = self.handle(msg.data, client=ws)
                     if reply is not None:
                         await ws.send_json(reply)
                 elif msg.type == WSMsgType.BINARY:
@@ -213,8 +226,9 @@ class Viewer:
                 with contextlib.suppress(asyncio.TimeoutError):
                     await asyncio.wait_for(self._wake.wait(), timeout=1.0)
 
-    def handle(self, text: str) -> dict[str, Any] | None:
-        """Do what a message from the page asks; an error message back when it cannot be done."""
+    def handle(self, text: str, client: Hashable = None) -> dict[str, Any] | None:
+        """Do what a message from the page asks; an error message back when it cannot be done (or when
+        `client` has too many commands waiting: vwg.serve.live.MAX_WAITING)."""
         try:
             message = json.loads(text)
         except json.JSONDecodeError as e:
@@ -228,21 +242,21 @@ class Viewer:
         try:
             if kind == "order":
                 robot = message.get("robot", self.live.latest.selected)
-                self.live.order(robot, message.get("room"))
+                self.live.order(robot, message.get("room"), client=client)
                 room = message.get("room")
                 return {"type": "ok", "what": f"robot {robot} to {room}"}
             if kind == "select":
-                self.live.select(message.get("robot"))
+                self.live.select(message.get("robot"), client=client)
             elif kind == "pause":
-                self.live.pause()
+                self.live.pause(client=client)
             elif kind == "resume":
-                self.live.resume()
+                self.live.resume(client=client)
             elif kind == "step":
-                self.live.step()
+                self.live.step(client=client)
             elif kind == "speed":
-                self.live.set_speed(message.get("value"))
+                self.live.set_speed(message.get("value"), client=client)
             elif kind == "reset":
-                self.live.reset()
+                self.live.reset(client=client)
             else:
                 return {"type": "error", "message": f"unknown message type {kind!r} (expected order, select, pause, "
                                                     "resume, step, speed, reset)"}
@@ -251,6 +265,11 @@ class Viewer:
         except Exception as e:  # anything else a message could provoke is refused, and the connection stays
             return {"type": "error", "message": f"{kind}: {type(e).__name__}: {e}"}
         return None
+
+
+def too_big(data: str | bytes) -> bool:
+    """Over MAX_MESSAGE bytes (text counted in UTF-8)."""
+    return len(data.encode() if isinstance(data, str) else data) > MAX_MESSAGE
 
 
 def serve(live: LiveRun, host: str = "127.0.0.1", port: int = 8765,
