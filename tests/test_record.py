@@ -21,19 +21,31 @@ FIREFLIES = ROOT / "examples" / "01_fireflies" / "world.yaml"
 
 
 
-def chained(objects) -> str:
-    """Record lines for these objects, each after the first holding the hash of the line before (as the
-    writer makes them): a record edited by hand, or by someone who knows the format."""
-    from vwg.record import line_hash
+def chained(objects, key: bytes | None = None) -> str:
+    """Record lines for these objects as the writer makes them (format 5): each after the first holding
+    the link of the line before (the first 32 hex digits of its SHA-256, or HMAC-SHA-256 with `key`),
+    the end line also its own link (of its text without it): a record edited by hand, or by someone
+    who knows the format. Written here from the format's description, not with vwg.record."""
+    import hashlib
+    import hmac
+
+    def link(text: str) -> str:
+        data = text.encode()
+        return (hmac.new(key, data, hashlib.sha256) if key else hashlib.sha256(data)).hexdigest()[:32]
+
+    def dumps(obj) -> str:
+        return json.dumps(obj, ensure_ascii=False, separators=(",", ":"))
 
     out, prev = [], None
     for obj in objects:
-        obj = {k: v for k, v in obj.items() if k != "prev"}
+        obj = {k: v for k, v in obj.items() if k not in ("prev", "self")}
         if prev is not None:
             obj["prev"] = prev
-        text = json.dumps(obj)
+        if obj.get("end") is True:
+            obj["self"] = link(dumps(obj))
+        text = dumps(obj)
         out.append(text + "\n")
-        prev = line_hash(text)
+        prev = link(text)
     return "".join(out)
 
 
@@ -95,7 +107,8 @@ def test_same_seed_same_record_bit_for_bit(tmp_path):
 
 def test_bad_record_files(tmp_path):
     bad = tmp_path / "bad.jsonl"
-    bad.write_text('{"vwg_record": 4, "initial": "", "seed": 0, "dt": 0.1}\n{"t": 0, "events": [], "string": ""\n')
+    bad.write_text('{"vwg_record": 5, "chain": "sha256", "initial": "", "seed": 0, "dt": 0.1}\n'
+                   '{"t": 0, "events": [], "string": ""\n')
     with pytest.raises(vwg.WorldFileError, match="not valid JSON") as info:
         read_record(bad)
     assert info.value.line == 2
@@ -323,8 +336,8 @@ def test_blob_change_round_trip(dtype, shape, changes):
 
 
 def write_record(path, header_blobs, frames=()):
-    header = {"vwg_record": 4, "initial": "", "seed": 0, "dt": 0.1, "blobs": header_blobs}
-    lines = [header, *({"t": t, "events": [], "string": "", "blobs": b} for t, b in enumerate(frames))]
+    header = {"vwg_record": 5, "chain": "sha256", "initial": "", "seed": 0, "dt": 0.1, "blobs": header_blobs}
+    lines = [header, *({"t": t, "time": t / 10, "events": [], "string": "", "blobs": b} for t, b in enumerate(frames))]
     path.write_text(chained(lines))
 
 
@@ -465,7 +478,7 @@ def test_a_damaged_blob_change_is_detected(tmp_path):
 def test_a_format_1_record_is_refused(tmp_path):
     old = tmp_path / "old.jsonl"
     old.write_text('{"vwg_record": 1, "initial": "", "seed": 0, "dt": 0.1}\n{"t": 0, "events": [], "string": ""}\n')
-    with pytest.raises(vwg.WorldFileError, match="this record is format 1; this vwg reads format 4 only") as info:
+    with pytest.raises(vwg.WorldFileError, match="this record is format 1; this vwg reads format 5 only") as info:
         read_record(old)
     assert info.value.line == 1 and info.value.field == "vwg_record"
     with pytest.raises(vwg.WorldFileError, match="format 1"):
@@ -520,7 +533,8 @@ def test_the_demo_run_record_is_small_and_replays(tmp_path):
 @pytest.mark.parametrize(("damage", "line", "before"), [
     ("drop", 6, "frame 3's line (line 5)"),          # frame 4's line taken out
     ("swap", 6, "frame 3's line (line 5)"),          # frames 4 and 5 change places
-    ("renumber", 7, "frame 14's line (line 6)"),     # frame 4 says it is frame 14
+    # frame 4 says it is frame 14: named by its own line (the chain would name it at the next)
+    ("renumber", 6, "t: frame 14; the line before holds frame 3, so this line holds frame 4"),
     ("seed", 2, "the header (line 1)"),              # the header's seed changed
     ("dt", 2, "the header (line 1)"),                # the header's dt changed
 ])
@@ -542,7 +556,8 @@ def test_the_chain_names_any_edit_drop_or_reorder(tmp_path, damage, line, before
     path.write_text("\n".join(lines) + "\n")
     with pytest.raises(vwg.WorldFileError) as info:
         read_record(path)
-    assert info.value.line == line and f"chain is broken here: {before}" in str(info.value), str(info.value)
+    said = before if damage == "renumber" else f"chain is broken here: {before}"
+    assert info.value.line == line and said in str(info.value), str(info.value)
 
 
 def test_a_flipped_byte_in_a_blob_is_named(tmp_path):
@@ -561,7 +576,12 @@ def test_a_flipped_byte_in_a_blob_is_named(tmp_path):
     blob["zlib_base85"] = text[:40] + ("A" if text[40] != "A" else "B") + text[41:]
     lines[0] = json.dumps(header, separators=(",", ":"), ensure_ascii=False)
     path.write_text("\n".join(lines) + "\n")
-    # Named where it is: the blob no longer decodes to its content (the chain would name it at line 2).
+    # The chain is checked before any blob is inflated: it names the change at line 2.
+    with pytest.raises(vwg.WorldFileError, match=r"chain is broken here: the header \(line 1\)") as info:
+        read_record(path)
+    assert info.value.line == 2
+    # Made to look whole again, the blob is named where it is: it no longer decodes to its content.
+    rechain(path)
     with pytest.raises(vwg.WorldFileError, match=r"blobs\.[0-9a-f]{16}: (cannot decode|decodes to blob)") as info:
         read_record(path)
     assert info.value.line == 1
@@ -622,7 +642,9 @@ def test_a_run_goes_on_from_a_recorded_frame_as_it_went_the_first_time(tmp_path,
     assert main(["run", world, *args, "--record", str(first), "--quiet"]) == 0
     a = read_record(first)
     at = len(a.frames) // 2 + 3
-    assert main(["replay", str(first), "--from", str(at), "--record", str(resumed)]) == 0
+    # The robot keeps its order (kitchen, not reached in 60 frames): exit 0 as the first run, by the same flag.
+    allow = ["--allow-unreached"] if "--allow-unreached" in args else []
+    assert main(["replay", str(first), "--from", str(at), "--record", str(resumed), *allow]) == 0
     b = read_record(resumed)
     # The frames from `at` on again, live with the world's generators from there (their state carried
     # through the frames before): the same events, the same strings, the same end.

@@ -396,7 +396,8 @@ class RobotRun:
         # the platform: the same world on the simulator and on a robot makes the same record (test 3).
         self.record_data: dict[str, Any] = {"robot_world": str(Path(world.path).resolve()),
                                             "planner": self.case.planner,
-                                            "world_orders": not (options.no_world_orders or goals)}
+                                            "world_orders": not (options.no_world_orders or goals),
+                                            "goals": list(options.goals or [])}  # vwg replay --from gives them again
         if options.stdin_orders:
             self.case.orders.read_lines(sys.stdin, _stderr)
 
@@ -483,10 +484,12 @@ class RobotKind:
     def start(self, world: RobotWorld, options: Any) -> RobotRun:
         return RobotRun(world, options)
 
-    def replay_world(self, header: dict[str, Any], path: Path | None, record_path: Path) -> World:
-        from .robotworld import load_robot_world
+    def replay_world(self, header: dict[str, Any], path: Path | None, record_path: Path, *,
+                     allow_code_from_record: bool = False) -> World:
+        from .record import robot_data
+        from .robotworld import load_robot_world  # a robot world names no code: nothing to allow
 
-        data = header.get("world") or {}
+        data = robot_data(header, record_path)
         return case_study_world(load_robot_world(path or data["robot_world"]), make_decider(data["planner"]))
 
     def describe(self, w: RobotWorld) -> tuple[str, list[tuple[str, str]]]:

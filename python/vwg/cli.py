@@ -55,7 +55,8 @@ def _options(args: argparse.Namespace) -> Any:
     from .launch import RunOptions
 
     return RunOptions(frames=args.frames, seed=args.seed, dt=args.dt, max_symbols=args.max_symbols,
-                      threads=args.threads, backend=args.backend, record=args.record, summary_json=args.summary_json,
+                      threads=args.threads, backend=args.backend, record=args.record, record_key=args.record_key,
+                      summary_json=args.summary_json,
                       progress=args.progress, platform=args.platform, url=args.url, port=args.port,
                       planner=args.planner, goals=args.goal,
                       no_world_orders=args.no_world_orders, stdin_orders=args.stdin_orders, video=args.video,
@@ -85,13 +86,15 @@ def _cmd_run(args: argparse.Namespace) -> int:
 
 def _cmd_replay(args: argparse.Namespace) -> int:
     from .launch import replay_world
-    from .record import read_record, replay
+    from .record import read_key, read_record, replay
     from .registry import backends
 
-    record = read_record(args.record)  # read once: decoding a long record is most of a replay's reading
+    key = read_key(args.record_key) if args.record_key else None
+    record = read_record(args.record, key)  # read once: decoding a long record is most of a replay's reading
     if args.resume_from is not None:
-        return _resume(args, record)
-    world = replay_world(record.header, args.world, Path(args.record))
+        return _resume(args, record, key)
+    world = replay_world(record.header, args.world, Path(args.record),
+                         allow_code_from_record=args.allow_code_from_record)
     backend = backends.create(args.backend, world=world) if args.backend else None
     start = time.perf_counter()
     engine = replay(args.record, world=world, backend=backend, record=record)
@@ -106,29 +109,43 @@ def _cmd_replay(args: argparse.Namespace) -> int:
     return 0
 
 
-def _resume(args: argparse.Namespace, record: Any) -> int:
+def _resume(args: argparse.Namespace, record: Any, key: bytes | None) -> int:
     """vwg replay --from FRAME: run the world again from its start, the frames before FRAME with the
     recorded events (each checked against the record; the generators still run, so they are where
-    they were), then live from FRAME on with the world's generators (a new record with --record)."""
+    they were), then live from FRAME on with the world's generators (a new record with --record).
+    The world file is --world, or the one the record names: a generic world's only if it holds the
+    world kept in the record (else its code is not the record's), unless --allow-code-from-record.
+    A robot world's run gets its --goal orders again from the record."""
     from .errors import ReplayError
     from .launch import RunOptions, load, start
-    from .record import Recorder
+    from .record import Recorder, named_world_file, robot_data
 
     frames = [f["t"] for f in record.frames]
     if args.resume_from not in frames:
         raise Error(f"--from: the record holds frames {frames[0] if frames else '-'} to "
                     f"{frames[-1] if frames else '-'}; got {args.resume_from}")
     header = record.header
-    data = header.get("world") or {}
     robot = header.get("world_kind") == "robot"
-    world_file = args.world or (data.get("robot_world") if robot else header.get("world_file"))
-    if not world_file:
-        raise Error("--from: the record does not name its world file; give it with --world")
+    data = robot_data(header, Path(args.record)) if robot else {}
+    world_file = args.world or (data["robot_world"] if robot else None)
+    if world_file is None:
+        world_file, why = named_world_file(header)
+        if world_file is None:
+            named = header.get("world_file")
+            if not (args.allow_code_from_record and isinstance(named, str) and named):
+                raise Error(f"--from: {args.record}: the world kept in the record cannot be run from its world "
+                            f"file: {why}. Give the world file to run it with (--world FILE), or "
+                            "--allow-code-from-record to run the file the record names")
+            world_file = Path(named)
     loaded = load(world_file)
     options = RunOptions(seed=header.get("seed"), frames=header.get("frames_planned"))
     if robot:
-        options = dataclasses.replace(options, planner=data.get("planner"),
-                                      no_world_orders=not data.get("world_orders", True))
+        # The run's own orders again: the frames before FRAME get them from the record as they went, and
+        # the run knows whom it sent where (when to stop, the summary).
+        options = dataclasses.replace(options, planner=data["planner"], goals=data["goals"] or None,
+                                      no_world_orders=not data["world_orders"], allow_unreached=args.allow_unreached)
+    elif args.allow_unreached:
+        raise Error("--allow-unreached is for robot worlds; this record is of a generic world")
     with start(loaded, options) as run:
         engine = run.engine
         alphabet = engine.world.alphabet
@@ -147,7 +164,7 @@ def _resume(args: argparse.Namespace, record: Any) -> int:
             raise Error(f"--from: running the world again does not give the record's frames (a run on a real "
                         f"robot cannot be run again on the simulator): {e}") from None
         recorder = Recorder(args.new_record, engine, world_file=world_file, world_data=run.record_data,
-                            world_kind=run.kind, frames_planned=header.get("frames_planned")) \
+                            world_kind=run.kind, frames_planned=header.get("frames_planned"), key=key) \
             if args.new_record else None
         try:
             if robot:
@@ -161,6 +178,8 @@ def _resume(args: argparse.Namespace, record: Any) -> int:
     print(f"vwg replay {args.record} --from {args.resume_from}: frames 0 to {args.resume_from - 1} as recorded, "
           f"then live to frame {engine.frame}")
     _print_summary(outcome.rows + list(outcome.outputs.items()))
+    if robot and outcome.exit_status:
+        print(f"vwg: {outcome.message}", file=sys.stderr)
     return 0 if not robot else outcome.exit_status
 
 
@@ -324,6 +343,9 @@ def build_parser() -> argparse.ArgumentParser:
     robot.add_argument("--allow-unreached", action="store_true",
                        help=f"exit 0 even when a robot did not reach its room (otherwise exit {EXIT_UNREACHED})")
     run.add_argument("--record", type=Path, help="write every frame to this JSON Lines file")
+    run.add_argument("--record-key", type=Path, metavar="FILE",
+                     help="make the record's chain an HMAC with the key in FILE (at least 16 bytes): only the key's "
+                          "holder can then change a record and have it read whole (vwg replay --record-key FILE)")
     run.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
                      help="show a progress bar (default: on a terminal)")
     run.add_argument("--quiet", "-q", action="store_true", help="print nothing on success")
@@ -332,12 +354,24 @@ def build_parser() -> argparse.ArgumentParser:
     rep = sub.add_parser("replay", help="replay a record and check it",
                          description="Run a record's events again and check every string against it.")
     rep.add_argument("record", type=Path, help="a file written by `vwg run --record`")
-    rep.add_argument("--world", type=Path, help="the world file (default: the one the record names)")
+    rep.add_argument("--world", type=Path,
+                     help="the world file to replay it with; its code (actors, generators) is what runs (default: "
+                          "the one the record names, if it holds the world kept in the record)")
+    rep.add_argument("--allow-code-from-record", action="store_true",
+                     help="a record runs no code of its own: without --world, a generic world is built from the "
+                          "copy kept in the record only if that names no Python code or is the same as the world "
+                          "file the record names. This builds it anyway, importing the modules the record names: "
+                          "only for a record you trust")
+    rep.add_argument("--record-key", type=Path, metavar="FILE",
+                     help="the key the record was made with (vwg run --record-key): its chain is checked with it")
     rep.add_argument("--backend", help="show the replay on this backend (e.g. trace)")
     rep.add_argument("--from", dest="resume_from", type=int, metavar="FRAME",
                      help="replay up to FRAME, then go on live from there with the world's generators (generic "
                           "worlds)")
     rep.add_argument("--record", dest="new_record", type=Path, help="with --from: record the run that goes on")
+    rep.add_argument("--allow-unreached", action="store_true",
+                     help=f"with --from, a robot world: exit 0 even when a robot did not reach the room the run sent "
+                          f"it to (otherwise exit {EXIT_UNREACHED})")
     rep.set_defaults(func=_cmd_replay)
 
     swp = sub.add_parser("sweep", help="run worlds × planners × seeds × parameters on Dask, into a CSV",

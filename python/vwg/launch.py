@@ -56,6 +56,7 @@ class RunOptions:
     threads: int = 0                  # for the frame's independent work; 0: the machine's cores
     backend: str | None = None        # a registered backend, shown on beside the world's own
     record: Path | None = None        # JSON Lines record of every frame (vwg replay reads it)
+    record_key: Path | None = None    # a key file: the record's chain is an HMAC with it
     summary_json: Path | None = None  # the outcome's summary as JSON
     progress: bool | None = False
     # the robot case study
@@ -88,14 +89,16 @@ class RunOptions:
             raise Error(f"--max-symbols: expected a count from 0 (no limit) to 2**63 - 1, got {self.max_symbols}")
         if not 0 <= self.threads <= 256:
             raise Error(f"--threads: expected 0 (the machine's cores) to 256 threads, got {self.threads}")
+        if self.record_key is not None and self.record is None:
+            raise Error("--record-key keys the record that --record writes; give --record too")
 
 
 #: How the command line spells an option whose name differs.
 _FLAGS = {"goals": "--goal"}
 
 #: Options every kind of world takes.
-COMMON_OPTIONS = frozenset({"frames", "seed", "dt", "max_symbols", "threads", "backend", "record", "summary_json",
-                            "progress"})
+COMMON_OPTIONS = frozenset({"frames", "seed", "dt", "max_symbols", "threads", "backend", "record", "record_key",
+                            "summary_json", "progress"})
 
 
 @dataclass
@@ -137,7 +140,8 @@ class WorldKind(Protocol):
     def matches_loaded(self, world: Any) -> bool: ...
     def load(self, path: Path) -> Any: ...
     def start(self, world: Any, options: RunOptions) -> Run: ...
-    def replay_world(self, header: dict[str, Any], path: Path | None, record_path: Path) -> Any: ...
+    def replay_world(self, header: dict[str, Any], path: Path | None, record_path: Path, *,
+                     allow_code_from_record: bool = False) -> Any: ...
     def describe(self, world: Any) -> tuple[str, list[tuple[str, str]]]: ...
 
 
@@ -197,14 +201,16 @@ class RecordedRun:
     are written by execute(), whoever calls it (``vwg run`` or a script). Everything else is the run's."""
 
     def __init__(self, run: Run, world: Any, options: RunOptions) -> None:
-        from .record import Recorder
+        from .record import Recorder, read_key
 
         self.run = run
         self.options = options
         try:
             planned = options.frames if options.frames is not None else getattr(world, "frames", None)
+            key = read_key(options.record_key) if options.record_key else None
             self.recorder = (Recorder(options.record, run.engine, world_file=world.path, world_data=run.record_data,
-                                      world_kind=run.kind, frames_planned=planned) if options.record else None)
+                                      world_kind=run.kind, frames_planned=planned, key=key)
+                             if options.record else None)
         except OSError as e:  # a folder that cannot be made, a full disk (/dev/full) for the header
             run.close()
             raise Error(f"{options.record}: {e.strerror}: the record could not be started") from None
@@ -280,9 +286,11 @@ def describe(world: Any) -> tuple[str, list[tuple[str, str]]]:
     return _kind_of_loaded(world).describe(world)
 
 
-def replay_world(header: dict[str, Any], world_file: str | Path | None, record_path: Path) -> Any:
+def replay_world(header: dict[str, Any], world_file: str | Path | None, record_path: Path, *,
+                 allow_code_from_record: bool = False) -> Any:
     """The world (vwg.World) a record's header was made with: from `world_file` when given (a file
-    or a shipped world's name, which must be of the record's kind), else from what the header keeps."""
+    or a shipped world's name, which must be of the record's kind), else from what the header keeps,
+    importing no code the record names unless `allow_code_from_record` (vwg.record.world_of_record)."""
     from .registry import world_kinds
     from .worlds import resolve_world
     from .yamldoc import YamlDoc
@@ -295,7 +303,7 @@ def replay_world(header: dict[str, Any], world_file: str | Path | None, record_p
         other = kind_of(path, YamlDoc(path).data)
         if other.name != kind.name:
             raise Error(f"{path}: the record was made by a {kind.name} world; this is a {other.name} world")
-    return kind.replay_world(header, path, record_path)
+    return kind.replay_world(header, path, record_path, allow_code_from_record=allow_code_from_record)
 
 
 def clip(text: str, n: int = 200) -> str:

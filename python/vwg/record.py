@@ -1,20 +1,37 @@
 """Recording a run as JSON Lines and replaying it exactly.
 
-A record (format 4) is one JSON object per line, read in order:
+A record (format 5) is one JSON object per line, read in order:
 
-    {"vwg_record": 4, "version": ..., "world_file": ..., "world": {...}, "seed": 0, "dt": 0.1,
-     "frame": 0, "frames_planned": 100, "initial": "<text>", "blobs": {...}}       the header
+    {"vwg_record": 5, "version": ..., "chain": "sha256", "world_file": ..., "world": {...}, "world_kind": ...,
+     "seed": 0, "dt": 0.1, "frame": 0, "frames_planned": 100, "initial": "<text>", "blobs": {...}}   the header
     {"t": 0, "time": 0.0, "events": [...], "string": "<text of w at the start of frame t>", "blobs": {...},
-     "prev": "<hash>"}
+     "prev": "<link>"}
     ...
-    {"end": true, "t": 10, "string": "<text of the last string>", "frames": 10, "prev": "<hash>"}
+    {"end": true, "t": 10, "string": "<text of the last string>", "frames": 10, "prev": "<link>", "self": "<link>"}
 
 Every line is written and flushed as its frame ends; the end line is written when the run ends,
-however it ends. Every line after the header carries ``prev``, the first 32 hex digits of the
-SHA-256 of the line before it (its text, without the newline): a line changed, dropped, added or
-moved breaks the chain at the next line, which a reader names. A record without its end line was
-cut (the process was killed): a reader says so and how many frames it holds (of ``frames_planned``,
-when the run knew); a last line cut short in the middle is skipped with a warning.
+however it ends. Every line after the header carries ``prev``, the link of the line before it: the
+first 32 hex digits of the SHA-256 of its text (without the newline), or with ``"chain":
+"hmac-sha256"`` of its HMAC-SHA-256 with the key of ``vwg run --record-key``. A line changed,
+dropped, added or moved breaks the chain at the next line, which a reader names; a blank line is a
+line like any other (the writer writes none). The end line, which no line follows, also holds
+``self``, the link of its own text without ``self``, and is read whole: its fields in that order,
+its text as the writer makes it, ``t`` the frame after the last line's and ``frames`` their count;
+any byte after it is an error naming the line. A record without its end line was cut (the process
+was killed): a reader says so and how many frames it holds (of ``frames_planned``, when the run
+knew); a last line cut short in the middle is skipped with a warning.
+
+A reader checks every line against the chain, and each line's fields (the header's seed, dt and
+frame of the engine's types and ranges; lists and objects nested at most MAX_JSON_DEPTH deep) and
+each blob's dtype and shape (at most MAX_BLOB_ELEMENTS elements) and each frame's event count (at
+most MAX_FRAME_EVENTS), before it inflates anything; each blob and column is then inflated no
+further than its declared size holds, so a small line that would inflate to gigabytes costs its
+declared size and is refused.
+
+A record is data: replaying it runs no code it names. A generic world's record keeps the world
+file's content (``world``); replay builds the world from the file the user gives, else from the
+file the record names if that holds the same content (world_of_record), else from the record's
+copy only if that names no Python code.
 
 ``events`` is S, the frame's events in order. An item is either one event's text, as the engine
 writes it (``"eOdometry<to=1, x=3.25, y=10.5, angle=1.5, busy=false, commands=3>"``), or a *run*
@@ -60,7 +77,8 @@ from the base, then the differences between successive indices) followed by the 
 XOR the base's (as unsigned ints of the element's size), each array shuffled as in step 2; k
 follows from the length. Reading checks that every blob decodes to content whose hash is its name.
 Format 4 is format 3 with those names from xxHash's XXH3 (twice as fast as format 3's own hash);
-a reader takes one format only, and names the format a record has.
+format 5 is format 4 with the end line's own link, the keyed chain, and robot worlds' --goal
+orders in the header's ``world``. A reader takes one format only, and names the format a record has.
 
 Replaying re-runs η/π/φ with the recorded events and checks every string against the record, so
 a replay is a bit-for-bit determinism check as well.
@@ -69,10 +87,12 @@ a replay is a bit-for-bit determinism check as well.
 from __future__ import annotations
 
 import hashlib
+import hmac
 import json
+import math
 import zlib
 from collections import deque
-from collections.abc import Iterator, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import IO, Any
@@ -80,13 +100,18 @@ from typing import IO, Any
 import numpy as np
 
 from . import _core
-from .errors import ReplayError, WorldFileError
+from .errors import Error, ReplayError, WorldFileError
 from .world import World
 
 __all__ = ["Record", "Recorder", "decode_blob", "encode_blob", "read_record", "replay"]
 
-FORMAT = 4
+FORMAT = 5
 MAX_RECORD_BYTES = 2**40  # a record is read whole; it is as big as the run made it
+# What a record's lines may expand to, checked before anything is inflated or allocated:
+MAX_BLOB_ELEMENTS = 2**27  # 134 M elements a blob (a float64 blob is then 1 GiB; a map of 100 M cells fits)
+MAX_FRAME_EVENTS = 2**24  # 16.8 M events a frame (ten thousand robots' 690-beam scans are 6.9 M)
+MAX_JSON_DEPTH = 100  # lists and objects inside each other on one line (the writer's nest a few deep)
+_BLOB_DTYPES = ("int8", "uint8", "int16", "int32", "int64", "float32", "float64")  # what a Blob holds
 MIN_RUN = 8  # shorter runs cost less as text than their columns' framing
 SMALL_DEFLATE = 64 * 1024  # bytes: up to this, columns and changes are deflated the thorough way (_deflate)
 BASE_CANDIDATES = 4  # a new blob is stored against the closest of the last few of its dtype and shape
@@ -207,9 +232,14 @@ def _planes_stream(c: Any, data: bytes, planes: int) -> bytes:
     return head + c.compress(data[(planes - 1) * n:]) + c.flush()
 
 
-def _inflate(text: str, zdict: bytes = b"") -> bytes:
+def _inflate(text: str, limit: int, zdict: bytes = b"") -> bytes:
+    """Base85, then zlib: at most `limit` bytes, what the entry's declared size holds. Inflated to
+    one byte past it and no further, so that a small entry that inflates to gigabytes (a zlib bomb)
+    costs `limit` bytes and is refused."""
     d = zlib.decompressobj(zdict=zdict) if zdict else zlib.decompressobj()
-    out = d.decompress(_b85decode(text)) + d.flush()
+    out = d.decompress(_b85decode(text), limit + 1)  # (a max_length of 0 would mean no limit)
+    if len(out) > limit or d.unconsumed_tail:
+        raise ValueError(f"inflates to more than the {limit} bytes its size declares")
     if not d.eof or d.unused_data:
         raise ValueError("truncated or trailing compressed data")
     return out
@@ -231,17 +261,45 @@ def encode_blob(blob: _core.Blob, base: _core.Blob | None = None, base_name: str
     return {"dtype": blob.dtype, "shape": list(blob.shape), "zlib_base85": _deflate(np.asarray(blob).tobytes())}
 
 
+def blob_layout(d: Any, known: dict[str, tuple[np.dtype, tuple[int, ...]]]) -> tuple[np.dtype, tuple[int, ...]]:
+    """The dtype and shape of a record's blob entry, checked before anything is decoded: a whole
+    blob of a dtype a Blob holds and a shape of at most MAX_BLOB_ELEMENTS elements, or a change
+    from a blob in `known` (dtype and shape by name). ValueError says what is wrong."""
+    if not isinstance(d, dict) or not isinstance(d.get("zlib_base85"), str):
+        raise ValueError('expected {"dtype": ..., "shape": [...], "zlib_base85": ...} or {"base": NAME, '
+                         '"zlib_base85": ...}')
+    if "base" in d:
+        if set(d) != {"base", "zlib_base85"}:
+            raise ValueError(f"a change has the keys base and zlib_base85; found {', '.join(map(str, d))}")
+        if not isinstance(d["base"], str) or d["base"] not in known:
+            raise ValueError(f"base blob {d['base']} was not written before it")
+        return known[d["base"]]
+    if set(d) != {"dtype", "shape", "zlib_base85"}:
+        raise ValueError(f"a whole blob has the keys dtype, shape and zlib_base85; found {', '.join(map(str, d))}")
+    if d["dtype"] not in _BLOB_DTYPES:
+        raise ValueError(f"dtype {d['dtype']!r}: expected one of {', '.join(_BLOB_DTYPES)}")
+    shape = d["shape"]
+    if (not isinstance(shape, list) or not 1 <= len(shape) <= 4
+            or not all(type(s) is int and 0 <= s <= MAX_BLOB_ELEMENTS for s in shape)):
+        raise ValueError(f"shape {shape!r}: expected 1 to 4 sizes, each an int >= 0")
+    if math.prod(shape) > MAX_BLOB_ELEMENTS:
+        raise ValueError(f"shape {shape}: {math.prod(shape):,} elements, more than the {MAX_BLOB_ELEMENTS:,} "
+                         "a record's blob may have")
+    return np.dtype(d["dtype"]), tuple(shape)
+
+
 def decode_blob(d: dict[str, Any], blobs: dict[str, _core.Blob] | None = None) -> _core.Blob:
-    """The blob of a record entry; `blobs` (by name) holds the bases of changes."""
+    """The blob of a record entry; `blobs` (by name) holds the bases of changes. Checked first
+    (blob_layout), and inflated no further than its dtype and shape hold."""
+    blobs = blobs or {}
+    known = {name: (np.dtype(b.dtype), tuple(b.shape)) for name, b in blobs.items()} if "base" in d else {}
+    dtype, shape = blob_layout(d, known)
     if "base" not in d:
-        raw = _inflate(d["zlib_base85"])
-        return _core.Blob(np.frombuffer(raw, dtype=np.dtype(d["dtype"])).reshape([int(s) for s in d["shape"]]))
-    base = (blobs or {}).get(d["base"])
-    if base is None:
-        raise ValueError(f"base blob {d['base']} was not written before it")
-    a = np.ascontiguousarray(np.asarray(base))
+        raw = _inflate(d["zlib_base85"], math.prod(shape) * dtype.itemsize)
+        return _core.Blob(np.frombuffer(raw, dtype=dtype).reshape(shape))
+    a = np.ascontiguousarray(np.asarray(blobs[d["base"]]))
     u = _UNSIGNED[a.itemsize]
-    raw = _inflate(d["zlib_base85"])
+    raw = _inflate(d["zlib_base85"], a.size * (8 + a.itemsize))  # at most every element changed
     k, rest = divmod(len(raw), 8 + a.itemsize)
     if rest:
         raise ValueError(f"{len(raw)} bytes are not whole changes of {a.itemsize}-byte elements")
@@ -342,7 +400,7 @@ class _Columns:
         return _deflate(raw, self._prev.get(key, b""), a.itemsize)
 
     def decode(self, key: tuple[_Signature, int, str], text: str, dtype: np.dtype, n: int) -> np.ndarray:
-        raw = _inflate(text, self._prev.get(key, b""))
+        raw = _inflate(text, n * dtype.itemsize, self._prev.get(key, b""))
         self._next[key] = raw
         return _undelta(_unshuffle(raw, np.dtype("<u8") if dtype.itemsize == 8 else dtype, n), dtype)
 
@@ -372,33 +430,53 @@ def _encode_events(columns: _Columns, items: Sequence[str | _Run]) -> list[Any]:
     return out
 
 
+def _check_events(items: list[Any]) -> None:
+    """A frame's ``events`` as the record stores them, checked before any column is inflated:
+    texts and runs of the documented shape, at most MAX_FRAME_EVENTS events in all."""
+    total = 0
+    for index, item in enumerate(items):
+        if isinstance(item, str):
+            total += 1
+            continue
+        where = f"events[{index}]"
+        if not isinstance(item, dict) or not isinstance(item.get("run"), str) or not item["run"]:
+            raise _BadRecordError(where, "expected an event's text or a run {\"run\": TYPE, \"n\": N, ...}")
+        if not set(item) <= {"run", "n", "to", "fields"}:
+            raise _BadRecordError(where, f"unknown keys {', '.join(sorted(set(item) - {'run', 'n', 'to', 'fields'}))} "
+                                  "(a run has run, n, to and fields)")
+        n = item.get("n")
+        if type(n) is not int or not 1 <= n <= MAX_FRAME_EVENTS:
+            raise _BadRecordError(f"{where}.n", f"missing or not an int from 1 to {MAX_FRAME_EVENTS:,}")
+        fields = item.get("fields", {})
+        if not isinstance(fields, dict) or not all(
+                isinstance(v, list) and len(v) == 2 and isinstance(v[0], str) and v[0] in _DTYPE_OF
+                and isinstance(v[1], str) for v in fields.values()):
+            raise _BadRecordError(f"{where}.fields", "expected {name: [\"i\" | \"f\" | \"b\", column], ...}")
+        if "to" in item and not isinstance(item["to"], str):
+            raise _BadRecordError(f"{where}.to", "expected a column")
+        total += n
+    if total > MAX_FRAME_EVENTS:
+        raise _BadRecordError("events", f"{total:,} events, more than the {MAX_FRAME_EVENTS:,} a frame may have")
+
+
 def _decode_events(columns: _Columns, items: list[Any]) -> list[str]:
+    """The texts of a frame's events (checked by _check_events), runs expanded."""
+    _check_events(items)
     columns.start_frame()
     texts: list[str] = []
     for index, item in enumerate(items):
         if isinstance(item, str):
             texts.append(item)
             continue
-        where = f"events[{index}]"
-        if not isinstance(item, dict) or not isinstance(item.get("run"), str) or not item["run"]:
-            raise _BadRecordError(where, "expected an event's text or a run {\"run\": TYPE, \"n\": N, ...}")
-        n = item.get("n")
-        if type(n) is not int or n < 1:
-            raise _BadRecordError(f"{where}.n", "missing or not a positive int")
+        n = item["n"]
         fields = item.get("fields", {})
-        if not isinstance(fields, dict) or not all(
-                isinstance(v, list) and len(v) == 2 and v[0] in _DTYPE_OF and isinstance(v[1], str)
-                for v in fields.values()):
-            raise _BadRecordError(f"{where}.fields", "expected {name: [\"i\" | \"f\" | \"b\", column], ...}")
-        if "to" in item and not isinstance(item["to"], str):
-            raise _BadRecordError(f"{where}.to", "expected a column")
         sig: _Signature = (item["run"], "to" in item, tuple((name, v[0]) for name, v in fields.items()))
         k = columns.occurrence(sig)
         try:
             targets = columns.decode((sig, k, "to="), item["to"], _DTYPE_OF["i"], n).tolist() if sig[1] else None
             cols = [columns.decode((sig, k, name), v[1], _DTYPE_OF[v[0]], n).tolist() for name, v in fields.items()]
         except (ValueError, zlib.error) as e:
-            raise _BadRecordError(where, f"cannot decode the run's columns: {e}") from None
+            raise _BadRecordError(f"events[{index}]", f"cannot decode the run's columns: {e}") from None
         texts.extend(_run_texts(sig, targets, cols, n))
     return texts
 
@@ -411,8 +489,9 @@ class Recorder:
 
     def __init__(self, path: str | Path, engine: _core.Engine, *, world_file: str | Path | None = None,
                  world_data: dict[str, Any] | None = None, world_kind: str | None = None,
-                 frames_planned: int | None = None) -> None:
+                 frames_planned: int | None = None, key: bytes | None = None) -> None:
         self.path = Path(path)
+        self._chain = Chain(key)
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self._file: IO[str] | None = self.path.open("w", encoding="utf-8")
         self._engine = engine
@@ -429,6 +508,7 @@ class Recorder:
         self._write({
             "vwg_record": FORMAT,
             "version": _core.__version__,
+            "chain": self._chain.name,
             "world_file": str(Path(world_file).resolve()) if world_file else None,
             "world": world_data,
             "world_kind": world_kind,
@@ -442,15 +522,18 @@ class Recorder:
         self.frames = 0
         engine.add_observer(self._on_frame)
 
-    def _write(self, obj: dict[str, Any]) -> None:
+    def _write(self, obj: dict[str, Any], *, last: bool = False) -> None:
         if self._file is None:
             return
         if self._prev is not None:
             obj["prev"] = self._prev
-        text = json.dumps(obj, ensure_ascii=False, allow_nan=False, separators=(",", ":"))
+        text = _dumps(obj)
+        if last:  # no line comes after the end line to hold its link: it holds its own
+            obj["self"] = self._chain.link(text.encode("utf-8"))
+            text = _dumps(obj)
         self._file.write(text + "\n")
         self._file.flush()
-        self._prev = line_hash(text)
+        self._prev = self._chain.link(text.encode("utf-8"))
 
     def _on_frame(self, record: _core.FrameRecord) -> None:
         if self._file is None:
@@ -476,7 +559,8 @@ class Recorder:
     def close(self) -> None:
         if self._file is None:
             return
-        self._write({"end": True, "t": self._engine.frame, "string": str(self._engine.string), "frames": self.frames})
+        self._write({"end": True, "t": self._engine.frame, "string": str(self._engine.string), "frames": self.frames},
+                    last=True)
         self._file.close()
         self._file = None
 
@@ -489,9 +573,42 @@ class Recorder:
 
 # --- reading ----------------------------------------------------------------------------------
 
+def _dumps(obj: dict[str, Any]) -> str:
+    """A line's text as the writer makes it (and the end line's check remakes it)."""
+    return json.dumps(obj, ensure_ascii=False, allow_nan=False, separators=(",", ":"))
+
+
+class Chain:
+    """How a line is linked to the one before it: the first 32 hex digits of its SHA-256, or of
+    its HMAC-SHA-256 with `key` (then only the key's holder can make a record that reads whole)."""
+
+    def __init__(self, key: bytes | None = None) -> None:
+        self.key = key
+        self.name = "hmac-sha256" if key else "sha256"
+
+    def link(self, data: bytes) -> str:
+        if self.key is None:
+            return hashlib.sha256(data).hexdigest()[:32]
+        return hmac.new(self.key, data, hashlib.sha256).hexdigest()[:32]
+
+
+MIN_KEY_BYTES = 16
+
+
+def read_key(path: str | Path) -> bytes:
+    """A record key file's bytes, as they are (at least MIN_KEY_BYTES; `head -c 32 /dev/urandom`)."""
+    from .files import read_bytes
+
+    key = read_bytes(path, 64 * 1024)
+    if len(key) < MIN_KEY_BYTES:
+        raise WorldFileError(str(path), "", f"a record key has at least {MIN_KEY_BYTES} bytes; this file has "
+                             f"{len(key)} (make one with: head -c 32 /dev/urandom > {path})")
+    return key
+
+
 def line_hash(text: str) -> str:
-    """A line's link in the chain: the first 32 hex digits of the SHA-256 of its text."""
-    return hashlib.sha256(text.encode("utf-8")).hexdigest()[:32]
+    """A line's link in an unkeyed chain: the first 32 hex digits of the SHA-256 of its text."""
+    return Chain().link(text.encode("utf-8"))
 
 
 @dataclass
@@ -516,46 +633,54 @@ class Record:
         return f"the record has no end line: the run was cut after {held} (killed, or the machine stopped)"
 
 
-def _lines(path: Path, warnings: list[str]) -> Iterator[tuple[int, dict[str, Any]]]:
-    """The JSON objects of a record's lines, each checked against the chain (the hash of the line
-    before it). A last line cut short (no newline, not JSON) is skipped with a warning."""
-    from .files import read_bytes
+def _finite(text: str) -> float:
+    value = float(text)
+    if not math.isfinite(value):
+        raise ValueError(f"the number {text} is out of range (a record's numbers are finite doubles)")
+    return value
 
-    data = read_bytes(path, MAX_RECORD_BYTES)
-    chained = False  # the header's format says whether lines carry the chain
-    prev: tuple[int, str, dict[str, Any]] | None = None  # the line before: number, text, object
-    lines = data.split(b"\n") if data else []
-    for n, raw in enumerate(lines, start=1):
-        torn = n == len(lines) and not data.endswith(b"\n")  # the last line, with no newline after it
-        if not raw.strip():
-            continue
-        try:
-            text = raw.decode("utf-8")
-            obj = json.loads(text)
-        except (UnicodeDecodeError, json.JSONDecodeError) as e:
-            if torn:
-                warnings.append(f"{path}:{n}: the last line is cut short ({len(raw)} bytes; the run was stopped "
-                                "while writing it): skipped")
-                return
-            if isinstance(e, UnicodeDecodeError):
-                raise WorldFileError(str(path), f"byte {e.start + 1}", "not UTF-8 text", line=n) from None
-            raise WorldFileError(str(path), f"column {e.colno}", f"not valid JSON: {e.msg}", line=n) from None
-        if not isinstance(obj, dict):
-            raise WorldFileError(str(path), "", "expected a JSON object on each line", line=n)
-        if prev is None:
-            chained = obj.get("vwg_record") == FORMAT
-        elif chained and obj.get("prev") != line_hash(prev[1]):
-            before = "the header" if "vwg_record" in prev[2] else f"frame {prev[2].get('t')}'s line"
-            raise WorldFileError(str(path), "prev", f"the chain is broken here: {before} (line {prev[0]}) does not "
-                                 "match the hash this line holds of it: a line was changed, dropped, added or moved",
-                                 line=n)
-        prev = (n, text, obj)
-        yield n, obj
+
+def _constant(name: str) -> Any:
+    raise ValueError(f"{name} is not a number a record holds (JSON has no {name})")
+
+
+def _too_deep(obj: Any, limit: int) -> bool:
+    """Whether lists and objects nest more than `limit` deep in `obj` (without recursion)."""
+    stack = [(obj, 1)]
+    while stack:
+        item, depth = stack.pop()
+        if depth > limit:
+            return True
+        children = item.values() if isinstance(item, dict) else item
+        stack.extend((c, depth + 1) for c in children if isinstance(c, (dict, list)))
+    return False
+
+
+def _parse(path: Path, n: int, raw: bytes) -> dict[str, Any]:
+    """One line's JSON object; a WorldFileError names the line and what is wrong."""
+    try:
+        obj = json.loads(raw.decode("utf-8"), parse_float=_finite, parse_constant=_constant)
+    except UnicodeDecodeError as e:
+        raise WorldFileError(str(path), f"byte {e.start + 1}", "not UTF-8 text", line=n) from None
+    except json.JSONDecodeError as e:
+        raise WorldFileError(str(path), f"column {e.colno}", f"not valid JSON: {e.msg}", line=n) from None
+    except RecursionError:
+        raise WorldFileError(str(path), "", f"lists or objects nested deeper than the {MAX_JSON_DEPTH} levels a "
+                             "record's line may have", line=n) from None
+    except ValueError as e:  # a number out of range, an integer of thousands of digits
+        raise WorldFileError(str(path), "", f"not valid JSON: {e}", line=n) from None
+    if not isinstance(obj, dict):
+        raise WorldFileError(str(path), "", "expected a JSON object on each line", line=n)
+    # Counting brackets bounds the depth from above: most lines need no walk.
+    if raw.count(b"[") + raw.count(b"{") > MAX_JSON_DEPTH and _too_deep(obj, MAX_JSON_DEPTH):
+        raise WorldFileError(str(path), "", f"lists or objects nested deeper than the {MAX_JSON_DEPTH} levels a "
+                             "record's line may have", line=n)
+    return obj
 
 
 def _check_format(path: Path, obj: dict[str, Any], line: int) -> None:
     found = obj.get("vwg_record")
-    if found == FORMAT:
+    if found == FORMAT and type(found) is int:
         return
     if type(found) is int:
         raise WorldFileError(str(path), "vwg_record", f"this record is format {found}; this vwg reads format "
@@ -563,11 +688,167 @@ def _check_format(path: Path, obj: dict[str, Any], line: int) -> None:
     raise WorldFileError(str(path), "vwg_record", f"not a vwg record (format {FORMAT} expected)", line=line)
 
 
+def _is_int(value: Any, low: int, high: int) -> bool:
+    return type(value) is int and low <= value <= high
+
+
+def _check_header(path: Path, obj: dict[str, Any]) -> None:
+    """The header's fields, each of the type and range the engine takes (line 1)."""
+    _check_format(path, obj, 1)
+
+    def bad(field: str, message: str) -> WorldFileError:
+        return WorldFileError(str(path), field, message, line=1)
+
+    known = ("vwg_record", "version", "chain", "world_file", "world", "world_kind", "seed", "dt", "frame",
+             "frames_planned", "initial", "blobs")
+    for key in obj:
+        if key not in known:
+            raise bad(key, f"not a field of a record's header (the header has {', '.join(known)})")
+    for key in ("initial", "seed", "dt", "chain"):
+        if key not in obj:
+            raise bad(key, "missing from the header")
+    if obj["chain"] not in ("sha256", "hmac-sha256"):
+        raise bad("chain", f"expected \"sha256\" or \"hmac-sha256\", got {obj['chain']!r}")
+    if not _is_int(obj["seed"], 0, 2**64 - 1):
+        raise bad("seed", f"expected an integer from 0 to 2**64 - 1, got {obj['seed']!r}")
+    dt = obj["dt"]
+    if type(dt) not in (int, float) or not 0 < dt <= 3600:
+        raise bad("dt", f"expected a number of seconds in (0, 3600], got {dt!r}")
+    if not _is_int(obj.get("frame", 0), 0, 2**62):
+        raise bad("frame", f"expected a frame number from 0 to 2**62, got {obj['frame']!r}")
+    if obj.get("frames_planned") is not None and not _is_int(obj["frames_planned"], 0, 2**62):
+        raise bad("frames_planned", f"expected a number of frames >= 0, or null, got {obj['frames_planned']!r}")
+    for key, kind in (("initial", str), ("version", str), ("world_file", str), ("world_kind", str), ("world", dict),
+                      ("blobs", dict)):
+        if obj.get(key) is not None and not isinstance(obj[key], kind):
+            raise bad(key, f"expected {'an object' if kind is dict else 'a string'}, got {type(obj[key]).__name__}")
+
+
+def _check_frame(path: Path, n: int, obj: dict[str, Any], t: int) -> None:
+    """A frame's line, before anything in it is inflated: its fields, and t the frame after the line before."""
+    known = ("t", "time", "events", "string", "blobs", "prev")
+    for key in obj:
+        if key not in known:
+            raise WorldFileError(str(path), key, f"not a field of a frame's line (it has {', '.join(known)})", line=n)
+    for key, kind in (("t", int), ("events", list), ("string", str)):
+        if not isinstance(obj.get(key), kind) or isinstance(obj.get(key), bool):
+            raise WorldFileError(str(path), key, f"missing or not a {kind.__name__}", line=n)
+    if obj["t"] != t:
+        raise WorldFileError(str(path), "t", f"frame {obj['t']}; the line before holds frame {t - 1}, so this "
+                             f"line holds frame {t}", line=n)
+    if type(obj.get("time")) not in (int, float):
+        raise WorldFileError(str(path), "time", "missing or not a number", line=n)
+    if not isinstance(obj.get("blobs", {}), dict):
+        raise WorldFileError(str(path), "blobs", "expected an object {name: blob}", line=n)
+    try:
+        _check_events(obj["events"])
+    except _BadRecordError as e:
+        raise WorldFileError(str(path), e.field, e.message, line=n) from None
+
+
+_END_KEYS = ["end", "t", "string", "frames", "prev", "self"]
+
+
+def _check_end(path: Path, n: int, obj: dict[str, Any], raw: bytes, chain: Chain, frames: int, t: int) -> None:
+    """The end line, whole: nothing comes after it to hold its link, so it holds its own (``self``,
+    the link of its text without ``self``), and its fields must agree with the frames before it."""
+    if list(obj) != _END_KEYS:
+        raise WorldFileError(str(path), "", f"the end line has the fields {', '.join(_END_KEYS)} in that order; "
+                             f"this one has {', '.join(obj)}", line=n)
+    if obj["end"] is not True or not isinstance(obj["string"], str):
+        raise WorldFileError(str(path), "end", "expected \"end\": true and a string", line=n)
+    if obj["frames"] != frames or type(obj["frames"]) is not int:
+        raise WorldFileError(str(path), "frames", f"the end line counts {obj['frames']!r} frames; the record "
+                             f"holds {frames}", line=n)
+    if obj["t"] != t or type(obj["t"]) is not int:
+        raise WorldFileError(str(path), "t", f"the end line says the run ended at frame {obj['t']!r}; its frames "
+                             f"end at frame {t}", line=n)
+    body = {k: v for k, v in obj.items() if k != "self"}
+    if raw != _dumps(obj).encode("utf-8") or obj["self"] != chain.link(_dumps(body).encode("utf-8")):
+        raise WorldFileError(str(path), "self", "the end line does not match the link it holds of itself: it was "
+                             "changed after it was written", line=n)
+
+
+class _Lines:
+    """Pass 1 over a record's bytes: every line parsed and checked (the chain, each line's fields,
+    each blob's layout and size) before anything is inflated; a last line cut short (no newline,
+    not JSON) is skipped with a warning."""
+
+    def __init__(self, path: Path, data: bytes, key: bytes | None) -> None:
+        self.path = path
+        self.warnings: list[str] = []
+        self.header: dict[str, Any] = {}
+        self.frames: list[tuple[int, dict[str, Any]]] = []
+        self.end: dict[str, Any] | None = None
+        pieces = data.split(b"\n")
+        torn = pieces.pop()  # what follows the last newline: b"" when the file ends with one
+        if torn:
+            pieces.append(torn)
+        layouts: dict[str, tuple[np.dtype, tuple[int, ...]]] = {}
+        chain = Chain(key)
+        before: tuple[int, bytes, dict[str, Any]] | None = None  # the line before: number, bytes, object
+        offset = 0  # where line n starts in the file
+        for n, raw in enumerate(pieces, start=1):
+            last_torn = bool(torn) and n == len(pieces)
+            if self.end is not None:
+                extra = len(data) - offset
+                raise WorldFileError(str(path), "", f"{extra} byte{'s' if extra != 1 else ''} after the end line (line "
+                                     f"{n - 1}): a record ends with its end line (it was appended to or damaged)",
+                                     line=n)
+            offset += len(raw) + 1
+            if not raw.strip() and not last_torn:
+                raise WorldFileError(str(path), "", "a blank line: every line of a record is part of its chain and "
+                                     "the writer writes none (the record was edited or damaged)", line=n)
+            try:
+                obj = _parse(path, n, raw)
+            except WorldFileError:
+                if not last_torn:
+                    raise
+                self.warnings.append(f"{path}:{n}: the last line is cut short ({len(raw)} bytes; the run was stopped "
+                                     "while writing it): skipped")
+                break
+            if before is None:
+                _check_header(path, obj)
+                chain = self._chain(obj, key)
+                self.header = obj
+            else:
+                if obj.get("prev") != chain.link(before[1]):
+                    what = "the header" if before[0] == 1 else f"frame {before[2].get('t')}'s line"
+                    raise WorldFileError(str(path), "prev", f"the chain is broken here: {what} (line {before[0]}) "
+                                         "does not match the link this line holds of it: a line was changed, dropped, "
+                                         "added or moved" + (" (or the key is not the one it was made with)"
+                                                             if key else ""), line=n)
+                t = self.header.get("frame", 0) + len(self.frames)
+                if "end" in obj:
+                    _check_end(path, n, obj, raw, chain, len(self.frames), t)
+                    self.end = obj
+                else:
+                    _check_frame(path, n, obj, t)
+                    self.frames.append((n, obj))
+            for name, d in obj.get("blobs", {}).items():
+                if name in layouts:
+                    raise WorldFileError(str(path), f"blobs.{name}", "given twice (a blob is written once)", line=n)
+                try:
+                    layouts[name] = blob_layout(d, layouts)
+                except ValueError as e:
+                    raise WorldFileError(str(path), f"blobs.{name}", str(e), line=n) from None
+            before = (n, raw, obj)
+        if before is None:
+            raise WorldFileError(str(path), "", "empty record")
+
+    def _chain(self, header: dict[str, Any], key: bytes | None) -> Chain:
+        keyed = header["chain"] == "hmac-sha256"
+        if keyed and key is None:
+            raise WorldFileError(str(self.path), "chain", "the record's chain is keyed (hmac-sha256): give its key "
+                                 "(--record-key FILE) to read it", line=1)
+        if key is not None and not keyed:
+            raise WorldFileError(str(self.path), "chain", "a key was given, but this record's chain is not keyed "
+                                 "(sha256): it was not made with that key", line=1)
+        return Chain(key)
+
+
 def _read_blobs(path: Path, obj: dict[str, Any], line: int, blobs: dict[str, _core.Blob]) -> None:
-    entries = obj.get("blobs", {})
-    if not isinstance(entries, dict):
-        raise WorldFileError(str(path), "blobs", "expected an object {name: blob}", line=line)
-    for name, d in entries.items():
+    for name, d in obj.get("blobs", {}).items():
         try:
             blob = decode_blob(d, blobs)
         except Exception as e:
@@ -578,72 +859,115 @@ def _read_blobs(path: Path, obj: dict[str, Any], line: int, blobs: dict[str, _co
         blobs[name] = blob
 
 
-def read_record(path: str | Path) -> Record:
-    """Read and check a record file."""
+def read_record(path: str | Path, key: bytes | None = None) -> Record:
+    """Read and check a record file: first every line against the chain (keyed with `key`, if the
+    record was made with one) and its layout, then its blobs and events, each inflated no further
+    than its declared size."""
+    from .files import read_bytes
+
     path = Path(path)
-    header: dict[str, Any] | None = None
-    frames: list[dict[str, Any]] = []
-    end = None
+    lines = _Lines(path, read_bytes(path, MAX_RECORD_BYTES), key)
     blobs: dict[str, _core.Blob] = {}
     columns = _Columns()
-    warnings: list[str] = []
-    frames_seen = 0
-    for n, obj in _lines(path, warnings):
-        if header is None:
-            _check_format(path, obj, n)
-            for key in ("initial", "seed", "dt"):
-                if key not in obj:
-                    raise WorldFileError(str(path), key, "missing from the header", line=n)
-            header = obj
-        elif end is not None:
-            raise WorldFileError(str(path), "", "a line after the end line", line=n)
-        elif obj.get("end"):
-            if obj.get("frames") != frames_seen:
-                raise WorldFileError(str(path), "frames", f"the end line counts {obj.get('frames')} frames; the "
-                                     f"record holds {frames_seen}", line=n)
-            end = obj
-        else:
-            frames_seen += 1
-            for key, kind in (("t", int), ("events", list), ("string", str)):
-                if not isinstance(obj.get(key), kind):
-                    raise WorldFileError(str(path), key, f"missing or not a {kind.__name__}", line=n)
-            try:
-                obj["events"] = _decode_events(columns, obj["events"])
-            except _BadRecordError as e:
-                raise WorldFileError(str(path), e.field, e.message, line=n) from None
-            frames.append(obj)
+    _read_blobs(path, lines.header, 1, blobs)
+    frames = []
+    for n, obj in lines.frames:
+        try:
+            obj["events"] = _decode_events(columns, obj["events"])
+        except _BadRecordError as e:
+            raise WorldFileError(str(path), e.field, e.message, line=n) from None
         _read_blobs(path, obj, n, blobs)
-    if header is None:
-        raise WorldFileError(str(path), "", "empty record")
-    return Record(header, frames, end, blobs, warnings)
+        frames.append(obj)
+    return Record(lines.header, frames, lines.end, blobs, lines.warnings)
 
 
-def world_of_record(header: dict[str, Any], path: Path) -> World:
-    """Rebuild the world (alphabet and actor classes) a generic world's record was made with."""
+def robot_data(header: dict[str, Any], path: Path) -> dict[str, Any]:
+    """What a robot world's record keeps of its run (line 1's ``world``), each field checked:
+    robot_world (the world file) and planner, and optionally world_orders (default true) and goals
+    (the run's --goal orders, default none)."""
+    data = header.get("world")
+    if not isinstance(data, dict):
+        raise WorldFileError(str(path), "world", "a robot world's record keeps its world file and planner here",
+                             line=1)
+    data = {"world_orders": True, "goals": [], **data}
+    for key, kind, what in (("robot_world", str, "the world file's path"), ("planner", str, "a planner's name"),
+                            ("world_orders", bool, "true or false"), ("goals", list, "a list of [ROBOT:]ROOM")):
+        if not isinstance(data.get(key), kind) or (key == "goals" and not all(isinstance(g, str) for g in data[key])):
+            raise WorldFileError(str(path), f"world.{key}", f"missing or not {what}", line=1)
+    return data
+
+
+def world_code(data: Any) -> list[str]:
+    """The Python code a generic world's data names that rebuilding its alphabet imports: its actors."""
+    alphabet = data.get("alphabet") if isinstance(data, dict) else None
+    actors = alphabet.get("actors") if isinstance(alphabet, dict) else None
+    return [str(ref) for ref in actors] if isinstance(actors, list) else []
+
+
+def _content_hash(data: Any) -> str:
+    """The hash of a world's data as JSON with sorted keys (the same for a world file and its copy in a record)."""
+    text = json.dumps(json.loads(json.dumps(data, allow_nan=False)), sort_keys=True, ensure_ascii=False,
+                      separators=(",", ":"))
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()
+
+
+def named_world_file(header: dict[str, Any]) -> tuple[Path | None, str]:
+    """The world file a generic world's record names, if it holds the world kept in the record (the
+    same content): (path, ""), else (None, why not)."""
+    from .yamldoc import YamlDoc
+
+    named = header.get("world_file")
+    if not isinstance(named, str) or not named:
+        return None, "it names no world file"
+    try:
+        data = YamlDoc(Path(named)).data
+        same = _content_hash(data) == _content_hash(header.get("world"))
+    except (Error, OSError, TypeError, ValueError, RecursionError):
+        return None, f"the world file it names, {named}, cannot be read"
+    return (Path(named), "") if same else (None, f"it differs from the world file the record names, {named}")
+
+
+def world_of_record(header: dict[str, Any], path: Path, *, allow_code_from_record: bool = False) -> World:
+    """Rebuild the world (alphabet and actor classes) a generic world's record was made with. A record
+    runs no code of its own: the world is built from the world file the record names when that file
+    holds the world kept in the record, else from the record's copy only if that names no Python code
+    (actors), or when `allow_code_from_record` says to import what it names."""
     from .worldfile import build_world
     from .yamldoc import YamlDoc
 
     data = header.get("world")
-    world_file = header.get("world_file")
-    if data is None:
-        raise WorldFileError(str(path), "world", "the record does not say which world it ran; pass the world")
-    base = Path(world_file) if world_file else path
-    doc = YamlDoc(base, text=json.dumps(data))
-    return build_world(doc)
+    if not isinstance(data, dict):
+        raise WorldFileError(str(path), "world", "the record does not say which world it ran; pass the world",
+                             line=1)
+    world_file, why = named_world_file(header)
+    if world_file is not None:
+        return build_world(YamlDoc(world_file))
+    code = world_code(data)
+    if code and not allow_code_from_record:
+        raise WorldFileError(str(path), "world", f"the world kept in the record names Python code "
+                             f"({', '.join(code)}), and {why}: a record runs no code of its own. Give the world "
+                             "file to replay it with (--world FILE), or --allow-code-from-record to import the "
+                             "modules the record names", line=1)
+    named = header.get("world_file")
+    base = Path(named) if isinstance(named, str) and named else path
+    return build_world(YamlDoc(base, text=json.dumps(data)))
 
 
 def replay(path: str | Path, *, world: World | None = None, backend: _core.Backend | None = None,
-           record: Record | None = None) -> _core.Engine:
+           record: Record | None = None, key: bytes | None = None,
+           allow_code_from_record: bool = False) -> _core.Engine:
     """Run a record again: the same initial string, the recorded events, the same seed. Raises
     ReplayError at the first frame whose string differs from the record. Returns the engine.
-    ``record`` is the file already read (read_record(path)), if the caller has it."""
+    ``record`` is the file already read (read_record(path, key)), if the caller has it; without
+    `world`, the world is rebuilt as world_of_record says (importing no code the record names
+    unless `allow_code_from_record`)."""
     from .engine import Engine
 
     path = Path(path)
     if record is None:
-        record = read_record(path)
+        record = read_record(path, key)
     if world is None:
-        world = world_of_record(record.header, path)
+        world = world_of_record(record.header, path, allow_code_from_record=allow_code_from_record)
     initial = world.parse(record.header["initial"], f"{path}:initial", record.blobs)
     engine = Engine(world, initial, [], backend, dt=record.header["dt"], seed=record.header["seed"],
                     first_frame=record.header.get("frame", 0))

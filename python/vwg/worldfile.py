@@ -292,12 +292,13 @@ class GenericKind:
                               backend=options.backend)
         return GenericRun(spec, options.max_symbols, options.threads)
 
-    def replay_world(self, header: dict[str, Any], path: Path | None, record_path: Path) -> World:
+    def replay_world(self, header: dict[str, Any], path: Path | None, record_path: Path, *,
+                     allow_code_from_record: bool = False) -> World:
         if path is not None:
             return load_world(path).world
         from .record import world_of_record
 
-        return world_of_record(header, record_path)
+        return world_of_record(header, record_path, allow_code_from_record=allow_code_from_record)
 
     def describe(self, spec: WorldSpec) -> tuple[str, list[tuple[str, str]]]:
         from .launch import clip
