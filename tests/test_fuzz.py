@@ -1,9 +1,12 @@
 """Fuzzing the readers of what users and robots send: the text form, events, world files, MovingAI and
 map_server maps, the rosbridge messages and the serial base's answers. Each starts from a seed corpus
 in the repository (tests/fuzz_corpus/, the shipped worlds, tests/data/movingai) and mutates it with
-Hypothesis. Whatever comes in, the reader either succeeds (and what it gives holds: the string prints
-and reads back, the numbers are finite) or refuses with its own error naming where; never another
-exception, a crash or a hang.
+Hypothesis. The corpora hold the hostile inputs found so far (tests/fuzz_corpus/world, mapyaml,
+movingai, image: recursive aliases, deep nesting, huge integers, 1e308 and 5e-324, headers of
+images of billions of pixels), and numbers near the limits of floats and of the engine's integers
+are put into world files and maps. Whatever comes in, the reader either succeeds (and what it gives
+holds: the string prints and reads back, the numbers are finite) or refuses with its own error naming
+where; never another exception, a crash or a hang.
 
 ``make test`` runs a bounded number of inputs per reader (VWG_FUZZ_EXAMPLES, default 150);
 ``make fuzz`` runs many more. A crash found becomes an explicit @example here.
@@ -14,6 +17,7 @@ from __future__ import annotations
 import json
 import math
 import os
+from pathlib import Path
 
 import pytest
 from hypothesis import HealthCheck, example, given, settings
@@ -33,6 +37,35 @@ FUZZ = settings(max_examples=EXAMPLES, deadline=None, suppress_health_check=[Hea
 
 def corpus(kind: str) -> list[str]:
     return [p.read_text(encoding="utf-8") for p in sorted((CORPUS / kind).iterdir())]
+
+
+def corpus_files(kind: str) -> list[Path]:
+    return sorted((CORPUS / kind).iterdir())
+
+
+def yaml_number(x: float) -> str:
+    """A float as YAML 1.1 reads it back as a float: with a dot before the exponent (PyYAML reads
+    ``1e+308`` as text) and .inf / .nan."""
+    if math.isnan(x):
+        return ".nan"
+    if math.isinf(x):
+        return ".inf" if x > 0 else "-.inf"
+    text = repr(x)
+    mantissa, e, exponent = text.partition("e")
+    if e and "." not in mantissa:
+        mantissa += ".0"
+    return mantissa + (f"e{exponent if exponent[0] in '+-' else '+' + exponent}" if e else "")
+
+
+# Near the ends of floats and of the engine's integers (seeds and frames are unsigned 64-bit), and
+# the limits vwg puts on them (dt from 1e-6 s, coordinates within ±1e6 m, 100-digit integers).
+EDGE_FLOATS = [1.7976931348623157e308, 1e308, -1e308, 5e-324, -5e-324, 2.2250738585072014e-308, 1e-320, 1e-6,
+               9.99e-7, 1e6, -1e6, 1000000.0000000001, 3600.0, 3600.0000000000005, 1e9, 1e15, 2.0**63, 2.0**64,
+               math.inf, math.nan]
+EDGE_INTS = [2**63 - 1, 2**63, 2**64 - 1, 2**64, -(2**63), 10**99, 10**100, 0, -1]
+NUMBER = st.one_of(st.sampled_from(EDGE_FLOATS).map(yaml_number), st.floats().map(yaml_number),
+                   st.sampled_from(EDGE_INTS).map(str), st.integers().map(str),
+                   st.integers(90, 5000).map(lambda n: "9" * n))
 
 
 # Characters that matter to the readers, then any character at all.
@@ -87,7 +120,7 @@ def test_events_read_or_refuse(text):
 
 
 # ---- world files and maps ---------------------------------------------------------------------------------
-WORLD_SEEDS = [(ROOT / "maps" / f"{name}.yaml").read_text() for name in ("office", "maze")]
+WORLD_SEEDS = [(ROOT / "maps" / f"{name}.yaml").read_text() for name in ("office", "maze")] + corpus("world")
 VALUES = ["-1", "0", "1.0e+39", "1.0e+400", ".nan", ".inf", "-.inf", "[]", "{}", '"x"', "999999999999999999999999",
           "true", "null", "[1, 2]", "[1.0e+39, 0, 0]", "*a", "&a 1", "!!binary aGk=", "1e9", "~", "'\\udcff'"]
 
@@ -97,10 +130,12 @@ def world_text(draw: st.DrawFn) -> str:
     lines = draw(st.sampled_from(WORLD_SEEDS)).splitlines()
     for _ in range(draw(st.integers(1, 4))):
         i = draw(st.integers(0, len(lines) - 1))
-        op = draw(st.sampled_from(["value", "delete", "duplicate", "indent"]))
+        op = draw(st.sampled_from(["value", "number", "delete", "duplicate", "indent"]))
         if op == "value" and ":" in lines[i]:
             key = lines[i].split(":", 1)[0]
             lines[i] = f"{key}: {draw(st.sampled_from(VALUES))}"
+        elif op == "number" and ":" in lines[i]:
+            lines[i] = with_number(lines[i], draw(NUMBER), draw(st.integers(0, 2)))
         elif op == "delete":
             del lines[i]
         elif op == "duplicate":
@@ -112,8 +147,22 @@ def world_text(draw: st.DrawFn) -> str:
     return "\n".join(lines)
 
 
+def with_number(line: str, number: str, index: int) -> str:
+    """`line` (``key: value``) with its value, or one item of its list value, replaced by `number`."""
+    key, _, value = line.partition(":")
+    value = value.strip()
+    if value.startswith("[") and value.endswith("]"):
+        items = [v.strip() for v in value[1:-1].split(",")]
+        items[index % len(items)] = number
+        return f"{key}: [{', '.join(items)}]"
+    return f"{key}: {number}"
+
+
 @FUZZ
 @given(world_text())
+@example((CORPUS / "world" / "alias_loop.yaml").read_text())
+@example((CORPUS / "world" / "deep_lists.yaml").read_text())
+@example((CORPUS / "world" / "room_at_1e308.yaml").read_text())
 def test_world_files_load_or_refuse_by_place(tmp_path_factory, text):
     folder = tmp_path_factory.mktemp("w")
     for name in ("office", "maze"):
@@ -128,7 +177,7 @@ def test_world_files_load_or_refuse_by_place(tmp_path_factory, text):
     assert all(math.isfinite(v) for r in world.robots for v in r.start)
 
 
-MOVINGAI = [(ROOT / "tests" / "data" / "movingai" / "arena.map").read_text()]
+MOVINGAI = [(ROOT / "tests" / "data" / "movingai" / "arena.map").read_text(), *corpus("movingai")]
 
 
 @FUZZ
@@ -145,7 +194,8 @@ def test_movingai_maps_load_or_refuse(tmp_path_factory, text):
 
 
 @FUZZ
-@given(st.binary(max_size=300), st.sampled_from([b"", b"P5\n4 4\n255\n", b"P2\n2 2\n255\n", b"\x89PNG\r\n\x1a\n"]))
+@given(st.binary(max_size=300), st.sampled_from([b"", b"P5\n4 4\n255\n", b"P2\n2 2\n255\n", b"\x89PNG\r\n\x1a\n",
+                                                *(p.read_bytes() for p in corpus_files("image"))]))
 def test_map_images_load_or_refuse(tmp_path_factory, body, head):
     folder = tmp_path_factory.mktemp("img")
     (folder / "m.pgm").write_bytes(head + body)
@@ -157,6 +207,62 @@ def test_map_images_load_or_refuse(tmp_path_factory, body, head):
         assert str(folder) in str(e)
         return
     assert grid.data.size > 0
+
+
+@st.composite
+def map_yaml(draw: st.DrawFn) -> str:
+    """A map_server YAML of the corpus with numbers near the limits for its numbers."""
+    lines = draw(st.sampled_from(corpus("mapyaml"))).splitlines()
+    for _ in range(draw(st.integers(1, 3))):
+        i = draw(st.integers(0, len(lines) - 1))
+        if not lines[i].startswith("image:"):
+            lines[i] = with_number(lines[i], draw(NUMBER), draw(st.integers(0, 2)))
+    return "\n".join(lines) + "\n"
+
+
+MAP_IMAGE = (ROOT / "tests" / "data" / "rosmaps" / "map_server_test" / "testmap.png").read_bytes()
+
+
+@FUZZ
+@given(map_yaml())
+@example((CORPUS / "mapyaml" / "origin_1e308.yaml").read_text())
+def test_map_yaml_numbers_load_or_refuse_by_place(tmp_path_factory, text):
+    folder = tmp_path_factory.mktemp("mapyaml")
+    (folder / "map.png").write_bytes(MAP_IMAGE)
+    (folder / "m.yaml").write_text(text)
+    try:
+        grid = vwg.maps.load_map(folder / "m.yaml")
+    except WorldFileError as e:
+        assert str(folder / "m.yaml") in str(e), str(e)
+        return
+    assert math.isfinite(grid.resolution) and all(math.isfinite(v) for v in grid.origin)
+    # Every point of the map has a cell, and a point beyond float range is outside it.
+    assert grid.inside(*grid.world_to_cell(*grid.cell_to_world(0, 0)))
+    assert not grid.contains(1e308, -1e308)
+
+
+@pytest.mark.parametrize("path", corpus_files("world") + corpus_files("mapyaml") + corpus_files("movingai"),
+                         ids=lambda p: f"{p.parent.name}/{p.name}")
+def test_the_hostile_seeds_are_refused_by_place(tmp_path, path):
+    """Each hostile input of the corpora as it is: refused with vwg's error naming the file."""
+    if path.parent.name == "mapyaml":
+        (tmp_path / "map.png").write_bytes(MAP_IMAGE)
+        target = tmp_path / path.name
+        target.write_text(path.read_text())
+        load = vwg.maps.load_map
+    elif path.parent.name == "world":
+        target = tmp_path / path.name
+        target.write_text(path.read_text().replace("map: office/map.yaml",
+                                                   f"map: {ROOT / 'maps' / 'office' / 'map.yaml'}"))
+        load = vwg.robot.load_robot_world
+    else:
+        target, load = path, vwg.maps.load_movingai
+    if path.name == "plain.yaml":
+        load(target)  # the corpus's one good map: it loads
+        return
+    with pytest.raises(WorldFileError) as info:
+        load(target)
+    assert str(info.value).startswith(str(target)) or str(target) in str(info.value), str(info.value)
 
 
 # ---- what robots send ---------------------------------------------------------------------------------------
