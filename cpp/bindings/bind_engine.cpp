@@ -143,7 +143,7 @@ vwg.FrameError naming the frame, the stage, the actor and the event.)doc")
         return e.engine->step();
       }, "Run one frame; False (and nothing done) if w = ε.")
       .def("step_with", [](PyEngine& e, py::object events) {
-        EventList list = events_from_python(e.engine->string().alphabet_ptr(), events);
+        EventList list = events_from_python(e.engine->alphabet_ptr(), events);
         py::gil_scoped_release release;
         return e.engine->step_with(list);
       }, py::arg("events"), "Run one frame with these events instead of the generators' (replay).")
@@ -172,20 +172,26 @@ vwg.FrameError naming the frame, the stage, the actor and the event.)doc")
       .def("request_stop", [](PyEngine& e) { e.engine->request_stop(); }, "Stop run() after the current frame.")
       .def("keep_robots_in_step", [](PyEngine& e, std::shared_ptr<platform::RobotPlatform> platform, double radius,
                                      const std::string& actor) {
-        e.engine->add_observer(robot::PlatformSync(e.engine->string().alphabet(), platform, radius, {}, actor));
         e.keep_alive.append(py::cast(platform));
+        robot::PlatformSync sync(*e.engine->alphabet_ptr(), platform, radius, {}, actor);
+        py::gil_scoped_release release;  // waits for a frame under way, which may need the GIL
+        e.engine->add_observer(std::move(sync));
       }, py::arg("platform"), py::arg("radius") = 0.18, py::arg("actor") = "ARobot",
       "After each frame, give the platform a robot (of `radius`, at its believed pose) for each robot actor a λ "
       "spawned, and take it away from those that left the string (in C++, no call into Python).")
       .def("stop_when", [](PyEngine& e, py::object condition) {
-        if (condition.is_none()) {
-          e.engine->stop_when(nullptr);
-          return;
+        std::shared_ptr<StopCondition> c;
+        if (!condition.is_none()) {
+          c = condition.cast<std::shared_ptr<StopCondition>>();
+          e.keep_alive.append(condition);
         }
-        e.keep_alive.append(condition);
-        e.engine->stop_when(condition.cast<std::shared_ptr<StopCondition>>());
+        py::gil_scoped_release release;  // waits for a frame under way, which may need the GIL
+        e.engine->stop_when(std::move(c));
       }, py::arg("condition"), "run() returns 'done' after a frame that leaves condition (a vwg.StopCondition) true.")
-      .def_property_readonly("string", [](const PyEngine& e) { return e.engine->string(); }, "The current string w (a copy).")
+      .def_property_readonly("string", [](const PyEngine& e) {
+        py::gil_scoped_release release;  // a frame under way may need the GIL to end
+        return e.engine->string_copy();
+      }, "The current string w (a copy, taken between frames: safe from any thread).")
       .def("set_string", [](PyEngine& e, const WorldString& w) { e.engine->set_string(w); }, py::arg("w"))
       .def_property_readonly("frame", [](const PyEngine& e) { return e.engine->frame(); }, "Frames completed so far (t).")
       .def_property_readonly("time", [](const PyEngine& e) { return e.engine->time(); }, "Simulated seconds: frame * dt.")
@@ -194,11 +200,14 @@ vwg.FrameError naming the frame, the stage, the actor and the event.)doc")
       .def_property_readonly("threads", [](const PyEngine& e) { return e.engine->options().threads; },
                              "Threads a frame uses for its robots' lasers and λ (0 given: the machine's cores).")
       .def_property_readonly("last_events", [](const PyEngine& e) {
+        const EventList events = [&] {
+          py::gil_scoped_release release;
+          return e.engine->last_events_copy();
+        }();
         py::list out;
-        const EventList& events = e.engine->last_events();
         for (std::size_t i = 0; i < events.size(); ++i) out.append(event_to_python(events[i]));
         return out;
-      }, "The events S of the last completed frame.")
+      }, "The events S of the last completed frame (taken between frames: safe from any thread).")
       .def_property_readonly("generators", [](const PyEngine& e) {
         py::list out;
         for (const auto& g : e.engine->generators()) out.append(py::cast(g));
@@ -216,7 +225,7 @@ vwg.FrameError naming the frame, the stage, the actor and the event.)doc")
       }, "Ask the generators for the current frame's events without running the frame.")
       .def("add_observer", [](PyEngine& e, py::function fn) {
         e.keep_alive.append(fn);
-        e.engine->add_observer([fn](const FrameRecord& r) {
+        Engine::Observer observer = [fn](const FrameRecord& r) {
           py::gil_scoped_acquire gil;
           auto record = std::make_shared<PyFrameRecord>(PyFrameRecord{r.frame, r.time, &r.after, &r.events});
           py::object arg = py::cast(record);
@@ -227,8 +236,10 @@ vwg.FrameError naming the frame, the stage, the actor and the event.)doc")
             throw;
           }
           *record = PyFrameRecord{};  // the views end with the call
-        });
-      }, py::arg("observer"), "Call observer(record: FrameRecord) after every completed frame.");
+        };
+        py::gil_scoped_release release;  // waits for a frame under way, which may need the GIL
+        e.engine->add_observer(std::move(observer));
+      }, py::arg("observer"), "Call observer(record: FrameRecord) after every completed frame (added between frames: safe from any thread).");
 }
 
 }  // namespace vwg::bindings

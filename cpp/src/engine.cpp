@@ -38,9 +38,57 @@ class Engine::Use {
   Engine& e_;
 };
 
+class Engine::Between {
+ public:
+  explicit Between(const Engine& e) {
+    if (e.user_.load() == std::this_thread::get_id()) return;  // called from inside a frame: the caller is the frame
+    e.reads_asked_.fetch_add(1);
+    lock_ = std::unique_lock<std::mutex>(e.state_);
+    e.reads_served_.fetch_add(1);
+  }
+
+ private:
+  std::unique_lock<std::mutex> lock_;
+};
+
+std::unique_lock<std::mutex> Engine::lock_state() { return std::unique_lock<std::mutex>(state_); }
+
+void Engine::fair_to_readers() const {
+  // A mutex is not fair: the runner would take it again before a waiting reader wakes, frame after
+  // frame. The readers that asked before this point get it first; later ones cannot hold it back.
+  const std::uint64_t asked = reads_asked_.load();
+  while (reads_served_.load() < asked) std::this_thread::yield();
+}
+
+WorldString Engine::string_copy() const {
+  const Between between(*this);
+  return w_;
+}
+
+EventList Engine::last_events_copy() const {
+  const Between between(*this);
+  return last_events_;
+}
+
+void Engine::add_observer(Observer observer) {
+  if (user_.load() == std::this_thread::get_id()) {
+    throw Error("Engine.add_observer: called during a frame of the same engine; add observers before or between runs");
+  }
+  const Between between(*this);
+  observers_.push_back(std::move(observer));
+}
+
+void Engine::stop_when(std::shared_ptr<StopCondition> condition) {
+  if (user_.load() == std::this_thread::get_id()) {
+    throw Error("Engine.stop_when: called during a frame of the same engine; set it before or between runs");
+  }
+  const Between between(*this);
+  stop_when_ = std::move(condition);
+}
+
 Engine::Engine(WorldString initial, std::vector<std::shared_ptr<Generator>> generators,
                std::shared_ptr<Backend> backend, EngineOptions options)
-    : w_(std::move(initial)), generators_(std::move(generators)), backend_(std::move(backend)),
+    : w_(std::move(initial)), alphabet_(w_.alphabet_ptr()), generators_(std::move(generators)), backend_(std::move(backend)),
       options_(options), frame_(options.first_frame), last_events_(w_.alphabet_ptr()), next_events_(w_.alphabet_ptr()) {
   if (options_.threads == 0) options_.threads = default_threads();
   if (options_.threads > kMaxThreads) {
@@ -66,13 +114,15 @@ Engine::Engine(WorldString initial, std::vector<std::shared_ptr<Generator>> gene
 
 void Engine::set_string(WorldString w) {
   const Use use(*this, "set_string");
-  if (w.alphabet_ptr() != w_.alphabet_ptr()) throw Error("set_string: the string uses another alphabet");
+  if (w.alphabet_ptr() != alphabet_) throw Error("set_string: the string uses another alphabet");
+  const auto state = lock_state();
   w_ = std::move(w);
 }
 
 EventList Engine::collect_events() {
   const Use use(*this, "collect_events");
   EventList events(w_.alphabet_ptr());
+  const auto state = lock_state();
   collect_events_unlocked(events);
   return events;
 }
@@ -118,6 +168,7 @@ void Engine::collect_events_unlocked(EventList& events) {
 
 bool Engine::step() {
   const Use use(*this, "step");
+  const auto state = lock_state();
   if (w_.empty()) return false;
   collect_events_unlocked(next_events_);
   return run_frame(next_events_);
@@ -128,6 +179,7 @@ bool Engine::step_with(const EventList& events) {
   if (w_.empty()) return false;
   if (events.alphabet_ptr() != w_.alphabet_ptr()) throw Error("step_with: the events use another alphabet");
   EventList copy(events);
+  const auto state = lock_state();
   return run_frame(copy);
 }
 
@@ -181,6 +233,8 @@ bool Engine::run_frame(EventList& events) {
 StopReason Engine::run(std::uint64_t max_frames) {
   const Use use(*this, "run");
   for (std::uint64_t k = 0; k < max_frames; ++k) {
+    if (k > 0) fair_to_readers();
+    const auto state = lock_state();
     if (w_.empty()) return StopReason::Empty;
     collect_events_unlocked(next_events_);
     run_frame(next_events_);
@@ -188,8 +242,9 @@ StopReason Engine::run(std::uint64_t max_frames) {
       stop_requested_ = false;
       return StopReason::Requested;
     }
-    if (stop_when_ && stop_when_->done(w_, frame_ - 1)) return StopReason::Done;
+    if (stop_when_ && stop_when_->done(w_, frame() - 1)) return StopReason::Done;
   }
+  const auto state = lock_state();
   return w_.empty() ? StopReason::Empty : StopReason::FrameLimit;
 }
 

@@ -1,5 +1,9 @@
 // The system algorithm (§II.D): generator priority, frames, stopping, and all-or-nothing frames.
 #include <gtest/gtest.h>
+#include <algorithm>
+#include <atomic>
+#include <thread>
+#include <vector>
 
 #include "helpers.hpp"
 
@@ -348,4 +352,60 @@ TEST(EngineInPlace, EditingWithTheWrongElementTypeIsRefused) {
   ActorState s;
   s.load(painter(a, {0, 0, 0, 0, 0, 0, 0, 0}), 0);
   EXPECT_THROW(s.edit_blob<std::int16_t>(0), SchemaError);
+}
+
+// --- reading from other threads ---------------------------------------------------------------------
+
+namespace {
+
+/// Every frame adds 1 to each of the canvas's 8 cells, in place when the string alone holds it.
+class AddToEveryCell : public Generator {
+ public:
+  void generate(const FrameInfo&, EventList& out) override {
+    for (std::int64_t cell = 0; cell < 8; ++cell) out.emit("add", {cell, 1});
+  }
+};
+
+}  // namespace
+
+TEST(EngineReads, CopiesTakenFromOtherThreadsAreWholeFrames) {
+  // Frame k leaves every cell at k (mod 256); a copy taken in the middle of a frame's in-place
+  // writes would hold cells of two frames, and a copy racing the in-place test could see its blob
+  // written after it was taken.
+  auto a = painter_alphabet();
+  EngineOptions options;
+  options.threads = 2;
+  Engine engine(painter(a, std::vector<std::uint8_t>(8, 0)), {std::make_shared<AddToEveryCell>()}, nullptr, options);
+  std::atomic<bool> running{true};
+  std::atomic<int> torn{0}, reads{0};
+  std::vector<std::thread> readers;
+  for (int k = 0; k < 4; ++k) {
+    readers.emplace_back([&] {
+      while (running.load()) {
+        const std::uint64_t before = engine.frame();
+        const WorldString w = engine.string_copy();
+        const EventList events = engine.last_events_copy();
+        const std::vector<std::uint8_t> cells = cells_of(*w.store().blob(w.node(0).value(0)));
+        const std::uint64_t after = engine.frame();
+        bool whole = std::all_of(cells.begin(), cells.end(), [&](std::uint8_t c) { return c == cells[0]; });
+        bool in_time = false;
+        for (std::uint64_t f = before; f <= after; ++f) in_time = in_time || cells[0] == static_cast<std::uint8_t>(f);
+        if (!whole || !in_time || (before > 0 && events.size() != 8)) ++torn;
+        ++reads;
+      }
+    });
+  }
+  for (int k = 0; k < 20; ++k) EXPECT_EQ(engine.run(100), StopReason::FrameLimit);
+  running = false;
+  for (auto& t : readers) t.join();
+  EXPECT_EQ(torn.load(), 0);
+  EXPECT_GT(reads.load(), 0);
+  EXPECT_EQ(cells_of(canvas_of(engine)), std::vector<std::uint8_t>(8, static_cast<std::uint8_t>(2000 % 256)));
+}
+
+TEST(EngineReads, AnObserverAddedDuringAFrameIsRefused) {
+  auto a = counter_alphabet();
+  Engine engine(parse_string(a, "Counter<n=0>"), {std::make_shared<FixedGenerator>("add", 0)}, nullptr);
+  engine.add_observer([&](const FrameRecord&) { engine.add_observer([](const FrameRecord&) {}); });
+  EXPECT_THROW(engine.step(), Error);
 }

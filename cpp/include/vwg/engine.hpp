@@ -61,6 +61,13 @@ class StopCondition {
 /// set_string() and collect_events() called from inside one of its frames (a λ, θ, generator,
 /// backend or observer) or while another thread is in one of them throw vwg::Error saying so,
 /// instead of corrupting the string they read.
+///
+/// Reading is safe from any thread: string_copy(), last_events_copy(), frame(), time(),
+/// add_observer() and stop_when() called from another thread wait for the frame under way to end
+/// (a frame holds the engine's state lock, a run takes it frame by frame, and a waiting reader gets
+/// it before the next frame starts), so they never see a frame half done. From inside a frame they
+/// act at once: the caller is the frame. The references string() and last_events() are for the
+/// thread that runs the frames.
 class Engine {
  public:
   using Observer = std::function<void(const FrameRecord&)>;
@@ -79,26 +86,40 @@ class Engine {
   /// request made between runs stops the next run after its first frame.
   void request_stop() { stop_requested_ = true; }
   /// run() returns StopReason::Done after a frame that leaves `condition` true (null: never).
-  void stop_when(std::shared_ptr<StopCondition> condition) { stop_when_ = std::move(condition); }
+  void stop_when(std::shared_ptr<StopCondition> condition);
 
+  /// w, for the thread that runs the frames (another thread: string_copy()).
   const WorldString& string() const { return w_; }
+  /// A copy of w between frames, from any thread.
+  WorldString string_copy() const;
   /// Replace w (e.g. to load a snapshot); the frame counter is kept.
   void set_string(WorldString w);
-  std::uint64_t frame() const { return frame_; }
-  double time() const { return static_cast<double>(frame_) * options_.dt; }
+  std::uint64_t frame() const { return frame_.load(std::memory_order_acquire); }
+  double time() const { return static_cast<double>(frame()) * options_.dt; }
   const EngineOptions& options() const { return options_; }
+  /// The alphabet of w (fixed for the engine's life: safe from any thread).
+  const std::shared_ptr<const Alphabet>& alphabet_ptr() const { return alphabet_; }
+  /// S of the last frame, for the thread that runs the frames (another thread: last_events_copy()).
   const EventList& last_events() const { return last_events_; }
+  /// A copy of the last frame's S between frames, from any thread.
+  EventList last_events_copy() const;
   const std::shared_ptr<Backend>& backend() const { return backend_; }
   const std::vector<std::shared_ptr<Generator>>& generators() const { return generators_; }
 
-  /// Called after every completed frame, in the order added.
-  void add_observer(Observer observer) { observers_.push_back(std::move(observer)); }
+  /// Called after every completed frame, in the order added. From inside a frame (an observer
+  /// adding another) it throws: the frame is walking the list.
+  void add_observer(Observer observer);
 
   /// The events the generators give for the current frame (used by step()).
   EventList collect_events();
 
  private:
   class Use;  // holds the engine for one call; see the class comment
+  class Between;  // holds the state lock between frames for a reader (any thread)
+  /// Held by a frame from its first read of w to its observers' end (and by set_string). A runner
+  /// lets the readers that asked during a frame in before its next frame (fair_to_readers()).
+  std::unique_lock<std::mutex> lock_state();
+  void fair_to_readers() const;
   // Runs a frame on `events`, which become last_events_; `events` gets the list they replace, whose
   // buffers the next frame fills again (ten thousand lasers give millions of events a frame:
   // fresh buffers each frame were page faults and zeroed pages).
@@ -107,10 +128,11 @@ class Engine {
   void collect_events_unlocked(EventList& events);
   void generate(std::size_t k, const FrameInfo& info, EventList& out);  // generator k, failures located
   WorldString w_;
+  std::shared_ptr<const Alphabet> alphabet_;  // w_'s, kept apart so that reading it needs no lock
   std::vector<std::shared_ptr<Generator>> generators_;
   std::shared_ptr<Backend> backend_;
   EngineOptions options_;
-  std::uint64_t frame_ = 0;
+  std::atomic<std::uint64_t> frame_{0};
   EventList last_events_;
   EventList next_events_;              // the buffers the next frame's events are collected into
   std::vector<EventList> part_events_;  // the same, for each concurrent generator
@@ -120,6 +142,8 @@ class Engine {
   std::shared_ptr<StopCondition> stop_when_;
   std::mutex use_;
   std::atomic<std::thread::id> user_{};  // the thread inside a call, if any
+  mutable std::mutex state_;  // w_, last_events_, observers_, stop_when_ between frames
+  mutable std::atomic<std::uint64_t> reads_asked_{0}, reads_served_{0};
 };
 
 }  // namespace vwg
