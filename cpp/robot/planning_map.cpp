@@ -38,8 +38,8 @@ void PlanningMap::rebuild(std::span<const std::int16_t> cells, const geometry::M
   }
   // cover = the number of obstacle cells whose disc holds the cell (a sum over the disc, by row
   // prefix sums), plus one within rc of the map's edge (as geometry::inflate's outside_blocked).
-  tiles_across_ = (cols + kTileCols - 1) / kTileCols;
-  cover_.assign(static_cast<std::size_t>((rows + kTileRows - 1) / kTileRows) * tiles_across_ * kTileRows * kTileCols, 0);
+  cover_at_ = TiledIndex<5, 6>(rows, cols);
+  cover_.assign(cover_at_.size(), 0);
   std::vector<std::int32_t> prefix(static_cast<std::size_t>(rows) * (cols + 1), 0);
   for (int r = 0; r < rows; ++r) {
     std::int32_t* p = &prefix[static_cast<std::size_t>(r) * (cols + 1)];
@@ -56,7 +56,7 @@ void PlanningMap::rebuild(std::span<const std::int16_t> cells, const geometry::M
         n += p[std::min(cols, c + w + 1)] - p[std::max(0, c - w)];
       }
       if (geometry::centre_near_edge(r, c, rows, cols, rc)) ++n;
-      cover_.set(cover_at(r, c), static_cast<std::uint16_t>(n));
+      cover_.set(cover_at_(r, c), static_cast<std::uint16_t>(n));
       if (n > 0) inflated_.set_blocked({r, c}, true);
     }
   }
@@ -68,7 +68,7 @@ void PlanningMap::set_obstacle(int row, int col, bool blocked) {
   for (const geometry::Cell& d : disc_) {
     const int r = row + d.row, c = col + d.col;
     if (r < 0 || c < 0 || r >= rows || c >= cols) continue;
-    const std::size_t at = cover_at(r, c);
+    const std::size_t at = cover_at_(r, c);
     const auto n = static_cast<std::uint16_t>(blocked ? cover_[at] + 1 : cover_[at] - 1);
     cover_.set(at, n);
     if (n == (blocked ? 1 : 0)) inflated_.set_blocked({r, c}, blocked);

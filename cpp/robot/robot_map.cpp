@@ -117,9 +117,8 @@ void check_robot_map(const Blob& map, const geometry::MapGeometry& g) {
 void ObstacleBits::scan(std::span<const std::int16_t> cells, const geometry::MapGeometry& g) {
   columns_ = (g.width + (1 << kShift) - 1) >> kShift;
   rows_ = (g.height + (1 << kShift) - 1) >> kShift;
-  constexpr int kTile = 1 << kTileShift;
-  tiles_across_ = (columns_ + kTile - 1) / kTile;
-  words_ = SharedArray<Words>(static_cast<std::size_t>((rows_ + kTile - 1) / kTile) * tiles_across_ * kTile * kTile);
+  word_at_ = TiledIndex<4, 4>(rows_, columns_);
+  words_ = SharedArray<Words>(word_at_.size());
   blocks_.assign((words_.size() + 63) / 64, 0);
   for (int r = 0; r < g.height; ++r) {
     for (int c = 0; c < g.width; ++c) {

@@ -252,6 +252,23 @@ TEST(PlanningMap, FollowsAMapThatCannotTellWhatWasWritten) {
   EXPECT_FALSE(pm.update(map, g, radius));
 }
 
+TEST(TiledIndex, EveryCellHasItsOwnPlaceAndATileIsOnePage) {
+  // A 70 × 150 array in tiles of 32 × 64 two-byte elements (the disc counts): every cell inside
+  // the padded size, no two at one place, and the cells of a tile on one 4 KB page.
+  const int rows = 70, cols = 150;
+  const TiledIndex<5, 6> at(rows, cols);
+  EXPECT_EQ(at.size(), 3u * 3u * 32u * 64u);  // 3 tiles down (96 rows), 3 across (192 columns)
+  std::vector<int> seen(at.size(), 0);
+  for (int r = 0; r < rows; ++r) {
+    for (int c = 0; c < cols; ++c) {
+      const std::size_t i = at(r, c);
+      ASSERT_LT(i, at.size());
+      ASSERT_EQ(seen[i]++, 0) << r << "," << c;
+      ASSERT_EQ(i * 2 / 4096, at(r / 32 * 32, c / 64 * 64) * 2 / 4096) << "a tile is one page: " << r << "," << c;
+    }
+  }
+}
+
 TEST(PlanningMap, RefusesAMapOfAnotherShape) {
   PlanningMap pm;
   Blob map(DType::Int16, {4, 4});

@@ -11,6 +11,7 @@
 #include "vwg/blob.hpp"
 #include "vwg/plan/grid_graph.hpp"
 #include "vwg/robot/robot_map.hpp"
+#include "vwg/robot/tiled_index.hpp"
 
 namespace vwg::robot {
 
@@ -18,9 +19,10 @@ class PlanningMap {
  public:
   /// Bring the grids up to `map` (a robot map of geometry `g`) for a robot of `radius` metres;
   /// true if the grids changed since the last call (a cell became an obstacle, or unknown, or
-  /// stopped being one), false if they are the same. The first call for a copy of a shared map (Blob::share: the known map every robot
-  /// starts from) starts from the grids of the shared content, made once for all robots and shared
-  /// page by page, and follows the cells this copy changed. Later calls follow the cells written
+  /// stopped being one), false if they are the same. The first call for a copy of a shared map
+  /// (Blob::share: the known map every robot starts from) starts from the grids of the shared
+  /// content, made once for all robots and shared page by page, and follows the cells this copy
+  /// changed. Later calls follow the cells written
   /// since the last one (Blob::written_since), or compare every cell with the grids when the map
   /// cannot tell. Every kReshareEvery calls that see a new revision of the map, it calls reshare().
   bool update(const Blob& map, const geometry::MapGeometry& g, double radius);
@@ -43,25 +45,18 @@ class PlanningMap {
   bool start_from_original(const Blob& map, const geometry::MapGeometry& g, double radius);
   void set_obstacle(int row, int col, bool blocked);
   /// Follow cell `i` of the map, which holds `value` now; true if the grids changed.
+  bool follow(std::size_t i, std::int16_t value, int cols);
   /// follow() every cell of the map (`cells`), looking only at those the obstacle grid differs from.
   bool follow_all(std::span<const std::int16_t> cells, int cols);
-  bool follow(std::size_t i, std::int16_t value, int cols);
 
   Blob::Mark looked_;  // the map as last looked at
   double radius_ = -1.0;
   geometry::BlockedGrid obstacles_, inflated_;
   std::vector<geometry::Cell> disc_;      // offsets covered by an obstacle cell's disc
-  // Per cell: the obstacle discs (and the map's edge) covering it. Kept in tiles of 32 × 64 cells,
-  // a memory page each, not in rows: a sighting writes the counts of a disc round each obstacle
-  // cell, and every page it writes first is copied from the shared grids (with a TLB flush on the
-  // other cores). A disc of 11 × 11 cells writes one or two tiles, against nine pages of rows on a
-  // map 1,600 cells wide.
-  static constexpr int kTileRows = 32, kTileCols = 64;
-  std::size_t cover_at(int row, int col) const {
-    const auto tile = static_cast<std::size_t>(row / kTileRows) * static_cast<std::size_t>(tiles_across_) + static_cast<std::size_t>(col / kTileCols);
-    return tile * kTileRows * kTileCols + static_cast<std::size_t>(row % kTileRows) * kTileCols + static_cast<std::size_t>(col % kTileCols);
-  }
-  int tiles_across_ = 0;
+  // Per cell: the obstacle discs (and the map's edge) covering it, in tiles of 32 × 64 cells (a
+  // 4 KB page each): a disc of 11 × 11 cells writes one or two tiles, against nine pages of rows
+  // on a map 1,600 cells wide.
+  TiledIndex<5, 6> cover_at_;
   SharedArray<std::uint16_t> cover_;
   unsigned looks_ = 0;  // at a new revision of the map, counted for reshare()
   bool counted_ = false;              // cover_ is kept (false when a disc is too large to count)

@@ -13,6 +13,7 @@
 
 #include "vwg/blob_edit.hpp"
 #include "vwg/geometry/map_geometry.hpp"
+#include "vwg/robot/tiled_index.hpp"
 
 namespace vwg::robot {
 
@@ -108,23 +109,16 @@ class ObstacleBits {
 
  private:
   static int bit(int row, int col) { return ((row & 7) << 3) | (col & 7); }
-  // The words are kept in tiles of 16 × 16 blocks (128 × 128 cells, a 4 KB page), not in rows of
-  // blocks: a sighting then writes one page of a robot's bits, seldom two, where rows of a map
-  // 1,600 cells wide put 10 rows of cells on a page (each page a robot first writes is copied from
-  // the shared bits, with a TLB flush on the other cores).
-  static constexpr int kTileShift = 4;  // 16 × 16 blocks a tile
-  std::size_t word(int block_row, int block_col) const {
-    constexpr int kTile = 1 << kTileShift, kMask = kTile - 1;
-    const auto tile = static_cast<std::size_t>(block_row >> kTileShift) * static_cast<std::size_t>(tiles_across_) +
-                      static_cast<std::size_t>(block_col >> kTileShift);
-    return tile * kTile * kTile + static_cast<std::size_t>(((block_row & kMask) << kTileShift) | (block_col & kMask));
-  }
+  std::size_t word(int block_row, int block_col) const { return word_at_(block_row, block_col); }
   void scan(std::span<const std::int16_t> cells, const geometry::MapGeometry& g);
 
   std::uint64_t revision_ = 0;
   unsigned edits_ = 0;  // of the map, counted for reshare_due_after_edit
   int columns_ = 0, rows_ = 0;  // of blocks
-  int tiles_across_ = 0;
+  // The words in tiles of 16 × 16 blocks (128 × 128 cells, a 4 KB page): a sighting writes one
+  // page of a robot's bits, seldom two, where rows of a map 1,600 cells wide put 10 rows of cells
+  // on a page.
+  TiledIndex<4, 4> word_at_;
   struct Words {  // a block's cells, a bit each; side by side, so one read of memory finds both
     std::uint64_t seen = 0, obstacle = 0;
   };
