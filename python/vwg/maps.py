@@ -23,7 +23,10 @@ Loading a map_server image follows ROS 1 map_server (``image_loader.cpp``), whic
 - image rows are flipped so that row 0 is the bottom.
 
 Required keys are map_server's: image (relative to the YAML), resolution, origin, negate, occupied_thresh,
-free_thresh; ``mode`` defaults to trinary; other keys are ignored, as map_server and Nav2 do.
+free_thresh; ``mode`` defaults to trinary; other keys are ignored, as map_server and Nav2 do. The image is a
+PNG, PGM/PPM/PBM/PAM, BMP or JPEG of at most ``MAX_IMAGE_PIXELS`` (100,000,000) pixels, sized from its header
+before it is decoded (vwg.image_size); the origin's x and y are within ±1e6 m, its yaw within ±1e3 rad, and so
+is the map's far corner (the simulator's bounds).
 
 Where vwg differs: ROS 1 map_server takes the last byte of a 3-channel pixel (blue) as its "alpha" in scale mode
 (an artefact of SDL surfaces); vwg takes alpha only from a real alpha channel. 16-bit images are scaled to 0..255
