@@ -181,9 +181,9 @@ class RealRobotPlatform(_core.RobotPlatform):
         a reconnection: a fault, and each robot is sent only stops until odometry has come over it."""
         with self._lock:
             self._connection = connection
-            if self._down_at is not None:
-                gap = time.monotonic() - self._down_at
-                self._down_at = None
+            down_at, self._down_at = self._down_at, None
+            if down_at is not None and not self._failing:  # once the run has ended on the link, not its news
+                gap = time.monotonic() - down_at
                 self._fault_locked(0, f"link back after {gap:.2f} s (connection {connection}); "
                                       "robots wait for odometry over it", level=logging.WARNING)
 
@@ -193,8 +193,8 @@ class RealRobotPlatform(_core.RobotPlatform):
         within its seconds end the run (at the control thread's or the frames' next check)."""
         with self._lock:
             now = time.monotonic()
-            if self._down_at is not None:
-                return  # still down: one drop
+            if self._down_at is not None or self._failing:
+                return  # still down (one drop), or the run has ended on the link already
             self._down_at = now
             self._drops.append(now)
             while now - self._drops[0] > self.flap_limit.seconds:
@@ -391,13 +391,13 @@ class RealRobotPlatform(_core.RobotPlatform):
         else:
             log.log(level or logging.ERROR, "%s: %s", self.name(), what)
 
-    def stop_all(self) -> None:
+    def stop_all(self) -> bool:
+        """Drop every plan and send every robot a stop; False when a stop could not be sent."""
         with self._lock:
             ids = list(self._robots)
             for r in self._robots.values():
                 r.follower.stop()
-        for rid in ids:
-            self.send_velocity(rid, 0.0, 0.0)
+        return all([self.send_velocity(rid, 0.0, 0.0) for rid in ids])  # a list: every robot is sent one
 
     def robots(self) -> list[_core.RobotState]:
         with self._lock:
@@ -425,6 +425,14 @@ class RealRobotPlatform(_core.RobotPlatform):
         if self._control_thread.ident is not None:
             self._control_thread.join(2.0)
         try:
-            self.stop_all()
+            self._stop_before_closing()
         finally:
             self.close_link()
+
+    def _stop_before_closing(self, patience: float = 1.0) -> None:
+        """A stop to every robot; when one cannot go (a link that has just dropped, as a flapping one
+        has when the run ends), again while the link reconnects, for up to `patience` seconds, unless
+        it has given up."""
+        until = time.monotonic() + patience
+        while not self.stop_all() and time.monotonic() < until and not self.link_failure():
+            time.sleep(self.control_period)
