@@ -307,9 +307,9 @@ def build_parser() -> argparse.ArgumentParser:
 
     run = sub.add_parser("run", help="run a world file", description="Run a world file and print a summary.")
     run.add_argument("world", type=Path, help="a world file (YAML), or the name of a shipped world (vwg worlds)")
-    run.add_argument("--frames", type=int, help="number of frames (default: the file's, else 100)")
-    run.add_argument("--seed", type=int, help="random seed (default: the file's, else 0)")
-    run.add_argument("--dt", type=float, help="seconds per frame (default: the file's, else 0.1)")
+    run.add_argument("--frames", type=int, help="number of frames, 0 to 2**64 - 1 (default: the file's, else 100)")
+    run.add_argument("--seed", type=int, help="random seed, 0 to 2**64 - 1 (default: the file's, else 0)")
+    run.add_argument("--dt", type=float, help="seconds per frame, 1e-6 to 3600 (default: the file's, else 0.1)")
     run.add_argument("--backend", help="a registered backend by name (trace, null, ...): instead of the file's in a "
                                        "generic world, beside the simulator and its view in a robot world")
     run.add_argument("--max-symbols", type=int, default=10_000_000,
