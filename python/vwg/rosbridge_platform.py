@@ -128,8 +128,9 @@ class RosbridgePlatform(RealRobotPlatform):
 
     def send_velocity(self, robot: int, speed: float, turn_rate: float, *, connection: int | None = None) -> bool:
         topics = self.topics.get(robot)
-        return bool(topics) and self.link is not None and self.link.publish(
-            topics["cmd_vel"], twist_message(speed, turn_rate), connection=connection)
+        if topics is None or self.link is None:
+            return False
+        return self.link.publish(topics["cmd_vel"], twist_message(speed, turn_rate), connection=connection)
 
     def step_clock(self, seconds: float) -> None:
         assert self.link is not None and self.step_service is not None
