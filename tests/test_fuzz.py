@@ -265,6 +265,60 @@ def test_the_hostile_seeds_are_refused_by_place(tmp_path, path):
     assert str(info.value).startswith(str(target)) or str(target) in str(info.value), str(info.value)
 
 
+# ---- records (vwg replay's reader) ------------------------------------------------------------------------
+# The seeds: records that read (folder, blobs, small) and issue 34's hostile ones, each refused by line.
+RECORD_SEEDS = corpus("record")
+GOOD_RECORDS = {"folder.jsonl", "blobs.jsonl", "small.jsonl"}
+
+
+def relinked(text: str) -> str:
+    """A record's text with each line's link made whole again (prev, and the end line's self), without
+    reading the lines as JSON: the mutations reach the reader's checks behind the chain."""
+    import hashlib
+    import re
+
+    def link(line: str) -> str:
+        return hashlib.sha256(line.encode("utf-8", "surrogatepass")).hexdigest()[:32]
+
+    lines = text.split("\n")
+    for i in range(1, len(lines)):
+        line = re.sub('"prev":"[0-9a-f]{32}"', f'"prev":"{link(lines[i - 1])}"', lines[i])
+        if line.startswith('{"end":true') and line.endswith("}"):
+            body = re.sub(',"self":"[0-9a-f]{32}"', "", line)
+            line = body[:-1] + f',"self":"{link(body)}"}}'
+        lines[i] = line
+    return "\n".join(lines)
+
+
+@FUZZ
+@given(mutated(RECORD_SEEDS), st.booleans())
+def test_records_read_or_refuse(tmp_path_factory, text, relink):
+    from vwg.record import read_record
+
+    path = tmp_path_factory.mktemp("record") / "fuzz.jsonl"
+    path.write_bytes((relinked(text) if relink else text).encode("utf-8", "surrogatepass"))
+    try:
+        record = read_record(path)
+    except WorldFileError as e:
+        assert e.path == str(path) and e.line >= 0
+        str(e).encode("utf-8", "backslashreplace")
+        return
+    assert all(isinstance(t, str) for f in record.frames for t in f["events"])
+    assert record.end is None or record.end["frames"] == len(record.frames)
+
+
+@pytest.mark.parametrize("path", corpus_files("record"), ids=lambda p: p.name)
+def test_the_record_seeds_read_or_are_refused_by_line(path):
+    from vwg.record import read_record
+
+    if path.name in GOOD_RECORDS:
+        read_record(path)
+        return
+    with pytest.raises(WorldFileError) as e:
+        read_record(path)
+    assert e.value.line >= 1, str(e.value)
+
+
 # ---- what robots send ---------------------------------------------------------------------------------------
 ROS_SEEDS = {p.stem: json.loads(p.read_text()) for p in sorted((CORPUS / "ros").iterdir())}
 JSON_VALUES = st.recursive(st.none() | st.booleans() | st.integers() | st.floats() | st.text(max_size=5),

@@ -337,6 +337,23 @@ def test_a_record_naming_other_code_is_refused_and_the_code_does_not_run(tmp_pat
     assert marker.read_text() == "ran"
 
 
+def test_a_robot_record_naming_a_generic_world_file_runs_none_of_its_code(tmp_path, capsys, blink):
+    # A robot world's record names a world file and a planner; made to name a generic world file whose
+    # actor is code elsewhere, going on from a frame refuses it before loading it.
+    _, _, evil = blink
+    generic = evil.parent / "evil.yaml"
+    generic.write_text(f'alphabet: {{events: [tick], actors: ["{evil}:Blink"]}}\ninitial: "Blink<n=0>"\n')
+    record = tmp_path / "office.jsonl"
+    assert main(["run", "office", "--frames", "12", "--goal", "kitchen", "--allow-unreached", "--record",
+                 str(record), "-q", "--no-progress"]) == 0
+    edit_world(record, lambda h: h["world"].update(robot_world=str(generic)))
+    for extra in (["--from", "6"], []):
+        assert main(["replay", str(record), *extra]) == 2
+        err = capsys.readouterr().err
+        assert "Traceback" not in err and str(generic) in err, err
+        assert not (tmp_path / "marker").exists(), "replaying the record ran the code of the world file it names"
+
+
 def test_a_record_whose_world_file_is_gone_replays_only_code_free(tmp_path, capsys, blink):
     world, record, _ = blink
     (world.parent / "blink.py").rename(tmp_path / "kept.py")

@@ -117,8 +117,10 @@ def _resume(args: argparse.Namespace, record: Any, key: bytes | None) -> int:
     world kept in the record (else its code is not the record's), unless --allow-code-from-record.
     A robot world's run gets its --goal orders again from the record."""
     from .errors import ReplayError
-    from .launch import RunOptions, load, start
+    from .launch import RunOptions, kind_of, load, start
     from .record import Recorder, named_world_file, robot_data
+    from .worlds import resolve_world
+    from .yamldoc import YamlDoc
 
     frames = [f["t"] for f in record.frames]
     if args.resume_from not in frames:
@@ -137,7 +139,15 @@ def _resume(args: argparse.Namespace, record: Any, key: bytes | None) -> int:
                             f"file: {why}. Give the world file to run it with (--world FILE), or "
                             "--allow-code-from-record to run the file the record names")
             world_file = Path(named)
-    loaded = load(world_file)
+    # Of the record's kind before it is loaded: a generic world file named as a robot world's would
+    # otherwise be loaded, and its code run, before anything noticed.
+    path = resolve_world(world_file)
+    expected = header.get("world_kind") or "generic"
+    found = kind_of(path, YamlDoc(path).data).name
+    if found != expected:
+        raise Error(f"--from: {path}: the record {args.record} was made by a {expected} world; this is a {found} "
+                    "world")
+    loaded = load(path)
     options = RunOptions(seed=header.get("seed"), frames=header.get("frames_planned"))
     if robot:
         # The run's own orders again: the frames before FRAME get them from the record as they went, and
