@@ -282,6 +282,17 @@ def test_yaml_that_expands_or_cannot_be_a_value_is_refused_at_its_place(tmp_path
     assert done.stderr.startswith(f"vwg: error: {path}:{line}:{column}: "), done.stderr
 
 
+@pytest.mark.parametrize("key", ["²", "١٢", "9" * 5000])
+def test_keys_of_digits_python_cannot_make_an_integer_of_stay_keys(tmp_path, key):
+    # A key of digits is also found as an integer (robots[0] and robots.0); "²" is a digit to
+    # str.isdigit but not to int() (a ValueError before), and 5,000 digits are past int()'s limit.
+    path = tmp_path / "w.yaml"
+    path.write_text(f'map: x\n? "{key}"\n: 1\n', encoding="utf-8")
+    with pytest.raises(WorldFileError) as info:
+        vwg.robot.load_robot_world(path)
+    assert str(info.value).startswith(f"{path}:2: {key}: unknown key"), str(info.value)[:200]
+
+
 def test_an_escaped_surrogate_pair_is_one_character(tmp_path):
     text = OFFICE.replace("name: office", 'name: "\\ud83d\\ude00 office"')
     assert vwg.robot.load_robot_world(world_file(tmp_path, text)).name == "\U0001F600 office"

@@ -137,7 +137,9 @@ class YamlDoc:
         if isinstance(node, yaml.MappingNode):
             for key, value in node.value:
                 k = yaml.safe_load(yaml.serialize(key)) if not isinstance(key, yaml.ScalarNode) else key.value
-                if isinstance(k, str) and k.lstrip("-").isdigit():
+                digits = k.lstrip("-") if isinstance(k, str) else ""
+                # "12": 1 is found as 12 too; only ASCII digits ("²" is a digit to isdigit, not to int)
+                if digits.isascii() and digits.isdigit() and len(digits) <= MAX_INT_DIGITS:
                     k = int(k)
                 self.lines[(*path, k)] = key.start_mark.line + 1
                 self._walk(value, (*path, k))
