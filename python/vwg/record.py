@@ -292,7 +292,8 @@ def decode_blob(d: dict[str, Any], blobs: dict[str, _core.Blob] | None = None) -
     """The blob of a record entry; `blobs` (by name) holds the bases of changes. Checked first
     (blob_layout), and inflated no further than its dtype and shape hold."""
     blobs = blobs or {}
-    known = {name: (np.dtype(b.dtype), tuple(b.shape)) for name, b in blobs.items()} if "base" in d else {}
+    base = blobs.get(d["base"]) if isinstance(d, dict) and isinstance(d.get("base"), str) else None
+    known = {d["base"]: (np.dtype(base.dtype), tuple(base.shape))} if base is not None else {}
     dtype, shape = blob_layout(d, known)
     if "base" not in d:
         raw = _inflate(d["zlib_base85"], math.prod(shape) * dtype.itemsize)
