@@ -116,8 +116,8 @@ MIN_RUN = 8  # shorter runs cost less as text than their columns' framing
 SMALL_DEFLATE = 64 * 1024  # bytes: up to this, columns and changes are deflated the thorough way (_deflate)
 BASE_CANDIDATES = 4  # a new blob is stored against the closest of the last few of its dtype and shape
 
-_DTYPE_OF = {"b": np.dtype(np.bool_), "i": np.dtype("<i8"), "f": np.dtype("<f8")}
-_UNSIGNED = {1: np.dtype("u1"), 2: np.dtype("<u2"), 4: np.dtype("<u4"), 8: np.dtype("<u8")}
+_DTYPE_OF: dict[str, np.dtype] = {"b": np.dtype(np.bool_), "i": np.dtype("<i8"), "f": np.dtype("<f8")}
+_UNSIGNED: dict[int, np.dtype] = {1: np.dtype("u1"), 2: np.dtype("<u2"), 4: np.dtype("<u4"), 8: np.dtype("<u8")}
 
 # A run's signature: (type, has target, ((field, kind), ...)).
 _Signature = tuple[str, bool, tuple[tuple[str, str], ...]]
