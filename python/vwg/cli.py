@@ -119,6 +119,7 @@ def _resume(args: argparse.Namespace, record: Any, key: bytes | None) -> int:
     from .errors import ReplayError
     from .launch import RunOptions, kind_of, load, start
     from .record import Recorder, named_world_file, robot_data
+    from .registry import world_kinds
     from .worlds import resolve_world
     from .yamldoc import YamlDoc
 
@@ -127,7 +128,9 @@ def _resume(args: argparse.Namespace, record: Any, key: bytes | None) -> int:
         raise Error(f"--from: the record holds frames {frames[0] if frames else '-'} to "
                     f"{frames[-1] if frames else '-'}; got {args.resume_from}")
     header = record.header
-    robot = header.get("world_kind") == "robot"
+    expected = header.get("world_kind") or "generic"
+    world_kinds.create(expected)  # a kind this vwg knows, or an error saying which it knows
+    robot = expected == "robot"
     data = robot_data(header, Path(args.record)) if robot else {}
     world_file = args.world or (data["robot_world"] if robot else None)
     if world_file is None:
@@ -142,7 +145,6 @@ def _resume(args: argparse.Namespace, record: Any, key: bytes | None) -> int:
     # Of the record's kind before it is loaded: a generic world file named as a robot world's would
     # otherwise be loaded, and its code run, before anything noticed.
     path = resolve_world(world_file)
-    expected = header.get("world_kind") or "generic"
     found = kind_of(path, YamlDoc(path).data).name
     if found != expected:
         raise Error(f"--from: {path}: the record {args.record} was made by a {expected} world; this is a {found} "
