@@ -487,3 +487,18 @@ def test_a_record_cut_by_a_file_size_limit_says_what_it_holds(tmp_path):
     assert len(whole) == 1 + int(said[1]) and "vwg_record" in whole[0]
     assert [line["t"] for line in whole[1:]] == list(range(int(said[1])))
     assert os.path.getsize(record) <= 60_000
+
+
+def test_a_map_image_turned_into_cells_a_block_of_rows_at_a_time_gives_every_row(monkeypatch):
+    import numpy as np
+
+    from vwg import maps
+
+    # map_saver's grey levels: 254 free, 0 occupied, 205 unknown; row r of the image (top first) is
+    # row height - 1 - r of the grid. Blocks of 7 pixels: 3 rows of this 2-wide image a block, 5 blocks.
+    grey = np.array([254, 0, 205], dtype=np.uint8)
+    image = np.repeat(grey[np.arange(13) % 3][:, None], 2, axis=1)
+    monkeypatch.setattr(maps, "_PIXEL_ROWS", 7)
+    cells = maps._pixels_to_grid(image, "trinary", False, 0.65, 0.196)
+    expected = np.array([[0, 0], [100, 100], [-1, -1]], dtype=np.int8)[np.arange(13) % 3][::-1]
+    assert cells.shape == (13, 2) and np.array_equal(cells, expected)
