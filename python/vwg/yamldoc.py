@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 from pathlib import Path
 from typing import Any
 
@@ -18,6 +19,7 @@ MAX_DEPTH = 100        # lists and mappings inside each other (a world file need
 MAX_INT_DIGITS = 100   # digits of an integer (a seed up to 2**64 - 1 has 20)
 Path_ = tuple[Any, ...]
 _INT_TAG = "tag:yaml.org,2002:int"
+_SURROGATE = re.compile("[\ud800-\udfff]")
 
 
 class _Refused(yaml.MarkedYAMLError):
@@ -68,7 +70,7 @@ class _Loader(yaml.SafeLoader):
             if len(digits) > MAX_INT_DIGITS:
                 raise _Refused(f"an integer of {len(digits)} digits: vwg's YAML files hold integers of at most "
                                f"{MAX_INT_DIGITS} digits", node.start_mark)
-        if any("\ud800" <= ch <= "\udfff" for ch in node.value):
+        if _SURROGATE.search(node.value):
             # PyYAML reads the escapes "\ud83d\ude00" as two halves: a pair is one character, a half alone none.
             try:
                 node.value = node.value.encode("utf-16-le", "surrogatepass").decode("utf-16-le")
