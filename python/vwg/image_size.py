@@ -15,7 +15,7 @@ from typing import BinaryIO
 
 __all__ = ["FORMATS", "ImageHeaderError", "image_size"]
 
-FORMATS = "PNG, PGM/PPM/PBM/PAM or BMP or JPEG"
+FORMATS = "PNG, PGM/PPM/PBM/PAM, BMP or JPEG"
 _PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 _JPEG_MAX_SEGMENTS = 10_000  # markers before the frame header: real files have tens (EXIF, ICC, tables)
 _PNM_MAX_HEADER = 4096       # bytes of a Netpbm header, comments included
