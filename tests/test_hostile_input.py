@@ -251,7 +251,9 @@ def vwg_cli(*args: str, cwd=None, limit_file_bytes: int | None = None) -> subpro
 
         resource.setrlimit(resource.RLIMIT_FSIZE, (limit_file_bytes, limit_file_bytes))
 
-    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(ROOT / "python"), os.environ.get("PYTHONPATH", "")])}
+    # The same vwg as this process, also from another folder (PYTHONPATH=python made absolute).
+    paths = [os.path.abspath(p) for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p]
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(paths)}
     return subprocess.run([sys.executable, "-m", "vwg.cli", *args], capture_output=True, text=True, timeout=300,
                           cwd=cwd, env=env, preexec_fn=limit if limit_file_bytes else None)
 
