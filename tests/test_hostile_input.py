@@ -254,8 +254,10 @@ def vwg_cli(*args: str, cwd=None, limit_file_bytes: int | None = None) -> subpro
     # The same vwg as this process, also from another folder (PYTHONPATH=python made absolute).
     paths = [os.path.abspath(p) for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p]
     env = {**os.environ, "PYTHONPATH": os.pathsep.join(paths)}
-    return subprocess.run([sys.executable, "-m", "vwg.cli", *args], capture_output=True, text=True, timeout=300,
-                          cwd=cwd, env=env, preexec_fn=limit if limit_file_bytes else None)
+    # (errors=: a message may name a file whose name is not UTF-8.)
+    return subprocess.run([sys.executable, "-m", "vwg.cli", *args], capture_output=True, text=True,
+                          errors="backslashreplace", timeout=300, cwd=cwd, env=env,
+                          preexec_fn=limit if limit_file_bytes else None)
 
 
 @pytest.mark.parametrize(("text", "line", "column", "words"), [
@@ -471,6 +473,22 @@ def test_a_full_disk_is_an_error_naming_the_file(flag):
     done = vwg_cli("run", "office", "--frames", "3", flag, "/dev/full")
     assert done.returncode == 2 and "Traceback" not in done.stderr, done.stderr
     assert done.stderr.startswith("vwg: error: /dev/full: No space left on device: "), done.stderr
+
+
+def test_a_world_file_whose_name_is_not_utf8_is_refused_for_a_record_before_it_is_started(tmp_path):
+    # A record holds its world file's name as JSON text; w\xff.yaml's name cannot be (it was a
+    # UnicodeEncodeError traceback once the header was written, leaving an empty record behind).
+    import shutil
+
+    shutil.copytree(ROOT / "maps" / "office", tmp_path / "office")
+    name = os.fsdecode(b"w\xff.yaml")
+    (tmp_path / name).write_text(OFFICE)
+    done = vwg_cli("run", name, "--frames", "3", "--record", "r.jsonl", cwd=tmp_path)
+    assert done.returncode == 2 and "Traceback" not in done.stderr, done.stderr
+    assert "the name is not UTF-8 text" in done.stderr and "rename the file" in done.stderr, done.stderr
+    assert not (tmp_path / "r.jsonl").exists()
+    # Without a record it runs.
+    assert vwg_cli("run", name, "--frames", "3", "--allow-unreached", cwd=tmp_path).returncode == 0
 
 
 def test_a_record_cut_by_a_file_size_limit_says_what_it_holds(tmp_path):

@@ -18,6 +18,7 @@ from vwg.cli import main
 from vwg.errors import SchemaError, WorldFileError
 from vwg.fake_base import FakeSerialBase
 from vwg.fake_robot import Connection, FakeRosbridgeRobot
+from vwg.record import read_record
 from vwg.robotworld import PlatformSpec, load_robot_world
 from vwg.rosbridge_platform import RosbridgePlatform
 
@@ -49,13 +50,15 @@ def assert_no_motion_before_fresh_odometry(connections: list[Connection]) -> Non
         assert not any(moving(v, w) for _, v, w in early), (i, early)
 
 
-def run_flapping(world: vwg.robot.RobotWorld, options: dict[str, object], frames: int = 100
+def run_flapping(world: vwg.robot.RobotWorld, options: dict[str, object], frames: int = 100, record: Path | None = None
                  ) -> tuple[vwg.launch.Outcome, FakeRosbridgeRobot, float, float]:
-    """Run `world` to FAR on a fake robot that starts flapping FLAP_AT s in; the outcome, the fake,
-    the server's clock at the platform's time 0, and when the run ended (server's clock)."""
+    """Run `world` to FAR on a fake robot that starts flapping FLAP_AT s in (recorded to `record`, if
+    given); the outcome, the fake, the server's clock at the platform's time 0, and when the run ended
+    (server's clock)."""
     with FakeRosbridgeRobot(world, odometry_delay=ODOM_DELAY) as fake:
         spec = PlatformSpec("rosbridge", {"url": fake.url, **options})
-        with vwg.start(dataclasses.replace(world, platform=spec), vwg.RunOptions(goals=[FAR], frames=frames)) as run:
+        run_options = vwg.RunOptions(goals=[FAR], frames=frames, record=record)
+        with vwg.start(dataclasses.replace(world, platform=spec), run_options) as run:
             platform = run.case.sim.platform
             zero = time.monotonic() - platform.time()  # the platform's time 0 on the server's clock
             fake.flap(after=FLAP_AT, hold=HOLD)
@@ -64,9 +67,9 @@ def run_flapping(world: vwg.robot.RobotWorld, options: dict[str, object], frames
     return outcome, fake, zero, ended
 
 
-def test_a_flapping_rosbridge_link_ends_the_run_with_status_4_and_every_drop_in_the_summary():
+def test_a_flapping_rosbridge_link_ends_the_run_with_status_4_and_every_drop_in_the_summary(tmp_path):
     # The defaults: more than 3 drops within 10 s end the run; here the 4th comes ~0.8 s after the first.
-    outcome, fake, zero, ended = run_flapping(MAZE, {})
+    outcome, fake, zero, ended = run_flapping(MAZE, {}, record=tmp_path / "flap.jsonl")
     assert outcome.exit_status == vwg.launch.EXIT_LINK_FAULT == 4, (outcome.message, outcome.rows)
     assert "dropped 4 times within 10 s" in outcome.message and "flap_limit" in outcome.message
     first_drop = fake.connections[0].closed
@@ -93,6 +96,9 @@ def test_a_flapping_rosbridge_link_ends_the_run_with_status_4_and_every_drop_in_
     rows = [text for name, text in outcome.rows if name == "fault"]
     assert sum("link lost" in r for r in rows) == 4 and sum("link back" in r for r in rows) == 3
     assert_no_motion_before_fresh_odometry(fake.connections)
+    # And the record's end line holds the same faults.
+    kept = read_record(tmp_path / "flap.jsonl").faults
+    assert kept == outcome.summary["faults"] and sum("link lost" in f["what"] for f in kept) == 4
 
 
 def test_the_flap_limit_of_the_world_and_no_motion_before_fresh_odometry_after_each_reconnection():

@@ -145,8 +145,11 @@ def test_bytes_after_the_end_line_are_named(tmp_path, capsys, tail, count):
 @pytest.mark.parametrize(("edit", "field", "said"), [
     (lambda end: end.update(t=end["t"] + 1), "t",
      "the end line says the run ended at frame 11; its frames end at frame 10"),
-    (lambda end: end.update(note="x"), "", "the end line has the fields end, t, string, frames, prev, self in that "
-                                           "order; this one has end, t, string, frames, prev, self, note"),
+    (lambda end: end.update(note="x"), "",
+     "the end line has the fields end, t, string, frames, faults, prev, self in that order; this one has end, t, "
+     "string, frames, faults, prev, self, note"),
+    (lambda end: end.update(faults=[{"time_s": 1.0, "robot": "1", "what": "x"}]), "faults",
+     "expected a list of {\"time_s\": seconds, \"robot\": id, \"what\": text}"),
     (lambda end: end.update(string=end["string"] + " "), "self",
      "the end line does not match the link it holds of itself"),
 ])
@@ -367,7 +370,7 @@ def test_a_record_whose_world_file_is_gone_replays_only_code_free(tmp_path, caps
     plain.write_text(chained([header(world=code_free, world_file=str(tmp_path / "gone.yaml"),
                                      initial="Lamp"),
                               {"t": 0, "time": 0.0, "events": ["tick"], "string": "Lamp"},
-                              {"end": True, "t": 1, "string": "Lamp", "frames": 1}]))
+                              {"end": True, "t": 1, "string": "Lamp", "frames": 1, "faults": []}]))
     assert main(["replay", str(plain)]) == 0
     assert "1 frames replayed, every string as recorded" in capsys.readouterr().out
 
@@ -397,3 +400,20 @@ def test_vwg_check_takes_no_record(tmp_path, capsys, blink):
         err = capsys.readouterr().err
         assert "not valid YAML" in err or "not a world file" in err, err
     assert not (tmp_path / "marker").exists()
+
+
+def test_the_faults_of_the_end_line_are_read_and_printed(tmp_path, capsys):
+    # A real robot's run keeps its faults in the end line (tests/test_link_faults.py writes one);
+    # here a code-free record holds two, and replay prints each with its time and who.
+    path = tmp_path / "faults.jsonl"
+    faults = [{"time_s": 1.5, "robot": 0, "what": "link lost: closed by the robot"},
+              {"time_s": 2.25, "robot": 1, "what": "no odometry for 0.5 s: stopped"}]
+    code_free = {"alphabet": {"events": ["tick"], "primitives": ["Lamp"]}, "initial": "Lamp"}
+    path.write_text(chained([header(world=code_free, world_file=str(tmp_path / "gone.yaml"), initial="Lamp"),
+                             {"t": 0, "time": 0.0, "events": ["tick"], "string": "Lamp"},
+                             {"end": True, "t": 1, "string": "Lamp", "frames": 1, "faults": faults}]))
+    assert read_record(path).faults == faults
+    assert main(["replay", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert "  fault: 1.500 s, the link: link lost: closed by the robot\n" in out
+    assert "  fault: 2.250 s, robot 1: no odometry for 0.5 s: stopped\n" in out

@@ -105,6 +105,9 @@ def _cmd_replay(args: argparse.Namespace) -> int:
           f"({wall:.1f} s)")
     if record.cut:
         print(f"  incomplete: {record.cut}")
+    for fault in record.faults:  # a real robot's run: its watchdog stops and link drops, with their times
+        who = "the link" if fault["robot"] == 0 else f"robot {fault['robot']}"
+        print(f"  fault: {fault['time_s']:.3f} s, {who}: {fault['what']}")
     print(f"  final string: {clip(str(engine.string)) or 'ε'}")
     return 0
 

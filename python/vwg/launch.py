@@ -15,7 +15,6 @@ does not apply to a world is refused by name rather than ignored.
 
 from __future__ import annotations
 
-import contextlib
 import dataclasses
 import json
 import math
@@ -232,7 +231,7 @@ class RecordedRun:
             raise self._record_failed(e) from None
         try:
             if self.recorder:
-                self.recorder.close()
+                self.recorder.close(faults=outcome.summary.get("faults", ()))
         except OSError as e:
             raise self._record_failed(e, end=True) from None
         if self.recorder:
@@ -253,13 +252,10 @@ class RecordedRun:
         frames ended and stay; no end line is written after a torn one, so vwg replay reads the record
         as cut short, up to its last whole line."""
         recorder, self.recorder = self.recorder, None
-        # The recorder's file is closed without writing more (a close flushes, and fails the same way).
-        file = getattr(recorder, "_file", None)
-        if file is not None:
-            recorder._file = None  # type: ignore[union-attr]
-            with contextlib.suppress(OSError):
-                file.close()
-        written = getattr(recorder, "frames", 0)
+        written = 0
+        if recorder is not None:
+            recorder.abandon()
+            written = recorder.frames
         lost = "its end line" if end else "the frame being written and those after it"
         return Error(f"{self.options.record}: {e.strerror}: the record holds its header and the first {written} "
                      f"frames, not {lost}; vwg replay replays it as cut short")

@@ -7,10 +7,12 @@ A record (format 5) is one JSON object per line, read in order:
     {"t": 0, "time": 0.0, "events": [...], "string": "<text of w at the start of frame t>", "blobs": {...},
      "prev": "<link>"}
     ...
-    {"end": true, "t": 10, "string": "<text of the last string>", "frames": 10, "prev": "<link>", "self": "<link>"}
+    {"end": true, "t": 10, "string": "<text of the last string>", "frames": 10,
+     "faults": [{"time_s": 9.1, "robot": 0, "what": "link lost: ..."}], "prev": "<link>", "self": "<link>"}
 
 Every line is written and flushed as its frame ends; the end line is written when the run ends,
-however it ends. Every line after the header carries ``prev``, the link of the line before it: the
+however it ends, with the faults of a real robot's run (its watchdog stops, each drop and return of
+its link; [] on the simulator). Every line after the header carries ``prev``, the link of the line before it: the
 first 32 hex digits of the SHA-256 of its text (without the newline), or with ``"chain":
 "hmac-sha256"`` of its HMAC-SHA-256 with the key of ``vwg run --record-key``. A line changed,
 dropped, added or moved breaks the chain at the next line, which a reader names; a blank line is a
@@ -86,13 +88,14 @@ a replay is a bit-for-bit determinism check as well.
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import hmac
 import json
 import math
 import zlib
 from collections import deque
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import IO, Any
@@ -493,8 +496,7 @@ class Recorder:
                  frames_planned: int | None = None, key: bytes | None = None) -> None:
         self.path = Path(path)
         self._chain = Chain(key)
-        self.path.parent.mkdir(parents=True, exist_ok=True)
-        self._file: IO[str] | None = self.path.open("w", encoding="utf-8")
+        self._file: IO[str] | None = None
         self._engine = engine
         self._blobs = _BlobWriter()
         self._columns = _Columns()
@@ -506,7 +508,7 @@ class Recorder:
         # (its blobs were written with that frame, while they had that content).
         self._before_text = str(initial)
         self._prev: str | None = None  # the hash of the last line written (the chain)
-        self._write({
+        header = {
             "vwg_record": FORMAT,
             "version": _core.__version__,
             "chain": self._chain.name,
@@ -519,7 +521,15 @@ class Recorder:
             "frames_planned": frames_planned,
             "initial": str(initial),
             "blobs": {name: self._blobs.encode(name, b) for name, b in initial.blobs().items()},
-        })
+        }
+        try:
+            _dumps(header).encode("utf-8")
+        except UnicodeEncodeError:  # a name of bytes that are not UTF-8 (w\xff.yaml): JSON holds text only
+            raise Error(f"{world_file}: the name is not UTF-8 text, and a record (JSON) holds its world file's name "
+                        "as text: rename the file, or run without --record") from None
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        self._file = self.path.open("w", encoding="utf-8")
+        self._write(header)
         self.frames = 0
         engine.add_observer(self._on_frame)
 
@@ -557,11 +567,21 @@ class Recorder:
         self._write(line)
         self.frames += 1
 
-    def close(self) -> None:
+    def abandon(self) -> None:
+        """Close the file without writing more: a write failed (a full disk), and a close would flush
+        and fail the same way. The record keeps the lines before, without its end line."""
+        file, self._file = self._file, None
+        if file is not None:
+            with contextlib.suppress(OSError):
+                file.close()
+
+    def close(self, faults: Sequence[Mapping[str, Any]] = ()) -> None:
+        """Write the end line, with the run's `faults` (a real robot's, as Fault.to_json gives them:
+        time_s, robot, what), and close the file."""
         if self._file is None:
             return
-        self._write({"end": True, "t": self._engine.frame, "string": str(self._engine.string), "frames": self.frames},
-                    last=True)
+        self._write({"end": True, "t": self._engine.frame, "string": str(self._engine.string), "frames": self.frames,
+                     "faults": [dict(f) for f in faults]}, last=True)
         self._file.close()
         self._file = None
 
@@ -623,6 +643,11 @@ class Record:
     end: dict[str, Any] | None
     blobs: dict[str, _core.Blob]
     warnings: list[str]
+
+    @property
+    def faults(self) -> list[dict[str, Any]]:
+        """A real robot's faults in the run (time_s, robot, what), from the end line; [] without one."""
+        return list(self.end["faults"]) if self.end is not None else []
 
     @property
     def cut(self) -> str:
@@ -747,7 +772,8 @@ def _check_frame(path: Path, n: int, obj: dict[str, Any], t: int) -> None:
         raise WorldFileError(str(path), e.field, e.message, line=n) from None
 
 
-_END_KEYS = ["end", "t", "string", "frames", "prev", "self"]
+_END_KEYS = ["end", "t", "string", "frames", "faults", "prev", "self"]
+_FAULT_KEYS = {"time_s": (int, float), "robot": (int,), "what": (str,)}
 
 
 def _check_end(path: Path, n: int, obj: dict[str, Any], raw: bytes, chain: Chain, frames: int, t: int) -> None:
@@ -761,6 +787,12 @@ def _check_end(path: Path, n: int, obj: dict[str, Any], raw: bytes, chain: Chain
     if obj["frames"] != frames or type(obj["frames"]) is not int:
         raise WorldFileError(str(path), "frames", f"the end line counts {obj['frames']!r} frames; the record "
                              f"holds {frames}", line=n)
+    faults = obj["faults"]
+    if not isinstance(faults, list) or not all(
+            isinstance(f, dict) and list(f) == list(_FAULT_KEYS)
+            and all(type(f[k]) in kinds for k, kinds in _FAULT_KEYS.items()) for f in faults):
+        raise WorldFileError(str(path), "faults", "expected a list of {\"time_s\": seconds, \"robot\": id, \"what\": "
+                             "text}", line=n)
     if obj["t"] != t or type(obj["t"]) is not int:
         raise WorldFileError(str(path), "t", f"the end line says the run ended at frame {obj['t']!r}; its frames "
                              f"end at frame {t}", line=n)
