@@ -1254,7 +1254,7 @@ class Engine:
         ...
     def add_observer(self, observer: collections.abc.Callable) -> None:
         """
-        Call observer(record: FrameRecord) after every completed frame.
+        Call observer(record: FrameRecord) after every completed frame (added between frames: safe from any thread).
         """
     def collect_events(self) -> list:
         """
@@ -1305,7 +1305,7 @@ class Engine:
     @property
     def last_events(self) -> list:
         """
-        The events S of the last completed frame.
+        The events S of the last completed frame (taken between frames: safe from any thread).
         """
     @property
     def seed(self) -> int:
@@ -1313,7 +1313,7 @@ class Engine:
     @property
     def string(self) -> String:
         """
-        The current string w (a copy).
+        The current string w (a copy, taken between frames: safe from any thread).
         """
     @property
     def threads(self) -> int:
