@@ -148,7 +148,9 @@ def test_bytes_after_the_end_line_are_named(tmp_path, capsys, tail, count):
     (lambda end: end.update(note="x"), "",
      "the end line has the fields end, t, string, frames, faults, prev, self in that order; this one has end, t, "
      "string, frames, faults, prev, self, note"),
-    (lambda end: end.update(faults=[{"time_s": 1.0, "robot": "1", "what": "x"}]), "faults",
+    (lambda end: end.update(faults=[{"time_s": 1.0, "robot": "1", "what": "x"}]), "faults[0]",
+     "robot: expected a robot id from 0 (the link) to 2147483647, got '1'"),
+    (lambda end: end.update(faults={"time_s": 1.0}), "faults",
      "expected a list of {\"time_s\": seconds, \"robot\": id, \"what\": text}"),
     (lambda end: end.update(string=end["string"] + " "), "self",
      "the end line does not match the link it holds of itself"),
@@ -203,7 +205,13 @@ def test_a_line_nested_too_deep_is_named(tmp_path, capsys, levels):
     ("seed", -1, "seed: expected an integer from 0 to 2**64 - 1, got -1"),
     ("seed", "7", "seed: expected an integer from 0 to 2**64 - 1, got '7'"),
     ("frame", -5, "frame: expected a frame number from 0 to 2**62, got -5"),
-    ("dt", 0, "dt: expected a number of seconds in (0, 3600], got 0"),
+    ("dt", 0, "dt: expected a number of seconds from 1e-06 to 3600, got 0"),
+    # The bounds a run takes (vwg.launch.MIN_DT): 457d53e took any dt above 0.
+    ("dt", 1e-7, "dt: expected a number of seconds from 1e-06 to 3600, got 1e-07"),
+    ("dt", 3600.5, "dt: expected a number of seconds from 1e-06 to 3600, got 3600.5"),
+    ("blobs", [], "blobs: expected an object, got list"),
+    ("world_kind", "bogus", "world_kind: unknown world kind 'bogus' (this vwg knows generic, robot)"),
+    ("world_kind", 3, "world_kind: expected a string or null, got int"),
     ("initial", 5, "initial: expected a string, got int"),
 ])
 def test_a_forged_header_field_is_named(tmp_path, capsys, field, value, said):
@@ -377,6 +385,7 @@ def test_a_record_whose_world_file_is_gone_replays_only_code_free(tmp_path, caps
 
 # ---- item 6: vwg replay --from keeps the run's orders ------------------------------------------------------
 
+@pytest.mark.slow
 def test_resuming_a_robot_run_keeps_its_goal_orders(tmp_path, capsys):
     first, resumed = tmp_path / "first.jsonl", tmp_path / "resumed.jsonl"
     assert main(["run", "office", "--goal", "kitchen", "--record", str(first), "-q", "--no-progress"]) == 0
@@ -417,3 +426,189 @@ def test_the_faults_of_the_end_line_are_read_and_printed(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "  fault: 1.500 s, the link: link lost: closed by the robot\n" in out
     assert "  fault: 2.250 s, robot 1: no odometry for 0.5 s: stopped\n" in out
+
+
+# ---- the header's fields a replay builds from, and the end line's faults, of the kind a run writes -----------
+
+CODE_FREE = {"alphabet": {"events": ["tick"], "primitives": ["Lamp"]}, "initial": "Lamp"}
+FRAME = {"t": 0, "time": 0.0, "events": ["tick"], "string": "Lamp"}
+END = {"end": True, "t": 1, "string": "Lamp", "frames": 1, "faults": []}
+
+
+def lamp(**fields) -> dict:
+    """The header of a one-frame record of a world that names no code (its file gone: built from the copy)."""
+    return header(**{"world": CODE_FREE, "world_file": "/nonexistent/lamp.yaml", "initial": "Lamp", **fields})
+
+
+def replay_fails(path: Path, capsys, *extra: str) -> str:
+    """vwg replay's standard error for a record it refuses: exit 2, no traceback."""
+    assert main(["replay", str(path), *extra]) == 2
+    err = capsys.readouterr().err
+    assert "Traceback" not in err, err
+    return err
+
+
+@pytest.mark.parametrize(("field", "said"), [
+    ("initial", "initial: expected a string, got null"),
+    ("blobs", "blobs: expected an object, got null"),
+])
+def test_a_null_initial_string_or_blobs_in_the_header_is_named(tmp_path, capsys, field, said):
+    # 457d53e: AttributeError ('NoneType' object has no attribute 'items') for blobs, a pybind
+    # TypeError from world.parse for initial.
+    path = tmp_path / "null.jsonl"
+    path.write_text(chained([lamp(**{field: None}), FRAME, END]))
+    for extra in ([], ["--from", "0"]):
+        assert f"{path}:1: {said}" in replay_fails(path, capsys, *extra)
+
+
+@pytest.mark.parametrize(("fault", "said"), [
+    ({"time_s": 10**400, "robot": 0, "what": "x"}, "faults[0]: time_s: expected seconds from 0 to 1e+09, got 1000"),
+    ({"time_s": -1.5, "robot": 0, "what": "x"}, "faults[0]: time_s: expected seconds from 0 to 1e+09, got -1.5"),
+    ({"time_s": True, "robot": 0, "what": "x"}, "faults[0]: time_s: expected seconds from 0 to 1e+09, got True"),
+    ({"time_s": 1.0, "robot": 2**31, "what": "x"},
+     "faults[0]: robot: expected a robot id from 0 (the link) to 2147483647, got 2147483648"),
+    ({"time_s": 1.0, "robot": -1, "what": "x"}, "faults[0]: robot: expected a robot id from 0 (the link)"),
+    ({"time_s": 1.0, "robot": 0, "what": "x" * 4097},
+     "faults[0]: what: expected a text of at most 4096 characters, got 4097 characters"),
+    ({"time_s": 1.0, "robot": 0, "what": None},
+     "faults[0]: what: expected a text of at most 4096 characters, got None"),
+    ({"robot": 0, "time_s": 1.0, "what": "x"},
+     "faults[0]: expected {\"time_s\": seconds, \"robot\": id, \"what\": text}"),
+])
+def test_a_fault_in_the_end_line_out_of_what_a_run_writes_is_named(tmp_path, capsys, fault, said):
+    # 457d53e: a 400-digit time passed the reader and crashed the replay's print (OverflowError);
+    # a negative time or robot, or a text of any length, was printed as the run's.
+    path = tmp_path / "fault.jsonl"
+    path.write_text(chained([lamp(), FRAME, {**END, "faults": [fault]}]))
+    with pytest.raises(vwg.WorldFileError) as e:
+        read_record(path)
+    assert e.value.line == 3
+    assert f"{path}:3: {said}" in replay_fails(path, capsys)
+
+
+def test_a_long_fault_text_is_cut_to_what_a_reader_takes(tmp_path):
+    # The writer keeps its own records readable: a fault's text of 10,000 characters is kept as 4,096.
+    engine = vwg.Engine(vwg.World(vwg.Alphabet(events=["tick"], primitives=["Lamp"])), "Lamp", [])
+    path = tmp_path / "long.jsonl"
+    recorder = vwg.record.Recorder(path, engine)
+    engine.run(2)
+    recorder.close(faults=[{"time_s": 1.25, "robot": 0, "what": "y" * 10_000}])
+    [fault] = read_record(path).faults
+    assert fault == {"time_s": 1.25, "robot": 0, "what": "y" * 4093 + "..."}
+
+
+def test_an_empty_record_key_is_refused():
+    # 457d53e: Chain(b"") named itself "sha256" but linked with an HMAC of the empty key, so its own
+    # records did not read.
+    with pytest.raises(vwg.Error, match="a record key is empty"):
+        vwg.record.Chain(b"")
+    assert vwg.record.Chain(None).name == "sha256" and vwg.record.Chain(b"k" * 16).name == "hmac-sha256"
+
+
+# ---- a robot world's record: what its header names is checked, and errors name the record's field -----------
+
+@pytest.fixture(scope="module")
+def office_record(tmp_path_factory) -> Path:
+    """A record of the office world, 12 frames, robot 1 sent to the kitchen."""
+    record = tmp_path_factory.mktemp("office") / "office.jsonl"
+    assert main(["run", "office", "--frames", "12", "--goal", "kitchen", "--allow-unreached", "--record",
+                 str(record), "-q", "--no-progress"]) == 0
+    return record
+
+
+@pytest.mark.parametrize(("edit", "said", "from_only"), [
+    # 457d53e: "planner: unknown planner 'nosuch' (known: ...)", naming neither the record nor its field.
+    (lambda w: w.update(planner="nosuch"), "world.planner: unknown planner 'nosuch' (this vwg knows astar,", False),
+    # 457d53e: "/nonexistent.yaml: file not found", as if the user had named it.
+    (lambda w: w.update(robot_world="/nonexistent.yaml"),
+     "world.robot_world: the world file the record names, '/nonexistent.yaml': file not found; give the world file "
+     "to replay it with (--world FILE)", False),
+    # 457d53e: ValueError: embedded null byte (a traceback) from files.check_regular_file.
+    (lambda w: w.update(robot_world="office\x00.yaml"),
+     "world.robot_world: the world file the record names, 'office\\x00.yaml': no file can have this name (it holds "
+     "a NUL byte)", False),
+    (lambda w: w.update(goals=["x:kitchen"]), "world.goals[0]: expected ROOM or ROBOT:ROOM, got 'x:kitchen'", False),
+    # 457d53e: "goal: unknown room 'nosuchroom'" (from --from), naming neither the record nor its field.
+    (lambda w: w.update(goals=["nosuchroom"]),
+     "world.goals[0]: the run's order 'nosuchroom' names no room of the world (rooms: kitchen, lab,", True),
+    (lambda w: w.update(goals=["kitchen", "7:lab"]),
+     "world.goals[1]: the run's order '7:lab' names no robot of the world (robots: 1, 2)", True),
+])
+def test_what_a_robot_record_names_is_refused_naming_the_record_and_field(tmp_path, capsys, office_record, edit,
+                                                                         said, from_only):
+    record = tmp_path / "office.jsonl"
+    record.write_text(office_record.read_text())
+    edit_world(record, lambda h: edit(h["world"]))
+    for extra in (["--from", "6"], *([] if from_only else [[]])):
+        err = replay_fails(record, capsys, *extra)
+        assert f"{record}:1: {said}" in err, err
+
+
+def test_an_unknown_world_kind_is_named_by_the_record_and_field(tmp_path, capsys, office_record):
+    # 457d53e: "unknown world kind 'bogus' (known: generic, robot)", naming neither the record nor its field.
+    record = tmp_path / "office.jsonl"
+    record.write_text(office_record.read_text())
+    edit_world(record, lambda h: h.update(world_kind="bogus"))
+    for extra in ([], ["--from", "6"]):
+        err = replay_fails(record, capsys, *extra)
+        assert f"{record}:1: world_kind: unknown world kind 'bogus' (this vwg knows generic, robot)" in err, err
+
+
+def test_a_file_name_with_a_nul_byte_is_refused_naming_it(tmp_path):
+    # 457d53e: ValueError (embedded null byte) from os.stat, not the WorldFileError the readers catch.
+    for read in (vwg.files.read_text, lambda p: vwg.files.read_bytes(p, 100)):
+        with pytest.raises(vwg.WorldFileError, match=r"'a\\x00b.yaml': no file can have this name \(it holds a NUL"):
+            read("a\x00b.yaml")
+
+
+def test_a_real_robots_faults_are_kept_when_the_run_ends_by_an_exception(tmp_path):
+    # A run on the fake rosbridge robot whose link is cut at frame 5, stopped by Ctrl-C (an observer
+    # raising KeyboardInterrupt) at the first frame after the platform has the link's fault: the end
+    # line, written as the run closes, holds that fault. 457d53e wrote "faults": [] on any end but
+    # execute()'s own.
+    import dataclasses
+
+    from vwg.fake_robot import FakeRosbridgeRobot
+    from vwg.robotworld import PlatformSpec
+
+    maze = vwg.robot.load_robot_world("maze")
+    maze = dataclasses.replace(maze, orders=[], robots=[maze.robots[0].replace(sensors=["laser"])])
+    record = tmp_path / "cut.jsonl"
+    seen: list[dict] = []
+    with FakeRosbridgeRobot(maze) as fake:
+        spec = PlatformSpec("rosbridge", {"url": fake.url})
+        options = vwg.RunOptions(goals=["dead_end_8_6"], frames=300, record=record)
+        with pytest.raises(KeyboardInterrupt), vwg.start(dataclasses.replace(maze, platform=spec), options) as run:
+            platform = run.case.sim.platform
+
+            def interrupt(frame: vwg._core.FrameRecord) -> None:
+                if frame.frame == 5:
+                    fake.cut()
+                if platform.faults:
+                    seen.extend(f.to_json() for f in platform.faults)
+                    raise KeyboardInterrupt
+
+            run.engine.add_observer(interrupt)
+            run.execute()
+    assert seen and seen[0]["robot"] == 0 and seen[0]["what"].startswith("link lost"), seen
+    kept = read_record(record).faults
+    assert kept[:len(seen)] == seen and len(kept) >= 1
+
+
+def test_recorded_run_close_passes_the_platforms_faults():
+    # The same, without a robot: RecordedRun.close() on a run that did not end through execute() gives
+    # the recorder the faults of the platform the run reaches (run.case.sim.platform).
+    from types import SimpleNamespace
+
+    from vwg.launch import RecordedRun
+    from vwg.real_robot import Fault
+
+    closed: list[object] = []
+    platform = SimpleNamespace(faults=[Fault(2.5, 1, "no odometry for 0.5 s: stopped")])
+    run = SimpleNamespace(case=SimpleNamespace(sim=SimpleNamespace(platform=platform)),
+                          close=lambda: closed.append("run"))
+    recorded = object.__new__(RecordedRun)  # without starting a record: only close() is under test
+    recorded.run = run
+    recorded.recorder = SimpleNamespace(close=lambda faults=(): closed.append(list(faults)))
+    recorded.close()
+    assert closed == [[{"time_s": 2.5, "robot": 1, "what": "no odometry for 0.5 s: stopped"}], "run"]

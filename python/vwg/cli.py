@@ -120,9 +120,8 @@ def _resume(args: argparse.Namespace, record: Any, key: bytes | None) -> int:
     world kept in the record (else its code is not the record's), unless --allow-code-from-record.
     A robot world's run gets its --goal orders again from the record."""
     from .errors import ReplayError
-    from .launch import RunOptions, kind_of, load, start
-    from .record import Recorder, named_world_file, robot_data
-    from .registry import world_kinds
+    from .launch import RunOptions, kind_of, load, platform_faults, start
+    from .record import Recorder, check_goals, named_world_file, robot_data, robot_world_file
     from .worlds import resolve_world
     from .yamldoc import YamlDoc
 
@@ -131,11 +130,10 @@ def _resume(args: argparse.Namespace, record: Any, key: bytes | None) -> int:
         raise Error(f"--from: the record holds frames {frames[0] if frames else '-'} to "
                     f"{frames[-1] if frames else '-'}; got {args.resume_from}")
     header = record.header
-    expected = header.get("world_kind") or "generic"
-    world_kinds.create(expected)  # a kind this vwg knows, or an error saying which it knows
+    expected = header.get("world_kind") or "generic"  # a kind this vwg knows (read_record checked it)
     robot = expected == "robot"
     data = robot_data(header, Path(args.record)) if robot else {}
-    world_file = args.world or (data["robot_world"] if robot else None)
+    world_file = args.world or (robot_world_file(data, Path(args.record)) if robot else None)
     if world_file is None:
         world_file, why = named_world_file(header)
         if world_file is None:
@@ -155,6 +153,7 @@ def _resume(args: argparse.Namespace, record: Any, key: bytes | None) -> int:
     loaded = load(path)
     options = RunOptions(seed=header.get("seed"), frames=header.get("frames_planned"))
     if robot:
+        check_goals(data, list(loaded.rooms), [r.id for r in loaded.robots], Path(args.record))
         # The run's own orders again: the frames before FRAME get them from the record as they went, and
         # the run knows whom it sent where (when to stop, the summary).
         options = dataclasses.replace(options, planner=data["planner"], goals=data["goals"] or None,
@@ -189,7 +188,7 @@ def _resume(args: argparse.Namespace, record: Any, key: bytes | None) -> int:
             outcome = run.execute()
         finally:
             if recorder is not None:
-                recorder.close()
+                recorder.close(faults=platform_faults(run))
     print(f"vwg replay {args.record} --from {args.resume_from}: frames 0 to {args.resume_from - 1} as recorded, "
           f"then live to frame {engine.frame}")
     _print_summary(outcome.rows + list(outcome.outputs.items()))
@@ -381,8 +380,8 @@ def build_parser() -> argparse.ArgumentParser:
                      help="the key the record was made with (vwg run --record-key): its chain is checked with it")
     rep.add_argument("--backend", help="show the replay on this backend (e.g. trace)")
     rep.add_argument("--from", dest="resume_from", type=int, metavar="FRAME",
-                     help="replay up to FRAME, then go on live from there with the world's generators (generic "
-                          "worlds)")
+                     help="replay up to FRAME, then go on live from there with the world's generators (a robot "
+                          "world: with the run's --goal orders, kept in the record)")
     rep.add_argument("--record", dest="new_record", type=Path, help="with --from: record the run that goes on")
     rep.add_argument("--allow-unreached", action="store_true",
                      help=f"with --from, a robot world: exit 0 even when a robot did not reach the room the run sent "

@@ -26,6 +26,8 @@ def check_regular_file(path: str | Path, limit: int) -> Path:
         raise WorldFileError(str(path), "", "file not found") from None
     except OSError as e:
         raise WorldFileError(str(path), "", f"cannot read the file: {e.strerror}") from None
+    except ValueError:  # a NUL byte in the name (from a record or a world file): no file has that name
+        raise WorldFileError(repr(str(path)), "", "no file can have this name (it holds a NUL byte)") from None
     if not stat.S_ISREG(info.st_mode):
         kind = "a folder" if stat.S_ISDIR(info.st_mode) else "a named pipe" if stat.S_ISFIFO(info.st_mode) else \
             "a device" if stat.S_ISCHR(info.st_mode) or stat.S_ISBLK(info.st_mode) else "not a regular file"

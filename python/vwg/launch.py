@@ -26,7 +26,7 @@ from . import _core
 from .errors import Error
 
 __all__ = ["COMMON_OPTIONS", "EXIT_LINK_FAULT", "EXIT_UNREACHED", "Outcome", "Run", "RunOptions", "WorldKind",
-           "clip", "describe", "kind_of", "load", "replay_world", "start", "strict_json"]
+           "clip", "describe", "kind_of", "load", "platform_faults", "replay_world", "start", "strict_json"]
 
 #: Exit status of a run that finished with a robot short of the room it was sent to.
 EXIT_UNREACHED = 3
@@ -263,7 +263,9 @@ class RecordedRun:
     def close(self) -> None:
         try:
             if self.recorder:
-                self.recorder.close()
+                # Still open: the run did not end through execute() (Ctrl-C, a frame that failed); the
+                # robot's faults up to then are the record's too.
+                self.recorder.close(faults=platform_faults(self.run))
         except OSError as e:
             error = self._record_failed(e, end=True)
             self.run.close()
@@ -277,6 +279,13 @@ class RecordedRun:
         self.close()
 
 
+def platform_faults(run: Any) -> list[dict[str, Any]]:
+    """A real robot's faults so far (its platform's watchdog stops, each drop and return of its link),
+    as a record's end line keeps them; [] for the simulator and for worlds with no platform."""
+    platform = getattr(getattr(getattr(run, "case", None), "sim", None), "platform", None)
+    return [f.to_json() for f in list(getattr(platform, "faults", []))]
+
+
 def describe(world: Any) -> tuple[str, list[tuple[str, str]]]:
     """What a loaded world declares: a title ("a robot world (office)") and rows to print."""
     return _kind_of_loaded(world).describe(world)
@@ -287,6 +296,7 @@ def replay_world(header: dict[str, Any], world_file: str | Path | None, record_p
     """The world (vwg.World) a record's header was made with: from `world_file` when given (a file
     or a shipped world's name, which must be of the record's kind), else from what the header keeps,
     importing no code the record names unless `allow_code_from_record` (vwg.record.world_of_record)."""
+    from .record import robot_data, robot_world_file
     from .registry import world_kinds
     from .worlds import resolve_world
     from .yamldoc import YamlDoc
@@ -294,6 +304,8 @@ def replay_world(header: dict[str, Any], world_file: str | Path | None, record_p
     name = header.get("world_kind") or ("robot" if "robot_world" in (header.get("world") or {}) else "generic")
     kind = world_kinds.create(name)
     path = None
+    if world_file is None and name == "robot":  # the file the record names, refused naming the record's field
+        world_file = robot_world_file(robot_data(header, record_path), record_path)
     if world_file is not None:
         path = resolve_world(world_file)
         other = kind_of(path, YamlDoc(path).data)

@@ -104,6 +104,7 @@ import numpy as np
 
 from . import _core
 from .errors import Error, ReplayError, WorldFileError
+from .launch import MAX_DT, MAX_TIME, MIN_DT, clip
 from .world import World
 
 __all__ = ["Record", "Recorder", "decode_blob", "encode_blob", "read_record", "replay"]
@@ -580,8 +581,10 @@ class Recorder:
         time_s, robot, what), and close the file."""
         if self._file is None:
             return
+        # A fault's text cut to what a reader takes (an error's message can be long).
+        kept = [{**f, "what": clip(str(f["what"]), MAX_FAULT_TEXT)} for f in faults]
         self._write({"end": True, "t": self._engine.frame, "string": str(self._engine.string), "frames": self.frames,
-                     "faults": [dict(f) for f in faults]}, last=True)
+                     "faults": kept}, last=True)
         self._file.close()
         self._file = None
 
@@ -604,8 +607,10 @@ class Chain:
     its HMAC-SHA-256 with `key` (then only the key's holder can make a record that reads whole)."""
 
     def __init__(self, key: bytes | None = None) -> None:
+        if key is not None and not key:  # an HMAC with no key is no secret: it would only look keyed
+            raise Error("a record key is empty")
         self.key = key
-        self.name = "hmac-sha256" if key else "sha256"
+        self.name = "hmac-sha256" if key is not None else "sha256"
 
     def link(self, data: bytes) -> str:
         if self.key is None:
@@ -720,6 +725,8 @@ def _is_int(value: Any, low: int, high: int) -> bool:
 
 def _check_header(path: Path, obj: dict[str, Any]) -> None:
     """The header's fields, each of the type and range the engine takes (line 1)."""
+    from .registry import world_kinds
+
     _check_format(path, obj, 1)
 
     def bad(field: str, message: str) -> WorldFileError:
@@ -737,17 +744,24 @@ def _check_header(path: Path, obj: dict[str, Any]) -> None:
         raise bad("chain", f"expected \"sha256\" or \"hmac-sha256\", got {obj['chain']!r}")
     if not _is_int(obj["seed"], 0, 2**64 - 1):
         raise bad("seed", f"expected an integer from 0 to 2**64 - 1, got {obj['seed']!r}")
-    dt = obj["dt"]
-    if type(dt) not in (int, float) or not 0 < dt <= 3600:
-        raise bad("dt", f"expected a number of seconds in (0, 3600], got {dt!r}")
+    dt = obj["dt"]  # the bounds a run takes (vwg.launch), so a record replays only what a run could make
+    if type(dt) not in (int, float) or not MIN_DT <= dt <= MAX_DT:
+        raise bad("dt", f"expected a number of seconds from {MIN_DT:g} to {MAX_DT:g}, got {dt!r}")
     if not _is_int(obj.get("frame", 0), 0, 2**62):
         raise bad("frame", f"expected a frame number from 0 to 2**62, got {obj['frame']!r}")
     if obj.get("frames_planned") is not None and not _is_int(obj["frames_planned"], 0, 2**62):
         raise bad("frames_planned", f"expected a number of frames >= 0, or null, got {obj['frames_planned']!r}")
-    for key, kind in (("initial", str), ("version", str), ("world_file", str), ("world_kind", str), ("world", dict),
-                      ("blobs", dict)):
-        if obj.get(key) is not None and not isinstance(obj[key], kind):
-            raise bad(key, f"expected {'an object' if kind is dict else 'a string'}, got {type(obj[key]).__name__}")
+    # initial and blobs are what the replay starts from: never null; the others may be (a world run
+    # from Python has no file).
+    for key, kind, nullable in (("initial", str, False), ("blobs", dict, False), ("version", str, True),
+                                ("world_file", str, True), ("world_kind", str, True), ("world", dict, True)):
+        if key in obj and not isinstance(obj[key], kind) and not (nullable and obj[key] is None):
+            found = "null" if obj[key] is None else type(obj[key]).__name__
+            raise bad(key, f"expected {'an object' if kind is dict else 'a string'}{' or null' if nullable else ''}, "
+                      f"got {found}")
+    kind_name = obj.get("world_kind")
+    if kind_name is not None and kind_name not in world_kinds:
+        raise bad("world_kind", f"unknown world kind {kind_name!r} (this vwg knows {', '.join(world_kinds)})")
 
 
 def _check_frame(path: Path, n: int, obj: dict[str, Any], t: int) -> None:
@@ -773,7 +787,31 @@ def _check_frame(path: Path, n: int, obj: dict[str, Any], t: int) -> None:
 
 
 _END_KEYS = ["end", "t", "string", "frames", "faults", "prev", "self"]
-_FAULT_KEYS = {"time_s": (int, float), "robot": (int,), "what": (str,)}
+_FAULT_KEYS = ["time_s", "robot", "what"]
+MAX_ROBOT_ID = 2**31 - 1  # the engine's robot ids are 32-bit (0: the link)
+MAX_FAULT_TEXT = 4096  # characters of a fault's "what" (the writer cuts a longer one)
+
+
+def _fault_error(fault: Any) -> str:
+    """What is wrong with one of the end line's faults ("" if nothing): each field of the type and
+    range a run writes, so printing it cannot fail."""
+    if not isinstance(fault, dict) or list(fault) != _FAULT_KEYS:
+        return f"expected {{\"time_s\": seconds, \"robot\": id, \"what\": text}}, got {_clip(fault)}"
+    time_s, robot, what = fault["time_s"], fault["robot"], fault["what"]
+    if type(time_s) not in (int, float) or not 0 <= time_s <= MAX_TIME:
+        return f"time_s: expected seconds from 0 to {MAX_TIME:g}, got {_clip(time_s)}"
+    if not _is_int(robot, 0, MAX_ROBOT_ID):
+        return f"robot: expected a robot id from 0 (the link) to {MAX_ROBOT_ID}, got {_clip(robot)}"
+    if not isinstance(what, str) or len(what) > MAX_FAULT_TEXT:
+        return f"what: expected a text of at most {MAX_FAULT_TEXT} characters, got " + \
+            (f"{len(what)} characters" if isinstance(what, str) else _clip(what))
+    return ""
+
+
+def _clip(value: Any) -> str:
+    """A value from a record, for an error: its repr cut to 60 characters (a 400-digit number)."""
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
 
 
 def _check_end(path: Path, n: int, obj: dict[str, Any], raw: bytes, chain: Chain, frames: int, t: int) -> None:
@@ -788,11 +826,12 @@ def _check_end(path: Path, n: int, obj: dict[str, Any], raw: bytes, chain: Chain
         raise WorldFileError(str(path), "frames", f"the end line counts {obj['frames']!r} frames; the record "
                              f"holds {frames}", line=n)
     faults = obj["faults"]
-    if not isinstance(faults, list) or not all(
-            isinstance(f, dict) and list(f) == list(_FAULT_KEYS)
-            and all(type(f[k]) in kinds for k, kinds in _FAULT_KEYS.items()) for f in faults):
+    if not isinstance(faults, list):
         raise WorldFileError(str(path), "faults", "expected a list of {\"time_s\": seconds, \"robot\": id, \"what\": "
                              "text}", line=n)
+    for i, fault in enumerate(faults):
+        if why := _fault_error(fault):
+            raise WorldFileError(str(path), f"faults[{i}]", why, line=n)
     if obj["t"] != t or type(obj["t"]) is not int:
         raise WorldFileError(str(path), "t", f"the end line says the run ended at frame {obj['t']!r}; its frames "
                              f"end at frame {t}", line=n)
@@ -916,8 +955,14 @@ def read_record(path: str | Path, key: bytes | None = None) -> Record:
 
 def robot_data(header: dict[str, Any], path: Path) -> dict[str, Any]:
     """What a robot world's record keeps of its run (line 1's ``world``), each field checked:
-    robot_world (the world file) and planner, and optionally world_orders (default true) and goals
-    (the run's --goal orders, default none)."""
+    robot_world (the world file) and planner (a registered one), and optionally world_orders (default
+    true) and goals (the run's --goal orders, [ROBOT:]ROOM, default none; their rooms are checked
+    against the world by check_goals)."""
+    from .registry import deciders
+
+    def bad(field: str, message: str) -> WorldFileError:
+        return WorldFileError(str(path), f"world.{field}", message, line=1)
+
     data = header.get("world")
     if not isinstance(data, dict):
         raise WorldFileError(str(path), "world", "a robot world's record keeps its world file and planner here",
@@ -926,8 +971,62 @@ def robot_data(header: dict[str, Any], path: Path) -> dict[str, Any]:
     for key, kind, what in (("robot_world", str, "the world file's path"), ("planner", str, "a planner's name"),
                             ("world_orders", bool, "true or false"), ("goals", list, "a list of [ROBOT:]ROOM")):
         if not isinstance(data.get(key), kind) or (key == "goals" and not all(isinstance(g, str) for g in data[key])):
-            raise WorldFileError(str(path), f"world.{key}", f"missing or not {what}", line=1)
+            raise bad(key, f"missing or not {what}")
+    if data["planner"].lower() not in deciders:
+        raise bad("planner", f"unknown planner {_clip(data['planner'])} (this vwg knows {', '.join(deciders)})")
+    for i, goal in enumerate(data["goals"]):
+        if _goal_robot(goal) is None:
+            raise bad(f"goals[{i}]", f"expected ROOM or ROBOT:ROOM, got {_clip(goal)}")
     return data
+
+
+def _goal_robot(goal: str) -> int | None:
+    """The robot a --goal order names (0: none, the first robot), read as the run read it; None if
+    the order is not ROOM or ROBOT:ROOM."""
+    robot, _, room = goal.rpartition(":")
+    if not room:
+        return None
+    if not robot:
+        return 0
+    try:
+        number = int(robot)
+    except ValueError:  # not a number, or thousands of digits
+        return None
+    return number if 1 <= number <= MAX_ROBOT_ID else None
+
+
+def robot_world_file(data: dict[str, Any], path: Path) -> Path:
+    """The world file a robot world's record names (``world.robot_world``, from robot_data), found:
+    a file or a shipped world's name; WorldFileError naming the record's field when it is not there."""
+    from .worlds import resolve_world
+
+    named = data["robot_world"]
+
+    def bad(why: str) -> WorldFileError:
+        return WorldFileError(str(path), "world.robot_world", f"the world file the record names, {_clip(named)}: "
+                              f"{why}; give the world file to replay it with (--world FILE)", line=1)
+
+    if "\0" in named:
+        raise bad("no file can have this name (it holds a NUL byte)")
+    try:
+        return resolve_world(named)
+    except Error as e:
+        raise bad(str(e).removeprefix(f"{named}: ")) from None
+    except OSError as e:  # a name longer than the system takes
+        raise bad(f"cannot be looked up: {e.strerror}") from None
+
+
+def check_goals(data: dict[str, Any], rooms: Sequence[str], robots: Sequence[int], path: Path) -> None:
+    """The --goal orders a robot world's record keeps (robot_data), against the world they are run
+    in again: each a room of it, and a robot of it when one is named."""
+    for i, goal in enumerate(data["goals"]):
+        room, robot = goal.rpartition(":")[2], _goal_robot(goal)
+        if room not in rooms:
+            raise WorldFileError(str(path), f"world.goals[{i}]", f"the run's order {_clip(goal)} names no room of "
+                                 f"the world (rooms: {', '.join(rooms)})", line=1)
+        if robot and robot not in robots:
+            raise WorldFileError(str(path), f"world.goals[{i}]", f"the run's order {_clip(goal)} names no robot of "
+                                 f"the world (robots: {', '.join(map(str, robots))})", line=1)
 
 
 def world_code(data: Any) -> list[str]:
