@@ -8,6 +8,7 @@ import math
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 import vwg
 from vwg import _core
@@ -103,6 +104,7 @@ def near(cells: np.ndarray) -> np.ndarray:
     return out
 
 
+@pytest.mark.slow
 def test_a_real_robots_scans_build_the_map_an_independent_method_builds():
     scans = read_scans()
     assert len(scans) == 440

@@ -99,6 +99,7 @@ def test_a_grid_decider_takes_a_heuristic_by_name():
         vwg.robot.GridDecider("dijkstra")
 
 
+@pytest.mark.slow
 def test_ompl_paths_never_cross_an_occupied_cell():
     w = world("warehouse")
     run = CaseStudy(w, "rrtconnect", goals={1: list(w.rooms)[-1]}, sensors=("laser",), world_orders=False)
@@ -167,6 +168,7 @@ def test_python_decider_plugs_in():
     assert summary.robots[0].reached, summary.robots[0]
 
 
+@pytest.mark.slow
 def test_cli_main_job_writes_video_summary_and_trajectory(tmp_path):
     from vwg.cli import main
 
@@ -218,6 +220,7 @@ def _video_frames(path):
     return int(probe.stdout.strip())
 
 
+@pytest.mark.slow
 def test_a_second_run_continues_the_video_and_the_end_holds_the_final_state(tmp_path):
     from vwg.record import Recorder, read_record
 

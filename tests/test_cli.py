@@ -128,6 +128,7 @@ def test_unreached_order_exits_3_with_a_reason_and_strict_json(tmp_path, capsys)
 
 
 @pytest.mark.parametrize("name", SHIPPED)
+@pytest.mark.slow
 def test_every_shipped_world_reaches_its_own_orders_quietly(name, tmp_path):
     # As shipped: the world file's orders, frames and seed; the A* robots reach every room in time.
     summary = tmp_path / "s.json"

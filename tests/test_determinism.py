@@ -22,6 +22,7 @@ def record(tmp_path, name: str, planner: str) -> bytes:
 
 
 @pytest.mark.parametrize("planner", ["rrtstar", "prm", "rrtconnect", "dstar", "random"])
+@pytest.mark.slow
 def test_frame_logs_are_identical_across_processes_and_load(planner, tmp_path):
     quiet = record(tmp_path, "quiet", planner)
     # Two busy processes take the machine's cores while the second run plans.
@@ -92,6 +93,7 @@ def crowd_world(tmp_path) -> str:
 
 
 @pytest.mark.parametrize("planner", ["astar", "random"])
+@pytest.mark.slow
 def test_frame_logs_are_identical_for_one_two_and_four_threads(planner, tmp_path):
     world = crowd_world(tmp_path)
     logs = {}

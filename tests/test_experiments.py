@@ -63,6 +63,7 @@ def printed(value, digits):
     return "—" if math.isnan(value) else f"{value:.{digits}f}"
 
 
+@pytest.mark.slow
 def test_one_section_per_test_in_order_with_its_pictures(report):
     out, text = report
     places = [text.index(h) for h in HEADINGS]
@@ -75,6 +76,7 @@ def test_one_section_per_test_in_order_with_its_pictures(report):
     assert "tiny configuration" in text and "Every number below comes from this run." in text
 
 
+@pytest.mark.slow
 def test_every_table_parses_and_matches_its_csv(report):
     out, text = report
     tables = tables_of(text)
@@ -84,6 +86,7 @@ def test_every_table_parses_and_matches_its_csv(report):
         assert read_csv(out / f"{name}.csv") == [header, *rows], name
 
 
+@pytest.mark.slow
 def test_the_evolution_table_holds_the_sweeps_numbers(report):
     out, text = report
     _, rows = tables_of(text)["evolution"]
@@ -107,6 +110,7 @@ def test_the_evolution_table_holds_the_sweeps_numbers(report):
             assert 0.9 < float(c["path_length_m"]) / float(c["optimal_m"]) < 1.3, c
 
 
+@pytest.mark.slow
 def test_the_devices_table_holds_the_sweeps_numbers(report):
     out, text = report
     _, rows = tables_of(text)["devices"]
@@ -120,6 +124,7 @@ def test_the_devices_table_holds_the_sweeps_numbers(report):
     assert recall["laser"] > recall["kinect"]  # 180° against the Kinect's 57°: it sees more of the walls
 
 
+@pytest.mark.slow
 def test_the_simulation_tables_hold_the_records(report):
     out, text = report
     _, rows = tables_of(text)["simulation_same_frames"]
@@ -135,6 +140,7 @@ def test_the_simulation_tables_hold_the_records(report):
     assert errors[0.0] == 0.0 and errors[0.05] > 0.0  # no drift without noise; some with it
 
 
+@pytest.mark.slow
 def test_the_extensibility_and_environment_tables_hold_the_sweeps_numbers(report):
     out, text = report
     _, rows = tables_of(text)["extensibility"]

@@ -49,6 +49,7 @@ def test_the_readme_has_examples_to_check():
 
 
 @pytest.mark.parametrize("command, expected", sessions(), ids=[c for c, _ in sessions()])
+@pytest.mark.slow
 def test_console_examples_print_what_the_readme_shows(command, expected, tmp_path_factory):
     # One folder for all commands, in README order, so `vwg replay run.jsonl` finds the record.
     where = tmp_path_factory.getbasetemp() / "readme"
@@ -66,6 +67,7 @@ def test_console_examples_print_what_the_readme_shows(command, expected, tmp_pat
 
 
 @pytest.mark.parametrize("index", range(len(blocks("python"))))
+@pytest.mark.slow
 def test_python_examples_run_and_print_what_their_comments_say(index, tmp_path, monkeypatch):
     code = blocks("python")[index]
     monkeypatch.chdir(tmp_path)

@@ -504,6 +504,7 @@ def test_a_damaged_run_names_the_file_and_line(tmp_path):
     assert info.value.line == n
 
 
+@pytest.mark.slow
 def test_the_demo_run_record_is_small_and_replays(tmp_path):
     # Each frame of the office demo has ~690 laser ranges with 1 cm of noise: ~46 bits of each
     # are noise, ~4.2 KB a frame after deflate, ~5.3 KB in base85; with the string (~0.5 KB),

@@ -61,6 +61,7 @@ def reach(free: np.ndarray, start: tuple[int, int]) -> np.ndarray:
 
 
 @pytest.mark.parametrize("name", SHIPPED)
+@pytest.mark.slow
 def test_shipped_world_loads_and_every_room_is_reachable(name: str) -> None:
     world = load_robot_world(MAPS / f"{name}.yaml")
     assert isinstance(world, RobotWorld) and world.name == name

@@ -73,6 +73,7 @@ def fake():
         yield robot
 
 
+@pytest.mark.slow
 def test_the_office_world_runs_on_a_ros_robot_through_rosbridge():
     # The world is the simulator's; only the platform changes (paper test 3).
     room = "office"
@@ -136,6 +137,7 @@ def test_silent_odometry_stops_the_robot_within_the_watchdog(fake):
     assert fake.commands[1][-1][1:] == (0.0, 0.0)
 
 
+@pytest.mark.slow
 def test_a_lost_link_ends_the_run_with_status_4_and_keeps_the_record(fake, tmp_path):
     world = dataclasses.replace(MAZE, platform=PlatformSpec("rosbridge", {"url": fake.url, "reconnect": 0.5}))
     record = tmp_path / "run.jsonl"
@@ -158,6 +160,7 @@ def test_a_lost_link_ends_the_run_with_status_4_and_keeps_the_record(fake, tmp_p
     assert fake.pose(1)[:2] == pytest.approx((x0, y0))
 
 
+@pytest.mark.slow
 def test_rosbridge_options_are_checked_by_name():
     with pytest.raises(vwg.SchemaError, match="platform rosbridge: url: missing"):
         vwg.start(MAZE, vwg.RunOptions(platform="rosbridge", frames=1))
@@ -169,6 +172,7 @@ def test_rosbridge_options_are_checked_by_name():
 
 
 # ---- a serial base ----------------------------------------------------------------------------------------------
+@pytest.mark.slow
 def test_the_office_world_runs_on_a_serial_base():
     from vwg.fake_base import FakeSerialBase
 
@@ -212,6 +216,7 @@ def test_malformed_and_oversized_messages_are_dropped_and_the_run_goes_on(fake):
         platform.close()
 
 
+@pytest.mark.slow
 def test_a_serial_base_silent_or_cut_is_stopped_and_ends_the_run():
     from vwg.fake_base import FakeSerialBase
     from vwg.serial_platform import SerialPlatform
@@ -241,6 +246,7 @@ def test_a_serial_base_silent_or_cut_is_stopped_and_ends_the_run():
         assert base.pose_now()[:2] == pytest.approx((x0, y0))
 
 
+@pytest.mark.slow
 def test_the_same_world_on_the_simulator_and_through_rosbridge_gives_the_same_frames(tmp_path):
     # Paper test 3 with noise off: the same world, (a) on the simulator platform, (b) through
     # rosbridge to the fake robot — its own Box2D simulator, stepped by vwg in lockstep, driven only by
@@ -263,6 +269,7 @@ def test_the_same_world_on_the_simulator_and_through_rosbridge_gives_the_same_fr
     assert sim.count(b"\n") == a.summary["frames"] + 2 and sim == ros
 
 
+@pytest.mark.slow
 def test_with_odometry_noise_the_ros_robot_believes_itself_where_its_odometry_drifted():
     # The fake robot's odometry drifts (a random walk of 0.02 per √metre, as the simulator's noise
     # model): vwg knows the robot by its odometry only, so its idea of the pose parts from the truth
@@ -288,6 +295,7 @@ def _core_physics(odometry: float) -> vwg.sim.PhysicsSettings:
     return vwg.sim.PhysicsSettings(noise=vwg.sim.NoiseModel(odometry=odometry), seed=7)
 
 
+@pytest.mark.slow
 def test_a_ros_robot_at_wall_clock_rate_takes_the_way_the_simulator_takes():
     # The same world at wall-clock rate (as a real robot runs): the velocities come at the control
     # rate and meet the robot at whatever time the network brings them, so the frames differ; what

@@ -3,6 +3,7 @@ worlds on which the core must agree with the pure-Python reference implementatio
 
 from __future__ import annotations
 
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -144,6 +145,7 @@ event = st.one_of(
 
 @settings(max_examples=400, deadline=None)
 @given(st.lists(objects, max_size=4), st.lists(event, max_size=5), st.lists(st.just(vwg.Event("split")), max_size=2))
+@pytest.mark.slow
 def test_core_eta_pi_phi_agree_with_the_reference(parts, events, splits):
     w = WORLD.string(*parts)
     events = events + splits

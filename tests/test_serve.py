@@ -88,6 +88,7 @@ def robot(state: dict, rid: int) -> dict:
     return next(r for r in state["robots"] if r["id"] == rid)
 
 
+@pytest.mark.slow
 def test_the_page_in_a_browser_orders_by_button_and_by_marker(server):
     from playwright import sync_api as playwright
 
@@ -422,6 +423,7 @@ def test_a_live_run_on_a_robot_through_rosbridge():
         assert commands and commands[-1][1:] == (0.0, 0.0)  # the last Twist stops the robot
 
 
+@pytest.mark.slow
 def test_several_clients_a_client_gone_mid_stream_and_a_slow_one(server):
     async def clients() -> tuple[list[int], int, int, int]:
         frames = []
@@ -464,6 +466,7 @@ def test_several_clients_a_client_gone_mid_stream_and_a_slow_one(server):
 
 
 @pytest.mark.parametrize("server", [("maze", "--paused", "--speed", "1")], indirect=True)
+@pytest.mark.slow
 def test_pause_step_and_reset(server):
     state = server.state()
     assert state["status"] == "paused" and state["frame"] == 0
@@ -485,6 +488,7 @@ def test_pause_step_and_reset(server):
     assert after["frame"] < 50  # started again from frame 0
 
 
+@pytest.mark.slow
 def test_the_command_refuses_bad_input_and_stops_on_ctrl_c(tmp_path):
     for args, words in ((["office", "--port", "70000"], "--port"), (["office", "--planner", "teleport"], "teleport"),
                         ([str(ROOT / "examples" / "01_fireflies" / "world.yaml")], "takes a robot world")):

@@ -58,6 +58,7 @@ def sweep(tmp_path_factory):
     return folder, out, result
 
 
+@pytest.mark.slow
 def test_a_sweep_on_dask_gives_the_rows_of_single_runs(sweep):
     _, out, result = sweep
     assert (result.cells, result.done_before, result.ran, result.failed) == (16, 0, 16, 0)
@@ -81,6 +82,7 @@ def test_a_sweep_on_dask_gives_the_rows_of_single_runs(sweep):
             assert float(row["path_length_m"]) >= 0.9 * float(row["optimal_m"]) - 0.3
 
 
+@pytest.mark.slow
 def test_a_rerun_runs_only_what_is_missing(sweep, tmp_path):
     folder, out, _ = sweep
     # A finished sweep finishes at once, without starting a cluster.
@@ -101,6 +103,7 @@ def test_a_rerun_runs_only_what_is_missing(sweep, tmp_path):
     assert sorted(map(untimed, rows)) == sorted(map(untimed, read_rows(out)))
 
 
+@pytest.mark.slow
 def test_the_command_line(sweep, tmp_path):
     folder, out, _ = sweep
     done = subprocess.run([sys.executable, "-m", "vwg.cli", "sweep", str(folder / "spec.yaml"), "-o", str(out)],
@@ -123,6 +126,7 @@ def untimed(row):
     return tuple(row[c] for c in COLUMNS if c not in TIMINGS)
 
 
+@pytest.mark.slow
 def test_a_last_row_that_lacks_only_its_line_break_runs_again(sweep, tmp_path):
     # A stop between a row's last character and its line break: the row looks whole, but its last
     # field may be cut short, so it is not counted as finished. It was counted and then cut off,
@@ -141,6 +145,7 @@ def test_a_last_row_that_lacks_only_its_line_break_runs_again(sweep, tmp_path):
     assert sorted(map(untimed, rows)) == sorted(map(untimed, read_rows(out)))
 
 
+@pytest.mark.slow
 def test_a_row_torn_inside_a_quoted_line_break_runs_again(sweep, tmp_path):
     # An error text of two lines is written quoted; a stop just after its line break leaves a quote
     # open. Cutting at the last line break kept it, and the next row appended went inside the quote.
@@ -322,6 +327,7 @@ def test_distance_fields_match_a_plain_dijkstra_on_random_grids():
         np.testing.assert_allclose(DistanceField(blocked, goal).distance, plain_dijkstra(blocked, goal))
 
 
+@pytest.mark.slow
 def test_two_sweeps_on_one_client_keep_their_own_cells(tmp_path):
     from vwg.sweep import SweepSpec, dask_client
 
@@ -336,6 +342,7 @@ def test_two_sweeps_on_one_client_keep_their_own_cells(tmp_path):
             sorted((t.world, t.planner, str(t.seed)) for t in spec.trials())
 
 
+@pytest.mark.slow
 def test_a_sweep_on_a_running_scheduler(tmp_path):
     # A cluster of its own, as a user would start one (dask scheduler + workers), here on 127.0.0.1.
     from dask.distributed import LocalCluster

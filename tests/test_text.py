@@ -48,6 +48,7 @@ worlds = st.lists(objects, max_size=5)
 
 @settings(max_examples=300, deadline=None)
 @given(worlds)
+@pytest.mark.slow
 def test_parse_of_print_is_the_same_string(parts):
     w = WORLD.string(*parts)
     text = str(w)
@@ -59,6 +60,7 @@ def test_parse_of_print_is_the_same_string(parts):
 
 @settings(max_examples=300, deadline=None)
 @given(worlds)
+@pytest.mark.slow
 def test_core_printer_agrees_with_an_independent_python_printer(parts):
     w = WORLD.string(*parts)
     assert str(w) == REF.text(w.tree())
