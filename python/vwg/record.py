@@ -24,16 +24,20 @@ was killed): a reader says so and how many frames it holds (of ``frames_planned`
 knew); a last line cut short in the middle is skipped with a warning.
 
 A reader checks every line against the chain, and each line's fields (the header's seed, dt and
-frame of the engine's types and ranges; lists and objects nested at most MAX_JSON_DEPTH deep) and
-each blob's dtype and shape (at most MAX_BLOB_ELEMENTS elements) and each frame's event count (at
-most MAX_FRAME_EVENTS), before it inflates anything; each blob and column is then inflated no
-further than its declared size holds, so a small line that would inflate to gigabytes costs its
-declared size and is refused.
+frame of the engine's types and the ranges a run takes, its initial string and blobs present, its
+world_kind a kind this vwg knows; the end line's faults with time_s from 0 to 1e9 s, robot an id
+from 0 to 2**31 - 1 and what at most MAX_FAULT_TEXT characters, which the writer cuts a longer one
+to; lists and objects nested at most MAX_JSON_DEPTH deep) and each blob's dtype and shape (at most
+MAX_BLOB_ELEMENTS elements) and each frame's event count (at most MAX_FRAME_EVENTS), before it
+inflates anything; each blob and column is then inflated no further than its declared size holds,
+so a small line that would inflate to gigabytes costs its declared size and is refused.
 
 A record is data: replaying it runs no code it names. A generic world's record keeps the world
 file's content (``world``); replay builds the world from the file the user gives, else from the
 file the record names if that holds the same content (world_of_record), else from the record's
-copy only if that names no Python code.
+copy only if that names no Python code. A robot world's record names its world file, a registered
+planner and the run's --goal orders (robot_data); what it names that is not there (a missing file,
+an unknown planner, a room the world lacks) is an error naming the record's line 1 and the field.
 
 ``events`` is S, the frame's events in order. An item is either one event's text, as the engine
 writes it (``"eOdometry<to=1, x=3.25, y=10.5, angle=1.5, busy=false, commands=3>"``), or a *run*
