@@ -4,9 +4,9 @@ of many runs on Dask, measure the paper's five tests (``experiments``), show a r
 browser (``serve``).
 
 Exit status: 0 on success; 1 when a frame failed (an error in an actor, generator or backend); 2 for
-bad input (a file, an option); 3 when ``vwg run`` finished but a robot with an order did not reach
-its room (``--allow-unreached`` makes that 0); 4 when a real robot's link failed (the robot was
-stopped first; the summary lists the faults); 130 when interrupted.
+bad input (a file, an option); 3 when ``vwg run`` (or ``vwg replay --from``) finished but a robot
+with an order did not reach its room (``--allow-unreached`` makes that 0); 4 when a real robot's
+link failed (the robot was stopped first; the summary lists the faults); 130 when interrupted.
 
 A run that seems stuck: ``kill -USR1 PID`` prints the Python stack of each of its threads on stderr
 (the standard library's faulthandler), and the run goes on."""
