@@ -6,7 +6,9 @@ movingai, image: recursive aliases, deep nesting, huge integers, 1e308 and 5e-32
 images of billions of pixels), and numbers near the limits of floats and of the engine's integers
 are put into world files and maps. Whatever comes in, the reader either succeeds (and what it gives
 holds: the string prints and reads back, the numbers are finite) or refuses with its own error naming
-where; never another exception, a crash or a hang.
+where; never another exception, a crash or a hang. A record that reads is also replayed (`vwg replay`
+exits 0 or 2), and records are forged field by field too: any JSON value in any field, the links
+made whole again.
 
 ``make test`` runs a bounded number of inputs per reader (VWG_FUZZ_EXAMPLES, default 150);
 ``make fuzz`` runs many more. A crash found becomes an explicit @example here.
@@ -266,9 +268,11 @@ def test_the_hostile_seeds_are_refused_by_place(tmp_path, path):
 
 
 # ---- records (vwg replay's reader) ------------------------------------------------------------------------
-# The seeds: records that read (folder, blobs, small) and issue 34's hostile ones, each refused by line.
+# The seeds: records that read (folder, blobs, small; lamp, of a world that names no code, also replays)
+# and issue 34's hostile ones, each refused by line.
 RECORD_SEEDS = corpus("record")
-GOOD_RECORDS = {"folder.jsonl", "blobs.jsonl", "small.jsonl"}
+GOOD_RECORDS = {"folder.jsonl", "blobs.jsonl", "small.jsonl", "lamp.jsonl"}
+REPLAY_FRAMES = 20  # a record that reads is also replayed (vwg replay) when it holds at most this many frames
 
 
 def relinked(text: str) -> str:
@@ -305,6 +309,70 @@ def test_records_read_or_refuse(tmp_path_factory, text, relink):
         return
     assert all(isinstance(t, str) for f in record.frames for t in f["events"])
     assert record.end is None or record.end["frames"] == len(record.frames)
+    if len(record.frames) <= REPLAY_FRAMES:
+        assert_replays_or_refuses(path)
+
+
+def assert_replays_or_refuses(path: Path) -> None:
+    """vwg replay of a record that reads: exit 0 (replayed) or 2 (refused, with vwg's error), never a
+    traceback (an exception out of main, or one printed) nor a failed frame (a world that names no
+    code has none that could fail)."""
+    import contextlib
+    import io
+
+    from vwg.cli import main
+
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        status = main(["replay", str(path)])
+    assert status in (0, 2), (status, err.getvalue())
+    assert "Traceback" not in err.getvalue(), err.getvalue()
+    assert status == 0 or err.getvalue().startswith("vwg: error: "), err.getvalue()
+
+
+# Any JSON value a forger might put in a field: null, the ends of the engine's integers and of floats,
+# a 400-digit integer, texts with a NUL byte, lists and objects.
+RECORD_VALUES = st.one_of(
+    st.none(), st.sampled_from([*EDGE_INTS, 10**400, -(10**400), 2**31, 1e9 + 1, 1e-7, -1.5, True]),
+    st.integers(), st.floats(allow_nan=False, allow_infinity=False),
+    st.sampled_from(["", "\x00", "office", "a\x00b", "x" * 5000, "nosuch", "robot", "bogus"]), st.text(max_size=8),
+    st.recursive(st.none() | st.integers() | st.text(max_size=4),
+                 lambda inner: st.lists(inner, max_size=3) | st.dictionaries(st.text(max_size=6), inner, max_size=3),
+                 max_leaves=6))
+
+
+@st.composite
+def record_with_a_field_changed(draw: st.DrawFn) -> str:
+    """lamp.jsonl (a record that replays) with one to three fields of its lines set to any value or
+    removed, each line's links made whole again: what a forger who knows the format can make."""
+    lines = [json.loads(x) for x in (CORPUS / "record" / "lamp.jsonl").read_text().splitlines()]
+    for _ in range(draw(st.integers(1, 3))):
+        n = draw(st.sampled_from([0, 0, 0, 1, -1, -1]))  # mostly the header and the end line: most fields
+        paths = [q for q in leaves(lines[n]) if q and q[0] not in ("prev", "self")]
+        where = draw(st.sampled_from(paths))
+        parent = lines[n]
+        for key in where[:-1]:
+            parent = parent[key]
+        if draw(st.booleans()) or not isinstance(parent, dict):
+            parent[where[-1]] = draw(RECORD_VALUES)
+        else:
+            del parent[where[-1]]
+    return relinked("\n".join(json.dumps(x, ensure_ascii=False, separators=(",", ":")) for x in lines) + "\n")
+
+
+@FUZZ
+@given(record_with_a_field_changed())
+def test_a_record_with_any_value_in_a_field_replays_or_is_refused(tmp_path_factory, text):
+    from vwg.record import read_record
+
+    path = tmp_path_factory.mktemp("record") / "forged.jsonl"
+    path.write_bytes(text.encode("utf-8", "surrogatepass"))
+    try:
+        read_record(path)
+    except WorldFileError as e:
+        assert e.path == str(path) and e.line >= 1, str(e)
+        return
+    assert_replays_or_refuses(path)
 
 
 @pytest.mark.parametrize("path", corpus_files("record"), ids=lambda p: p.name)
@@ -313,6 +381,7 @@ def test_the_record_seeds_read_or_are_refused_by_line(path):
 
     if path.name in GOOD_RECORDS:
         read_record(path)
+        assert_replays_or_refuses(path)
         return
     with pytest.raises(WorldFileError) as e:
         read_record(path)
