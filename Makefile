@@ -161,7 +161,7 @@ tsan: install
 ASAN_LIB = $(shell gcc -print-file-name=libasan.so) $(shell gcc -print-file-name=libstdc++.so)
 ASAN_TESTS ?= tests/test_text.py tests/test_engine.py tests/test_engine_contracts.py tests/test_semantics.py \
 	tests/test_record.py tests/test_hostile_input.py tests/test_fuzz.py tests/test_sim.py tests/test_plan.py \
-	tests/test_arobot.py tests/test_sensors.py tests/test_actors.py
+	tests/test_arobot.py tests/test_sensors.py tests/test_actors.py tests/test_record_hostile.py
 asan-python: install asan-configure
 	@echo "The Python tests against the core built with ASan/UBSan ($(ASAN_BUILD)/pkg)"
 	cmake --build $(ASAN_BUILD) -j $(JOBS) --target _core

@@ -522,3 +522,19 @@ def test_a_map_image_turned_into_cells_a_block_of_rows_at_a_time_gives_every_row
     cells = maps._pixels_to_grid(image, "trinary", False, 0.65, 0.196)
     expected = np.array([[0, 0], [100, 100], [-1, -1]], dtype=np.int8)[np.arange(13) % 3][::-1]
     assert cells.shape == (13, 2) and np.array_equal(cells, expected)
+
+
+def test_a_world_name_the_system_cannot_take_is_an_error_not_a_traceback():
+    # A name over the system's limit was an OSError traceback (ENAMETOOLONG) from vwg run and
+    # vwg replay --world.
+    from vwg.worlds import resolve_world
+
+    name = "w" * 5000 + ".yaml"
+    with pytest.raises(vwg.Error, match="not a file name this system takes"):
+        resolve_world(name)
+    with pytest.raises(vwg.Error, match="no such file"):  # a NUL byte: no file has it
+        resolve_world("office\x00.yaml")
+    done = vwg_cli("run", name, "--frames", "1")
+    assert done.returncode == 2 and "Traceback" not in done.stderr, done.stderr
+    assert "not a file name this system takes (File name too long)" in done.stderr, done.stderr
+    assert "(5005 characters)" in done.stderr

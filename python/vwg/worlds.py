@@ -61,12 +61,18 @@ def resolve_world(arg: str | Path) -> Path:
     """The world file an argument names: an existing file, or the name of a shipped world
     (``office`` or ``office.yaml``). Raises Error saying what was looked for otherwise."""
     path = Path(arg).expanduser()
-    if path.is_file():
-        return path
-    shipped = shipped_world(path)
-    if shipped is not None:
-        return shipped
-    if path.exists():
+    try:
+        if path.is_file():
+            return path
+        shipped = shipped_world(path)
+        if shipped is not None:
+            return shipped
+        exists = path.exists()
+    except (OSError, ValueError) as e:  # a name longer than the system takes, a NUL byte
+        name = str(arg) if len(str(arg)) <= 80 else f"{str(arg)[:60]}... ({len(str(arg))} characters)"
+        reason = e.strerror if isinstance(e, OSError) and e.strerror else str(e)
+        raise Error(f"{name}: not a file name this system takes ({reason})") from None
+    if exists:
         raise Error(f"{path}: is not a file (expected a world file, .yaml)")
     if path.parent == Path("."):
         raise Error(f"{arg}: no such file, and no shipped world of that name (shipped: "

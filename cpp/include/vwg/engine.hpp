@@ -66,8 +66,10 @@ class StopCondition {
 /// add_observer() and stop_when() called from another thread wait for the frame under way to end
 /// (a frame holds the engine's state lock, a run takes it frame by frame, and a waiting reader gets
 /// it before the next frame starts), so they never see a frame half done. From inside a frame they
-/// act at once: the caller is the frame. The references string() and last_events() are for the
-/// thread that runs the frames.
+/// act at once: the caller is the frame (Python's λ, θ and generators run on that thread). A
+/// concurrent() actor or generator, on one of the frame's worker threads, must not call them (it
+/// would wait for its own frame): it is handed what it needs. The references string() and
+/// last_events() are for the thread that runs the frames.
 class Engine {
  public:
   using Observer = std::function<void(const FrameRecord&)>;
