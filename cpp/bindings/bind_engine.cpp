@@ -225,12 +225,18 @@ vwg.FrameError naming the frame, the stage, the actor and the event.)doc")
       }, "Ask the generators for the current frame's events without running the frame.")
       .def("add_observer", [](PyEngine& e, py::function fn) {
         e.keep_alive.append(fn);
-        Engine::Observer observer = [fn](const FrameRecord& r) {
+        // The observer is handed over with the GIL released (and dropped there if refused): its
+        // Python callable is let go of under the GIL by whichever copy is last.
+        std::shared_ptr<py::function> callable(new py::function(std::move(fn)), [](py::function* f) {
+          py::gil_scoped_acquire gil;
+          delete f;
+        });
+        Engine::Observer observer = [callable](const FrameRecord& r) {
           py::gil_scoped_acquire gil;
           auto record = std::make_shared<PyFrameRecord>(PyFrameRecord{r.frame, r.time, &r.after, &r.events});
           py::object arg = py::cast(record);
           try {
-            fn(arg);
+            (*callable)(arg);
           } catch (...) {
             *record = PyFrameRecord{};
             throw;
