@@ -41,6 +41,16 @@ class _Loader(yaml.SafeLoader):
         self._open: list[str] = []  # anchors of the nodes being composed (PyYAML refuses a duplicate anchor)
 
     def compose_node(self, parent: Any, index: Any) -> Any:
+        mark = self.peek_event().start_mark
+        node = self._compose_node(parent, index)
+        # PyYAML composes a mapping's key with index None. `? [a, b]` (or an alias of a list) as a key:
+        # no field is named by one, and Python cannot make a dict key of a list.
+        if isinstance(parent, yaml.MappingNode) and index is None and not isinstance(node, yaml.ScalarNode):
+            kind = "a list" if isinstance(node, yaml.SequenceNode) else "a mapping"
+            raise _Refused(f"a key must be text or a number, got {kind}", mark)
+        return node
+
+    def _compose_node(self, parent: Any, index: Any) -> Any:
         event = self.peek_event()
         if isinstance(event, yaml.AliasEvent):
             if event.anchor in self._open:
@@ -109,14 +119,22 @@ class YamlDoc:
 
             text = read_text(self.path)
         self.text = text
-        loader = _Loader(text)
+        try:
+            loader = _Loader(text)  # PyYAML's reader refuses a control character here, before parsing
+        except yaml.reader.ReaderError as e:
+            raise self._bad_character(e) from None
         try:
             node = loader.get_single_node()
             self.lines: dict[Path_, int] = {}
             self._budget = MAX_NODES
+            self._mappings: dict[int, tuple[yaml.MappingNode, list[Any]]] = {}
             if node is not None:
                 self._walk(node, ())  # counted before the values are built: a billion laughs stays text
             self.data = loader.construct_document(node) if node is not None else None
+            # Building a mapping with a merge key (<<: *a) puts the merged keys into its node; the
+            # tree is given back as the text has it, so a key overriding a merged one is no duplicate.
+            for mapping, pairs in self._mappings.values():
+                mapping.value = pairs
         except yaml.YAMLError as e:
             mark = getattr(e, "problem_mark", None)
             problem = getattr(e, "problem", None) or str(e)
@@ -128,6 +146,16 @@ class YamlDoc:
         #: The composed tree (the line of every node), for checks of the text itself (duplicate keys).
         self.node: yaml.Node | None = node
 
+    def _bad_character(self, e: yaml.reader.ReaderError) -> WorldFileError:
+        """A character YAML does not allow (a NUL byte, ESC, U+FFFE) at its line and column."""
+        before = self.text[:e.position]
+        line = before.count("\n") + 1
+        column = e.position - (before.rfind("\n") + 1) + 1
+        # UTF-16 text read as UTF-8 has a NUL byte in every ASCII character, the first within two.
+        hint = " (is the file UTF-16? vwg reads UTF-8)" if "\0" in self.text[:2] else ""
+        return WorldFileError(str(self.path), "", f"not valid YAML: unacceptable character #x{e.character:04x}: "
+                                                  f"{e.reason}{hint}", line=line, column=column)
+
     def _walk(self, node: yaml.Node, path: Path_) -> None:
         # Aliases make a document's tree exponentially bigger than its text ("billion laughs"): a
         # world file has a few thousand nodes at most.
@@ -137,8 +165,9 @@ class YamlDoc:
                                                      "expanded", line=node.start_mark.line + 1)
         self.lines.setdefault(path, node.start_mark.line + 1)
         if isinstance(node, yaml.MappingNode):
+            self._mappings[id(node)] = (node, list(node.value))
             for key, value in node.value:
-                k = yaml.safe_load(yaml.serialize(key)) if not isinstance(key, yaml.ScalarNode) else key.value
+                k = key.value  # text: the loader refuses a list or a mapping as a key
                 digits = k.lstrip("-") if isinstance(k, str) else ""
                 # "12": 1 is found as 12 too; only ASCII digits ("²" is a digit to isdigit, not to int)
                 if digits.isascii() and digits.isdigit() and len(digits) <= MAX_INT_DIGITS:
