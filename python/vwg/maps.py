@@ -366,7 +366,7 @@ def _map_server(doc: YamlDoc, base: Path) -> OccupancyGrid:
     mode = doc.get(("mode",), str, default="trinary")
     if mode not in MODES:
         raise doc.error(("mode",), f"expected one of {', '.join(MODES)}, got {mode!r}")
-    image_path = Path(image_ref).expanduser()
+    image_path = _expand_user(doc, ("image",), image_ref)
     if not image_path.is_absolute():
         image_path = base / image_path
     _regular_file(doc, ("image",), image_path, MAX_IMAGE_BYTES, "image file")
@@ -457,6 +457,16 @@ def load_movingai(path: str | Path, resolution: float = 1.0,
     return result
 
 
+def _expand_user(doc: YamlDoc, path: tuple[Any, ...], name: str) -> Path:
+    """A file name of a YAML file with ``~user`` expanded; no such user is an error at its line."""
+    from .worlds import expand_user
+
+    try:
+        return expand_user(name)
+    except Error as e:
+        raise doc.error(path, str(e)) from None
+
+
 def _movingai_spec(doc: YamlDoc, path: tuple[Any, ...], base: Path) -> OccupancyGrid:
     """``{movingai: file.map, resolution: r, origin: [x, y, yaw]}`` at ``path`` in a YAML document."""
     spec = doc.get(path, dict)
@@ -466,7 +476,7 @@ def _movingai_spec(doc: YamlDoc, path: tuple[Any, ...], base: Path) -> Occupancy
     ref = doc.get((*path, "movingai"), str)
     resolution = float(doc.number((*path, "resolution"), 1.0, minimum=1e-4, maximum=100.0))  # as map_server's
     origin = _origin(doc, (*path, "origin")) if doc.get((*path, "origin"), default=None) is not None else (0., 0., 0.)
-    file = Path(ref).expanduser()
+    file = _expand_user(doc, (*path, "movingai"), ref)
     if not file.is_absolute():
         file = base / file
     _regular_file(doc, (*path, "movingai"), file, MAX_MAP_BYTES, "map file")

@@ -70,7 +70,7 @@ from ._core import CameraSpec, DepthCameraSpec, LaserSpec, NoiseModel, RobotSett
 from .errors import SchemaError, WorldFileError
 from .files import MAX_MAP_BYTES
 from .launch import MAX_DT, MAX_FRAMES, MAX_SEED, MAX_TIME, MIN_DT
-from .maps import OccupancyGrid, _movingai_spec, _regular_file, load_map
+from .maps import OccupancyGrid, _expand_user, _movingai_spec, _regular_file, load_map
 from .worlds import shipped_world
 from .yamldoc import YamlDoc, field_text
 
@@ -257,7 +257,7 @@ def _load_grid(doc: YamlDoc, base: Path) -> tuple[OccupancyGrid, Path]:
     if isinstance(spec, dict):
         grid = _movingai_spec(doc, ("map",), base)
         return grid, Path(grid.source)
-    file = Path(spec).expanduser()
+    file = _expand_user(doc, ("map",), spec)
     if not file.is_absolute():
         file = base / file
     # A device (/dev/zero) or a named pipe is said to be one, not "not found"; load_map checks the size.

@@ -130,12 +130,16 @@ def _nonempty_list(doc: YamlDoc, path: tuple[Any, ...]) -> list[Any]:
 def _world_name(name: str, base: Path) -> str:
     """How a cell names its world: a file's absolute path (relative names are taken from the SPEC's
     folder), or a shipped world's name (it travels by name: a worker may have vwg installed elsewhere)."""
-    from .worlds import shipped_world, shipped_worlds
+    from .worlds import expand_user, shipped_world, shipped_worlds, unusable_name
 
-    local = base / Path(name).expanduser()
-    if local.is_file():
+    local = base / expand_user(name)
+    try:
+        is_file, exists = local.is_file(), local.exists()
+    except (OSError, ValueError) as e:  # a name longer than the system takes (ENAMETOOLONG)
+        raise unusable_name(name, e) from None
+    if is_file:
         return str(local)
-    if local.exists():
+    if exists:
         raise Error(f"{local}: is not a file (expected a robot world file, .yaml)")
     if Path(name).parent == Path(".") and shipped_world(name) is not None:
         return name.removesuffix(".yaml")

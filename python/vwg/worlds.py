@@ -19,7 +19,24 @@ from pathlib import Path
 
 from .errors import Error
 
-__all__ = ["resolve_world", "shipped_world", "shipped_worlds", "worlds_dir"]
+__all__ = ["expand_user", "resolve_world", "shipped_world", "shipped_worlds", "unusable_name", "worlds_dir"]
+
+
+def expand_user(name: str | Path) -> Path:
+    """`name` with a leading ``~`` or ``~user`` made that user's home folder; Error naming the user
+    when there is no such user (Path.expanduser's RuntimeError) or no home folder is known."""
+    try:
+        return Path(name).expanduser()
+    except RuntimeError:
+        user = str(name)[1:].partition("/")[0]
+        raise Error(f"{name}: no user {user}" if user else f"{name}: no home folder (HOME is not set)") from None
+
+
+def unusable_name(name: str | Path, e: OSError | ValueError) -> Error:
+    """The error for a name the system refused (longer than it takes, a NUL byte), clipped."""
+    text = str(name) if len(str(name)) <= 80 else f"{str(name)[:60]}... ({len(str(name))} characters)"
+    reason = e.strerror if isinstance(e, OSError) and e.strerror else str(e)
+    return Error(f"{text}: not a file name this system takes ({reason})")
 
 
 def worlds_dir() -> Path:
@@ -46,7 +63,7 @@ def shipped_world(arg: str | Path) -> Path | None:
     """The shipped world a bare name stands for (``office`` or ``office.yaml``, no folder), when no
     file of that name exists here; None otherwise. When the name is a folder (or a pipe, a device)
     here, the shipped world is the one meant, and a warning names both."""
-    path = Path(arg).expanduser()
+    path = expand_user(arg)
     if path.parent != Path(".") or path.is_file():
         return None
     shipped = shipped_worlds().get(path.name.removesuffix(".yaml"))
@@ -60,7 +77,7 @@ def shipped_world(arg: str | Path) -> Path | None:
 def resolve_world(arg: str | Path) -> Path:
     """The world file an argument names: an existing file, or the name of a shipped world
     (``office`` or ``office.yaml``). Raises Error saying what was looked for otherwise."""
-    path = Path(arg).expanduser()
+    path = expand_user(arg)
     try:
         if path.is_file():
             return path
@@ -69,9 +86,7 @@ def resolve_world(arg: str | Path) -> Path:
             return shipped
         exists = path.exists()
     except (OSError, ValueError) as e:  # a name longer than the system takes, a NUL byte
-        name = str(arg) if len(str(arg)) <= 80 else f"{str(arg)[:60]}... ({len(str(arg))} characters)"
-        reason = e.strerror if isinstance(e, OSError) and e.strerror else str(e)
-        raise Error(f"{name}: not a file name this system takes ({reason})") from None
+        raise unusable_name(arg, e) from None
     if exists:
         raise Error(f"{path}: is not a file (expected a world file, .yaml)")
     if path.parent == Path("."):
