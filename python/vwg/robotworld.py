@@ -179,11 +179,13 @@ def _p(x: float) -> str:
     return repr(float(x))
 
 
-def _check_keys(doc: YamlDoc, path: tuple[Any, ...], value: dict[Any, Any], allowed: tuple[str, ...]) -> None:
+def _check_keys(doc: YamlDoc, path: tuple[Any, ...], value: dict[Any, Any], allowed: tuple[str, ...],
+                none_allowed: str = "no keys are allowed here") -> None:
     for key in value:
         if key not in allowed:
             close = difflib.get_close_matches(str(key), allowed, n=1)
-            hint = f"; did you mean '{close[0]}'?" if close else f" (expected one of {', '.join(allowed)})"
+            hint = f"; did you mean '{close[0]}'?" if close else \
+                f" (expected one of {', '.join(allowed)})" if allowed else f" ({none_allowed})"
             raise doc.error((*path, key), f"unknown key{hint}")
 
 
@@ -418,7 +420,7 @@ def _platform(doc: YamlDoc) -> PlatformSpec:
         raise doc.error(("platform",), f"unknown platform {kind!r} (known: {', '.join(platforms)})")
     allowed = getattr(platforms.get(kind), "options", None)
     if allowed is not None:
-        _check_keys(doc, ("platform",), options, tuple(allowed))
+        _check_keys(doc, ("platform",), options, tuple(allowed), f"the {kind} platform takes no options")
     if "flap_limit" in options:
         _flap_limit(doc)
     return PlatformSpec(kind, options)
