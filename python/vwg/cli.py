@@ -311,6 +311,20 @@ def _dask_options(command: argparse.ArgumentParser) -> None:
                          help="show progress bars (default: on a terminal)")
 
 
+def _planner_name(value: str) -> str:
+    """--planner: a name (an empty one ran astar silently); which names exist is checked at the run."""
+    if not value.strip():
+        raise argparse.ArgumentTypeError(f"expected a planner's name, got {value!r}")
+    return value
+
+
+def _goal(value: str) -> str:
+    """--goal: ROOM or ROBOT:ROOM with a room ('1:' and ':' were "unknown room ''" at the run)."""
+    if not value.rpartition(":")[2].strip():
+        raise argparse.ArgumentTypeError(f"expected ROOM or ROBOT:ROOM, got {value!r}")
+    return value
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="vwg", description="vwg, the Virtual Worlds Generator: run worlds written as strings of a grammar.")
@@ -340,10 +354,10 @@ def build_parser() -> argparse.ArgumentParser:
                                            "platform:, else sim)")
     robot.add_argument("--url", help="the rosbridge server of --platform rosbridge (ws://HOST:PORT)")
     robot.add_argument("--port", help="the serial port of --platform serial (/dev/ttyUSB0, socket://HOST:PORT)")
-    robot.add_argument("--planner",
+    robot.add_argument("--planner", type=_planner_name,
                        help="the decision inside eDecide: random, astar, jps, dstar, rrtconnect, rrtstar, prm, "
                             "astar-octile, jps-octile (A* and JPS with the octile heuristic) (default astar)")
-    robot.add_argument("--goal", action="append", metavar="[ROBOT:]ROOM",
+    robot.add_argument("--goal", action="append", metavar="[ROBOT:]ROOM", type=_goal,
                        help="send a robot (default the first) to a room at the start; repeatable; replaces "
                             "the world file's orders")
     robot.add_argument("--no-world-orders", action="store_true",
@@ -415,7 +429,8 @@ def build_parser() -> argparse.ArgumentParser:
     srv.add_argument("world", type=Path, help="a robot world file, or a shipped world's name")
     srv.add_argument("--port", type=int, default=8765, help="the port (default 8765; 0: any free port)")
     srv.add_argument("--host", default="127.0.0.1", help="the address to listen on (default 127.0.0.1: this machine)")
-    srv.add_argument("--planner", default="astar", help="the decision inside eDecide (default astar)")
+    srv.add_argument("--planner", default="astar", type=_planner_name,
+                     help="the decision inside eDecide (default astar)")
     srv.add_argument("--platform", help="sim (default), rosbridge or serial")
     srv.add_argument("--url", help="the rosbridge server of --platform rosbridge")
     srv.add_argument("--serial-port", help="the serial port of --platform serial")
