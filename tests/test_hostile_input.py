@@ -538,3 +538,156 @@ def test_a_world_name_the_system_cannot_take_is_an_error_not_a_traceback():
     assert done.returncode == 2 and "Traceback" not in done.stderr, done.stderr
     assert "not a file name this system takes (File name too long)" in done.stderr, done.stderr
     assert "(5005 characters)" in done.stderr
+
+
+# ---- issue 34, second hostile pass: YAML text, keys and names the readers did not expect --------------------
+@pytest.mark.parametrize(("data", "line", "column", "character"), [
+    (b"name: x\n# \x00\n", 2, 3, "#x0000"),            # a NUL byte in a comment
+    (b"name: x\x1b[31m\nmap: y\n", 1, 8, "#x001b"),     # a raw ESC (a terminal's colour code pasted in)
+    ("name: x\nmap: y\ufffe\n".encode(), 2, 7, "#xfffe"),  # U+FFFE, a noncharacter
+    ("name: x\n".encode("utf-16-le"), 1, 2, "#x0000"),  # UTF-16 without its byte-order mark
+    (b"\x00" * 100, 1, 1, "#x0000"),                     # head -c 100 /dev/zero
+], ids=["nul", "esc", "fffe", "utf16le", "zeros"])
+def test_a_character_yaml_does_not_allow_is_refused_at_its_place(tmp_path, data, line, column, character):
+    # PyYAML's reader refuses these before parsing: a yaml.reader.ReaderError traceback, exit 1, before.
+    path = tmp_path / "w.yaml"
+    path.write_bytes(data)
+    with pytest.raises(WorldFileError) as info:
+        vwg.robot.load_robot_world(path)
+    assert (info.value.line, info.value.column) == (line, column), str(info.value)
+    assert str(info.value).startswith(f"{path}:{line}:{column}: not valid YAML: unacceptable character {character}")
+    for command in (["check", str(path)], ["sweep", str(path), "-o", str(tmp_path / "out.csv")]):
+        done = vwg_cli(*command)
+        assert done.returncode == 2 and "Traceback" not in done.stderr, done.stderr
+        assert done.stderr.startswith(f"vwg: error: {path}:{line}:{column}: not valid YAML: unacceptable "
+                                      f"character {character}"), done.stderr
+
+
+def test_a_nul_byte_in_a_map_yaml_is_refused_at_its_place(tmp_path):
+    path = tmp_path / "map.yaml"
+    path.write_bytes(b"image: map.pgm\nresolution: 0.05\x00\n")
+    with pytest.raises(WorldFileError) as info:
+        vwg.maps.load_map(path)
+    assert str(info.value).startswith(f"{path}:2:17: not valid YAML: unacceptable character #x0000")
+
+
+@pytest.mark.parametrize(("text", "line", "column", "kind"), [
+    ("name: x\n? [a, b]\n: 1\n", 2, 3, "a list"),
+    ("name: x\n? {a: 1}\n: 1\n", 2, 3, "a mapping"),
+    ("name: x\nrobots:\n  - {[1]: 2}\n", 3, 6, "a list"),
+    ("name: x\nk: &k [1]\n*k : 2\n", 3, 1, "a list"),  # an alias of a list as the key
+])
+def test_a_key_that_is_a_list_or_a_mapping_is_refused_at_its_place(tmp_path, text, line, column, kind):
+    # A TypeError (unhashable type: 'list') traceback before.
+    path = tmp_path / "w.yaml"
+    path.write_text(text)
+    with pytest.raises(WorldFileError) as info:
+        vwg.robot.load_robot_world(path)
+    assert str(info.value) == f"{path}:{line}:{column}: a key must be text or a number, got {kind}"
+    done = vwg_cli("check", str(path))
+    assert done.returncode == 2 and "Traceback" not in done.stderr, done.stderr
+    assert done.stderr.startswith(f"vwg: error: {path}:{line}:{column}: a key must be text or a number"), done.stderr
+
+
+def test_a_sweep_spec_with_a_list_as_a_key_is_refused_at_its_place(tmp_path):
+    spec = tmp_path / "spec.yaml"
+    spec.write_text("worlds: [office]\nplanners: [astar]\nseeds: 1\nframes: 3\n? [a]\n: 1\n")
+    done = vwg_cli("sweep", str(spec), "-o", str(tmp_path / "out.csv"))
+    assert done.returncode == 2 and "Traceback" not in done.stderr, done.stderr
+    assert done.stderr.startswith(f"vwg: error: {spec}:5:3: a key must be text or a number, got a list"), done.stderr
+
+
+NO_USER = "vwg-h8-no-such-user"  # a user no test machine has
+
+
+def test_a_home_folder_of_no_user_is_an_error_naming_the_user(tmp_path):
+    # Path.expanduser raised RuntimeError("Could not determine home directory.") for ~nosuchuser.
+    from vwg.worlds import resolve_world
+
+    with pytest.raises(vwg.Error, match=f"^~{NO_USER}/w.yaml: no user {NO_USER}$"):
+        resolve_world(f"~{NO_USER}/w.yaml")
+    done = vwg_cli("check", f"~{NO_USER}/w.yaml")
+    assert done.returncode == 2 and "Traceback" not in done.stderr, done.stderr
+    assert done.stderr.startswith(f"vwg: error: ~{NO_USER}/w.yaml: no user {NO_USER}"), done.stderr
+
+
+@pytest.mark.parametrize("where", ["world map", "movingai map", "map image"])
+def test_a_home_folder_of_no_user_in_a_file_is_named_by_its_line(tmp_path, where):
+    if where == "map image":
+        path = tmp_path / "map.yaml"
+        path.write_text(f"image: ~{NO_USER}/map.pgm\nresolution: 0.05\norigin: [0.0, 0.0, 0.0]\nnegate: 0\n"
+                        "occupied_thresh: 0.65\nfree_thresh: 0.196\n")
+        load, line, field = vwg.maps.load_map, 1, "image"
+    else:
+        ref = f'"~{NO_USER}/map.yaml"' if where == "world map" else f'{{movingai: "~{NO_USER}/x.map"}}'
+        path = world_file(tmp_path, OFFICE.replace("map: office/map.yaml", f"map: {ref}"))
+        load, line = vwg.robot.load_robot_world, line_of(OFFICE, "map: office/map.yaml")
+        field = "map" if where == "world map" else "map.movingai"
+    with pytest.raises(WorldFileError) as info:
+        load(path)
+    assert str(info.value).startswith(f"{path}:{line}: {field}: ~{NO_USER}/"), str(info.value)
+    assert str(info.value).endswith(f": no user {NO_USER}"), str(info.value)
+    done = vwg_cli("check", str(path)) if where != "map image" else None
+    if done is not None:
+        assert done.returncode == 2 and "Traceback" not in done.stderr, done.stderr
+        assert done.stderr.startswith(f"vwg: error: {path}:{line}: {field}: ~{NO_USER}/"), done.stderr
+
+
+@pytest.mark.parametrize(("world", "words"), [
+    (f"~{NO_USER}/w.yaml", f"~{NO_USER}/w.yaml: no user {NO_USER}"),
+    # Over the system's limit for a name (ENAMETOOLONG from is_file: an OSError traceback before).
+    ("a" * 5000, "a" * 60 + "... (5000 characters): not a file name this system takes (File name too long)"),
+])
+def test_a_sweep_spec_naming_a_world_no_system_has_is_refused_at_its_place(tmp_path, world, words):
+    spec = tmp_path / "spec.yaml"
+    spec.write_text(f'worlds: ["{world}"]\nplanners: [astar]\nseeds: 1\nframes: 3\n')
+    done = vwg_cli("sweep", str(spec), "-o", str(tmp_path / "out.csv"))
+    assert done.returncode == 2 and "Traceback" not in done.stderr, done.stderr
+    assert done.stderr.startswith(f"vwg: error: {spec}:1: worlds[0]: {words}"), done.stderr
+
+
+MERGED_ROBOTS = """robots:
+  - &first {id: 1, start: [1.5, 9.0, 0.0], sensors: [laser, camera]}
+  - <<: *first
+    id: 2
+    start: [23.5, 9.0, 3.141592653589793]
+"""
+
+
+def test_a_key_overriding_a_merged_key_is_no_duplicate(tmp_path):
+    # YAML's merge key (<<: *first) gives a mapping the keys of another, which its own keys override;
+    # PyYAML puts the merged keys into the mapping's node, and they were called duplicate keys.
+    start = OFFICE.index("robots:")
+    text = OFFICE[:start] + MERGED_ROBOTS + OFFICE[OFFICE.index("frames:"):]
+    world = vwg.robot.load_robot_world(world_file(tmp_path, text))
+    assert [(r.id, tuple(r.start), r.sensors) for r in world.robots] == [
+        (1, (1.5, 9.0, 0.0), ("laser", "camera")), (2, (23.5, 9.0, 3.141592653589793), ("laser", "camera"))]
+    # A key given twice by the mapping itself still is one.
+    twice = OFFICE[:start] + MERGED_ROBOTS.replace("    id: 2\n", "    id: 2\n    id: 3\n") + \
+        OFFICE[OFFICE.index("frames:"):]
+    with pytest.raises(WorldFileError) as info:
+        vwg.robot.load_robot_world(world_file(tmp_path, twice))
+    assert "robots[1].id: duplicate key" in str(info.value) and info.value.line == line_of(twice, "id: 3")
+
+
+def test_a_platform_that_takes_no_options_says_so(tmp_path):
+    # "unknown key (expected one of )" before: the sim platform has no options to list.
+    path = world_file(tmp_path, OFFICE + "platform: {kind: sim, extra: 1}\n")
+    with pytest.raises(WorldFileError) as info:
+        vwg.robot.load_robot_world(path)
+    line = OFFICE.count("\n") + 1
+    assert str(info.value) == f"{path}:{line}: platform.extra: unknown key (the sim platform takes no options)"
+
+
+@pytest.mark.parametrize(("flag", "value", "words"), [
+    ("--planner", "", "argument --planner: expected a planner's name, got ''"),
+    ("--planner", " ", "argument --planner: expected a planner's name, got ' '"),
+    ("--goal", ":", "argument --goal: expected ROOM or ROBOT:ROOM, got ':'"),
+    ("--goal", "", "argument --goal: expected ROOM or ROBOT:ROOM, got ''"),
+    ("--goal", "1:", "argument --goal: expected ROOM or ROBOT:ROOM, got '1:'"),
+])
+def test_an_empty_planner_or_room_on_the_command_line_is_refused(flag, value, words):
+    # --planner "" ran astar silently; --goal ':' said "unknown room ''".
+    done = vwg_cli("run", "office", "--frames", "1", "--allow-unreached", flag, value)
+    assert done.returncode == 2 and "Traceback" not in done.stderr, done.stderr
+    assert words in done.stderr and "vwg run" not in done.stdout, done.stderr
