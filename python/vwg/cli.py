@@ -120,7 +120,7 @@ def _resume(args: argparse.Namespace, record: Any, key: bytes | None) -> int:
     world kept in the record (else its code is not the record's), unless --allow-code-from-record.
     A robot world's run gets its --goal orders again from the record."""
     from .errors import ReplayError
-    from .launch import RunOptions, kind_of, load, platform_faults, start
+    from .launch import RunOptions, check_outputs, kind_of, load, platform_faults, start
     from .record import Recorder, check_goals, named_world_file, robot_data, robot_world_file
     from .worlds import resolve_world
     from .yamldoc import YamlDoc
@@ -160,6 +160,8 @@ def _resume(args: argparse.Namespace, record: Any, key: bytes | None) -> int:
                                       no_world_orders=not data["world_orders"], allow_unreached=args.allow_unreached)
     elif args.allow_unreached:
         raise Error("--allow-unreached is for robot worlds; this record is of a generic world")
+    # The new record overwrites neither the record read nor the world's files, nor is it a named pipe.
+    check_outputs(loaded, RunOptions(record=args.new_record), {"the record being replayed": Path(args.record)})
     with start(loaded, options) as run:
         engine = run.engine
         alphabet = engine.world.alphabet

@@ -193,8 +193,45 @@ def start(world: Any, options: RunOptions | None = None) -> Run:
             where = f"is for {' and '.join(takers)} worlds" if takers else "does not apply"
             flag = _FLAGS.get(name, "--" + name.replace("_", "-"))
             raise Error(f"{flag} {where}; {world.path} is a {kind.name} world")
+    check_outputs(world, options)
     run = kind.start(world, options)
     return RecordedRun(run, world, options) if options.record or options.summary_json else run
+
+
+def run_inputs(world: Any) -> dict[str, Path]:
+    """The files a run of `world` reads, by what they are: its world file and a robot world's map
+    (and a map_server YAML's image)."""
+    inputs = {"the world file being run": Path(world.path)}
+    map_path = getattr(world, "map_path", None)
+    if map_path is not None:
+        inputs["the world's map"] = Path(map_path)
+        if Path(map_path).suffix.lower() in (".yaml", ".yml"):
+            from .yamldoc import YamlDoc
+
+            try:  # the map was read when the world loaded: this only finds its image's name again
+                image = YamlDoc(map_path).data.get("image")
+            except Error:
+                image = None
+            if isinstance(image, str) and image:
+                inputs["the map's image"] = Path(map_path).parent / image
+    return inputs
+
+
+def check_outputs(world: Any, options: RunOptions, inputs: dict[str, Path] | None = None) -> None:
+    """Before a run starts: no output overwrites what the run reads (`inputs` adds to the world's) and
+    none is a named pipe (a run would wait on it for ever, silently)."""
+    from .files import check_output_file
+
+    inputs = {**run_inputs(world), **(inputs or {})}
+    if options.record_key is not None:
+        inputs["the record's key file"] = Path(options.record_key)
+    trajectory = options.trajectory or (Path(options.video).with_suffix(".png") if options.video else None)
+    for flag, path in (("--record", options.record), ("--summary-json", options.summary_json),
+                       ("--video", options.video), ("--trajectory", trajectory)):
+        if path is not None:
+            check_output_file(Path(path), flag, inputs)
+    if options.images is not None:
+        check_output_file(Path(options.images), "--images", inputs, folder=True)
 
 
 class RecordedRun:
