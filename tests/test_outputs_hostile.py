@@ -97,3 +97,30 @@ def test_replay_from_refuses_a_named_pipe_as_its_record(office):
     result = vwg("replay", "r.jsonl", "--from", "1", "--record", "new.jsonl", cwd=office)
     assert result.returncode == 2 and "--record new.jsonl: expected a regular file, this is a named pipe" \
         in result.stderr
+
+
+# ---- the trajectory picture and the video: checked before, a full disk named -------------------------------
+def test_a_trajectory_of_a_type_not_written_is_refused_before_the_run(office):
+    result = vwg("run", "office.yaml", "--frames", "2", "--trajectory", "t.txt", "--summary-json", "s.json",
+                 cwd=office)
+    assert result.returncode == 2
+    assert "--trajectory t.txt: unknown picture type '.txt'; use .png, .jpg, .jpeg" in result.stderr
+    assert result.stdout == "" and not (office / "s.json").exists()  # no run was made
+
+
+@pytest.mark.skipif(not Path("/dev/full").exists(), reason="needs /dev/full (a disk that is always full)")
+def test_a_trajectory_onto_a_full_disk_is_an_error_with_the_systems_reason(office):
+    (office / "full.png").symlink_to("/dev/full")
+    result = vwg("run", "office.yaml", "--frames", "2", "--trajectory", "full.png", "--allow-unreached", cwd=office)
+    assert result.returncode == 2, result.stderr
+    assert "full.png: No space left on device: the trajectory picture could not be written" in result.stderr
+
+
+@pytest.mark.skipif(not Path("/dev/full").exists(), reason="needs /dev/full (a disk that is always full)")
+def test_a_gif_onto_a_full_disk_is_an_error_with_the_systems_reason(office):
+    (office / "full.gif").symlink_to("/dev/full")
+    result = vwg("run", "office.yaml", "--frames", "2", "--video", "full.gif", "--trajectory", "t.png",
+                 "--allow-unreached", cwd=office)
+    assert result.returncode == 2, result.stderr
+    assert "full.gif" in result.stderr and "No space left on device" in result.stderr
+    assert "Traceback" not in result.stderr

@@ -26,7 +26,7 @@ from typing import Any, TextIO
 
 from . import _core
 from .engine import Engine
-from .errors import SchemaError
+from .errors import Error, SchemaError
 from .generators import every_frame
 from .maps import OccupancyGrid
 from .registry import deciders, platforms
@@ -351,7 +351,24 @@ class CaseStudy:
             where = "no order" if robot.room is None else f"{robot.room}, {state}"
             legend.append((spec.id, f"robot {spec.id}: {where}, {robot.path_length_m:.1f} m"))
         renderer.draw_legend(legend)
-        renderer.save(str(path))
+        path = Path(path)
+        encoding = TRAJECTORY_FORMATS.get(path.suffix.lower())
+        if encoding is None:
+            raise Error(trajectory_type_error(path))
+        data = _core.encode_image(renderer.image(), format=encoding)
+        try:  # written here, not by the renderer, so that a full disk is said with the system's reason
+            path.write_bytes(data)
+        except OSError as e:
+            raise Error(f"{path}: {e.strerror}: the trajectory picture could not be written") from None
+
+
+#: File extensions a trajectory picture is written as, and the encoding each means.
+TRAJECTORY_FORMATS = {".png": "png", ".jpg": "jpeg", ".jpeg": "jpeg"}
+
+
+def trajectory_type_error(path: Path) -> str:
+    """What is wrong with a --trajectory name whose extension is not a picture's we write."""
+    return f"{path}: unknown picture type '{path.suffix}'; use {', '.join(TRAJECTORY_FORMATS)}"
 
 
 def _stderr(message: str) -> None:

@@ -232,6 +232,11 @@ def check_outputs(world: Any, options: RunOptions, inputs: dict[str, Path] | Non
             check_output_file(Path(path), flag, inputs)
     if options.images is not None:
         check_output_file(Path(options.images), "--images", inputs, folder=True)
+    if trajectory is not None:  # found before the run, not after it (as --video's)
+        from .casestudy import TRAJECTORY_FORMATS, trajectory_type_error
+
+        if Path(trajectory).suffix.lower() not in TRAJECTORY_FORMATS:
+            raise Error(f"--trajectory {trajectory_type_error(Path(trajectory))}")
 
 
 class RecordedRun:
