@@ -124,3 +124,43 @@ def test_a_gif_onto_a_full_disk_is_an_error_with_the_systems_reason(office):
     assert result.returncode == 2, result.stderr
     assert "full.gif" in result.stderr and "No space left on device" in result.stderr
     assert "Traceback" not in result.stderr
+
+
+# ---- settings vwg check must refuse as vwg run does -----------------------------------------------------------
+def with_line(office: Path, line: str) -> Path:
+    """office.yaml with `line` after its wall_height (line 6 of the file)."""
+    text = (office / "office.yaml").read_text()
+    assert text.splitlines()[4] == "wall_height: 2.5"
+    (office / "p.yaml").write_text(text.replace("wall_height: 2.5\n", f"wall_height: 2.5\n{line}\n", 1))
+    return office / "p.yaml"
+
+
+@pytest.mark.parametrize(("platform", "message"), [
+    ("{kind: rosbridge, url: 'ws://127.0.0.1:1', watchdog: .nan}", "platform.watchdog: expected a finite number"),
+    ("{kind: rosbridge, url: 'ws://127.0.0.1:1', reconnect: -5}", "platform.reconnect: expected a number >= 0"),
+    ("{kind: rosbridge, url: 'ws://127.0.0.1:1', watchdog: -1}", "platform.watchdog: expected a number > 0"),
+    ("{kind: rosbridge, url: 5}", "platform.url: expected text, got int 5"),
+    ("{kind: rosbridge, url: 'ws://127.0.0.1:1', ros: 3}", "platform.ros: expected 1 or 2"),
+    ("{kind: serial, port: /dev/zero, wheel_radius: 0}", "platform.wheel_radius: expected a number > 0"),
+    ("{kind: serial, port: /dev/zero, ticks_per_rev: 0}", "platform.ticks_per_rev: expected a number > 0"),
+    ("{kind: serial, port: /dev/zero, baud: 0}", "platform.baud: expected a number >= 1"),
+])
+def test_vwg_check_refuses_platform_settings_a_run_refuses(office, platform, message):
+    with_line(office, f"platform: {platform}")
+    result = vwg("check", "p.yaml", cwd=office)
+    assert result.returncode == 2, result.stdout
+    assert f"p.yaml:6: {message}" in result.stderr
+
+
+@pytest.mark.parametrize("height", ["1.0e+12", "100.5"])
+def test_a_wall_higher_than_100_m_is_refused_by_its_line(office, height):
+    text = (office / "office.yaml").read_text().replace("wall_height: 2.5", f"wall_height: {height}")
+    (office / "p.yaml").write_text(text)
+    result = vwg("check", "p.yaml", cwd=office)
+    assert result.returncode == 2
+    assert f"p.yaml:5: wall_height: expected a number <= 100.0, got {float(height)!r}" in result.stderr
+
+
+def test_a_wall_of_100_m_is_taken(office):
+    (office / "p.yaml").write_text((office / "office.yaml").read_text().replace("wall_height: 2.5", "wall_height: 100"))
+    assert vwg("check", "p.yaml", cwd=office).returncode == 0

@@ -423,7 +423,35 @@ def _platform(doc: YamlDoc) -> PlatformSpec:
         _check_keys(doc, ("platform",), options, tuple(allowed), f"the {kind} platform takes no options")
     if "flap_limit" in options:
         _flap_limit(doc)
+    _platform_values(doc, options)
     return PlatformSpec(kind, options)
+
+
+#: The highest wall a world may have, metres.
+MAX_WALL_HEIGHT = 100.0
+
+#: A real robot's numeric platform settings, checked where the file says them (the platform checks them
+#: again, for worlds made in Python): (minimum, exclusive, maximum, integer). A day bounds the seconds.
+_PLATFORM_NUMBERS: dict[str, tuple[float, bool, float | None, bool]] = {
+    "watchdog": (0.0, True, 86400.0, False), "reconnect": (0.0, False, 86400.0, False),
+    "control_rate": (1.0, False, 1000.0, False), "baud": (1, False, None, True),
+    "wheel_radius": (0.0, True, None, False), "track_width": (0.0, True, None, False),
+    "ticks_per_rev": (0.0, True, None, False), "pid_rate": (0.0, True, None, False),
+    "odometry_rate": (0.0, True, None, False),
+}
+
+
+def _platform_values(doc: YamlDoc, options: dict[Any, Any]) -> None:
+    """The platform's settings of the kind they must be: `vwg check` refuses what `vwg run` would."""
+    for name, (minimum, exclusive, maximum, integer) in _PLATFORM_NUMBERS.items():
+        if name in options:
+            doc.number(("platform", name), minimum=minimum, exclusive_minimum=exclusive, maximum=maximum,
+                       integer=integer)
+    for name in ("url", "port", "lockstep"):
+        if name in options:
+            doc.get(("platform", name), str)
+    if "ros" in options and doc.get(("platform", "ros"), int) not in (1, 2):
+        raise doc.error(("platform", "ros"), f"expected 1 or 2 (how type names are spelled), got {options['ros']!r}")
 
 
 def _flap_limit(doc: YamlDoc) -> None:
@@ -451,7 +479,9 @@ def load_robot_world(path: str | Path) -> RobotWorld:
     name = doc.get(("name",), str, default=path.stem)
     description = doc.get(("description",), str, default="")
     grid, map_path = _load_grid(doc, base)
-    wall_height = float(doc.number(("wall_height",), 2.5, minimum=0.0, exclusive_minimum=True))
+    # At most 100 m (a tall atrium's): views and cameras allocate by it (1e12 m was 148 TiB in vwg overview).
+    wall_height = float(doc.number(("wall_height",), 2.5, minimum=0.0, exclusive_minimum=True,
+                                   maximum=MAX_WALL_HEIGHT))
     robots = _robots(doc, grid)
     rooms = _rooms(doc, grid, wall_height, max(r.radius for r in robots))
     laser, kinect, camera, noise = _sensors(doc, wall_height)
