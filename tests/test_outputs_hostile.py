@@ -164,3 +164,15 @@ def test_a_wall_higher_than_100_m_is_refused_by_its_line(office, height):
 def test_a_wall_of_100_m_is_taken(office):
     (office / "p.yaml").write_text((office / "office.yaml").read_text().replace("wall_height: 2.5", "wall_height: 100"))
     assert vwg("check", "p.yaml", cwd=office).returncode == 0
+
+
+# ---- a record replayed on another world ----------------------------------------------------------------------
+def test_replay_on_a_world_whose_map_is_not_the_records_names_both_shapes(office):
+    made = vwg("run", "office.yaml", "--frames", "3", "--record", "r.jsonl", "--allow-unreached", cwd=office)
+    assert made.returncode == 0, made.stderr
+    result = vwg("replay", "r.jsonl", "--world", "maze", cwd=office)
+    assert result.returncode == 2, result.stderr
+    # office's map is 500 × 360 cells (25 × 18 m at 0.05 m), maze's 302 × 302.
+    assert "maze.yaml: its map is 302×302 cells; the record r.jsonl was made on a map of 500×360 cells" \
+        in result.stderr
+    assert vwg("replay", "r.jsonl", "--world", "office.yaml", cwd=office).returncode == 0

@@ -366,6 +366,22 @@ class CaseStudy:
 TRAJECTORY_FORMATS = {".png": "png", ".jpg": "jpeg", ".jpeg": "jpeg"}
 
 
+def _check_record_map(header: dict[str, Any], world: RobotWorld, record_path: Path) -> None:
+    """A record replays only on a world whose map has its robots' map's shape (another world's ran to
+    frame 0 and failed there, exit 1): Error naming both shapes, before anything runs."""
+    import re
+
+    found = re.search(r"\bgrid=@([0-9a-f]+)", str(header.get("initial", "")))
+    blob = (header.get("blobs") or {}).get(found.group(1)) if found else None
+    shape = blob.get("shape") if isinstance(blob, dict) else None
+    if not (isinstance(shape, list) and len(shape) == 2):
+        return  # no robot map in the record to compare (the replay says what is wrong, if anything)
+    rows, cols = shape
+    if (rows, cols) != (world.grid.height, world.grid.width):
+        raise Error(f"{world.path}: its map is {world.grid.width}×{world.grid.height} cells; the record "
+                    f"{record_path} was made on a map of {cols}×{rows} cells (another world's)")
+
+
 def trajectory_type_error(path: Path) -> str:
     """What is wrong with a --trajectory name whose extension is not a picture's we write."""
     return f"{path}: unknown picture type '{path.suffix}'; use {', '.join(TRAJECTORY_FORMATS)}"
@@ -507,7 +523,9 @@ class RobotKind:
         from .robotworld import load_robot_world  # a robot world names no code: nothing to allow
 
         data = robot_data(header, record_path)
-        return case_study_world(load_robot_world(path or data["robot_world"]), make_decider(data["planner"]))
+        loaded = load_robot_world(path or data["robot_world"])
+        _check_record_map(header, loaded, record_path)
+        return case_study_world(loaded, make_decider(data["planner"]))
 
     def describe(self, w: RobotWorld) -> tuple[str, list[tuple[str, str]]]:
         g = w.grid
