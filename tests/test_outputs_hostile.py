@@ -176,3 +176,29 @@ def test_replay_on_a_world_whose_map_is_not_the_records_names_both_shapes(office
     assert "maze.yaml: its map is 302×302 cells; the record r.jsonl was made on a map of 500×360 cells" \
         in result.stderr
     assert vwg("replay", "r.jsonl", "--world", "office.yaml", cwd=office).returncode == 0
+
+
+# ---- out of memory during a run ------------------------------------------------------------------------------
+@pytest.mark.parametrize("cause", [MemoryError(), RuntimeError("std::bad_alloc")])
+def test_running_out_of_memory_in_a_frame_is_exit_2_naming_the_maps_cells(monkeypatch, capsys, cause):
+    import vwg.launch
+    from vwg.cli import main
+    from vwg.errors import FrameError
+
+    real_start = vwg.launch.start
+
+    def start(world, options=None):
+        run = real_start(world, options)
+
+        def execute(progress=None):  # as the engine reports a frame whose allocation failed
+            raise FrameError("frame 0, evolve of actor ARobot<id=1>: std::bad_alloc") from cause
+
+        run.execute = execute
+        return run
+
+    monkeypatch.setattr(vwg.launch, "start", start)
+    assert main(["run", "office", "--frames", "1"]) == 2
+    err = capsys.readouterr().err
+    # office's map: 500 × 360 = 180,000 cells.
+    assert "office: not enough memory for this run (its map has 180,000 cells)" in err
+    assert "Traceback" not in err

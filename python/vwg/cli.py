@@ -71,17 +71,30 @@ def _cmd_run(args: argparse.Namespace) -> int:
     _core.set_python_budget(args.python_budget)
     world = load(args.world)
     options = _options(args)
-    run = start(world, options)
     try:
-        outcome = run.execute(progress=options.progress)
-    finally:
-        run.close()
+        run = start(world, options)
+        try:
+            outcome = run.execute(progress=options.progress)
+        finally:
+            run.close()
+    except (FrameError, MemoryError) as e:
+        if not _out_of_memory(e):
+            raise
+        grid = getattr(world, "grid", None)
+        cells = f" (its map has {grid.width * grid.height:,} cells)" if grid is not None else ""
+        raise Error(f"{args.world}: not enough memory for this run{cells}: use a smaller map or a machine "
+                    "with more memory") from None
     if not args.quiet:
         print(f"vwg run {args.world} — {outcome.title}")
         _print_summary(outcome.rows + list(outcome.outputs.items()))
     if outcome.exit_status:
         print(f"vwg: {outcome.message}", file=sys.stderr)
     return outcome.exit_status
+
+
+def _out_of_memory(e: BaseException) -> bool:
+    """A MemoryError, or C++'s std::bad_alloc inside a frame (a FrameError caused by one)."""
+    return any(isinstance(x, MemoryError) or "bad_alloc" in str(x) for x in (e, e.__cause__) if x is not None)
 
 
 def _cmd_replay(args: argparse.Namespace) -> int:
