@@ -209,9 +209,10 @@ def run_inputs(world: Any) -> dict[str, Path]:
             from .yamldoc import YamlDoc
 
             try:  # the map was read when the world loaded: this only finds its image's name again
-                image = YamlDoc(map_path).data.get("image")
+                data = YamlDoc(map_path).data
             except Error:
-                image = None
+                data = None
+            image = data.get("image") if isinstance(data, dict) else None
             if isinstance(image, str) and image:
                 inputs["the map's image"] = Path(map_path).parent / image
     return inputs
