@@ -115,7 +115,7 @@ lint:
 stress: install
 	cd benchmarks && ../$(PY) bench_stress.py
 
-## The readers fuzzed longer than make test does (tests/test_fuzz.py, 20,000 inputs a reader; ~5 min).
+## The readers fuzzed longer than make test does (tests/test_fuzz.py, 20,000 inputs a reader; ~12 min).
 fuzz: install
 	VWG_FUZZ_EXAMPLES=20000 $(PY) -m pytest -q tests/test_fuzz.py
 
