@@ -636,11 +636,6 @@ def read_key(path: str | Path) -> bytes:
     return key
 
 
-def line_hash(text: str) -> str:
-    """A line's link in an unkeyed chain: the first 32 hex digits of the SHA-256 of its text."""
-    return Chain().link(text.encode("utf-8"))
-
-
 @dataclass
 class Record:
     """A record as read: the header, each frame's line with ``events`` as the events' texts (runs
@@ -814,8 +809,9 @@ def _fault_error(fault: Any) -> str:
 
 def _clip(value: Any) -> str:
     """A value from a record, for an error: its repr cut to 60 characters (a 400-digit number)."""
-    text = repr(value)
-    return text if len(text) <= 60 else text[:57] + "..."
+    from .launch import clip
+
+    return clip(repr(value), 60)
 
 
 def _check_end(path: Path, n: int, obj: dict[str, Any], raw: bytes, chain: Chain, frames: int, t: int) -> None:
