@@ -107,8 +107,11 @@ pytest: test-deps
 check: install test-deps lint
 	$(PY) -m pytest -q -m "not slow" -p no:cacheprovider
 
+## Lint: ruff, and the layers of the Python face (import-linter's contracts in pyproject.toml: a layer
+## imports only those below it, imports inside functions included).
 lint:
 	$(VENV)/bin/ruff check python tests examples benchmarks tools
+	PYTHONPATH=python $(VENV)/bin/lint-imports --config pyproject.toml
 
 ## A long run (benchmarks/bench_stress.py): 10,000 frames of 100 robots, an order every 50 frames; fails
 ## if the memory grows or the run slows down (about 3 min).

@@ -31,13 +31,13 @@ MAPS = ("random512-10-0.map", "8room_000.map", "den312d.map", "arena.map")
 
 
 def queries(name: str) -> tuple[np.ndarray, list[tuple[tuple[int, int], tuple[int, int]]]]:
-    grid = vwg.maps.load_movingai(DATA / name)
+    grid = vwg.io.maps.load_movingai(DATA / name)
     out = []
     for line in (DATA / f"{name}.scen").read_text().splitlines()[1:]:
         f = line.split("\t")
         if len(f) >= 9:
             sx, sy, gx, gy = (int(v) for v in f[4:8])
-            out.append((vwg.maps.movingai_cell(sx, sy, grid.height), vwg.maps.movingai_cell(gx, gy, grid.height)))
+            out.append((vwg.io.maps.movingai_cell(sx, sy, grid.height), vwg.io.maps.movingai_cell(gx, gy, grid.height)))
     return grid.data != 0, out
 
 

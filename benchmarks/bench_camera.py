@@ -40,7 +40,7 @@ def main() -> int:
     parser.add_argument("--quick", action="store_true")
     args = parser.parse_args()
     world = vwg.robot.load_robot_world(ROOT / "maps" / "office.yaml")
-    camera = _core.CameraRenderer(world.grid, world.rooms, vwg.sim.CameraSpec(wall_height=world.wall_height))
+    camera = _core.CameraRenderer(world.grid, world.rooms, vwg.robot.CameraSpec(wall_height=world.wall_height))
     poses = poses_in_front_of_markers(world, 60 if args.quick else 300)
     images = [camera.render(p, grey=True) for p in poses[:20]]  # warm up
     t0 = time.perf_counter()

@@ -7,7 +7,7 @@
 
 An actor-event is one (actor, event) pair through λ. Every frame runs the three semantic functions
 explicitly (vwg.evolve, vwg.visualize, vwg.display on a NullBackend), so the engine's shortcut for
-strings without actors does not flatter (a). In the same run, vwg.reference (plain Python) evolves
+strings without actors does not flatter (a). In the same run, vwg.testing.reference (plain Python) evolves
 the same strings and the ratio is printed. Times are the best of several repeats on one thread.
 
     python benchmarks/bench_core.py [--quick]      prints a table, writes benchmarks/results/bench_core.json
@@ -23,7 +23,7 @@ import time
 from pathlib import Path
 
 import vwg
-from vwg.reference import Reference
+from vwg.testing.reference import Reference
 
 RESULTS = Path(__file__).resolve().parent / "results" / "bench_core.json"
 STATIC_UNIT = "Move<1.0>(Robot<1> . Rotate<0.5>(Robot<2>)) . Lamp"  # 5 symbols

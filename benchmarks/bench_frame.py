@@ -24,18 +24,18 @@ from tqdm import tqdm
 
 import vwg
 from vwg import _core
-from vwg.casestudy import CaseStudy
+from vwg.robot.case_study import CaseStudy
 
 RESULTS = Path(__file__).resolve().parent / "results" / "bench_frame.json"
-LASER = vwg.sim.LaserSpec(beams=180, fov=math.pi, max_range=10.0, noise=0.01)
+LASER = vwg.robot.LaserSpec(beams=180, fov=math.pi, max_range=10.0, noise=0.01)
 
 
 def rooms_world(cells: int = 500, per_side: int = 4) -> vwg.robot.RobotWorld:
     """A square map of `cells` × `cells` (0.05 m each: 25 × 25 m for 500) divided into per_side ×
     per_side rooms by 0.15 m walls, each wall with a 1.2 m door; a room in each, its goal at the
     room's centre (its marker on the room's south wall). Big enough for a thousand robots."""
-    from vwg.maps import OccupancyGrid
-    from vwg.robotworld import Room
+    from vwg.io.maps import OccupancyGrid
+    from vwg.robot.world_file import Room
 
     res, side = 0.05, cells * 0.05
     occ = np.zeros((cells, cells), dtype=bool)
@@ -82,7 +82,7 @@ def crowd(n: int, seed: int = 0, world: vwg.robot.RobotWorld | None = None) -> v
                 break
     robots = [vwg.robot.RobotSettings(id=i + 1, start=(x, y, float(rng.uniform(-math.pi, math.pi))), sensors=("laser",))
               for i, (x, y) in enumerate(starts)]
-    return dataclasses.replace(world, robots=robots, laser=LASER, orders=[])
+    return dataclasses.replace(world, robots=robots, sensors={**world.sensors, "laser": LASER}, orders=[])
 
 
 def room_goals(world: vwg.robot.RobotWorld) -> dict[int, str]:

@@ -22,7 +22,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from bench_frame import crowd, room_goals, rooms_world
 from machine import rss_mb, write_results
 
-from vwg.casestudy import CaseStudy
+from vwg.robot.case_study import CaseStudy
 
 RESULTS = Path(__file__).resolve().parent / "results" / "bench_memory.json"
 

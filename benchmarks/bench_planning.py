@@ -30,20 +30,20 @@ RESULTS = Path(__file__).resolve().parent / "results" / "bench_planning.json"
 
 
 def movingai_blocked(name: str) -> np.ndarray:
-    grid = vwg.maps.load_movingai(DATA / name)
+    grid = vwg.io.maps.load_movingai(DATA / name)
     return grid.data != 0  # rows flipped to map order; the planners do not mind
 
 
 def scenarios(name: str) -> list[tuple[tuple[int, int], tuple[int, int], float]]:
     rows = []
     lines = (DATA / f"{name}.scen").read_text().splitlines()[1:]
-    height = vwg.maps.load_movingai(DATA / name).height
+    height = vwg.io.maps.load_movingai(DATA / name).height
     for line in lines:
         f = line.split("\t")
         if len(f) < 9:
             continue
         sx, sy, gx, gy = (int(v) for v in f[4:8])
-        rows.append((vwg.maps.movingai_cell(sx, sy, height), vwg.maps.movingai_cell(gx, gy, height), float(f[8])))
+        rows.append((vwg.io.maps.movingai_cell(sx, sy, height), vwg.io.maps.movingai_cell(gx, gy, height), float(f[8])))
     return rows
 
 

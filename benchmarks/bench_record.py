@@ -22,9 +22,10 @@ from pathlib import Path
 import numpy as np
 
 import vwg
-from vwg.casestudy import CaseStudy, case_study_world, make_decider
-from vwg.record import Recorder, read_record, replay
-from vwg.robotworld import load_robot_world
+from vwg.generic import replay
+from vwg.io.record import Recorder, read_record
+from vwg.robot.case_study import CaseStudy, case_study_world, make_decider
+from vwg.robot.world_file import load_robot_world
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from bench_frame import crowd, room_goals

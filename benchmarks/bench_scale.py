@@ -117,7 +117,7 @@ def irsim_row(world: Any, frames: int, python: str) -> dict[str, Any] | None:
 def vwg_row(world: Any, frames: int, threads: int, planner: str) -> dict[str, Any]:
     from bench_frame import room_goals
 
-    from vwg.casestudy import CaseStudy
+    from vwg.robot.case_study import CaseStudy
 
     goals = room_goals(world)
     settle_memory()

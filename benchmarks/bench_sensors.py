@@ -33,14 +33,14 @@ RESULTS = Path(__file__).resolve().parent / "results" / "bench_sensors.json"
 
 def office_1000() -> SimpleNamespace:
     """The shipped office floor tiled 2×3 and cut to 1000×1000 cells (50 × 50 m)."""
-    office = vwg.maps.load_map(ROOT / "maps" / "office" / "map.yaml").data
+    office = vwg.io.maps.load_map(ROOT / "maps" / "office" / "map.yaml").data
     tiled = np.tile(office, (3, 2))[:1000, :1000]
     return SimpleNamespace(data=np.ascontiguousarray(tiled), resolution=0.05, origin=(0.0, 0.0, 0.0))
 
 
 def willow_1000() -> SimpleNamespace:
     """The real Willow Garage map cut to 1000×1000 cells."""
-    willow = vwg.maps.load_map(ROOT / "maps" / "willow" / "map.yaml").data
+    willow = vwg.io.maps.load_map(ROOT / "maps" / "willow" / "map.yaml").data
     return SimpleNamespace(data=np.ascontiguousarray(willow[100:1100, 66:1066]), resolution=0.05,
                            origin=(0.0, 0.0, 0.0))
 

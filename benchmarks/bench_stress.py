@@ -26,7 +26,7 @@ from bench_frame import crowd
 from machine import rss_mb, write_results
 from tqdm import tqdm
 
-from vwg.casestudy import CaseStudy
+from vwg.robot.case_study import CaseStudy
 
 RESULTS = Path(__file__).resolve().parent / "results" / "bench_stress.json"
 STRETCH = 500  # frames between samples

@@ -1,5 +1,5 @@
 """Shared test worlds. The actors here are small enough that every expected string in the tests
-can be worked out by hand; the pure-Python reference (vwg.reference) is the second method for the
+can be worked out by hand; the pure-Python reference (vwg.testing.reference) is the second method for the
 generated cases."""
 
 from __future__ import annotations

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import vwg
-from vwg.reference import Reference
+from vwg.testing.reference import Reference
 
 
 class Walker(vwg.Actor):

@@ -35,7 +35,7 @@ def setup(decider=None, grid_cells=None, **attributes):
     grid = SimpleNamespace(data=np.zeros((10, 20), np.int8), resolution=RES, origin=(0.0, 0.0, 0.0))
     alphabet = vwg.Alphabet(events={n: {f: spec[1] for f, spec in fields.items()}
                                     for n, fields in _core.arobot_event_types().items()} | {"tick": None},
-                            visual=["eExecute"], **vwg.sim.MOTION_SYMBOLS)
+                            visual=["eExecute"], **vwg.robot.platforms.sim.MOTION_SYMBOLS)
     # Room with marker 3: its goal at (1.55, 0.55).
     _core.add_arobot(alphabet, decider or Fixed(), grid, {3: (1.55, 0.55)}, radius=0.1, margin=0.0,
                      goal_tolerance=0.25, step_length=1.0)

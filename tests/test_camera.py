@@ -25,12 +25,12 @@ RES = 0.05
 # --- scenes and the pinhole model -------------------------------------------------------------------
 
 
-def east_wall_room() -> vwg.maps.OccupancyGrid:
+def east_wall_room() -> vwg.io.maps.OccupancyGrid:
     """20 m × 20 m at 0.05 m per cell; everything east of x = 10 m is wall, so its face is the plane x = 10,
     facing west (-x)."""
     data = np.zeros((400, 400), np.int8)
     data[:, 200:] = 100
-    return vwg.maps.OccupancyGrid(data, RES)
+    return vwg.io.maps.OccupancyGrid(data, RES)
 
 
 class Pinhole:
@@ -97,13 +97,13 @@ def test_intrinsics_follow_the_field_of_view():
     assert (cam.cx, cam.cy) == (319.5, 239.5)
     fx, fy, cx, cy = cam.apriltag_intrinsics()
     assert (fx, fy, cx, cy) == (cam.fx, cam.fy, 320.0, 240.0)
-    other = _core.CameraRenderer(east_wall_room(), [], vwg.sim.CameraSpec(width=320, height=200, hfov=1.2))
+    other = _core.CameraRenderer(east_wall_room(), [], vwg.robot.CameraSpec(width=320, height=200, hfov=1.2))
     assert other.fx == pytest.approx(160 / math.tan(0.6), abs=1e-9)
     assert (other.cx, other.cy) == (159.5, 99.5)
 
 
 def test_images_are_uint8_rgb_or_grey():
-    cam = _core.CameraRenderer(east_wall_room(), [marker()], vwg.sim.CameraSpec(width=200, height=150))
+    cam = _core.CameraRenderer(east_wall_room(), [marker()], vwg.robot.CameraSpec(width=200, height=150))
     rgb = cam.render((6.0, 10.0, 0.0))
     grey = cam.render((6.0, 10.0, 0.0), grey=True)
     assert rgb.shape == (150, 200, 3) and rgb.dtype == np.uint8
@@ -115,7 +115,7 @@ def test_images_are_uint8_rgb_or_grey():
 @pytest.mark.parametrize("d", [1.5, 2.5, 4.0, 7.0])
 def test_wall_top_and_foot_where_the_pinhole_puts_them(d):
     # Walls 1 m tall, so the top (0.5 m above the camera) is in view from 1.2 m on.
-    cam = _core.CameraRenderer(east_wall_room(), [], vwg.sim.CameraSpec(wall_height=1.0))
+    cam = _core.CameraRenderer(east_wall_room(), [], vwg.robot.CameraSpec(wall_height=1.0))
     pin = Pinhole()
     grey = cam.render((10.0 - d, 10.0, 0.0), grey=True).astype(int)  # square on: every column's depth is d
     top = pin.cy - pin.fx * (1.0 - 0.5) / d
@@ -171,7 +171,7 @@ def test_marker_distance_and_bearing(d):
     assert seen >= (1 if d < 1.0 else 4)
 
 
-def clear_line(grid: vwg.maps.OccupancyGrid, a, b) -> bool:
+def clear_line(grid: vwg.io.maps.OccupancyGrid, a, b) -> bool:
     """No wall cell on the segment a-b (sampled every 1/4 cell)."""
     n = int(math.hypot(b[0] - a[0], b[1] - a[1]) / (grid.resolution / 4)) + 1
     for t in np.linspace(0.0, 1.0, n):
@@ -185,7 +185,7 @@ def clear_line(grid: vwg.maps.OccupancyGrid, a, b) -> bool:
 def test_world_file_rooms_are_markers_and_detected():
     world = vwg.robot.load_robot_world(ROOT / "maps" / "office.yaml")
     for markers in (world.rooms, list(world.rooms.values())):
-        cam = _core.CameraRenderer(world.grid, markers, vwg.sim.CameraSpec(wall_height=world.wall_height))
+        cam = _core.CameraRenderer(world.grid, markers, vwg.robot.CameraSpec(wall_height=world.wall_height))
         assert sorted(m["id"] for m in cam.markers) == sorted(r.marker for r in world.rooms.values())
         assert {m["label"] for m in cam.markers} == set(world.rooms)
     pin = Pinhole()
@@ -216,7 +216,7 @@ def test_world_file_rooms_are_markers_and_detected():
 
 def test_noise_and_blur_still_detect_at_two_metres():
     m = marker(3, height=0.9)
-    cam = _core.CameraRenderer(east_wall_room(), [m], vwg.sim.CameraSpec(noise=6.0, blur=1.2), seed=5)
+    cam = _core.CameraRenderer(east_wall_room(), [m], vwg.robot.CameraSpec(noise=6.0, blur=1.2), seed=5)
     for turn in (0.0, 0.25, -0.25):
         pose = (8.0, 10.0, turn)
         assert fully_in_view(Pinhole(), pose, m)
@@ -230,9 +230,9 @@ def test_noise_and_blur_still_detect_at_two_metres():
 
 def test_noise_is_seeded():
     pose = (6.0, 10.0, 0.1)
-    a = _core.CameraRenderer(east_wall_room(), [], vwg.sim.CameraSpec(noise=5.0), seed=1)
-    b = _core.CameraRenderer(east_wall_room(), [], vwg.sim.CameraSpec(noise=5.0), seed=1)
-    c = _core.CameraRenderer(east_wall_room(), [], vwg.sim.CameraSpec(noise=5.0), seed=2)
+    a = _core.CameraRenderer(east_wall_room(), [], vwg.robot.CameraSpec(noise=5.0), seed=1)
+    b = _core.CameraRenderer(east_wall_room(), [], vwg.robot.CameraSpec(noise=5.0), seed=1)
+    c = _core.CameraRenderer(east_wall_room(), [], vwg.robot.CameraSpec(noise=5.0), seed=2)
     clean = _core.CameraRenderer(east_wall_room(), []).render(pose, grey=True).astype(float)
     ia = a.render(pose, grey=True)
     assert np.array_equal(ia, b.render(pose, grey=True))
@@ -270,7 +270,7 @@ def test_other_robots_are_cylinders():
 
 def test_robots_from_the_world_file_and_the_physics():
     world = vwg.robot.load_robot_world(ROOT / "maps" / "office.yaml")
-    cam = _core.CameraRenderer(world.grid, world.rooms, vwg.sim.CameraSpec(wall_height=world.wall_height))
+    cam = _core.CameraRenderer(world.grid, world.rooms, vwg.robot.CameraSpec(wall_height=world.wall_height))
     one, two = world.robots[0], world.robots[1]
     # RobotSettings (start); robot 1's own cylinder holds the camera and is skipped.
     with_specs = cam.render(one.start, robots=world.robots)
@@ -304,11 +304,11 @@ def test_bad_markers_name_the_field(bad, field):
 ])
 def test_bad_camera_settings_name_the_field(kwargs, field):
     with pytest.raises(vwg.SchemaError, match=re_field(field)):
-        _core.CameraRenderer(east_wall_room(), [], vwg.sim.CameraSpec(**kwargs))
+        _core.CameraRenderer(east_wall_room(), [], vwg.robot.CameraSpec(**kwargs))
 
 
 def test_bad_poses_and_robots_raise():
-    cam = _core.CameraRenderer(east_wall_room(), [], vwg.sim.CameraSpec(width=64, height=48))
+    cam = _core.CameraRenderer(east_wall_room(), [], vwg.robot.CameraSpec(width=64, height=48))
     with pytest.raises(vwg.SchemaError, match="pose"):
         cam.render((1.0, 2.0))
     with pytest.raises(vwg.SchemaError, match=re_field("robots[0].radius")):
@@ -395,7 +395,7 @@ def test_overview_perspective_follows_the_documented_view():
     data = np.zeros((160, 200), np.int8)
     data[:4], data[-4:], data[:, :4], data[:, -4:] = 100, 100, 100, 100
     data[60:80, 80:120] = 100  # a block: x 4..6 m, y 3..4 m
-    grid = vwg.maps.OccupancyGrid(data, RES)
+    grid = vwg.io.maps.OccupancyGrid(data, RES)
     az, el, fov, dist = -2.0, 1.0, 0.7, 14.0
     eye = np.array([5.0 + dist * math.cos(el) * math.cos(az), 4.0 + dist * math.cos(el) * math.sin(az),
                     dist * math.sin(el)])

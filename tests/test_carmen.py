@@ -12,9 +12,9 @@ import pytest
 
 import vwg
 from vwg import _core
-from vwg.actor import Sym
-from vwg.maps import OccupancyGrid
-from vwg.ros_messages import laser_scan, scan_message
+from vwg.io.maps import OccupancyGrid
+from vwg.model.actor import Sym
+from vwg.robot.links.ros_messages import laser_scan, scan_message
 
 LOG = Path(__file__).parent / "data" / "carmen" / "aces-corrected.log.gz"
 MAX_RANGE = 40.0  # readings at or beyond this are no return
@@ -42,7 +42,7 @@ def beam_angles(n: int) -> np.ndarray:
 
 class CarmenReplay(_core.Generator):
     """One scan a frame: the robot's corrected pose as its odometry, then the scan as a
-    sensor_msgs/LaserScan message read by vwg.ros_messages.laser_scan (what a rosbridge link does)."""
+    sensor_msgs/LaserScan message read by vwg.robot.links.ros_messages.laser_scan (what a rosbridge link does)."""
 
     def __init__(self, scans: list) -> None:
         super().__init__()
@@ -110,7 +110,7 @@ def test_a_real_robots_scans_build_the_map_an_independent_method_builds():
     assert len(scans) == 440
     grid = frame_of(scans)
     events = {name: {f: spec[1] for f, spec in fields.items()} for name, fields in _core.arobot_event_types().items()}
-    alphabet = vwg.Alphabet(events=events, visual=["eExecute"], **vwg.sim.MOTION_SYMBOLS)
+    alphabet = vwg.Alphabet(events=events, visual=["eExecute"], **vwg.robot.platforms.sim.MOTION_SYMBOLS)
     _core.add_arobot(alphabet, _core.create_decider("random"), grid, {}, radius=0.25)
     world = vwg.World(alphabet)
     (x, y, theta), _ = scans[0]

@@ -13,7 +13,7 @@ import pytest
 
 import vwg
 from conftest import ROOT
-from vwg.casestudy import CaseStudy, make_decider
+from vwg.robot.case_study import CaseStudy, make_decider
 
 WORLDS = ["office", "maze", "warehouse", "field", "willow"]
 
@@ -222,7 +222,7 @@ def _video_frames(path):
 
 @pytest.mark.slow
 def test_a_second_run_continues_the_video_and_the_end_holds_the_final_state(tmp_path):
-    from vwg.record import Recorder, read_record
+    from vwg.io.record import Recorder, read_record
 
     video, images, log = tmp_path / "run.mp4", tmp_path / "frames", tmp_path / "run.jsonl"
     with CaseStudy(world("office"), "astar", goals={1: "kitchen"}, video=video, images=images) as run:
@@ -242,7 +242,7 @@ def test_a_second_run_continues_the_video_and_the_end_holds_the_final_state(tmp_
 
 
 def test_the_3d_overview_is_taken_from_where_the_robots_are_seen():
-    from vwg.overview import VIEWS, render_world_overview, robots_seen
+    from vwg.robot.overview import VIEWS, render_world_overview, robots_seen
 
     office = world("office")
     # Both office robots stand in the corridor: from the default oblique view its 2.5 m walls hide
@@ -258,14 +258,15 @@ def test_the_3d_overview_is_taken_from_where_the_robots_are_seen():
         green = (g > 110) & (r < 110) & (b < 110) & (g - r > 40) & (g - b > 40)
         return int(orange.sum()), int(green.sum())
 
-    default = vwg.sim.render_overview(office.grid, markers=office.rooms, robots=office.robots,
+    default = vwg.robot.platforms.sim.render_overview(office.grid, markers=office.rooms, robots=office.robots,
                                   wall_height=office.wall_height, labels=False)
     chosen = render_world_overview(office, labels=False)
     assert all(c > d for c, d in zip(robot_pixels(chosen), robot_pixels(default), strict=True))
 
 
 def test_a_third_party_sensor_registers_by_name_and_a_world_file_lists_it(tmp_path):
-    from vwg.registry import Sensor, sensors
+    from vwg.plugins import sensors
+    from vwg.robot.sensor import Sensor
 
     class Sonar(vwg.Generator):
         """One echo straight ahead at 1 m, every frame, for its robot."""
@@ -278,11 +279,17 @@ def test_a_third_party_sensor_registers_by_name_and_a_world_file_lists_it(tmp_pa
             return [vwg.Event("eLaser", target=self.robot, dist=1.0, angle=0.0)]
 
     made = []
-    def make(platform, alphabet, robot):
-        made.append(robot)
-        return Sonar(robot)
 
-    sensors.register("sonar-test", lambda: Sensor(make))
+    class SonarSensor(Sensor):
+        name = "sonar-test"
+        events = {"eLaser": {"dist": 0.0, "angle": 0.0}}
+        ranging = True
+
+        def make(self, platform, alphabet, robot):
+            made.append(robot)
+            return Sonar(robot)
+
+    sensors.register("sonar-test", SonarSensor)
     field = ROOT / "maps" / "field.yaml"
     text = field.read_text().replace("map: field/map.yaml", f"map: {field.parent / 'field' / 'map.yaml'}")
     text = text.replace("sensors: [kinect, camera]", "sensors: [sonar-test]", 1)
@@ -305,3 +312,4 @@ def test_a_third_party_sensor_registers_by_name_and_a_world_file_lists_it(tmp_pa
     with pytest.raises(vwg.WorldFileError, match=r"robots\[0\]\.sensors\[0\]: unknown sensor 'radar' \(registered: "
                                                  r"camera, kinect, laser, sonar-test\)"):
         vwg.robot.load_robot_world(tmp_path / "radar.yaml")
+    sensors.unregister("sonar-test")

@@ -16,7 +16,7 @@ import pytest
 
 from conftest import ROOT
 from vwg.cli import EXIT_UNREACHED, main, strict_json
-from vwg.worlds import resolve_world, shipped_worlds
+from vwg.io.shipped import resolve_world, shipped_worlds
 
 SHIPPED = ["field", "maze", "office", "warehouse", "willow"]
 FIREFLIES = ROOT / "examples" / "01_fireflies" / "world.yaml"
@@ -73,7 +73,7 @@ def test_check_describes_every_shipped_robot_world(name, capsys):
     assert main(["check", name]) == 0
     out = capsys.readouterr().out
     assert out.startswith(f"{name}: ok, a robot world")
-    from vwg.robotworld import load_robot_world
+    from vwg.robot.world_file import load_robot_world
 
     world = load_robot_world(name)
     for room in world.rooms:
@@ -97,7 +97,8 @@ def test_commands_refuse_the_wrong_kind_of_file(tmp_path, capsys):
     for command in ("run", "check", "overview"):
         assert main([command, str(odd)]) == 2
         err = capsys.readouterr().err
-        assert "not a world file: expected a robot world (a mapping with map:" in err, command
+        assert "not a world file: expected a " in err, command  # each registered kind, by name
+        assert "a robot world (a mapping with map:" in err and "a generic world (a mapping with alphabet:" in err
         assert "found keys: colour" in err
     assert main(["run", str(FIREFLIES), "--goal", "kitchen"]) == 2
     assert "--goal is for robot worlds" in capsys.readouterr().err
@@ -137,7 +138,7 @@ def test_every_shipped_world_reaches_its_own_orders_quietly(name, tmp_path):
     assert done.stderr == ""  # no library prints (OMPL, libapriltag) on a run that went well
     data = strict_loads(summary.read_text())
     assert data["reached"] is True
-    from vwg.robotworld import load_robot_world
+    from vwg.robot.world_file import load_robot_world
 
     world = load_robot_world(name)
     last = {o.robot: o.room for o in world.orders}
@@ -191,7 +192,7 @@ def test_the_platform_is_one_setting(tmp_path, capsys):
 
 def test_a_third_party_decider_registers_by_name(tmp_path, capsys):
     import vwg
-    from vwg.registry import deciders
+    from vwg.plugins import deciders
 
     class Straight(vwg.robot.Decider):
         """Face the goal, drive up to a metre: enough in the open field."""

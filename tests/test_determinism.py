@@ -48,7 +48,7 @@ def test_pinned_hash_of_the_string_and_the_platform_after_150_frames():
     import struct
 
     import vwg
-    from vwg.casestudy import CaseStudy
+    from vwg.robot.case_study import CaseStudy
 
     run = CaseStudy(vwg.robot.load_robot_world("office"), "astar", goals={1: "kitchen", 2: "lounge"},
                     sensors=("laser", "camera"))

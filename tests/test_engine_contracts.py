@@ -137,7 +137,7 @@ def test_adding_an_observer_during_a_frame_of_the_same_engine_is_refused():
 ROBOT_READERS = """
 import sys, threading
 import vwg
-from vwg.casestudy import CaseStudy
+from vwg.robot.case_study import CaseStudy
 
 case = CaseStudy(vwg.robot.load_robot_world("office"), "astar", goals={1: "kitchen", 2: "lab"}, threads=2)
 engine = case.engine

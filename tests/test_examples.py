@@ -10,7 +10,7 @@ import numpy as np
 
 from conftest import ROOT
 from vwg.cli import main
-from vwg.record import read_record
+from vwg.io.record import read_record
 
 FIREFLIES = ROOT / "examples" / "01_fireflies" / "world.yaml"
 

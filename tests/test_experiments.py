@@ -16,8 +16,8 @@ import numpy as np
 import pytest
 
 from vwg.experiments import CONFIGS, run_experiments
-from vwg.map_quality import map_quality
-from vwg.maps import OccupancyGrid
+from vwg.io.maps import OccupancyGrid
+from vwg.robot.map_quality import map_quality
 
 HEADINGS = ["## 1. Test of the evolution function", "## 2. Test of device independence",
             "## 3. Test to validate the simulation", "## 4. Test of the system extensibility",

@@ -27,9 +27,9 @@ from hypothesis import strategies as st
 
 import vwg
 from conftest import ROOT, make_world
-from vwg import ros_messages
 from vwg.errors import Error, ParseError, WorldFileError
-from vwg.serial_platform import encoder_counts
+from vwg.robot.links import ros_messages
+from vwg.robot.platforms.serial_base import encoder_counts
 
 CORPUS = ROOT / "tests" / "fuzz_corpus"
 EXAMPLES = int(os.environ.get("VWG_FUZZ_EXAMPLES", "150"))
@@ -188,7 +188,7 @@ def test_movingai_maps_load_or_refuse(tmp_path_factory, text):
     path = tmp_path_factory.mktemp("m") / "x.map"
     path.write_bytes(text.encode("utf-8", errors="surrogatepass"))
     try:
-        grid = vwg.maps.load_movingai(path)
+        grid = vwg.io.maps.load_movingai(path)
     except WorldFileError as e:
         assert str(path) in str(e)
         return
@@ -204,7 +204,7 @@ def test_map_images_load_or_refuse(tmp_path_factory, body, head):
     (folder / "m.yaml").write_text("image: m.pgm\nresolution: 0.05\norigin: [0, 0, 0]\nnegate: 0\n"
                                    "occupied_thresh: 0.65\nfree_thresh: 0.196\n")
     try:
-        grid = vwg.maps.load_map(folder / "m.yaml")
+        grid = vwg.io.maps.load_map(folder / "m.yaml")
     except WorldFileError as e:
         assert str(folder) in str(e)
         return
@@ -233,7 +233,7 @@ def test_map_yaml_numbers_load_or_refuse_by_place(tmp_path_factory, text):
     (folder / "map.png").write_bytes(MAP_IMAGE)
     (folder / "m.yaml").write_text(text)
     try:
-        grid = vwg.maps.load_map(folder / "m.yaml")
+        grid = vwg.io.maps.load_map(folder / "m.yaml")
     except WorldFileError as e:
         assert str(folder / "m.yaml") in str(e), str(e)
         return
@@ -251,14 +251,14 @@ def test_the_hostile_seeds_are_refused_by_place(tmp_path, path):
         (tmp_path / "map.png").write_bytes(MAP_IMAGE)
         target = tmp_path / path.name
         target.write_text(path.read_text())
-        load = vwg.maps.load_map
+        load = vwg.io.maps.load_map
     elif path.parent.name == "world":
         target = tmp_path / path.name
         target.write_text(path.read_text().replace("map: office/map.yaml",
                                                    f"map: {ROOT / 'maps' / 'office' / 'map.yaml'}"))
         load = vwg.robot.load_robot_world
     else:
-        target, load = path, vwg.maps.load_movingai
+        target, load = path, vwg.io.maps.load_movingai
     if path.name == "plain.yaml":
         load(target)  # the corpus's one good map: it loads
         return
@@ -297,7 +297,7 @@ def relinked(text: str) -> str:
 @FUZZ
 @given(mutated(RECORD_SEEDS), st.booleans())
 def test_records_read_or_refuse(tmp_path_factory, text, relink):
-    from vwg.record import read_record
+    from vwg.io.record import read_record
 
     path = tmp_path_factory.mktemp("record") / "fuzz.jsonl"
     path.write_bytes((relinked(text) if relink else text).encode("utf-8", "surrogatepass"))
@@ -363,7 +363,7 @@ def record_with_a_field_changed(draw: st.DrawFn) -> str:
 @FUZZ
 @given(record_with_a_field_changed())
 def test_a_record_with_any_value_in_a_field_replays_or_is_refused(tmp_path_factory, text):
-    from vwg.record import read_record
+    from vwg.io.record import read_record
 
     path = tmp_path_factory.mktemp("record") / "forged.jsonl"
     path.write_bytes(text.encode("utf-8", "surrogatepass"))
@@ -377,7 +377,7 @@ def test_a_record_with_any_value_in_a_field_replays_or_is_refused(tmp_path_facto
 
 @pytest.mark.parametrize("path", corpus_files("record"), ids=lambda p: p.name)
 def test_the_record_seeds_read_or_are_refused_by_line(path):
-    from vwg.record import read_record
+    from vwg.io.record import read_record
 
     if path.name in GOOD_RECORDS:
         read_record(path)

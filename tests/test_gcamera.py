@@ -11,15 +11,15 @@ import pytest
 import vwg
 from conftest import ROOT
 from vwg import _core
-from vwg.casestudy import CaseStudy
 from vwg.robot import RobotSettings
-from vwg.sim import CameraSpec
+from vwg.robot.case_study import CaseStudy
+from vwg.robot.platforms.sim import CameraSpec
 
 DATA = ROOT / "tests" / "data" / "apriltag" / "test_data"
 
 
 def alphabet():
-    return vwg.Alphabet(events=vwg.sim.SIM_EVENTS, **vwg.sim.MOTION_SYMBOLS)
+    return vwg.Alphabet(events=vwg.robot.platforms.sim.SIM_EVENTS, **vwg.robot.platforms.sim.MOTION_SYMBOLS)
 
 
 def test_a_robot_at_a_rooms_goal_sees_its_marker():

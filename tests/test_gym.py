@@ -14,7 +14,7 @@ from pettingzoo.test import parallel_api_test
 
 import vwg.gym
 from conftest import plain_dijkstra
-from vwg.shortest import DistanceField
+from vwg.robot.shortest import DistanceField
 
 
 @pytest.mark.parametrize("kwargs", [{}, {"flat": True}, {"discrete": True}])

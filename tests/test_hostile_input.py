@@ -79,7 +79,7 @@ def test_a_map_resolution_too_big_for_the_simulator_is_refused_with_its_line(tmp
     (tmp_path / "map.yaml").write_text(src.replace("resolution: 0.05", "resolution: 1.0e+30"))
     (tmp_path / "map.pgm").write_bytes((ROOT / "maps" / "office" / "map.pgm").read_bytes())
     with pytest.raises(WorldFileError) as info:
-        vwg.maps.load_map(tmp_path / "map.yaml")
+        vwg.io.maps.load_map(tmp_path / "map.yaml")
     assert f"{tmp_path / 'map.yaml'}:" in str(info.value) and "resolution" in str(info.value) and "<= 100" in \
         str(info.value)
 
@@ -88,15 +88,15 @@ def test_a_python_robot_or_map_beyond_the_simulators_floats_is_refused_not_abort
     # The C++ checks behind the world file's: the process must not abort on a Box2D assertion.
     code = """
 import vwg, numpy as np
-from vwg.maps import OccupancyGrid
+from vwg.io.maps import OccupancyGrid
 grid = OccupancyGrid(np.zeros((10, 10), np.int8), 0.05)
 for robot in (vwg.robot.RobotSettings(start=(0.2, 0.2, 1e39)), vwg.robot.RobotSettings(start=(1e30, 0.2, 0.0))):
     try:
-        vwg.sim.PhysicsWorld(grid, [robot])
+        vwg.robot.platforms.sim.PhysicsWorld(grid, [robot])
     except vwg.Error as e:
         print("refused:", e)
 try:
-    vwg.sim.PhysicsWorld(OccupancyGrid(np.zeros((10, 10), np.int8), 50.0, (1e6, 0, 0)), [])
+    vwg.robot.platforms.sim.PhysicsWorld(OccupancyGrid(np.zeros((10, 10), np.int8), 50.0, (1e6, 0, 0)), [])
 except vwg.Error as e:
     print("refused:", e)
 """
@@ -124,12 +124,12 @@ def test_a_named_pipe_or_a_device_is_refused_before_it_is_read(tmp_path):
     os.mkfifo(fifo)
     # Nothing writes to the pipe: reading it would wait forever.
     result: list[BaseException] = []
-    reader = threading.Thread(target=lambda: _try(lambda: vwg.maps.load_movingai(fifo), result), daemon=True)
+    reader = threading.Thread(target=lambda: _try(lambda: vwg.io.maps.load_movingai(fifo), result), daemon=True)
     reader.start()
     reader.join(timeout=20)
     assert not reader.is_alive() and isinstance(result[0], WorldFileError) and "named pipe" in str(result[0])
     with pytest.raises(WorldFileError, match="a device"):
-        vwg.maps.load_movingai("/dev/zero")
+        vwg.io.maps.load_movingai("/dev/zero")
     with pytest.raises(WorldFileError, match="a device"):
         vwg.robot.load_robot_world("/dev/zero")
     with pytest.raises(WorldFileError, match="a folder"):
@@ -189,7 +189,7 @@ def test_ctrl_c_and_exit_inside_a_lambda_are_not_wrapped(actor, expected):
 def test_a_decider_path_with_nan_is_a_frame_error_naming_it():
     import numpy as np
 
-    from vwg.casestudy import CaseStudy
+    from vwg.robot.case_study import CaseStudy
 
     class NanPath(vwg.robot.Decider):
         def decide(self, robot):
@@ -355,7 +355,7 @@ def test_a_map_origin_beyond_the_simulator_is_refused_with_its_line(tmp_path, or
     path = office_map(tmp_path, origin)
     line = line_of(path.read_text(), "origin:")
     with pytest.raises(WorldFileError) as info:
-        vwg.maps.load_map(path)
+        vwg.io.maps.load_map(path)
     assert str(info.value).startswith(f"{path}:{line}: {field}: ") and words in str(info.value), str(info.value)
     text = OFFICE.replace("map: office/map.yaml", f"map: {path}")
     (tmp_path / "w.yaml").write_text(text)
@@ -377,7 +377,7 @@ def test_a_movingai_header_larger_than_its_file_is_refused_before_the_grid_is_ma
     path = tmp_path / "wide.map"
     path.write_text("type octile\nheight 1\nwidth 1000000000000\nmap\n..\n")  # 10**12 cells: 931 GiB before
     with pytest.raises(WorldFileError) as info:
-        vwg.maps.load_movingai(path)
+        vwg.io.maps.load_movingai(path)
     assert info.value.field == "width" and info.value.line == 3
     assert "1 rows of 1000000000000 cells, more than the file's 48 bytes hold" in str(info.value)
 
@@ -405,7 +405,7 @@ def test_a_map_image_over_the_pixel_limit_is_refused_from_its_header(tmp_path):
     (path.parent / "map.pgm").write_bytes(png)  # a PNG named .pgm: the format is told by its first bytes
     assert len(png) < 500_000
     with pytest.raises(WorldFileError) as info:
-        vwg.maps.load_map(path)
+        vwg.io.maps.load_map(path)
     assert info.value.field == "image" and info.value.line == 1
     assert "a PNG of 20000 × 20000 = 400,000,000 pixels, over the limit of 100,000,000 pixels" in str(info.value)
 
@@ -415,7 +415,7 @@ def test_a_map_image_over_the_pixel_limit_is_refused_from_its_header(tmp_path):
 def test_image_sizes_are_read_from_headers(tmp_path, name, size):
     import numpy as np
 
-    from vwg.image_size import image_size
+    from vwg.io.image_size import image_size
 
     width, height = size
     channels = (height, width, 3) if name.endswith((".jpg", ".ppm")) else (height, width)
@@ -427,7 +427,7 @@ def test_image_sizes_are_read_from_headers(tmp_path, name, size):
 def test_image_headers_with_comments_and_unknown_formats():
     import io
 
-    from vwg.image_size import ImageHeaderError, image_size
+    from vwg.io.image_size import ImageHeaderError, image_size
 
     assert image_size(io.BytesIO(b"P5\n# made by hand\n# two comments\n 640\t480\n255\n" + b"\0" * 10)) == \
         ("PNM", 640, 480)
@@ -512,7 +512,7 @@ def test_a_record_cut_by_a_file_size_limit_says_what_it_holds(tmp_path):
 def test_a_map_image_turned_into_cells_a_block_of_rows_at_a_time_gives_every_row(monkeypatch):
     import numpy as np
 
-    from vwg import maps
+    from vwg.io import maps
 
     # map_saver's grey levels: 254 free, 0 occupied, 205 unknown; row r of the image (top first) is
     # row height - 1 - r of the grid. Blocks of 7 pixels: 3 rows of this 2-wide image a block, 5 blocks.
@@ -527,7 +527,7 @@ def test_a_map_image_turned_into_cells_a_block_of_rows_at_a_time_gives_every_row
 def test_a_world_name_the_system_cannot_take_is_an_error_not_a_traceback():
     # A name over the system's limit was an OSError traceback (ENAMETOOLONG) from vwg run and
     # vwg replay --world.
-    from vwg.worlds import resolve_world
+    from vwg.io.shipped import resolve_world
 
     name = "w" * 5000 + ".yaml"
     with pytest.raises(vwg.Error, match="not a file name this system takes"):
@@ -567,7 +567,7 @@ def test_a_nul_byte_in_a_map_yaml_is_refused_at_its_place(tmp_path):
     path = tmp_path / "map.yaml"
     path.write_bytes(b"image: map.pgm\nresolution: 0.05\x00\n")
     with pytest.raises(WorldFileError) as info:
-        vwg.maps.load_map(path)
+        vwg.io.maps.load_map(path)
     assert str(info.value).startswith(f"{path}:2:17: not valid YAML: unacceptable character #x0000")
 
 
@@ -602,7 +602,7 @@ NO_USER = "vwg-h8-no-such-user"  # a user no test machine has
 
 def test_a_home_folder_of_no_user_is_an_error_naming_the_user(tmp_path):
     # Path.expanduser raised RuntimeError("Could not determine home directory.") for ~nosuchuser.
-    from vwg.worlds import resolve_world
+    from vwg.io.shipped import resolve_world
 
     with pytest.raises(vwg.Error, match=f"^~{NO_USER}/w.yaml: no user {NO_USER}$"):
         resolve_world(f"~{NO_USER}/w.yaml")
@@ -617,7 +617,7 @@ def test_a_home_folder_of_no_user_in_a_file_is_named_by_its_line(tmp_path, where
         path = tmp_path / "map.yaml"
         path.write_text(f"image: ~{NO_USER}/map.pgm\nresolution: 0.05\norigin: [0.0, 0.0, 0.0]\nnegate: 0\n"
                         "occupied_thresh: 0.65\nfree_thresh: 0.196\n")
-        load, line, field = vwg.maps.load_map, 1, "image"
+        load, line, field = vwg.io.maps.load_map, 1, "image"
     else:
         ref = f'"~{NO_USER}/map.yaml"' if where == "world map" else f'{{movingai: "~{NO_USER}/x.map"}}'
         path = world_file(tmp_path, OFFICE.replace("map: office/map.yaml", f"map: {ref}"))

@@ -9,9 +9,9 @@ import pytest
 import vwg
 from conftest import ROOT
 from vwg import _core
+from vwg.generic import WorldSpec
 from vwg.launch import describe, replay_world
-from vwg.registry import backends
-from vwg.worldfile import WorldSpec
+from vwg.plugins import backends
 
 FIREFLIES = ROOT / "examples" / "01_fireflies" / "world.yaml"
 

@@ -1,7 +1,7 @@
 """A robot link that keeps dropping (issue 34, item 7): every drop and every reconnection is a fault
 with its time, a link that drops more than the flap limit allows ends the run with exit status 4,
 and after a reconnection the robot is sent nothing but stops until odometry has come over the new
-connection. The servers are the fakes of vwg.fake_robot and vwg.fake_base on 127.0.0.1, told to
+connection. The servers are the fakes of vwg.testing.fake_robot and vwg.testing.fake_base on 127.0.0.1, told to
 flap: close every connection at a given time, then every new one 0.15 s after it opened (as the
 held-out robot server that found this did, 9 s into its run; here sooner, to keep the tests short)."""
 
@@ -16,11 +16,11 @@ import pytest
 import vwg
 from vwg.cli import main
 from vwg.errors import SchemaError, WorldFileError
-from vwg.fake_base import FakeSerialBase
-from vwg.fake_robot import Connection, FakeRosbridgeRobot
-from vwg.record import read_record
-from vwg.robotworld import PlatformSpec, load_robot_world
-from vwg.rosbridge_platform import RosbridgePlatform
+from vwg.io.record import read_record
+from vwg.robot.platforms.rosbridge import RosbridgePlatform
+from vwg.robot.world_file import PlatformSpec, load_robot_world
+from vwg.testing.fake_base import FakeSerialBase
+from vwg.testing.fake_robot import Connection, FakeRosbridgeRobot
 
 _MAZE = vwg.robot.load_robot_world("maze")
 # One robot with a laser only (no camera images to render and send): the least work for a loaded machine.
@@ -196,8 +196,10 @@ def test_the_flap_limit_reaches_the_platform(tmp_path):
             assert (default.flap_limit.drops, default.flap_limit.seconds) == (3, 10.0)
         finally:
             default.close()
-    for wrong, match in (({"drops": 0}, r"flap_limit\.drops: expected a whole number from 1"),
-                         ({"seconds": -1}, r"flap_limit\.seconds: expected seconds > 0"),
-                         ({"drop": 3}, r"flap_limit: unknown key\(s\) drop"), (5, "flap_limit: expected a mapping")):
+    # The same check as the world file's (one declaration of the option: LINK_OPTIONS).
+    for wrong, match in (({"drops": 0}, r"flap_limit\.drops: expected a number >= 1, got 0"),
+                         ({"seconds": -1}, r"flap_limit\.seconds: expected a number > 0\.0, got -1"),
+                         ({"drop": 3}, r"flap_limit\.drop: unknown key; did you mean 'drops'"),
+                         (5, "flap_limit: expected a mapping, got int 5")):
         with pytest.raises(SchemaError, match=match):
             RosbridgePlatform([MAZE.robots[0]], "ws://127.0.0.1:9", flap_limit=wrong)

@@ -13,7 +13,7 @@ import pytest
 
 from vwg import _core
 from vwg.errors import WorldFileError
-from vwg.maps import OccupancyGrid, load_map, load_map_server, load_movingai, movingai_cell
+from vwg.io.maps import OccupancyGrid, load_map, load_map_server, load_movingai, movingai_cell
 
 DATA = Path(__file__).resolve().parent / "data"
 ROS = DATA / "rosmaps"
@@ -496,7 +496,7 @@ def test_load_map_server_alias() -> None:
 
 def test_inflate_counts_a_centre_exactly_radius_away() -> None:
     # One wall square [3, 4] × [3, 4]; the centre of cell (3, 5) is 1.5 m from it. The planners' rule
-    # (vwg::geometry::inflate, the configuration space robots plan in) blocks it; vwg.maps used to free it.
+    # (vwg::geometry::inflate, the configuration space robots plan in) blocks it; vwg.io.maps used to free it.
     data = np.zeros((7, 7), np.int8)
     data[3, 3] = 100
     inflated = OccupancyGrid(data, 1.0).inflate(1.5, unknown=False)

@@ -181,6 +181,7 @@ def test_replay_on_a_world_whose_map_is_not_the_records_names_both_shapes(office
 # ---- out of memory during a run ------------------------------------------------------------------------------
 @pytest.mark.parametrize("cause", [MemoryError(), RuntimeError("std::bad_alloc")])
 def test_running_out_of_memory_in_a_frame_is_exit_2_naming_the_maps_cells(monkeypatch, capsys, cause):
+    import vwg.cli
     import vwg.launch
     from vwg.cli import main
     from vwg.errors import FrameError
@@ -196,7 +197,7 @@ def test_running_out_of_memory_in_a_frame_is_exit_2_naming_the_maps_cells(monkey
         run.execute = execute
         return run
 
-    monkeypatch.setattr(vwg.launch, "start", start)
+    monkeypatch.setattr(vwg.cli, "start", start)  # the command line's start (it imports vwg.launch's)
     assert main(["run", "office", "--frames", "1"]) == 2
     err = capsys.readouterr().err
     # office's map: 500 × 360 = 180,000 cells.

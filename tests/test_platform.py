@@ -79,7 +79,8 @@ class Listener(vwg.Actor):
 def test_a_python_platform_runs_the_world_string_through_the_motion_backend():
     platform = Kinematic()
     platform.add_robot(RobotSettings(id=1, start=(2.0, 3.0, 0.0)))
-    world = vwg.World(**vwg.sim.MOTION_SYMBOLS, events={"go": None, "eOdometry": vwg.sim.SIM_EVENTS["eOdometry"]},
+    sim = vwg.robot.platforms.sim
+    world = vwg.World(**sim.MOTION_SYMBOLS, events={"go": None, "eOdometry": sim.SIM_EVENTS["eOdometry"]},
                       visual=["go"], actors=[Listener])
     feedback = vwg.robot.OdometryGenerator(platform, world.alphabet)
     engine = vwg.Engine(world, "Listener", [vwg.Schedule({0: ["go"]}), feedback],
@@ -137,7 +138,7 @@ class Spawner(vwg.Actor):
 
 
 def test_robots_spawned_by_a_lambda_get_a_body_and_those_gone_lose_it():
-    from vwg.casestudy import CaseStudy
+    from vwg.robot.case_study import CaseStudy
 
     run = CaseStudy(vwg.robot.load_robot_world("office"), "astar", sensors=())
     run.vworld.alphabet.add_actor_type(Spawner)

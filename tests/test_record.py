@@ -14,8 +14,8 @@ import pytest
 import vwg
 from conftest import ROOT
 from vwg.cli import main
-from vwg.record import Recorder, decode_blob, encode_blob, read_record, replay
-from vwg.worldfile import load_world
+from vwg.generic import load_world, replay
+from vwg.io.record import Recorder, decode_blob, encode_blob, read_record
 
 FIREFLIES = ROOT / "examples" / "01_fireflies" / "world.yaml"
 
@@ -25,7 +25,7 @@ def chained(objects, key: bytes | None = None) -> str:
     """Record lines for these objects as the writer makes them (format 5): each after the first holding
     the link of the line before (the first 32 hex digits of its SHA-256, or HMAC-SHA-256 with `key`),
     the end line also its own link (of its text without it): a record edited by hand, or by someone
-    who knows the format. Written here from the format's description, not with vwg.record."""
+    who knows the format. Written here from the format's description, not with vwg.io.record."""
     import hashlib
     import hmac
 
@@ -245,7 +245,7 @@ def test_runs_of_every_value_kind_read_back_as_the_engine_wrote_them(tmp_path):
 
 
 def test_columns_keep_any_bits(tmp_path):
-    from vwg.record import _Columns
+    from vwg.io.record import _Columns
 
     rng = np.random.default_rng(1)
     floats = rng.integers(-(2**63), 2**63 - 1, 300, dtype=np.int64, endpoint=True).view(np.float64)
@@ -264,7 +264,7 @@ def test_columns_keep_any_bits(tmp_path):
 def test_base85_is_pythons(tmp_path):
     import base64
 
-    from vwg.record import _b85decode, _b85encode
+    from vwg.io.record import _b85decode, _b85encode
 
     rng = np.random.default_rng(2)
     for n in [*range(12), 1000, 4097]:
@@ -275,7 +275,7 @@ def test_base85_is_pythons(tmp_path):
 
 def rewrite_events(path, world, edit):
     """Re-encode a record's events after `edit(t, texts)` changed the texts of frame t."""
-    from vwg.record import MIN_RUN, _Columns, _decode_events, _encode_events
+    from vwg.io.record import MIN_RUN, _Columns, _decode_events, _encode_events
 
     lines = [json.loads(x) for x in path.read_text().splitlines()]
     reader, writer = _Columns(), _Columns()
@@ -509,8 +509,8 @@ def test_the_demo_run_record_is_small_and_replays(tmp_path):
     # Each frame of the office demo has ~690 laser ranges with 1 cm of noise: ~46 bits of each
     # are noise, ~4.2 KB a frame after deflate, ~5.3 KB in base85; with the string (~0.5 KB),
     # odometry, angles and grid changes a frame takes ~6.6 KB. Format 1 took ~54 KB.
-    from vwg.casestudy import CaseStudy
-    from vwg.robotworld import load_robot_world
+    from vwg.robot.case_study import CaseStudy
+    from vwg.robot.world_file import load_robot_world
 
     world = load_robot_world(ROOT / "maps" / "office.yaml")
     case = CaseStudy(world, "astar", goals={1: "kitchen"}, world_orders=False)
@@ -524,7 +524,7 @@ def test_the_demo_run_record_is_small_and_replays(tmp_path):
     record = read_record(path)
     assert len(record.frames) == summary.frames
     assert sum(isinstance(item, dict) for item in json.loads(path.read_text().splitlines()[5])["events"]) >= 1
-    from vwg.casestudy import case_study_world, make_decider
+    from vwg.robot.case_study import case_study_world, make_decider
 
     replayed = replay(path, world=case_study_world(load_robot_world(world.path), make_decider("astar")))
     assert str(replayed.string) == record.end["string"]
@@ -562,8 +562,8 @@ def test_the_chain_names_any_edit_drop_or_reorder(tmp_path, damage, line, before
 
 
 def test_a_flipped_byte_in_a_blob_is_named(tmp_path):
-    from vwg.casestudy import CaseStudy
-    from vwg.robotworld import load_robot_world
+    from vwg.robot.case_study import CaseStudy
+    from vwg.robot.world_file import load_robot_world
 
     case = CaseStudy(load_robot_world("office"), "astar", goals={1: "kitchen"}, world_orders=False)
     path = tmp_path / "office.jsonl"

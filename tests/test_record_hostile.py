@@ -15,7 +15,7 @@ from test_record import chained, rechain, run_recorded
 import vwg
 from conftest import ROOT
 from vwg.cli import main
-from vwg.record import read_record
+from vwg.io.record import read_record
 
 
 def b85(data: bytes) -> str:
@@ -34,7 +34,7 @@ def deflated_zeros(n: int) -> bytes:
 
 
 def header(**fields) -> dict:
-    return {"vwg_record": vwg.record.FORMAT, "chain": "sha256", "initial": "", "seed": 0, "dt": 0.1, **fields}
+    return {"vwg_record": vwg.io.record.FORMAT, "chain": "sha256", "initial": "", "seed": 0, "dt": 0.1, **fields}
 
 
 def peak_bytes_of(fn) -> tuple[BaseException | None, int]:
@@ -490,7 +490,7 @@ def test_a_long_fault_text_is_cut_to_what_a_reader_takes(tmp_path):
     # The writer keeps its own records readable: a fault's text of 10,000 characters is kept as 4,096.
     engine = vwg.Engine(vwg.World(vwg.Alphabet(events=["tick"], primitives=["Lamp"])), "Lamp", [])
     path = tmp_path / "long.jsonl"
-    recorder = vwg.record.Recorder(path, engine)
+    recorder = vwg.io.record.Recorder(path, engine)
     engine.run(2)
     recorder.close(faults=[{"time_s": 1.25, "robot": 0, "what": "y" * 10_000}])
     [fault] = read_record(path).faults
@@ -501,8 +501,8 @@ def test_an_empty_record_key_is_refused():
     # 457d53e: Chain(b"") named itself "sha256" but linked with an HMAC of the empty key, so its own
     # records did not read.
     with pytest.raises(vwg.Error, match="a record key is empty"):
-        vwg.record.Chain(b"")
-    assert vwg.record.Chain(None).name == "sha256" and vwg.record.Chain(b"k" * 16).name == "hmac-sha256"
+        vwg.io.record.Chain(b"")
+    assert vwg.io.record.Chain(None).name == "sha256" and vwg.io.record.Chain(b"k" * 16).name == "hmac-sha256"
 
 
 # ---- a robot world's record: what its header names is checked, and errors name the record's field -----------
@@ -556,7 +556,7 @@ def test_an_unknown_world_kind_is_named_by_the_record_and_field(tmp_path, capsys
 
 def test_a_file_name_with_a_nul_byte_is_refused_naming_it(tmp_path):
     # 457d53e: ValueError (embedded null byte) from os.stat, not the WorldFileError the readers catch.
-    for read in (vwg.files.read_text, lambda p: vwg.files.read_bytes(p, 100)):
+    for read in (vwg.io.files.read_text, lambda p: vwg.io.files.read_bytes(p, 100)):
         with pytest.raises(vwg.WorldFileError, match=r"'a\\x00b.yaml': no file can have this name \(it holds a NUL"):
             read("a\x00b.yaml")
 
@@ -568,8 +568,8 @@ def test_a_real_robots_faults_are_kept_when_the_run_ends_by_an_exception(tmp_pat
     # execute()'s own.
     import dataclasses
 
-    from vwg.fake_robot import FakeRosbridgeRobot
-    from vwg.robotworld import PlatformSpec
+    from vwg.robot.world_file import PlatformSpec
+    from vwg.testing.fake_robot import FakeRosbridgeRobot
 
     maze = vwg.robot.load_robot_world("maze")
     maze = dataclasses.replace(maze, orders=[], robots=[maze.robots[0].replace(sensors=["laser"])])
@@ -601,7 +601,7 @@ def test_recorded_run_close_passes_the_platforms_faults():
     from types import SimpleNamespace
 
     from vwg.launch import RecordedRun
-    from vwg.real_robot import Fault
+    from vwg.robot.platforms.real_robot import Fault
 
     closed: list[object] = []
     platform = SimpleNamespace(faults=[Fault(2.5, 1, "no odometry for 0.5 s: stopped")])

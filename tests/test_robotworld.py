@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 
 from vwg.errors import WorldFileError
-from vwg.maps import OccupancyGrid
-from vwg.robotworld import RobotWorld, load_robot_world
-from vwg.sim import CameraSpec, DepthCameraSpec, LaserSpec, NoiseModel
+from vwg.io.maps import OccupancyGrid
+from vwg.robot.platforms.sim import CameraSpec, DepthCameraSpec, LaserSpec, NoiseModel
+from vwg.robot.world_file import RobotWorld, load_robot_world
 
 ROOT = Path(__file__).resolve().parents[1]
 MAPS = ROOT / "maps"
@@ -165,12 +165,12 @@ def test_small_world_loads_with_defaults(world_dir: Path) -> None:
     r1, r2 = world.robots
     assert (r1.radius, r1.max_speed, r1.max_turn_rate, r1.max_accel, r1.max_turn_accel) == (0.18, 0.5, 1.5, 1.0, 4.0)
     assert r1.sensors == ("laser", "camera") and r2.sensors == ("kinect", "camera") and r2.radius == 0.25
-    assert world.laser == LaserSpec(beams=180, fov=2 * math.pi, max_range=8.0, noise=0.02)
+    assert world.sensors["laser"] == LaserSpec(beams=180, fov=2 * math.pi, max_range=8.0, noise=0.02)
     assert world.noise == NoiseModel() and (world.noise.odometry, world.noise.motors) == (0.0, 0.0)
-    assert world.kinect == DepthCameraSpec(wall_height=2.5)
-    assert world.kinect.hfov == pytest.approx(math.radians(58))
-    assert world.camera == CameraSpec(width=320, height=240, mount_height=0.4)
-    assert LaserSpec().noise == 0.01 and world.laser.min_range == 0.05  # the C++ struct's defaults
+    assert world.sensors["kinect"] == DepthCameraSpec(wall_height=2.5)
+    assert world.sensors["kinect"].hfov == pytest.approx(math.radians(58))
+    assert world.sensors["camera"] == CameraSpec(width=320, height=240, mount_height=0.4)
+    assert LaserSpec().noise == 0.01 and world.sensors["laser"].min_range == 0.05  # the C++ struct's defaults
     assert (world.frames, world.dt, world.seed, world.wall_height) == (100, 0.1, 0, 2.5)
     assert [(o.time, o.robot, o.room) for o in world.orders] == [(0.0, 1, "east"), (5.0, 2, "stub")]  # by time
     assert world.robot(2) is r2 and world.markers == {3: "east", 4: "stub"}
@@ -363,8 +363,8 @@ def test_every_setting_of_the_structs_is_a_world_file_key(world_dir: Path) -> No
                         " mount_height: 0.2, robot_height: 0.5, noise: true, noise_a: 0.002, noise_b: 0.003,"
                         " scan_rows: 3}")
     world = load_robot_world(write(world_dir, text))
-    assert world.laser == LaserSpec(beams=90, fov=3.0, min_range=0.1, max_range=5.0, noise=0.0)
-    assert world.kinect == DepthCameraSpec(width=320, height=240, hfov=1.0, min_range=0.4, max_range=3.0,
+    assert world.sensors["laser"] == LaserSpec(beams=90, fov=3.0, min_range=0.1, max_range=5.0, noise=0.0)
+    assert world.sensors["kinect"] == DepthCameraSpec(width=320, height=240, hfov=1.0, min_range=0.4, max_range=3.0,
                                            mount_height=0.2, wall_height=2.5, robot_height=0.5, noise=True,
                                            noise_a=0.002, noise_b=0.003, scan_rows=3)
     assert [name for name, *_ in LaserSpec.fields()] == ["beams", "fov", "min_range", "max_range", "noise"]
@@ -386,7 +386,7 @@ def test_settings_copy_pickle_and_refuse_unknown_fields() -> None:
 
     from vwg import SchemaError
     from vwg.robot import RobotSettings
-    from vwg.sim import PhysicsSettings
+    from vwg.robot.platforms.sim import PhysicsSettings
 
     robot = RobotSettings(id=3, start=(1.0, 2.0, 0.5), sensors=["laser"])
     assert robot.sensors == ("laser",) and robot.max_speed == 0.5

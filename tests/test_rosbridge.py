@@ -14,10 +14,10 @@ import numpy as np
 import pytest
 
 import vwg
-from vwg.fake_robot import FakeRosbridgeRobot
-from vwg.robotworld import PlatformSpec
-from vwg.ros_messages import laser_scan, odometry, odometry_message, pose_compose, same_type, stamp_seconds
-from vwg.rosbridge_platform import RosbridgePlatform, topics_for
+from vwg.robot.links.ros_messages import laser_scan, odometry, odometry_message, pose_compose, same_type, stamp_seconds
+from vwg.robot.platforms.rosbridge import RosbridgePlatform, topics_for
+from vwg.robot.world_file import PlatformSpec
+from vwg.testing.fake_robot import FakeRosbridgeRobot
 
 MAZE = vwg.robot.load_robot_world("maze")
 # The office with its first robot only, twice as quick as the file's (frames run at wall-clock rate).
@@ -78,7 +78,7 @@ def test_the_office_world_runs_on_a_ros_robot_through_rosbridge():
     # The world is the simulator's; only the platform changes (paper test 3).
     room = "office"
     with FakeRosbridgeRobot(OFFICE) as fake:
-        options = vwg.RunOptions(platform="rosbridge", url=fake.url, goals=[room], frames=250)
+        options = vwg.RunOptions(platform="rosbridge", platform_options={"url": fake.url}, goals=[room], frames=250)
         with vwg.start(OFFICE, options) as run:
             outcome = run.execute()
             images = run.case.sim.platform.images[1]
@@ -162,7 +162,7 @@ def test_a_lost_link_ends_the_run_with_status_4_and_keeps_the_record(fake, tmp_p
 
 @pytest.mark.slow
 def test_rosbridge_options_are_checked_by_name():
-    with pytest.raises(vwg.SchemaError, match="platform rosbridge: url: missing"):
+    with pytest.raises(vwg.SchemaError, match=r"platform\.url: missing \(ws://HOST:PORT, or --url\)"):
         vwg.start(MAZE, vwg.RunOptions(platform="rosbridge", frames=1))
     with pytest.raises(vwg.SchemaError, match=r"unknown option\(s\) speed"):
         vwg.start(dataclasses.replace(MAZE, platform=PlatformSpec("rosbridge", {"url": "ws://127.0.0.1:1",
@@ -174,11 +174,11 @@ def test_rosbridge_options_are_checked_by_name():
 # ---- a serial base ----------------------------------------------------------------------------------------------
 @pytest.mark.slow
 def test_the_office_world_runs_on_a_serial_base():
-    from vwg.fake_base import FakeSerialBase
+    from vwg.testing.fake_base import FakeSerialBase
 
     room = "office"
     with FakeSerialBase(OFFICE) as base:
-        options = vwg.RunOptions(platform="serial", port=base.url, goals=[room], frames=300)
+        options = vwg.RunOptions(platform="serial", platform_options={"port": base.url}, goals=[room], frames=300)
         with vwg.start(OFFICE, options) as run:
             outcome = run.execute()
         x, y, _ = base.pose_now()
@@ -190,12 +190,14 @@ def test_the_office_world_runs_on_a_serial_base():
 
 
 def test_serial_options_are_checked_by_name():
-    with pytest.raises(vwg.SchemaError, match="platform serial: port: missing"):
+    with pytest.raises(vwg.SchemaError,
+                       match=r"platform\.port: missing \(/dev/ttyUSB0, socket://HOST:PORT, or --serial-port\)"):
         vwg.start(OFFICE, vwg.RunOptions(platform="serial", frames=1))
     with pytest.raises(vwg.SchemaError, match="one base per serial line, and the world has 2 robots"):
-        vwg.start(_OFFICE, vwg.RunOptions(platform="serial", port="loop://", frames=1))
+        vwg.start(_OFFICE, vwg.RunOptions(platform="serial", platform_options={"port": "loop://"}, frames=1))
     with pytest.raises(vwg.SchemaError, match=r"cannot use socket://127\.0\.0\.1:9"):
-        vwg.start(OFFICE, vwg.RunOptions(platform="serial", port="socket://127.0.0.1:9", frames=1))
+        options = vwg.RunOptions(platform="serial", platform_options={"port": "socket://127.0.0.1:9"}, frames=1)
+        vwg.start(OFFICE, options)
 
 
 def test_malformed_and_oversized_messages_are_dropped_and_the_run_goes_on(fake):
@@ -218,8 +220,8 @@ def test_malformed_and_oversized_messages_are_dropped_and_the_run_goes_on(fake):
 
 @pytest.mark.slow
 def test_a_serial_base_silent_or_cut_is_stopped_and_ends_the_run():
-    from vwg.fake_base import FakeSerialBase
-    from vwg.serial_platform import SerialPlatform
+    from vwg.robot.platforms.serial_base import SerialPlatform
+    from vwg.testing.fake_base import FakeSerialBase
 
     with FakeSerialBase(OFFICE) as base:
         platform = SerialPlatform(OFFICE.robots[0], base.url, watchdog=0.3, reconnect=0.5)
@@ -252,7 +254,7 @@ def test_the_same_world_on_the_simulator_and_through_rosbridge_gives_the_same_fr
     # rosbridge to the fake robot — its own Box2D simulator, stepped by vwg in lockstep, driven only by
     # the Twists vwg publishes and seen only through the Odometry and LaserScan it publishes. Two
     # robots, each to its room: the frame logs are the same, byte for byte (the header included).
-    world = dataclasses.replace(_OFFICE, orders=[], laser=_OFFICE.laser.replace(noise=0.0),
+    world = dataclasses.replace(_OFFICE.with_sensor("laser", noise=0.0), orders=[],
                                 robots=[r.replace(sensors=["laser"]) for r in _OFFICE.robots])
     goals = ["1:office", "2:meeting"]
     with vwg.start(world, vwg.RunOptions(goals=goals, frames=400, record=tmp_path / "sim.jsonl")) as run:
@@ -274,7 +276,7 @@ def test_with_odometry_noise_the_ros_robot_believes_itself_where_its_odometry_dr
     # The fake robot's odometry drifts (a random walk of 0.02 per √metre, as the simulator's noise
     # model): vwg knows the robot by its odometry only, so its idea of the pose parts from the truth
     # by the drift — measured here against the fake's true pose, and against the noise-off run.
-    world = dataclasses.replace(_OFFICE, orders=[], laser=_OFFICE.laser.replace(noise=0.0),
+    world = dataclasses.replace(_OFFICE.with_sensor("laser", noise=0.0), orders=[],
                                 robots=[_OFFICE.robots[0].replace(sensors=["laser"])])
     noisy = _core_physics(odometry=0.02)
     with FakeRosbridgeRobot(world, lockstep=True, physics=noisy) as fake:
@@ -291,8 +293,8 @@ def test_with_odometry_noise_the_ros_robot_believes_itself_where_its_odometry_dr
     assert 0.001 < drift < 0.5
 
 
-def _core_physics(odometry: float) -> vwg.sim.PhysicsSettings:
-    return vwg.sim.PhysicsSettings(noise=vwg.sim.NoiseModel(odometry=odometry), seed=7)
+def _core_physics(odometry: float) -> vwg.robot.platforms.sim.PhysicsSettings:
+    return vwg.robot.platforms.sim.PhysicsSettings(noise=vwg.robot.NoiseModel(odometry=odometry), seed=7)
 
 
 @pytest.mark.slow
@@ -320,7 +322,7 @@ def test_a_ros_robot_at_wall_clock_rate_takes_the_way_the_simulator_takes():
 
 
 def test_a_lockstep_robot_that_stops_answering_ends_the_run_with_a_link_fault(tmp_path):
-    world = dataclasses.replace(OFFICE, laser=OFFICE.laser.replace(noise=0.0))
+    world = OFFICE.with_sensor("laser", noise=0.0)
     with FakeRosbridgeRobot(world, lockstep=True) as fake:
         on_ros = dataclasses.replace(world, platform=PlatformSpec(
             "rosbridge", {"url": fake.url, "lockstep": "/vwg/step", "control_rate": 100, "watchdog": 0.3}))
@@ -360,7 +362,7 @@ def test_odometry_that_did_not_start_at_zero_still_puts_the_robot_at_its_start()
 
 
 def test_a_quaternion_of_any_length_gives_its_yaw():
-    from vwg.ros_messages import yaw_of_quaternion
+    from vwg.robot.links.ros_messages import yaw_of_quaternion
 
     assert yaw_of_quaternion({"x": 0.0, "y": 0.0, "z": 1.0, "w": 1.0}) == pytest.approx(math.pi / 2)
     assert yaw_of_quaternion({"x": 0.0, "y": 0.0, "z": 2.0, "w": 0.0}) == pytest.approx(math.pi)
@@ -393,6 +395,6 @@ def test_a_slow_frame_leaves_the_robot_controlled(fake):
 
 
 def test_nested_settings_are_changed_in_place():
-    physics = vwg.sim.PhysicsSettings()
+    physics = vwg.robot.platforms.sim.PhysicsSettings()
     physics.noise.motors = 0.1
-    assert physics.noise.motors == 0.1 and physics.noise == vwg.sim.NoiseModel(motors=0.1)
+    assert physics.noise.motors == 0.1 and physics.noise == vwg.robot.NoiseModel(motors=0.1)

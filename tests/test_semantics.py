@@ -9,7 +9,7 @@ from hypothesis import strategies as st
 
 import vwg
 from conftest import ACTORS, make_world
-from vwg.reference import Reference
+from vwg.testing.reference import Reference
 
 WORLD = make_world()
 REF = Reference(WORLD.alphabet, ACTORS)

@@ -13,7 +13,7 @@ import vwg
 from conftest import ROOT
 from vwg import _core
 from vwg.robot import RobotSettings
-from vwg.sim import DepthCameraSpec, LaserSpec
+from vwg.robot.platforms.sim import DepthCameraSpec, LaserSpec
 
 
 def box_map(cells=100, res=0.05):
@@ -24,7 +24,7 @@ def box_map(cells=100, res=0.05):
 
 
 def sim_world(grid, robots):
-    alphabet = vwg.Alphabet(events=vwg.sim.SIM_EVENTS, **vwg.sim.MOTION_SYMBOLS)
+    alphabet = vwg.Alphabet(events=vwg.robot.platforms.sim.SIM_EVENTS, **vwg.robot.platforms.sim.MOTION_SYMBOLS)
     physics = _core.PhysicsWorld(grid, robots)
     scanner = _core.RangeScanner(_core.GridRaycaster(grid), physics)
     return alphabet, physics, scanner
@@ -208,7 +208,7 @@ def scans_around(sensor_kind, world, alphabet, spots):
 
 def test_kinect_and_laser_build_nearly_the_same_grid():
     world = vwg.robot.load_robot_world(ROOT / "maps" / "office.yaml")
-    alphabet = vwg.Alphabet(events=vwg.sim.SIM_EVENTS, **vwg.sim.MOTION_SYMBOLS)
+    alphabet = vwg.Alphabet(events=vwg.robot.platforms.sim.SIM_EVENTS, **vwg.robot.platforms.sim.MOTION_SYMBOLS)
     spots = [(1.5, 9.0), (5.5, 9.0), (12.0, 9.0), (5.0, 14.0)]
     laser = scans_around("laser", world, alphabet, spots)
     kinect = scans_around("kinect", world, alphabet, spots)

@@ -334,7 +334,7 @@ def test_the_command_queue_bounds_each_client_and_merges_repeats():
 
 
 def test_only_the_last_of_the_resets_taken_at_once_is_done():
-    from vwg.robotworld import load_robot_world
+    from vwg.robot.world_file import load_robot_world
     from vwg.serve.live import LiveRun
 
     live = LiveRun(load_robot_world("office"), world_orders=False)  # not started: its commands are done here
@@ -399,9 +399,9 @@ def test_a_live_run_on_a_robot_through_rosbridge():
     # the robot's clock, its scans are the LaserScans' points, and stopping stops the robot.
     import dataclasses
 
-    from vwg.fake_robot import FakeRosbridgeRobot
-    from vwg.robotworld import PlatformSpec, load_robot_world
+    from vwg.robot.world_file import PlatformSpec, load_robot_world
     from vwg.serve.live import LiveRun
+    from vwg.testing.fake_robot import FakeRosbridgeRobot
 
     office = load_robot_world("office")
     world = dataclasses.replace(office, orders=[], robots=[office.robots[0].replace(sensors=["laser"])])

@@ -11,7 +11,7 @@ import pytest
 import vwg
 from vwg import _core
 from vwg.robot import RobotSettings
-from vwg.sim import NoiseModel, PhysicsSettings
+from vwg.robot.platforms.sim import NoiseModel, PhysicsSettings
 
 
 def empty_map(width_m=10.0, height_m=5.0, res=0.05, wall_x=None):

@@ -25,10 +25,11 @@ class Walker(vwg.Actor):
 
 def test_view_draws_the_robots_and_writes_a_video(tmp_path):
     world = vwg.robot.load_robot_world(ROOT / "maps" / "office.yaml")
-    sim = vwg.sim.Simulation(world)
-    alphabet = vwg.Alphabet(events={**vwg.sim.SIM_EVENTS, "go": None, "show": None}, visual=["go", "show"],
-                            actors=[Walker], **vwg.sim.MOTION_SYMBOLS)
-    gens = [*sim.sensors(alphabet), vwg.Schedule({0: ["go"], 20: ["go"]}), vwg.every_frame("show")]
+    sim = vwg.robot.platforms.sim.Simulation(world)
+    sim_events = vwg.robot.platforms.sim.SIM_EVENTS
+    alphabet = vwg.Alphabet(events={**sim_events, "go": None, "show": None}, visual=["go", "show"],
+                            actors=[Walker], **vwg.robot.platforms.sim.MOTION_SYMBOLS)
+    gens = [*sim.make_sensors(alphabet), vwg.Schedule({0: ["go"], 20: ["go"]}), vwg.every_frame("show")]
     video = tmp_path / "run.mp4"
     view = sim.view(video=str(video), images=str(tmp_path / "frames"))
     engine = vwg.Engine(vwg.World(alphabet), "Walker<id=1> . Walker<id=2>", gens, vwg.BackendGroup([sim.backend, view]))

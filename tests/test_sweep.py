@@ -16,9 +16,9 @@ import numpy as np
 import pytest
 
 from conftest import plain_dijkstra
-from vwg.casestudy import CaseStudy
 from vwg.errors import Error, SchemaError, WorldFileError
-from vwg.shortest import DistanceField
+from vwg.robot.case_study import CaseStudy
+from vwg.robot.shortest import DistanceField
 from vwg.sweep import finished_keys, load_spec, run_sweep
 from vwg.trial import COLUMNS, Trial, run_trial, shortest_m, trial_world
 
@@ -284,7 +284,7 @@ def test_added_obstacles_are_on_the_way_and_not_on_the_robots_map():
     assert case.run(frames=800).reached
     case.close()
     with pytest.raises(SchemaError, match="known_map: expected a map of the world's size"):
-        from vwg.maps import OccupancyGrid
+        from vwg.io.maps import OccupancyGrid
 
         CaseStudy(world, "astar", known_map=OccupancyGrid(np.zeros((3, 3), np.int8), 0.05))
 

@@ -230,11 +230,12 @@ class Keeper(vwg.FrameSink):
 
 def walking_view(sink: vwg.FrameSink | None, frames: int) -> core.SimView:
     world = vwg.robot.load_robot_world(Path(__file__).resolve().parents[1] / "maps" / "office.yaml")
-    sim = vwg.sim.Simulation(world)
+    sim = vwg.robot.platforms.sim.Simulation(world)
     view = core.SimView(sim.physics, sim.world.grid, width=200)
     if sink is not None:
         view.record_video(sink)
-    alphabet = vwg.Alphabet(events={**vwg.sim.SIM_EVENTS, "show": None}, visual=["show"], **vwg.sim.MOTION_SYMBOLS)
+    symbols = vwg.robot.platforms.sim
+    alphabet = vwg.Alphabet(events={**symbols.SIM_EVENTS, "show": None}, visual=["show"], **symbols.MOTION_SYMBOLS)
     engine = vwg.Engine(vwg.World(alphabet), "Robot<1>", [vwg.every_frame("show")],
                         vwg.BackendGroup([sim.backend, view]))
     engine.run(frames)
@@ -269,7 +270,7 @@ def test_a_sink_is_kept_alive_by_the_view_and_closed_when_the_view_goes():
 
 def test_record_video_wants_a_frame_sink():
     world = vwg.robot.load_robot_world(Path(__file__).resolve().parents[1] / "maps" / "office.yaml")
-    view = core.SimView(vwg.sim.Simulation(world).physics, world.grid)
+    view = core.SimView(vwg.robot.platforms.sim.Simulation(world).physics, world.grid)
     with pytest.raises(SchemaError, match="FrameSink"):
         view.record_video("run.mp4")
 

@@ -8,7 +8,7 @@ import gc
 import numpy as np
 
 import vwg
-from vwg.casestudy import CaseStudy
+from vwg.robot.case_study import CaseStudy
 
 
 class Keeper(vwg.robot.Decider):
@@ -49,7 +49,7 @@ def test_sensor_arrays_are_copies_of_one_frame():
     world = vwg.robot.load_robot_world("office")
     run = CaseStudy(world, "astar", goals={1: "lounge"}, sensors=("laser",))
     run.run(frames=5)
-    laser = run.sim.lasers[0]
+    laser = next(g for g in run.sim.made if isinstance(g, vwg._core.LaserGenerator))
     kept, then = laser.ranges, laser.ranges.copy()
     run.run(frames=20)
     np.testing.assert_array_equal(kept, then)

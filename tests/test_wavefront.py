@@ -9,9 +9,9 @@ from collections import deque
 import numpy as np
 import pytest
 
-from vwg.registry import deciders
+from vwg.plugins import deciders
+from vwg.robot.deciders.wavefront import WavefrontDecider, descend, wavefront
 from vwg.trial import Trial, run_trial
-from vwg.wavefront import WavefrontDecider, descend, wavefront
 
 
 def plain_bfs(blocked, goal):

@@ -9,7 +9,7 @@ import pytest
 
 import vwg
 from conftest import ROOT
-from vwg.worldfile import load_world
+from vwg.generic import load_world
 
 GOOD = """\
 name: tiny

@@ -23,8 +23,8 @@ from typing import Any
 import numpy as np
 
 from vwg import _core
-from vwg.maps import OccupancyGrid
-from vwg.robotworld import RobotWorld, load_robot_world
+from vwg.io.maps import OccupancyGrid
+from vwg.robot.world_file import RobotWorld, load_robot_world
 
 ROOT = Path(__file__).resolve().parents[1]
 MAPS = ROOT / "maps"
@@ -547,7 +547,7 @@ def check(world: RobotWorld) -> list[str]:
 
 def readme(worlds: list[tuple[WorldDef, RobotWorld]]) -> str:
     lines = ["# maps: the worlds that ship with vwg", "",
-             "Each world is a robot world file `<name>.yaml` (see `vwg.robotworld`) and its map `<name>/map.yaml` +",
+             "Each world is a robot world file `<name>.yaml` (`vwg.robot.world_file`) and its map `<name>/map.yaml` +",
              "`<name>/map.pgm` (ROS map_server format, trinary, 0.05 m per cell). All are written by",
              "`tools/make_maps.py`, deterministically; edit the tool and run it again rather than editing the files.",
              "The tool checks that each world loads and that every room's goal is reachable from every robot's start",

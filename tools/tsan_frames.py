@@ -17,7 +17,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
 
 from bench_frame import crowd, room_goals
 
-from vwg.casestudy import CaseStudy
+from vwg.robot.case_study import CaseStudy
 
 
 def read_while(engine, running: threading.Event, reads: list[int]) -> None:

@@ -341,7 +341,7 @@ void append_python(StringBuilder& out, py::handle obj, const std::string& what) 
   PYBIND11_CONSTINIT static py::gil_safe_call_once_and_store<Classes> storage;
   const Classes& c = storage
                          .call_once_and_store_result([] {
-                           return Classes{python_class("vwg.actor", "Actor"), python_class("vwg.actor", "Sym")};
+                           return Classes{python_class("vwg.model.actor", "Actor"), python_class("vwg.model.actor", "Sym")};
                          })
                          .get_stored();
   append_one(out, obj, what, c.actor, c.sym, 0);

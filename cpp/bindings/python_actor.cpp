@@ -56,8 +56,8 @@ class PythonActor final : public ActorBehavior {
     }
     for (auto name : cls_.attr("_attribute_names")) attribute_names_.push_back(py::str(name));
     new_ = py::module_::import("builtins").attr("object").attr("__new__");
-    actor_base_ = python_class("vwg.actor", "Actor");
-    context_class_ = python_class("vwg.actor", "Context");
+    actor_base_ = python_class("vwg.model.actor", "Actor");
+    context_class_ = python_class("vwg.model.actor", "Context");
   }
 
   ~PythonActor() override {

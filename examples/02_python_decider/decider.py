@@ -17,7 +17,7 @@ class PythonAStar(vwg.robot.Decider):
 
     def decide(self, robot: vwg.DecisionInput):
         grid = robot.grid  # int16: -1 unknown, 0 free, 100 wall, 101 seen obstacle, 1000+ marker
-        occupancy = vwg.maps.OccupancyGrid(np.where((grid >= 100) | (grid < 0), 100, 0).astype(np.int8),
+        occupancy = vwg.io.maps.OccupancyGrid(np.where((grid >= 100) | (grid < 0), 100, 0).astype(np.int8),
                                       robot.resolution, robot.origin)
         blocked = occupancy.inflate(robot.radius)
         start = occupancy.world_to_cell(*robot.pose[:2])

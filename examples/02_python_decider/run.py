@@ -10,7 +10,7 @@ import sys
 from pathlib import Path
 
 import vwg
-from vwg.casestudy import CaseStudy
+from vwg.robot.case_study import CaseStudy
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from decider import PythonAStar

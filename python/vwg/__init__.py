@@ -22,9 +22,9 @@ the Modeling of an Autonomous Robot").
 
 from __future__ import annotations
 
-from . import logs as _logs  # noqa: F401  (routes the libraries' messages into `logging`)
-from . import maps, perception, plan, robot, sim
-from ._core import (
+from vwg import io, model, perception, plan, plugins, robot
+from vwg import logs as _logs  # noqa: F401  (routes the libraries' messages into `logging`)
+from vwg._core import (
     ActorBatch,
     ActorBehavior,
     Backend,
@@ -51,14 +51,15 @@ from ._core import (
     visualize,
     walker_behavior,
 )
-from .actor import Actor, Context, Sym
-from .engine import Engine
-from .errors import Error, FrameError, ParseError, ReplayError, SchemaError, WorldFileError
-from .generators import GeneratorSpec, Schedule, every_frame
-from .launch import RunOptions, load, start
-from .record import Recorder, read_record, replay
-from .video import VideoWriter
-from .world import Alphabet, World
+from vwg.errors import Error, FrameError, ParseError, ReplayError, SchemaError, WorldFileError
+from vwg.generic import replay
+from vwg.io.record import Recorder, read_record
+from vwg.io.video import VideoWriter
+from vwg.launch import RunOptions, load, start
+from vwg.model.actor import Actor, Context, Sym
+from vwg.model.engine import Engine
+from vwg.model.generators import GeneratorSpec, Schedule, every_frame
+from vwg.model.world import Alphabet, World
 
 __all__ = [
     "Actor",
@@ -100,17 +101,32 @@ __all__ = [
     "display",
     "every_frame",
     "evolve",
+    "io",
     "load",
-    "maps",
+    "model",
     "perception",
     "plan",
+    "plugins",
     "python_budget",
     "read_record",
     "replay",
     "robot",
     "set_python_budget",
-    "sim",
     "start",
     "visualize",
     "walker_behavior",
 ]
+
+#: Names that moved when the Python face was organised by concept: an alias for one release.
+_MOVED = {"sim": "vwg.robot.platforms.sim", "maps": "vwg.io.maps", "registry": "vwg.plugins"}
+
+
+def __getattr__(name: str) -> object:
+    if name in _MOVED:
+        import importlib
+        import warnings
+
+        warnings.warn(f"vwg.{name} is deprecated: use {_MOVED[name]} (the alias goes in the next release)",
+                      DeprecationWarning, stacklevel=2)
+        return importlib.import_module(_MOVED[name])
+    raise AttributeError(f"module 'vwg' has no attribute {name!r}")

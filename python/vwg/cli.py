@@ -24,9 +24,28 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from . import _core
-from .errors import Error, FrameError
-from .launch import EXIT_UNREACHED, clip, strict_json
+import yaml
+
+import vwg._core as _core
+from vwg.errors import Error, FrameError, ReplayError, clip
+from vwg.generic import named_world_file, replay
+from vwg.io.record import Recorder, check_goals, read_key, read_record, robot_data, robot_world_file
+from vwg.io.shipped import resolve_world, shipped_worlds
+from vwg.io.yamldoc import YamlDoc
+from vwg.launch import (
+    EXIT_UNREACHED,
+    RunOptions,
+    check_outputs,
+    describe,
+    kind_of,
+    load,
+    platform_faults,
+    replay_world,
+    start,
+    strict_json,
+)
+from vwg.plugins import GROUPS, backends, deciders, platforms
+from vwg.robot.world_file import load_robot_world
 
 __all__ = ["EXIT_UNREACHED", "main", "strict_json"]
 
@@ -40,9 +59,6 @@ def _print_summary(rows: list[tuple[str, str]]) -> None:
 def _world_file(arg: Path, command: str, expected: str) -> Path:
     """The world file an argument names (a file, or a shipped world's name), refused with a sentence
     saying what `command` takes when it is not of the `expected` kind."""
-    from .launch import kind_of
-    from .worlds import resolve_world
-    from .yamldoc import YamlDoc
 
     path = resolve_world(arg)
     kind = kind_of(path, YamlDoc(path).data)
@@ -52,19 +68,17 @@ def _world_file(arg: Path, command: str, expected: str) -> Path:
 
 
 def _options(args: argparse.Namespace) -> Any:
-    from .launch import RunOptions
 
     return RunOptions(frames=args.frames, seed=args.seed, dt=args.dt, max_symbols=args.max_symbols,
                       threads=args.threads, backend=args.backend, record=args.record, record_key=args.record_key,
                       summary_json=args.summary_json,
-                      progress=args.progress, platform=args.platform, url=args.url, port=args.port,
+                      progress=args.progress, platform=args.platform, platform_options=_platform_options(args),
                       planner=args.planner, goals=args.goal,
                       no_world_orders=args.no_world_orders, stdin_orders=args.stdin_orders, video=args.video,
                       images=args.images, trajectory=args.trajectory, allow_unreached=args.allow_unreached)
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
-    from .launch import load, start
 
     if not 0 <= args.python_budget <= 86400:  # (NaN fails both)
         raise Error(f"--python-budget: expected 0 (no reports) to 86400 seconds, got {args.python_budget}")
@@ -98,9 +112,6 @@ def _out_of_memory(e: BaseException) -> bool:
 
 
 def _cmd_replay(args: argparse.Namespace) -> int:
-    from .launch import replay_world
-    from .record import read_key, read_record, replay
-    from .registry import backends
 
     key = read_key(args.record_key) if args.record_key else None
     record = read_record(args.record, key)  # read once: decoding a long record is most of a replay's reading
@@ -132,11 +143,6 @@ def _resume(args: argparse.Namespace, record: Any, key: bytes | None) -> int:
     The world file is --world, or the one the record names: a generic world's only if it holds the
     world kept in the record (else its code is not the record's), unless --allow-code-from-record.
     A robot world's run gets its --goal orders again from the record."""
-    from .errors import ReplayError
-    from .launch import RunOptions, check_outputs, kind_of, load, platform_faults, start
-    from .record import Recorder, check_goals, named_world_file, robot_data, robot_world_file
-    from .worlds import resolve_world
-    from .yamldoc import YamlDoc
 
     frames = [f["t"] for f in record.frames]
     if args.resume_from not in frames:
@@ -213,7 +219,6 @@ def _resume(args: argparse.Namespace, record: Any, key: bytes | None) -> int:
 
 
 def _cmd_check(args: argparse.Namespace) -> int:
-    from .launch import describe, load
 
     world = load(args.world)
     title, rows = describe(world)
@@ -231,7 +236,7 @@ def _check_workers(args: argparse.Namespace) -> None:
 
 
 def _cmd_sweep(args: argparse.Namespace) -> int:
-    from .sweep import load_spec, run_sweep
+    from vwg.sweep import load_spec, run_sweep
 
     spec = load_spec(args.spec)
     _check_workers(args)
@@ -244,7 +249,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
 
 
 def _cmd_experiments(args: argparse.Namespace) -> int:
-    from .experiments import run_experiments
+    from vwg.experiments import run_experiments
 
     _check_workers(args)
     if args.output.exists() and not args.output.is_dir():
@@ -257,11 +262,10 @@ def _cmd_experiments(args: argparse.Namespace) -> int:
 
 
 def _cmd_serve(args: argparse.Namespace) -> int:
-    from .robotworld import load_robot_world
 
     try:
-        from .serve.live import LiveRun
-        from .serve.server import serve
+        from vwg.serve.live import LiveRun
+        from vwg.serve.server import serve
     except ImportError as e:
         raise Error(f"vwg serve needs aiohttp: pip install 'vwg[serve]' ({e})") from None
     path = _world_file(args.world, "serve", expected="robot")
@@ -275,7 +279,7 @@ def _cmd_serve(args: argparse.Namespace) -> int:
         if not (math.isfinite(args.dt) and 0 < args.dt <= 10):
             raise Error(f"--dt: expected 0 < dt <= 10 seconds per frame, got {args.dt}")
         world = dataclasses.replace(world, dt=args.dt)
-    spec = world.platform.given(args.platform, url=args.url, port=args.serial_port)
+    spec = world.platform.given(args.platform, **_platform_options(args))
     live = LiveRun(world, planner=args.planner, platform=spec, speed=args.speed, seed=args.seed, threads=args.threads,
                    world_orders=not args.no_world_orders, paused=args.paused)
     if args.host not in ("127.0.0.1", "localhost", "::1"):
@@ -292,8 +296,7 @@ def _cmd_serve(args: argparse.Namespace) -> int:
 
 
 def _cmd_overview(args: argparse.Namespace) -> int:
-    from .overview import render_world_overview
-    from .robotworld import load_robot_world
+    from vwg.robot.overview import render_world_overview
 
     path = _world_file(args.world, "overview", expected="robot")
     world = load_robot_world(path)
@@ -305,8 +308,6 @@ def _cmd_overview(args: argparse.Namespace) -> int:
 
 
 def _cmd_worlds(args: argparse.Namespace) -> int:
-    from .robotworld import load_robot_world
-    from .worlds import shipped_worlds
 
     print(f"{len(shipped_worlds())} shipped worlds; run one with `vwg run NAME`, describe it with `vwg check NAME`:")
     rows = []
@@ -318,12 +319,55 @@ def _cmd_worlds(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_plugins(args: argparse.Namespace) -> int:
+    """Every registered part by group (name and where it came from), and the entry points that did not load."""
+    failed = 0
+    for group, registry in GROUPS.items():
+        if args.group and group != args.group:
+            continue
+        print(f"{group}:")
+        for plugin in registry.plugins():
+            print(f"  {plugin.name:<14} {plugin.origin}")
+        for failure in registry.failures:
+            failed += 1
+            print(f"  {failure.name:<14} NOT LOADED ({failure.origin}): {failure.error}")
+    return 1 if failed else 0
+
+
 def _dask_options(command: argparse.ArgumentParser) -> None:
     """Where a command's runs go: a running Dask scheduler, or a local cluster of --workers processes."""
     command.add_argument("--scheduler", help="a running Dask scheduler (tcp://HOST:PORT); default: a local cluster")
     command.add_argument("--workers", type=int, help="worker processes of the local cluster (default: the cores)")
     command.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
                          help="show progress bars (default: on a terminal)")
+
+
+def _platform_option(value: str) -> tuple[str, Any]:
+    """--platform-opt KEY=VALUE: VALUE read as YAML (a number, true/false, text, or {a: 1, b: 2})."""
+    key, eq, text = value.partition("=")
+    if not eq or not key.strip():
+        raise argparse.ArgumentTypeError(f"expected KEY=VALUE, got {value!r}")
+    try:
+        parsed = yaml.safe_load(text) if text.strip() else ""
+    except yaml.YAMLError as e:
+        raise argparse.ArgumentTypeError(f"{key}: VALUE is not YAML ({getattr(e, 'problem', None) or e})") from None
+    return key.strip(), parsed
+
+
+def _platform_options(args: argparse.Namespace) -> dict[str, Any]:
+    """The platform options the command line gives: --platform-opt KEY=VALUE, and the shorthands --url
+    (rosbridge) and --serial-port (serial)."""
+    options = dict(args.platform_opt or [])
+    for key, value in (("url", args.url), ("port", args.serial_port)):
+        if value is not None:
+            if key in options:
+                raise Error(f"--platform-opt {key}= and its shorthand are both given; give one")
+            options[key] = value
+    return options
+
+
+def _registered(registry: Any) -> str:
+    return ", ".join(registry) or "none"
 
 
 def _planner_name(value: str) -> str:
@@ -338,6 +382,16 @@ def _goal(value: str) -> str:
     if not value.rpartition(":")[2].strip():
         raise argparse.ArgumentTypeError(f"expected ROOM or ROBOT:ROOM, got {value!r}")
     return value
+
+
+def _platform_arguments(group: Any) -> None:
+    group.add_argument("--platform-opt", action="append", type=_platform_option, metavar="KEY=VALUE",
+                       help="an option of the platform, over the world file's (repeatable; vwg plugins lists each "
+                            "platform's options)")
+    group.add_argument("--url", help="the rosbridge server of --platform rosbridge (ws://HOST:PORT): "
+                                     "--platform-opt url=URL")
+    group.add_argument("--serial-port", help="the serial port of --platform serial (/dev/ttyUSB0, "
+                                             "socket://HOST:PORT): --platform-opt port=PORT")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -364,14 +418,12 @@ def build_parser() -> argparse.ArgumentParser:
                      help="threads for the robots' lasers and decisions (default 0: the machine's cores); any "
                           "count gives the same frames")
     robot = run.add_argument_group("robot worlds (the case study: world files that name a map)")
-    robot.add_argument("--platform", help="where the robots run: sim (the Box2D simulator), rosbridge (a ROS "
-                                           "robot through its rosbridge server) (default: the world file's "
-                                           "platform:, else sim)")
-    robot.add_argument("--url", help="the rosbridge server of --platform rosbridge (ws://HOST:PORT)")
-    robot.add_argument("--port", help="the serial port of --platform serial (/dev/ttyUSB0, socket://HOST:PORT)")
+    robot.add_argument("--platform", help=f"where the robots run: a registered platform ({_registered(platforms)}; "
+                                           "default: the world file's platform:, else sim)")
+    _platform_arguments(robot)
     robot.add_argument("--planner", type=_planner_name,
-                       help="the decision inside eDecide: random, astar, jps, dstar, rrtconnect, rrtstar, prm, "
-                            "astar-octile, jps-octile (A* and JPS with the octile heuristic) (default astar)")
+                       help=f"the decision inside eDecide, a registered decider ({_registered(deciders)}; "
+                            "default astar)")
     robot.add_argument("--goal", action="append", metavar="[ROBOT:]ROOM", type=_goal,
                        help="send a robot (default the first) to a room at the start; repeatable; replaces "
                             "the world file's orders")
@@ -445,10 +497,11 @@ def build_parser() -> argparse.ArgumentParser:
     srv.add_argument("--port", type=int, default=8765, help="the port (default 8765; 0: any free port)")
     srv.add_argument("--host", default="127.0.0.1", help="the address to listen on (default 127.0.0.1: this machine)")
     srv.add_argument("--planner", default="astar", type=_planner_name,
-                     help="the decision inside eDecide (default astar)")
-    srv.add_argument("--platform", help="sim (default), rosbridge or serial")
-    srv.add_argument("--url", help="the rosbridge server of --platform rosbridge")
-    srv.add_argument("--serial-port", help="the serial port of --platform serial")
+                     help=f"the decision inside eDecide, a registered decider ({_registered(deciders)}; default "
+                          "astar)")
+    srv.add_argument("--platform", help=f"a registered platform ({_registered(platforms)}; default: the file's "
+                                         "platform:, else sim)")
+    _platform_arguments(srv)
     srv.add_argument("--speed", type=float, default=1.0, help="times real time (default 1; 0: as fast as it goes)")
     srv.add_argument("--seed", type=int, help="random seed (default: the file's)")
     srv.add_argument("--dt", type=float, help="seconds per frame (default: the file's)")
@@ -471,6 +524,13 @@ def build_parser() -> argparse.ArgumentParser:
     chk.add_argument("world", type=Path, help="a world file, or the name of a shipped world")
     chk.set_defaults(func=_cmd_check)
 
+    plg = sub.add_parser("plugins", help="list the registered deciders, sensors, platforms, backends and world kinds",
+                         description="List every registered part by entry-point group, with where it came from "
+                                     "(vwg itself or an installed plugin); exit status 1 if an entry point did "
+                                     "not load (it is listed with its error).")
+    plg.add_argument("--group", choices=list(GROUPS), help="only this group")
+    plg.set_defaults(func=_cmd_plugins)
+
     wld = sub.add_parser("worlds", help="list the worlds that ship with vwg",
                          description="List the shipped robot worlds; run one with `vwg run NAME`.")
     wld.set_defaults(func=_cmd_worlds)
@@ -488,7 +548,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     # A Python part over its time budget, robots' memory no longer shared (the system's limit of
     # memory mappings), and a shipped world run in place of a folder of its name, are said on the
     # terminal even when nothing else is.
-    for name in ("vwg.python", "vwg.shared_pages", "vwg.worlds"):
+    for name in ("vwg.python", "vwg.shared_pages", "vwg.io.shipped"):
         said = logging.getLogger(name)
         if not said.handlers:
             handler = logging.StreamHandler(sys.stderr)

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-__all__ = ["Error", "FrameError", "ParseError", "ReplayError", "SchemaError", "WorldFileError"]
+__all__ = ["Error", "FrameError", "ParseError", "ReplayError", "SchemaError", "WorldFileError", "clip"]
 
 
 class Error(Exception):
@@ -74,3 +74,8 @@ class ReplayError(Error):
         self.frame = frame
         self.expected = expected
         self.got = got
+
+
+def clip(text: str, n: int = 200) -> str:
+    """`text` cut to `n` characters with "..." (a long value quoted in a message or a summary line)."""
+    return text if len(text) <= n else text[: n - 3] + "..."

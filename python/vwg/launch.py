@@ -1,8 +1,8 @@
 """One loader, one run path and one replay path for every kind of world file.
 
-A world file is of one of the kinds registered in ``vwg.registry.world_kinds``: ``robot`` (the case
+A world file is of one of the kinds registered in ``vwg.plugins.world_kinds``: ``robot`` (the case
 study: a map, rooms, robots; vwg.robot.RobotWorld) and ``generic`` (an alphabet, an initial string,
-generators, a backend; vwg.worldfile.WorldSpec). A kind recognises its files, loads them, says which
+generators, a backend; vwg.generic.WorldSpec). A kind recognises its files, loads them, says which
 run options apply to it, starts a run and rebuilds the world a record of it was made with.
 ``vwg run``, ``vwg replay`` and ``vwg check`` go through here and nowhere else, so an option that
 does not apply to a world is refused by name rather than ignored.
@@ -22,8 +22,14 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Protocol
 
-from . import _core
-from .errors import Error
+import vwg._core as _core
+from vwg.errors import Error, clip
+from vwg.io.files import check_output_file
+from vwg.io.record import Recorder, read_key, robot_data, robot_world_file
+from vwg.io.shipped import resolve_world
+from vwg.io.yamldoc import YamlDoc
+from vwg.model.limits import MAX_DT, MAX_FRAMES, MAX_SEED, MIN_DT
+from vwg.plugins import world_kinds
 
 __all__ = ["COMMON_OPTIONS", "EXIT_LINK_FAULT", "EXIT_UNREACHED", "Outcome", "Run", "RunOptions", "WorldKind",
            "clip", "describe", "kind_of", "load", "platform_faults", "replay_world", "start", "strict_json"]
@@ -32,16 +38,6 @@ __all__ = ["COMMON_OPTIONS", "EXIT_LINK_FAULT", "EXIT_UNREACHED", "Outcome", "Ru
 EXIT_UNREACHED = 3
 #: Exit status of a run a real robot's link ended (the robot was stopped; the faults are in the summary).
 EXIT_LINK_FAULT = 4
-
-# What a run may be told, in world files and on the command line alike: the engine counts frames and
-# seeds in 64 bits, and a frame time of 5e-324 s would make a second 10**323 frames.
-#: The largest seed and number of frames (the engine's unsigned 64-bit integers).
-MAX_SEED = MAX_FRAMES = 2**64 - 1
-#: Seconds per frame.
-MIN_DT, MAX_DT = 1e-6, 3600.0
-#: Seconds from the start of a scripted order or event: 31 years, under 2**63 frames at MIN_DT.
-MAX_TIME = 1e9
-
 
 @dataclass
 class RunOptions:
@@ -59,9 +55,8 @@ class RunOptions:
     summary_json: Path | None = None  # the outcome's summary as JSON
     progress: bool | None = False
     # the robot case study
-    platform: str | None = None
-    url: str | None = None            # the rosbridge server of a real robot (ws://HOST:PORT)
-    port: str | None = None           # the serial port of a real base (/dev/ttyUSB0, socket://HOST:PORT)
+    platform: str | None = None       # a registered platform (vwg plugins), instead of the file's
+    platform_options: dict[str, Any] = field(default_factory=dict)  # over the file's (--platform-opt KEY=VALUE)
     planner: str | None = None
     goals: list[str] | None = None    # "ROOM" (the first robot) or "ROBOT:ROOM"; replace the file's orders
     no_world_orders: bool = False
@@ -129,7 +124,7 @@ class Run(Protocol):
 
 
 class WorldKind(Protocol):
-    """A kind of world file (register one in vwg.registry.world_kinds)."""
+    """A kind of world file (register one in vwg.plugins.world_kinds)."""
 
     name: str
     #: The run options that apply beyond COMMON_OPTIONS.
@@ -147,18 +142,20 @@ class WorldKind(Protocol):
 
 
 def _kinds() -> list[WorldKind]:
-    from .registry import world_kinds
-
-    return [world_kinds.create(name) for name in world_kinds.in_order()]
+    return [world_kinds.create(name) for name in world_kinds]
 
 
 def kind_of(path: Path, data: Any) -> WorldKind:
-    """The kind of a world file's content; Error naming what each kind expects otherwise."""
+    """The kind of a world file's content (the one registered kind that takes it); Error naming what
+    each kind expects otherwise."""
     kinds = _kinds()
     if isinstance(data, dict):
-        for kind in kinds:
-            if kind.matches(data):
-                return kind
+        matching = [kind for kind in kinds if kind.matches(data)]
+        if len(matching) == 1:
+            return matching[0]
+        if matching:
+            raise Error(f"{path}: the file could be a world of each kind " +
+                        " and ".join(f"{k.name} ({k.shape})" for k in matching) + "; it must be one")
         found = f"found keys: {', '.join(str(k) for k in list(data)[:8]) or 'none'}"
     else:
         found = f"found a {type(data).__name__}, not a mapping"
@@ -168,8 +165,6 @@ def kind_of(path: Path, data: Any) -> WorldKind:
 
 def load(world: str | Path) -> Any:
     """Load a world file of any kind, or a shipped world by name: a vwg.robot.RobotWorld or a WorldSpec."""
-    from .worlds import resolve_world
-    from .yamldoc import YamlDoc
 
     path = resolve_world(world)
     return kind_of(path, YamlDoc(path).data).load(path)
@@ -206,7 +201,6 @@ def run_inputs(world: Any) -> dict[str, Path]:
     if map_path is not None:
         inputs["the world's map"] = Path(map_path)
         if Path(map_path).suffix.lower() in (".yaml", ".yml"):
-            from .yamldoc import YamlDoc
 
             try:  # the map was read when the world loaded: this only finds its image's name again
                 data = YamlDoc(map_path).data
@@ -218,10 +212,17 @@ def run_inputs(world: Any) -> dict[str, Path]:
     return inputs
 
 
+TRAJECTORY_FORMATS = {".png": "png", ".jpg": "jpeg", ".jpeg": "jpeg"}
+
+
+def trajectory_type_error(path: Path) -> str:
+    """What is wrong with a --trajectory name whose extension is not a picture's we write."""
+    return f"{path}: unknown picture type '{path.suffix}'; use {', '.join(TRAJECTORY_FORMATS)}"
+
+
 def check_outputs(world: Any, options: RunOptions, inputs: dict[str, Path] | None = None) -> None:
     """Before a run starts: no output overwrites what the run reads (`inputs` adds to the world's) and
     none is a named pipe (a run would wait on it for ever, silently)."""
-    from .files import check_output_file
 
     inputs = {**run_inputs(world), **(inputs or {})}
     if options.record_key is not None:
@@ -233,11 +234,9 @@ def check_outputs(world: Any, options: RunOptions, inputs: dict[str, Path] | Non
             check_output_file(Path(path), flag, inputs)
     if options.images is not None:
         check_output_file(Path(options.images), "--images", inputs, folder=True)
-    if trajectory is not None:  # found before the run, not after it (as --video's)
-        from .casestudy import TRAJECTORY_FORMATS, trajectory_type_error
-
-        if Path(trajectory).suffix.lower() not in TRAJECTORY_FORMATS:
-            raise Error(f"--trajectory {trajectory_type_error(Path(trajectory))}")
+    # --trajectory's picture type is found before the run, not after it (as --video's).
+    if trajectory is not None and Path(trajectory).suffix.lower() not in TRAJECTORY_FORMATS:
+        raise Error(f"--trajectory {trajectory_type_error(Path(trajectory))}")
 
 
 class RecordedRun:
@@ -245,7 +244,6 @@ class RecordedRun:
     are written by execute(), whoever calls it (``vwg run`` or a script). Everything else is the run's."""
 
     def __init__(self, run: Run, world: Any, options: RunOptions) -> None:
-        from .record import Recorder, read_key
 
         self.run = run
         self.options = options
@@ -340,11 +338,7 @@ def replay_world(header: dict[str, Any], world_file: str | Path | None, record_p
                  allow_code_from_record: bool = False) -> Any:
     """The world (vwg.World) a record's header was made with: from `world_file` when given (a file
     or a shipped world's name, which must be of the record's kind), else from what the header keeps,
-    importing no code the record names unless `allow_code_from_record` (vwg.record.world_of_record)."""
-    from .record import robot_data, robot_world_file
-    from .registry import world_kinds
-    from .worlds import resolve_world
-    from .yamldoc import YamlDoc
+    importing no code the record names unless `allow_code_from_record` (vwg.generic.world_of_record)."""
 
     name = header.get("world_kind") or ("robot" if "robot_world" in (header.get("world") or {}) else "generic")
     kind = world_kinds.create(name)
@@ -357,11 +351,6 @@ def replay_world(header: dict[str, Any], world_file: str | Path | None, record_p
         if other.name != kind.name:
             raise Error(f"{path}: the record was made by a {kind.name} world; this is a {other.name} world")
     return kind.replay_world(header, path, record_path, allow_code_from_record=allow_code_from_record)
-
-
-def clip(text: str, n: int = 200) -> str:
-    """`text` cut to `n` characters with "..." (a long string in a summary line)."""
-    return text if len(text) <= n else text[: n - 3] + "..."
 
 
 def strict_json(value: Any) -> Any:

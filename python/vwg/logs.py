@@ -11,7 +11,7 @@ from __future__ import annotations
 import atexit
 import logging
 
-from . import _core
+import vwg._core as _core
 
 __all__ = ["logger"]
 

@@ -8,7 +8,7 @@ events.
 
 from __future__ import annotations
 
-from ._core import (
+from vwg._core import (
     AprilTagDetection,
     AprilTagFamily,
     AprilTagPose,

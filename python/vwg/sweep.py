@@ -31,9 +31,11 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from .errors import Error, SchemaError
-from .trial import COLUMNS, KNOWN_PARAMS, Trial, check_params, run_trial
-from .yamldoc import YamlDoc
+from vwg.errors import Error, SchemaError
+from vwg.io.shipped import expand_user, shipped_world, shipped_worlds, unusable_name
+from vwg.io.yamldoc import YamlDoc
+from vwg.plugins import deciders
+from vwg.trial import COLUMNS, KNOWN_PARAMS, Trial, check_params, run_trial
 
 __all__ = ["SweepResult", "SweepSpec", "dask_client", "finished_keys", "load_spec", "run_sweep"]
 
@@ -64,7 +66,6 @@ class SweepSpec:
 
 def load_spec(path: str | Path) -> SweepSpec:
     """Read and check a SPEC file; errors name the file, line and field."""
-    from .registry import deciders
 
     doc = YamlDoc(path)
     base = Path(path).resolve().parent
@@ -130,7 +131,6 @@ def _nonempty_list(doc: YamlDoc, path: tuple[Any, ...]) -> list[Any]:
 def _world_name(name: str, base: Path) -> str:
     """How a cell names its world: a file's absolute path (relative names are taken from the SPEC's
     folder), or a shipped world's name (it travels by name: a worker may have vwg installed elsewhere)."""
-    from .worlds import expand_user, shipped_world, shipped_worlds, unusable_name
 
     local = base / expand_user(name)
     try:

@@ -12,17 +12,17 @@ Parameters (``params``; all optional):
   free places drawn from the seed and sends each to a room drawn from the seed (one it can reach).
 - ``robots``: how many robots: the world file's first N, or with ``task: random`` N new ones.
 - ``sensors``: the sensors every robot carries (``[laser]``, ``[kinect]``, ``[laser, kinect]``, ...).
-- ``odometry_noise``, ``motor_noise``: the simulator's noise (vwg.sim.NoiseModel's fields).
+- ``odometry_noise``, ``motor_noise``: the simulator's noise (vwg.robot.platforms.sim.NoiseModel's fields).
 - ``knows_map``: false starts the robots with empty maps (they learn the walls with their sensors).
 - ``obstacles``: boxes (0.5 m) put on the first robot's shortest way after the map was drawn: the
   robots start with the map without them and find them with their sensors (the world changed).
 
 The row: ``world, planner, seed, frames_limit, params`` (the cell), then ``reached`` (every ordered robot
 reached its room), ``frames``, ``path_length_m`` (driven, all robots), ``optimal_m`` (the sum of the
-ordered robots' shortest ways from start to room, by vwg.shortest; empty when a robot has several
+ordered robots' shortest ways from start to room, by vwg.robot.shortest; empty when a robot has several
 orders), ``collisions``, ``replans``, ``robots``, ``reached_robots``, ``planning_s`` (the decider's
 search time, where it counts it), ``map_precision`` and ``map_recall`` (with ``knows_map: false``: how
-the maps the robots made agree with the true one, vwg.map_quality), ``run_s`` (the frames' time),
+the maps the robots made agree with the true one, vwg.robot.map_quality), ``run_s`` (the frames' time),
 ``wall_s`` (the whole cell's, set-up included) and ``error`` (a failed frame's message; empty if none).
 """
 
@@ -39,7 +39,15 @@ from typing import Any
 
 import numpy as np
 
-from .errors import Error, SchemaError
+from vwg._core import NoiseModel, RobotSettings
+from vwg.errors import Error, FrameError, SchemaError
+from vwg.io.maps import OccupancyGrid
+from vwg.io.shipped import resolve_world
+from vwg.plugins import sensors
+from vwg.robot.case_study import CaseStudy
+from vwg.robot.map_quality import map_quality
+from vwg.robot.shortest import DistanceField, grid_graph
+from vwg.robot.world_file import load_robot_world
 
 __all__ = ["COLUMNS", "KNOWN_PARAMS", "Trial", "cached_world", "random_task", "replace_robot", "run_trial",
            "shortest_m", "trial_world"]
@@ -120,7 +128,6 @@ def check_params(params: dict[str, Any], where: str) -> None:
         if name in params and not (math.isfinite(params[name]) and 0 <= params[name] <= 1):
             raise SchemaError(f"{where}.{name}: expected a number from 0 to 1, got {params[name]!r}")
     if "sensors" in params:
-        from .registry import sensors
 
         if not params["sensors"]:
             raise SchemaError(f"{where}.sensors: expected at least one sensor")
@@ -135,8 +142,6 @@ def check_params(params: dict[str, Any], where: str) -> None:
 @functools.lru_cache(maxsize=8)
 def cached_world(path: str) -> Any:
     """The robot world of a file (or a shipped world's name), loaded once per process."""
-    from .robotworld import load_robot_world
-    from .worlds import resolve_world
 
     return load_robot_world(resolve_world(path))
 
@@ -150,7 +155,6 @@ def _field(grid: Any, radius: float, goal: tuple[float, float], tolerance: float
     `radius`, cached (the last 64): a sweep runs many cells on the same maps and rooms."""
     import hashlib
 
-    from .shortest import DistanceField, grid_graph
 
     grid_key = hashlib.sha1(grid.data.tobytes() + repr((grid.resolution, grid.origin)).encode()).digest()
     key = (grid_key, radius, goal, tolerance)
@@ -180,7 +184,6 @@ def shortest_m(grid: Any, radius: float, start: tuple[float, float], goal: tuple
 def trial_world(trial: Trial) -> tuple[Any, dict[int, str], Any]:
     """The robot world a trial runs (its robots, sensors and noise set by the parameters), the orders
     at the start (robot -> room; empty: the world file's), and the map the robots start with."""
-    from ._core import NoiseModel
 
     world = cached_world(trial.world)
     p = trial.params
@@ -209,7 +212,6 @@ def trial_world(trial: Trial) -> tuple[Any, dict[int, str], Any]:
 
 def replace_robot(robot: Any, **changes: Any) -> Any:
     """A robot's settings with these fields changed (vwg.robot.RobotSettings is immutable from Python)."""
-    from ._core import RobotSettings
 
     fields = {name: getattr(robot, name) for name, *_ in RobotSettings.fields()}
     return RobotSettings(**{**fields, **changes})
@@ -249,7 +251,6 @@ def random_task(world: Any, n: int, rng: np.random.Generator) -> tuple[Any, dict
 def _add_obstacles(world: Any, goals: dict[int, str], count: int, rng: np.random.Generator) -> Any:
     """The world with `count` boxes on its first robot's shortest way to its room (each where the way
     stays open around it), put after the map was drawn."""
-    from .maps import OccupancyGrid
 
     robot = world.robots[0]
     room = goals.get(robot.id) or next((o.room for o in world.orders if o.robot == robot.id), None)
@@ -319,8 +320,6 @@ def run_trial(trial: Trial | dict[str, Any]) -> dict[str, Any]:
 
 
 def _run(trial: Trial) -> dict[str, Any]:
-    from .casestudy import CaseStudy
-    from .errors import FrameError
 
     world, goals, known = trial_world(trial)
     case = CaseStudy(world, trial.planner, goals=goals or None, seed=trial.seed, frames=trial.frames,
@@ -334,7 +333,6 @@ def _run(trial: Trial) -> dict[str, Any]:
             summary = case.summary()
         quality = (math.nan, math.nan)
         if not trial.params.get("knows_map", True):
-            from .map_quality import map_quality
 
             grids = [actor["grid"] for actor in case.robot_actors().values()]
             quality = map_quality(world.grid, grids, case.view.trajectories.values())

@@ -20,10 +20,10 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from ..sweep import SweepSpec, dask_client, run_sweep
-from . import devices, environment, evolution, extensibility, simulation
-from .section import Section
-from .simulation import SimulationConfig
+from vwg.experiments import devices, environment, evolution, extensibility, simulation
+from vwg.experiments.section import Section
+from vwg.experiments.simulation import SimulationConfig
+from vwg.sweep import SweepSpec, dask_client, run_sweep
 
 __all__ = ["CONFIGS", "Config", "run_experiments"]
 

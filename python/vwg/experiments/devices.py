@@ -8,9 +8,9 @@ import math
 from pathlib import Path
 from typing import Any
 
-from . import plots
-from .section import Section
-from .tables import Table, fmt, group, median, number, share
+from vwg.experiments import plots
+from vwg.experiments.section import Section
+from vwg.experiments.tables import Table, fmt, group, median, number, share
 
 __all__ = ["section"]
 
@@ -19,7 +19,7 @@ The robot starts with an empty map (eq. 13) and learns the walls from its range 
 (gLaser), the Kinect (gKinect, a depth image turned into the same eLaser<dist, angle> events), or
 both; the world string and the robot are the same in all three. **map precision**: of the cells the
 robot marked occupied, the share within one cell of a true wall; **map recall**: of the wall surface
-within 2 m of where the robot went, the share it marked (vwg.map_quality; walls out of sight, such as
+within 2 m of where the robot went, the share it marked (vwg.robot.map_quality; walls out of sight, such as
 the far side of a wall, count as missed, so no sensor reaches 1). Success and path as in test 1.
 """
 

@@ -6,9 +6,9 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from . import plots
-from .section import Section
-from .tables import Table, fmt, group, median, number, share
+from vwg.experiments import plots
+from vwg.experiments.section import Section
+from vwg.experiments.tables import Table, fmt, group, median, number, share
 
 __all__ = ["section"]
 
@@ -17,11 +17,11 @@ Each planner drives one robot from a free place to a room, both drawn from the s
 pair per seed), on each map, with everything else the same: the robot, its laser, the map it knows.
 **success** is the share of runs that reached the room within the frame limit; **path / optimal** is
 the distance driven over the shortest way for the robot's radius (SciPy's Dijkstra on the grid,
-vwg.shortest: independent of the planners), for the runs that arrived; **frames to goal** likewise;
+vwg.robot.shortest: independent of the planners), for the runs that arrived; **frames to goal** likewise;
 **planning** is the decider's own search time per run (the random decider does not search). The
 optimum is the way to the nearest point within the goal tolerance (0.25 m), where the robot counts as
 arrived; the robot drives any angle and the optimum follows the grid's 8 directions, so a ratio a little
-below 1 is possible. `wavefront` is a decider written in Python (vwg.wavefront).
+below 1 is possible. `wavefront` is a decider written in Python (vwg.robot.deciders.wavefront).
 """
 
 

@@ -6,9 +6,9 @@ import json
 from pathlib import Path
 from typing import Any
 
-from . import plots
-from .section import Section
-from .tables import Table, fmt, group, mean, median, number, share
+from vwg.experiments import plots
+from vwg.experiments.section import Section
+from vwg.experiments.tables import Table, fmt, group, mean, median, number, share
 
 __all__ = ["section"]
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .tables import Table
+from vwg.experiments.tables import Table
 
 __all__ = ["Section"]
 

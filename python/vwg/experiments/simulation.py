@@ -1,7 +1,7 @@
 """Test 3, simulation and real robot: the same world string through the simulator platform and through
 the rosbridge link to a robot (paper §III.F.3).
 
-The robot here is vwg.fake_robot's: a rosbridge v2 server on 127.0.0.1 with its own Box2D simulator,
+The robot here is vwg.testing.fake_robot's: a rosbridge v2 server on 127.0.0.1 with its own Box2D simulator,
 driven only by the Twists vwg publishes and seen only through the Odometry and LaserScan it publishes.
 It runs in lockstep (it steps when vwg asks), so the two runs can be compared frame by frame.
 """
@@ -15,9 +15,16 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from . import plots
-from .section import Section
-from .tables import Table, fmt, group, mean, median, share
+import vwg._core as _core
+from vwg import launch
+from vwg._core import NoiseModel
+from vwg.experiments import plots
+from vwg.experiments.section import Section
+from vwg.experiments.tables import Table, fmt, group, mean, median, share
+from vwg.robot.case_study import CaseStudy
+from vwg.robot.world_file import PlatformSpec
+from vwg.testing.fake_robot import FakeRosbridgeRobot
+from vwg.trial import Trial, trial_world
 
 __all__ = ["SimulationConfig", "section"]
 
@@ -26,7 +33,7 @@ WORLD = "office"
 METHOD = """
 **Same frames.** One robot, a start and a room drawn from the seed, noise off: the world runs (a) on
 the simulator platform and (b) through rosbridge to a robot that is only reachable through its ROS
-topics (vwg.fake_robot, stepped in lockstep). Both runs are recorded; **identical** says whether the two
+topics (vwg.testing.fake_robot, stepped in lockstep). Both runs are recorded; **identical** says whether the two
 frame logs are the same byte for byte (header included).
 
 **Odometry noise.** The same through rosbridge, the robot's odometry drifting (a random walk per metre
@@ -61,16 +68,13 @@ class SimulationConfig:
 
 
 def _task(seed: int, frames: int) -> tuple[Any, dict[int, str]]:
-    from ..trial import Trial, trial_world
 
     world, goals, _ = trial_world(Trial(WORLD, "astar", seed, frames, {"task": "random", "sensors": ["laser"]}))
-    from .._core import NoiseModel
 
-    return dataclasses.replace(world, laser=world.laser.replace(noise=0.0), noise=NoiseModel()), goals
+    return dataclasses.replace(world.with_sensor("laser", noise=0.0), noise=NoiseModel()), goals
 
 
 def _on_ros(world: Any, url: str) -> Any:
-    from ..robotworld import PlatformSpec
 
     return dataclasses.replace(world, platform=PlatformSpec("rosbridge", {"url": url, "lockstep": "/vwg/step",
                                                                          "control_rate": 100}))
@@ -78,8 +82,6 @@ def _on_ros(world: Any, url: str) -> Any:
 
 def same_frames(seed: int, frames: int, records: Path) -> dict[str, Any]:
     """Run one task on the simulator and through rosbridge, recording both; compare the records."""
-    from .. import launch
-    from ..fake_robot import FakeRosbridgeRobot
 
     world, goals = _task(seed, frames)
     orders = [f"{robot}:{room}" for robot, room in goals.items()]
@@ -96,9 +98,6 @@ def same_frames(seed: int, frames: int, records: Path) -> dict[str, Any]:
 
 def drift(level: float, seed: int, frames: int) -> dict[str, Any]:
     """Run one task through rosbridge with odometry noise; vwg's belief against the robot's true pose."""
-    from .. import _core
-    from ..casestudy import CaseStudy
-    from ..fake_robot import FakeRosbridgeRobot
 
     world, goals = _task(seed, frames)
     physics = _core.PhysicsSettings(noise=_core.NoiseModel(odometry=level), seed=seed)

@@ -21,10 +21,10 @@ from typing import Any
 
 import gymnasium
 
-from .navigate_env import NavigateEnv
-from .navigation import REWARD, AgentDecider, Navigation, Reward
-from .parallel_env import NavigateParallelEnv, parallel_env
-from .spaces import DISCRETE_MOVES
+from vwg.gym.navigate_env import NavigateEnv
+from vwg.gym.navigation import REWARD, AgentDecider, Navigation, Reward
+from vwg.gym.parallel_env import NavigateParallelEnv, parallel_env
+from vwg.gym.spaces import DISCRETE_MOVES
 
 __all__ = ["DISCRETE_MOVES", "ENV_ID", "REWARD", "AgentDecider", "NavigateEnv", "NavigateParallelEnv", "Navigation",
            "Reward", "make_vec", "parallel_env"]

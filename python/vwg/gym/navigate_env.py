@@ -8,8 +8,9 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 
-from .navigation import REWARD, Navigation, Reward
-from .spaces import action_space, check_move, flatten, move_of, observation_space
+import vwg._core as _core
+from vwg.gym.navigation import REWARD, Navigation, Reward
+from vwg.gym.spaces import action_space, check_move, flatten, move_of, observation_space
 
 __all__ = ["NavigateEnv"]
 
@@ -65,7 +66,6 @@ class NavigateEnv(gym.Env[Any, Any]):
     def render(self) -> np.ndarray | None:
         if self.render_mode != "rgb_array" or self.nav.case is None:
             return None
-        from .. import _core
 
         nav = self.nav
         renderer = _core.TopDownRenderer(nav.world.grid, width=480)

@@ -20,9 +20,12 @@ from typing import Any
 
 import numpy as np
 
-from .. import _core
-from ..casestudy import CaseStudy
-from ..errors import SchemaError
+import vwg._core as _core
+from vwg.errors import SchemaError
+from vwg.robot.case_study import CaseStudy
+from vwg.robot.shortest import DistanceField
+from vwg.robot.world_file import RobotWorld
+from vwg.trial import cached_world, random_task, replace_robot
 
 __all__ = ["REWARD", "AgentDecider", "Navigation", "Reward"]
 
@@ -61,8 +64,6 @@ class Navigation:
 
     def __init__(self, world: str | Any, *, robots: int = 1, beams: int = 36, frames_per_step: int = 50,
                  reward: Reward = REWARD) -> None:
-        from ..robotworld import RobotWorld
-        from ..trial import cached_world
 
         base = world if isinstance(world, RobotWorld) else cached_world(str(world))
         if not 1 <= robots <= 1000:
@@ -71,11 +72,11 @@ class Navigation:
             raise SchemaError(f"beams: expected 1 to 4096 laser beams, got {beams}")
         if not 1 <= frames_per_step <= 10_000:
             raise SchemaError(f"frames_per_step: expected 1 to 10000, got {frames_per_step}")
-        self.base = dataclasses.replace(base, laser=base.laser.replace(beams=beams), orders=[])
+        self.base = dataclasses.replace(base.with_sensor("laser", beams=beams), orders=[])
         self.n_robots = robots
         self.frames_per_step = frames_per_step
         self.reward = reward
-        self.laser = self.base.laser
+        self.laser = self.base.sensor_settings("laser")
         grid = self.base.grid
         self.max_distance = math.hypot(grid.width_m, grid.height_m)  # no room is farther
         self.case: CaseStudy | None = None
@@ -89,7 +90,6 @@ class Navigation:
 
     # ---- episodes ---------------------------------------------------------------------------------------
     def reset(self, seed: int) -> None:
-        from ..trial import random_task, replace_robot
 
         self.close()
         world, goals = random_task(self.base, self.n_robots, np.random.default_rng(seed))
@@ -97,7 +97,7 @@ class Navigation:
         self.world, self.goals = world, goals
         self.decider = AgentDecider()
         self.case = CaseStudy(world, self.decider, goals=goals, seed=seed, threads=1, world_orders=False)
-        self.lasers = {g.robot: g for g in self.case.sim.lasers}
+        self.lasers = {g.robot: g for g in self.case.sim.made if isinstance(g, _core.LaserGenerator)}
         self.actors = self.case.robot_actors()
         self._fields = {rid: self._field(world.rooms[room].goal) for rid, room in goals.items()}
         self._last_way = {rid: self.way_left(rid) for rid in goals}
@@ -107,7 +107,6 @@ class Navigation:
         self._frames(1)
 
     def _field(self, goal: tuple[float, float]) -> Any:
-        from ..shortest import DistanceField
 
         grid = self.world.grid
         return DistanceField(grid.blocked(), grid.world_to_cell(*goal))

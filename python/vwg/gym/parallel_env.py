@@ -8,8 +8,10 @@ from typing import Any
 import numpy as np
 from pettingzoo import ParallelEnv
 
-from .navigation import REWARD, Navigation, Reward
-from .spaces import action_space, check_move, flatten, move_of, observation_space
+from vwg.gym.navigation import REWARD, Navigation, Reward
+from vwg.gym.spaces import action_space, check_move, flatten, move_of, observation_space
+from vwg.robot.world_file import RobotWorld
+from vwg.trial import cached_world
 
 __all__ = ["NavigateParallelEnv", "parallel_env"]
 
@@ -25,8 +27,6 @@ class NavigateParallelEnv(ParallelEnv):  # type: ignore[misc]
     def __init__(self, world: str | Any = "office", *, robots: int | None = None, beams: int = 36,
                  discrete: bool = False, flat: bool = False, max_turn: float = math.pi / 2, step_length: float = 0.5,
                  frames_per_step: int = 50, max_steps: int = 500, reward: Reward = REWARD) -> None:
-        from ..robotworld import RobotWorld
-        from ..trial import cached_world
 
         check_move(max_turn, step_length)
         loaded = world if isinstance(world, RobotWorld) else cached_world(str(world))

@@ -2,6 +2,6 @@
 
 from __future__ import annotations
 
-from .live import LiveRun, Snapshot
+from vwg.serve.live import LiveRun, Snapshot
 
 __all__ = ["LiveRun", "Snapshot"]

@@ -5,7 +5,7 @@ The run's thread is the only one that touches the engine. After each frame it ma
 data: poses, objectives, paths, scans, the selected robot's string and camera image) and hands it to
 ``on_frame``, which must not block (the server keeps the latest snapshot and tells its clients).
 Commands from other threads go through a queue the run's thread empties between frames; orders go
-straight to gObjective (vwg.casestudy.Orders), which takes them from any thread at the next frame.
+straight to gObjective (vwg.robot.case_study.Orders), which takes them from any thread at the next frame.
 
 The queue is bounded per client (``client=``: the viewer passes its WebSocket): at most MAX_WAITING
 commands from one client wait at a time, and one more is refused with an error that client is sent.
@@ -29,10 +29,11 @@ from typing import Any
 
 import numpy as np
 
-from .. import _core
-from ..casestudy import CaseStudy
-from ..errors import Error, SchemaError
-from ..robotworld import PlatformSpec, RobotWorld
+import vwg._core as _core
+from vwg.errors import Error, SchemaError
+from vwg.robot.case_study import CaseStudy
+from vwg.robot.platforms.real_robots import ScanGenerator
+from vwg.robot.world_file import PlatformSpec, RobotWorld
 
 __all__ = ["MAX_SPEED", "MAX_WAITING", "LiveRun", "Snapshot"]
 
@@ -162,7 +163,7 @@ class LiveRun:
         self._failed = False  # the run stopped on an error (a frame, a reset): it says so and waits
         self.case: CaseStudy | None = self._new_case()
         try:
-            # A real robot's platform keeps the frames to the clock itself (vwg.real_robot); the
+            # A real robot's platform keeps the frames to the clock itself (vwg.robot.platforms.real_robot); the
             # simulator's frames are paced here, at the chosen speed.
             self.real_time_platform = not isinstance(self.case.sim.platform, _core.PhysicsWorld)
             if self.real_time_platform and speed != 1.0:
@@ -343,7 +344,7 @@ class LiveRun:
         platform = case.sim.platform
         present = {r.id for r in platform.robots()}
         robots = []
-        lasers = {g.robot: g for g in getattr(case.sim, "lasers", [])}
+        lasers = {g.robot: g for g in case.sim.made if isinstance(g, (_core.LaserGenerator, ScanGenerator))}
         for n, spec in enumerate(self.world.robots):
             if spec.id not in present:
                 continue  # gone from the world (a λ took it away)
@@ -370,8 +371,8 @@ class LiveRun:
             if actor is not None:
                 string = str(actor)
                 string = string if len(string) <= STRING_CHARS else string[:STRING_CHARS] + " …"
-            for gen in getattr(case.sim, "cameras", []):
-                if gen.robot == self._selected and gen.image is not None:
+            for gen in case.sim.made:
+                if isinstance(gen, _core.CameraGenerator) and gen.robot == self._selected and gen.image is not None:
                     camera = np.asarray(gen.image)
         return Snapshot(frame=case.engine.frame, time=round(case.engine.time, 6), status=self._status(),
                         speed=self._speed, selected=self._selected, robots=robots, string=string, camera=camera,

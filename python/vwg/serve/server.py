@@ -33,9 +33,10 @@ from typing import Any
 
 from aiohttp import WSCloseCode, WSMsgType, web
 
-from .. import _core
-from ..errors import Error
-from .live import LiveRun, Snapshot
+import vwg._core as _core
+from vwg.errors import Error
+from vwg.serve.live import LiveRun, Snapshot
+from vwg.trial import replace_robot
 
 __all__ = ["MAX_MESSAGE", "Viewer", "serve"]
 
@@ -165,7 +166,6 @@ class Viewer:
         return web.Response(body=self._overview[1], content_type="image/png", headers={"Cache-Control": "no-store"})
 
     def _render_overview(self, snapshot: Snapshot) -> bytes:
-        from ..trial import replace_robot
 
         world = self.live.world
         where = {r["id"]: (r["x"], r["y"], r["angle"]) for r in snapshot.robots}

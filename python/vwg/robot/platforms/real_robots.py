@@ -1,0 +1,57 @@
+"""A robot world's robots on a real platform (rosbridge, serial): what vwg.robot.platforms.sim.Simulation is for the
+simulator — the platform, the motion backend on it, the feedback and sensor generators, a view —
+so that CaseStudy and ``vwg run`` take either without knowing which.
+
+The laser's events are those of the simulated laser: ``eLaser<to=robot, dist, angle>`` for each beam
+that met an obstacle (REP 117, see vwg.robot.links.ros_messages.laser_scan), in the same place of the priority
+order, for each scan that came since the last frame. The camera's are gCamera's, on the images the
+link receives (sensor_msgs/CompressedImage), with the calibration of the world file's ``camera``.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import vwg._core as _core
+from vwg.robot.platform import Platform
+from vwg.robot.platforms.real_robot import RealRobotPlatform
+
+__all__ = ["RealRobots", "ScanGenerator"]
+
+
+class ScanGenerator(_core.Generator):
+    """gLaser on a real robot: the beams of its latest LaserScan that met an obstacle, once per scan."""
+
+    def __init__(self, platform: RealRobotPlatform, robot: int, event: str = "eLaser") -> None:
+        super().__init__()
+        self.platform = platform
+        self.robot = robot
+        self.event = event
+        self._last: Any = None
+
+    def generate(self, frame: _core.FrameInfo) -> list[_core.Event]:
+        scan = self.platform.latest_scan(self.robot)
+        if scan is None or scan is self._last:
+            return []
+        self._last = scan
+        return [_core.Event(self.event, self.robot, dist=d, angle=a) for a, d in zip(scan.angles, scan.ranges,
+                                                                                      strict=True)]
+
+
+class RealRobots(Platform):
+    """The robots of a world on a real robot's link (a subclass makes ``self.platform``, a
+    RealRobotPlatform, and calls ``attach``): the motion backend on it, its laser scans and camera
+    images for the sensors (vwg.robot.sensors), and a stop to every robot when it closes."""
+
+    sensors = ("laser", "camera")
+
+    def attach(self, platform: RealRobotPlatform) -> None:
+        self.platform = platform
+        self.backend = _core.MotionBackend(platform)
+
+    def scan_generator(self, robot: int) -> _core.Generator:
+        """gLaser of `robot` from its link's LaserScan messages (vwg.robot.sensors.laser)."""
+        return ScanGenerator(self.platform, robot)
+
+    def close(self) -> None:
+        self.platform.close()

@@ -1,0 +1,93 @@
+"""The Python face's layout: no module imports vwg's root package (which imports everything) but the
+compiled module vwg._core through it, and imports inside functions only where a heavy optional
+dependency is deferred. The layers themselves are import-linter's contracts in pyproject.toml
+(make lint); this checks what those contracts cannot see."""
+
+from __future__ import annotations
+
+import ast
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+PACKAGE = Path(__file__).resolve().parents[1] / "python" / "vwg"
+#: (module, imported module) pairs allowed inside a function: the applications the command line starts
+#: (Dask, aiohttp, Matplotlib, Gymnasium are optional extras), imported only by the command that needs them.
+DEFERRED = {("cli.py", "vwg.sweep"), ("cli.py", "vwg.experiments"), ("cli.py", "vwg.serve.live"),
+            ("cli.py", "vwg.serve.server"), ("cli.py", "vwg.robot.overview")}
+#: The deprecated aliases (one release) and the root itself.
+SKIPPED = {"__init__.py", "sim.py", "maps.py", "registry.py"}
+
+
+def _modules() -> list[Path]:
+    return sorted(p for p in PACKAGE.rglob("*.py") if str(p.relative_to(PACKAGE)) not in SKIPPED)
+
+
+def _vwg_imports(tree: ast.AST) -> list[tuple[ast.AST, str, bool]]:
+    """(node, module, inside a function) for each import of a vwg module."""
+    out = []
+
+    def visit(node: ast.AST, in_function: bool) -> None:
+        for child in ast.iter_child_nodes(node):
+            inside = in_function or isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef))
+            if isinstance(child, ast.ImportFrom) and child.module and child.level == 0 \
+                    and (child.module == "vwg" or child.module.startswith("vwg.")):
+                out.append((child, child.module, in_function))
+            elif isinstance(child, ast.ImportFrom) and child.level > 0:
+                out.append((child, "." * child.level + (child.module or ""), in_function))
+            elif isinstance(child, ast.Import):
+                out.extend((child, a.name, in_function) for a in child.names if a.name.split(".")[0] == "vwg")
+            visit(child, inside)
+
+    visit(tree, False)
+    return out
+
+
+def test_no_module_imports_the_root_package_or_imports_relatively() -> None:
+    bad = []
+    for path in _modules():
+        for node, module, _ in _vwg_imports(ast.parse(path.read_text())):
+            rel = path.relative_to(PACKAGE)
+            if module.startswith("."):
+                bad.append(f"{rel}:{node.lineno}: relative import {module}")
+            elif module == "vwg" and isinstance(node, ast.ImportFrom):
+                names = [a.name for a in node.names]
+                # `from vwg import launch` names a submodule; `from vwg import Engine` would be the root.
+                roots = [n for n in names if not (PACKAGE / n).exists() and not (PACKAGE / f"{n}.py").exists()
+                         and n != "_core"]
+                if roots:
+                    bad.append(f"{rel}:{node.lineno}: from vwg import {', '.join(roots)} (the root package)")
+            elif module == "vwg":
+                bad.append(f"{rel}:{node.lineno}: import vwg (the root package)")
+    assert bad == []
+
+
+def test_imports_inside_functions_only_defer_heavy_optional_parts() -> None:
+    bad = []
+    for path in _modules():
+        rel = str(path.relative_to(PACKAGE))
+        for node, module, inside in _vwg_imports(ast.parse(path.read_text())):
+            if inside and (rel, module) not in DEFERRED:
+                bad.append(f"{rel}:{node.lineno}: {module}")
+    assert bad == []
+
+
+def test_import_linter_contracts_hold() -> None:
+    linter = Path(sys.executable).with_name("lint-imports")
+    if not linter.exists():
+        pytest.fail("import-linter is not installed: pip install '.[test]'")
+    root = PACKAGE.parents[1]
+    out = subprocess.run([str(linter), "--config", str(root / "pyproject.toml")], cwd=root, capture_output=True,
+                         text=True, env={"PYTHONPATH": str(PACKAGE.parent), "PATH": "/usr/bin:/bin"})
+    assert out.returncode == 0, out.stdout + out.stderr
+    assert "2 kept, 0 broken" in out.stdout
+
+
+def test_the_deprecated_names_warn_and_give_the_new_modules() -> None:
+    import vwg
+
+    with pytest.warns(DeprecationWarning, match="vwg.sim is deprecated: use vwg.robot.platforms.sim"):
+        sim = vwg.sim  # type: ignore[attr-defined]
+    assert sim.Simulation is vwg.robot.platforms.sim.Simulation
