@@ -60,7 +60,7 @@ def world_for(kind: str) -> vwg.World:
         return vwg.World(actors=[BatchWalker], **base_declarations())
     alphabet = vwg.Alphabet(**base_declarations())
     if kind == "cpp":
-        alphabet.add_actor("Walker", ["step"], {"x": 0.0, "v": 1.0}, vwg.walker_behavior(alphabet, "step"))
+        alphabet.add_actor("Walker", ["step"], {"x": 0.0, "v": 1.0}, vwg._core.walker_behavior(alphabet, "step"))
     return vwg.World(alphabet)
 
 

@@ -138,7 +138,7 @@ def test_cpp_and_python_actors_give_the_same_strings():
     cpp_alphabet = vwg.Alphabet(primitives={"Dot": {"x": 0.0}}, events={"step": {"dt": 0.1}, "show": None},
                                 visual=["show"])
     cpp_alphabet.add_actor("Walker", ["step", "show"], {"x": 0.0, "v": 1.0},
-                           vwg.walker_behavior(cpp_alphabet, "step", "show", "Dot"))
+                           vwg._core.walker_behavior(cpp_alphabet, "step", "show", "Dot"))
     text = " . ".join(f"Walker<x={i * 0.5}, v={1.0 - i * 0.25}>" for i in range(8))
     events = [vwg.Event("step", dt=0.1), vwg.Event("show"), vwg.Event("step", dt=0.3)]
     py_w = vwg.evolve(py_world.parse(text), events)

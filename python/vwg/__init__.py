@@ -49,7 +49,6 @@ from vwg._core import (
     python_budget,
     set_python_budget,
     visualize,
-    walker_behavior,
 )
 from vwg.errors import Error, FrameError, ParseError, ReplayError, SchemaError, WorldFileError
 from vwg.generic import replay
@@ -114,7 +113,6 @@ __all__ = [
     "set_python_budget",
     "start",
     "visualize",
-    "walker_behavior",
 ]
 
 #: Names that moved when the Python face was organised by concept: an alias for one release.

@@ -280,7 +280,8 @@ def _cmd_serve(args: argparse.Namespace) -> int:
             raise Error(f"--dt: expected 0 < dt <= 10 seconds per frame, got {args.dt}")
         world = dataclasses.replace(world, dt=args.dt)
     spec = world.platform.given(args.platform, **_platform_options(args))
-    live = LiveRun(world, planner=args.planner, platform=spec, speed=args.speed, seed=args.seed, threads=args.threads,
+    live = LiveRun(world, planner=args.planner or world.planner, platform=spec, speed=args.speed, seed=args.seed,
+                   threads=args.threads,
                    world_orders=not args.no_world_orders, paused=args.paused)
     if args.host not in ("127.0.0.1", "localhost", "::1"):
         print(f"vwg serve: listening on {args.host}: anyone who can reach it can drive the robots", file=sys.stderr)
@@ -423,7 +424,7 @@ def build_parser() -> argparse.ArgumentParser:
     _platform_arguments(robot)
     robot.add_argument("--planner", type=_planner_name,
                        help=f"the decision inside eDecide, a registered decider ({_registered(deciders)}; "
-                            "default astar)")
+                            "default: the world file's planner:, else astar)")
     robot.add_argument("--goal", action="append", metavar="[ROBOT:]ROOM", type=_goal,
                        help="send a robot (default the first) to a room at the start; repeatable; replaces "
                             "the world file's orders")
@@ -496,9 +497,9 @@ def build_parser() -> argparse.ArgumentParser:
     srv.add_argument("world", type=Path, help="a robot world file, or a shipped world's name")
     srv.add_argument("--port", type=int, default=8765, help="the port (default 8765; 0: any free port)")
     srv.add_argument("--host", default="127.0.0.1", help="the address to listen on (default 127.0.0.1: this machine)")
-    srv.add_argument("--planner", default="astar", type=_planner_name,
-                     help=f"the decision inside eDecide, a registered decider ({_registered(deciders)}; default "
-                          "astar)")
+    srv.add_argument("--planner", type=_planner_name,
+                     help=f"the decision inside eDecide, a registered decider ({_registered(deciders)}; default: the "
+                          "world file's planner:, else astar)")
     srv.add_argument("--platform", help=f"a registered platform ({_registered(platforms)}; default: the file's "
                                          "platform:, else sim)")
     _platform_arguments(srv)

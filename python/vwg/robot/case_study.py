@@ -58,6 +58,10 @@ def make_decider(planner: str | _core.Decider) -> _core.Decider:
 def case_study_world(world: RobotWorld, decider: _core.Decider, *, step_length: float = 1.0) -> World:
     """The alphabet of the case study with ARobot deciding by `decider`, for this robot world."""
     events = {name: {f: spec[1] for f, spec in fields.items()} for name, fields in _core.arobot_event_types().items()}
+    # The events of the sensors the robots carry (a plugin's sensor may emit its own kinds).
+    for name in sorted({s for r in world.robots for s in r.sensors}):
+        for event, fields in sensor_registry.get(name).events.items():
+            events.setdefault(event, fields)
     alphabet = Alphabet(events=events, visual=["eExecute"], **MOTION_SYMBOLS)
     rooms = {room.marker: room.goal for room in world.rooms.values()}
     radius = max((r.radius for r in world.robots), default=0.18)
@@ -415,7 +419,7 @@ class RobotRun:
         goals = _goals(options.goals, [r.id for r in world.robots])
         # The platform: the world file's, or the one named, with the options given over the file's.
         spec = world.platform.given(options.platform, **options.platform_options)
-        self.case = CaseStudy(world, options.planner or "astar", goals=goals,
+        self.case = CaseStudy(world, options.planner or world.planner, goals=goals,
                               platform=spec, seed=options.seed, frames=options.frames, video=options.video,
                               images=options.images, max_symbols=options.max_symbols, threads=options.threads,
                               backends=shown,

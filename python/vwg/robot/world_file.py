@@ -32,6 +32,7 @@ their sensors, noise, and a timed script of user orders.
     dt: 0.1                            # [0.1] seconds per frame
     goal_tolerance: 0.25               # [0.25] m: a robot whose pose is this near its room's goal has reached it
     seed: 0                            # [0]
+    planner: astar                     # [astar] the decision inside eDecide: a registered decider (--planner)
     platform: sim                      # [sim] where the robots run: a registered platform's name, or
                                        # {kind: NAME, ...its options} (vwg plugins lists them)
     orders:                            # [[]] the user's orders (gObjective), sorted by time when loaded
@@ -78,14 +79,14 @@ from vwg.io.maps import OccupancyGrid, _expand_user, _movingai_spec, _regular_fi
 from vwg.io.shipped import shipped_world
 from vwg.io.yamldoc import YamlDoc, field_text
 from vwg.model.limits import MAX_DT, MAX_FRAMES, MAX_SEED, MAX_TIME, MIN_DT
-from vwg.plugins import platforms
+from vwg.plugins import deciders, platforms
 from vwg.plugins import sensors as sensor_registry
 
 __all__ = ["Order", "PlatformSpec", "RobotWorld", "Room", "load_robot_world"]
 
 MAX_MARKER = 586  # tag36h11 has 587 codes
 _TOP_KEYS = ("name", "description", "map", "wall_height", "rooms", "robots", "sensors", "noise", "frames", "dt", "seed",
-             "orders", "platform", "goal_tolerance")
+             "orders", "platform", "planner", "goal_tolerance")
 #: Sensor sections older files give at the top, read as ``sensors.NAME``.
 _LEGACY_SENSOR_KEYS = ("laser", "kinect", "camera")
 _ROOM_KEYS = ("marker", "at", "facing", "size", "height", "goal")
@@ -157,6 +158,7 @@ class RobotWorld:
     orders: list[Order]
     goal_tolerance: float = 0.25  # the one definition of "reached", for the robots and the summary
     platform: PlatformSpec = field(default_factory=PlatformSpec)
+    planner: str = "astar"  # the decider a run takes unless told another (--planner)
     data: dict[str, Any] = field(default_factory=dict)  # the YAML as read
 
     def sensor_settings(self, name: str) -> Any:
@@ -389,6 +391,8 @@ def _settings(doc: YamlDoc, path: tuple[Any, ...], spec: Any, *, fixed: dict[str
         spec.check(owner)
     except SchemaError as e:
         field = getattr(e, "field", "")
+        if not field and str(e).startswith(f"{owner}.") and ": " in str(e):  # raised in Python: "FIELD: what"
+            field = str(e).split(": ", 1)[0]
         message = str(e)[len(field) + 2:] if field and str(e).startswith(field) else str(e)
         raise doc.error((*path, *_settings_path(owner, field)), message) from None
     return spec
@@ -503,8 +507,11 @@ def load_robot_world(path: str | Path) -> RobotWorld:
     seed = int(doc.number(("seed",), 0, minimum=0, maximum=MAX_SEED, integer=True))
     orders = _orders(doc, rooms, robots)
     platform = _platform(doc)
+    planner = doc.get(("planner",), str, default="astar")
+    if planner.lower() not in deciders:
+        raise doc.error(("planner",), f"unknown planner {planner!r} (registered: {', '.join(deciders)})")
     tolerance = float(doc.number(("goal_tolerance",), 0.25, minimum=0.0, exclusive_minimum=True))
-    return RobotWorld(path=path, platform=platform, goal_tolerance=tolerance, name=name, description=description,
-                      map_path=map_path, grid=grid,
+    return RobotWorld(path=path, platform=platform, planner=planner, goal_tolerance=tolerance, name=name,
+                      description=description, map_path=map_path, grid=grid,
                       wall_height=wall_height, rooms=rooms, robots=robots, sensors=sensors,
                       noise=noise, frames=frames, dt=dt, seed=seed, orders=orders, data=doc.data)
