@@ -308,7 +308,7 @@ def test_a_ros_robot_at_wall_clock_rate_takes_the_way_the_simulator_takes():
         a = run.execute()
         paths["sim"] = np.asarray(run.case.view.trajectories[1])
     with FakeRosbridgeRobot(OFFICE) as fake, vwg.start(OFFICE, vwg.RunOptions(
-            platform="rosbridge", url=fake.url, goals=["office"], frames=250)) as run:
+            platform="rosbridge", platform_options={"url": fake.url}, goals=["office"], frames=250)) as run:
         b = run.execute()
         paths["rosbridge"] = np.asarray(run.case.view.trajectories[1])
     assert a.summary["reached"] and b.summary["reached"]
