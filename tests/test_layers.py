@@ -91,3 +91,32 @@ def test_the_deprecated_names_warn_and_give_the_new_modules() -> None:
     with pytest.warns(DeprecationWarning, match="vwg.sim is deprecated: use vwg.robot.platforms.sim"):
         sim = vwg.sim  # type: ignore[attr-defined]
     assert sim.Simulation is vwg.robot.platforms.sim.Simulation
+
+
+def test_no_import_cycle_between_any_two_modules() -> None:
+    """Every module's imports (at module level and in functions), as import-linter's graph has them:
+    no module reaches itself again (the contracts order the layers; this covers modules within one)."""
+    import grimp
+
+    sys.path.insert(0, str(PACKAGE.parent))
+    try:
+        graph = grimp.build_graph("vwg", cache_dir=None)
+    finally:
+        sys.path.remove(str(PACKAGE.parent))
+    edges = {m: {i for i in graph.find_modules_directly_imported_by(m) if i != "vwg"} for m in graph.modules}
+    cycles = []
+    state: dict[str, int] = {}  # 1: on the path, 2: done
+
+    def visit(module: str, path: list[str]) -> None:
+        state[module] = 1
+        for other in sorted(edges.get(module, ())):
+            if state.get(other) == 1:
+                cycles.append(" -> ".join([*path[path.index(other):], other]))
+            elif other not in state:
+                visit(other, [*path, other])
+        state[module] = 2
+
+    for module in sorted(edges):
+        if module not in state:
+            visit(module, [module])
+    assert cycles == []
