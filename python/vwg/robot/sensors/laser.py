@@ -10,6 +10,8 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any, ClassVar
 
+import numpy as np
+
 import vwg._core as _core
 from vwg.robot.sensor import Sensor
 
@@ -27,14 +29,19 @@ class WallLaser(_core.Generator):
                  spec: _core.LaserSpec, event: str = "eLaser") -> None:
         super().__init__()
         self.platform, self.raycaster, self.robot, self.spec, self.event = platform, raycaster, robot, spec, event
-        self.angles = _core.beam_angles(spec)
+        # The beams as a LaserScan lays them out (angle_min + i·angle_increment), as LaserGenerator's.
+        angle_min, increment = _core.beam_layout(spec)
+        self.angles = angle_min + np.arange(spec.beams, dtype=np.float64) * increment
 
-    def generate(self, frame: _core.FrameInfo) -> list[_core.Event]:
-        x, y, theta = self.platform.robot(self.robot).pose
-        ranges = self.raycaster.scan(x, y, theta, self.angles, self.spec.max_range)
-        dist, angle = _core.laser_events(ranges, self.angles, self.spec.min_range, self.spec.max_range)
-        return [_core.Event(self.event, self.robot, dist=float(d), angle=float(a)) for d, a in zip(dist, angle,
-                                                                                                   strict=True)]
+    def generate(self, frame: _core.FrameInfo) -> list[Any]:
+        ranges = self.raycaster.scan(self.platform.robot(self.robot).pose, self.angles, self.spec.max_range)
+        # TEMPORARY until _core.laser_events lands: the simulator's rule (cpp/sim/laser.cpp, without its
+        # noise): a range at max_range (as float32, the raycaster's) met nothing; one below min_range is dropped.
+        hit = (ranges < np.float32(self.spec.max_range)) & (ranges.astype(np.float64) >= self.spec.min_range)
+        if not hit.any():
+            return []
+        return [_core.EventColumns(self.event, target=self.robot, dist=ranges[hit].astype(np.float64),
+                                   angle=self.angles[hit])]
 
 
 class Laser(Sensor):
