@@ -23,7 +23,7 @@ import vwg
 import vwg._core as _core
 from conftest import ROOT
 from vwg.errors import SchemaError, WorldFileError
-from vwg.plugins import platforms, sensors
+from vwg.plugins import deciders, platforms, sensors
 from vwg.robot import RobotSettings
 from vwg.robot.case_study import CaseStudy
 from vwg.robot.platforms.sim import MOTION_SYMBOLS, SIM_EVENTS, Simulation
@@ -124,9 +124,9 @@ def test_sonar_settings_check_names_the_field() -> None:
 
 @pytest.fixture
 def registered():
-    """The plugin's sensor and platform registered in process (as its entry points register them once
-    installed), removed afterwards."""
-    parts = ((sensors, "sonar", Sonar), (platforms, "kinematic", Kinematic))
+    """The plugin's sensor, platform and decider registered in process (as its entry points register
+    them once installed), removed afterwards."""
+    parts = ((sensors, "sonar", Sonar), (platforms, "kinematic", Kinematic), (deciders, "wall-follower", WallFollower))
     added = [(r, name) for r, name, part in parts if name not in r and r.register(name, part)]
     yield
     for registry, name in added:
@@ -334,11 +334,12 @@ def test_the_installed_plugin_is_listed_and_its_world_runs_from_the_command_line
         section = listed.split(f"{group}:")[1].split("\nvwg.")[0]
         assert f"{name} " in section and f"vwg-example-plugin 0.1 (entry point {value})" in section, listed
     summary = tmp_path / "summary.json"
-    run = subprocess.run([*cli, "run", str(PLUGIN / "world.yaml"), "--planner", "wall-follower", "--frames", "2500",
+    # The world names the plugin's decider (planner: wall-follower) and platform; nothing else is said.
+    run = subprocess.run([*cli, "run", str(PLUGIN / "world.yaml"), "--frames", "2500",
                           "--summary-json", str(summary), "-q"], env=env, capture_output=True, text=True)
     assert run.returncode == 0, run.stderr
     result = json.loads(summary.read_text())
     robot = result["robots"][0]
     # It followed the maze's walls to the dead end (about 45 m), driving the kinematic platform.
-    assert result["reached"] and robot["room"] == "dead_end_8_1"
+    assert result["reached"] and robot["room"] == "dead_end_8_1" and result["planner"] == "wall-follower"
     assert robot["path_length_m"] > 30.0 and robot["collisions"] == 0

@@ -139,3 +139,15 @@ def test_a_world_names_its_planner(tmp_path: Path) -> None:
     with pytest.raises(WorldFileError, match=r"planner: unknown planner 'dijkstra' \(registered: astar, "):
         load_robot_world(_office(tmp_path, "planner: dijkstra\n"))
     assert load_robot_world("office").planner == "astar"
+
+
+def test_a_run_with_a_decider_written_in_python_replays(tmp_path: Path, capsys) -> None:
+    # The world a record is replayed in holds the decider its ARobot calls: a decider written in Python
+    # (wavefront) was collected with the call that made it, and the replay failed at frame 0.
+    record = tmp_path / "w.jsonl"
+    assert main(["run", "office", "--planner", "wavefront", "--goal", "kitchen", "--frames", "40",
+                 "--allow-unreached", "--record", str(record), "-q"]) == 0
+    import gc
+
+    gc.collect()
+    assert main(["replay", str(record)]) == 0, capsys.readouterr().err

@@ -204,6 +204,8 @@ while running (order, from any thread: they go out at the next frame).)doc")
        py::arg("alphabet"), py::arg("decider"), py::arg("grid"), py::arg("rooms"), py::arg("radius") = 0.18,
        py::arg("margin") = 0.07, py::arg("goal_tolerance") = 0.25, py::arg("step_length") = 1.0, py::arg("carve") = true,
        py::arg("name") = "ARobot",
+       // The alphabet keeps a decider written in Python alive: its C++ part alone cannot call decide().
+       py::keep_alive<1, 2>(),
        R"doc(Register the actor type ARobot (paper eq. 11) with its decider. `grid` gives the map geometry,
 `rooms` the known rooms as {marker id: (x, y) goal}. The alphabet must already have the symbols
 Robot, Move, Rotate and the events of arobot_event_types().)doc");

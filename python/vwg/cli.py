@@ -329,6 +329,13 @@ def _cmd_plugins(args: argparse.Namespace) -> int:
         print(f"{group}:")
         for plugin in registry.plugins():
             print(f"  {plugin.name:<14} {plugin.origin}")
+            part = registry.get(plugin.name)
+            if getattr(part, "summary", ""):
+                print(f"  {'':<14} {part.summary}")
+            for key, option in (getattr(part, "options", None) or {}).items() if group == "vwg.platforms" else ():
+                default = "required" if option.required else "unset by default" if option.default is None \
+                    else f"default {option.default!r}"
+                print(f"  {'':<14}   --platform-opt {key}=... ({option.kind.__name__}, {default}) {option.help}")
         for failure in registry.failures:
             failed += 1
             print(f"  {failure.name:<14} NOT LOADED ({failure.origin}): {failure.error}")

@@ -77,6 +77,21 @@ class FlapLimit:
         return LINK_OPTIONS["flap_limit"].value("platform.flap_limit", value)  # type: ignore[no-any-return]
 
 
+#: The options a real robot's link shares (the seconds bounded by a day).
+LINK_OPTIONS: dict[str, Option] = {
+    "watchdog": Option(float, 0.5, minimum=0.0, exclusive_minimum=True, maximum=86400.0,
+                       help="seconds without odometry before the robot is stopped"),
+    "reconnect": Option(float, 5.0, minimum=0.0, maximum=86400.0,
+                        help="seconds to keep trying a dropped link before the run stops"),
+    "control_rate": Option(float, 20.0, minimum=1.0, maximum=1000.0, help="velocity commands a second"),
+    "flap_limit": Option(dict, help="{drops: N, seconds: S}: a link dropping more often is given up on",
+                         fields={"drops": Option(int, minimum=1, maximum=FlapLimit.MAX_DROPS),
+                                 "seconds": Option(float, minimum=0.0, exclusive_minimum=True,
+                                                   maximum=FlapLimit.MAX_SECONDS)},
+                         convert=lambda value: FlapLimit(**value)),
+}
+
+
 @dataclass
 class _Robot:
     settings: _core.RobotSettings
@@ -98,7 +113,8 @@ class RealRobotPlatform(_core.RobotPlatform):
 
     kind = "real"
 
-    def __init__(self, robots: list[_core.RobotSettings], *, watchdog: float = 0.5, control_rate: float = 20.0,
+    def __init__(self, robots: list[_core.RobotSettings], *, watchdog: float = LINK_OPTIONS["watchdog"].default,
+                 control_rate: float = LINK_OPTIONS["control_rate"].default,
                  lockstep: bool = False, flap_limit: FlapLimit | Mapping[str, Any] | None = None) -> None:
         super().__init__()
         if not (math.isfinite(watchdog) and watchdog > 0):
@@ -422,20 +438,3 @@ class RealRobotPlatform(_core.RobotPlatform):
         until = time.monotonic() + patience
         while not self.stop_all() and time.monotonic() < until and not self.link_failure():
             time.sleep(self.control_period)
-
-
-
-
-#: The options a real robot's link shares (the seconds bounded by a day).
-LINK_OPTIONS: dict[str, Option] = {
-    "watchdog": Option(float, minimum=0.0, exclusive_minimum=True, maximum=86400.0,
-                       help="seconds without odometry before the robot is stopped"),
-    "reconnect": Option(float, minimum=0.0, maximum=86400.0,
-                        help="seconds to keep trying a dropped link before the run stops"),
-    "control_rate": Option(float, minimum=1.0, maximum=1000.0, help="velocity commands a second"),
-    "flap_limit": Option(dict, help="{drops: N, seconds: S}: a link dropping more often is given up on",
-                         fields={"drops": Option(int, minimum=1, maximum=FlapLimit.MAX_DROPS),
-                                 "seconds": Option(float, minimum=0.0, exclusive_minimum=True,
-                                                   maximum=FlapLimit.MAX_SECONDS)},
-                         convert=lambda value: FlapLimit(**value)),
-}

@@ -51,6 +51,22 @@ TYPES = {"cmd_vel": "geometry_msgs/Twist", "odom": "nav_msgs/Odometry", "scan": 
          "camera": "sensor_msgs/CompressedImage"}
 
 
+def _ros_version(value: int) -> int:
+    if value not in (1, 2):
+        raise SchemaError(f"platform.ros: expected 1 or 2 (how type names are spelled), got {value!r}")
+    return value
+
+
+#: The options of the platform rosbridge (world file's platform:, --platform-opt), with their defaults.
+OPTIONS: dict[str, Option] = {
+    "url": Option(str, required=True, help="ws://HOST:PORT, or --url"),
+    "topics": Option(dict, help="topic names by key (cmd_vel, odom, scan, camera); {id} is the robot's id"),
+    "ros": Option(int, 1, help="1 or 2: how message type names are spelled", convert=_ros_version),
+    "lockstep": Option(str, help="a service the frames wait on, for a simulated robot run in step"),
+    **LINK_OPTIONS,
+}
+
+
 def topics_for(robot: int, several: bool, topics: dict[str, str] | None = None) -> dict[str, str]:
     """The topics of one robot: the given names (``{id}`` replaced), else the defaults, under
     ``/robot{id}`` when there are several robots."""
@@ -67,7 +83,8 @@ class RosbridgePlatform(RealRobotPlatform):
     kind = "rosbridge"
 
     def __init__(self, robots: list[_core.RobotSettings], url: str, *, topics: dict[str, str] | None = None,
-                 ros: int = 1, watchdog: float = 0.5, reconnect: float = 5.0, control_rate: float = 20.0,
+                 ros: int = OPTIONS["ros"].default, watchdog: float = OPTIONS["watchdog"].default,
+                 reconnect: float = OPTIONS["reconnect"].default, control_rate: float = OPTIONS["control_rate"].default,
                  lockstep: str | None = None, flap_limit: FlapLimit | dict[str, Any] | None = None) -> None:
         self.link: RosbridgeLink | None = None
         unknown = set(topics or {}) - set(DEFAULT_TOPICS)
@@ -149,10 +166,6 @@ class RosbridgePlatform(RealRobotPlatform):
         return "rosbridge"
 
 
-def _ros_version(value: int) -> int:
-    if value not in (1, 2):
-        raise SchemaError(f"platform.ros: expected 1 or 2 (how type names are spelled), got {value!r}")
-    return value
 
 
 class Rosbridge(RealRobots):
@@ -160,13 +173,7 @@ class Rosbridge(RealRobots):
 
     name = "rosbridge"
     summary = "robots behind a rosbridge v2 server (ROS 1 or ROS 2): Twist out; Odometry, LaserScan, images in"
-    options: ClassVar[dict[str, Option]] = {
-        "url": Option(str, required=True, help="ws://HOST:PORT, or --url"),
-        "topics": Option(dict, help="topic names by key (cmd_vel, odom, scan, camera); {id} is the robot's id"),
-        "ros": Option(int, help="1 or 2: how message type names are spelled", convert=_ros_version),
-        "lockstep": Option(str, help="a service the frames wait on, for a simulated robot run in step"),
-        **LINK_OPTIONS,
-    }
+    options: ClassVar[dict[str, Option]] = OPTIONS
 
     def __init__(self, world: Any, seed: int, options: Mapping[str, Any]) -> None:
         super().__init__(world, seed, options)

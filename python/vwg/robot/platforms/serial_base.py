@@ -50,6 +50,23 @@ log = logging.getLogger("vwg.serial")
 
 
 
+def _positive(default: float, what: str) -> Option:
+    return Option(float, default, minimum=0.0, exclusive_minimum=True, help=what)
+
+
+#: The options of the platform serial (world file's platform:, --platform-opt), with their defaults.
+OPTIONS: dict[str, Option] = {
+    "port": Option(str, required=True, help="/dev/ttyUSB0, socket://HOST:PORT, or --serial-port"),
+    "baud": Option(int, 57600, minimum=1, help="bits a second"),
+    "wheel_radius": _positive(0.0325, "metres"),
+    "track_width": _positive(0.16, "metres between the wheels"),
+    "ticks_per_rev": _positive(1920.0, "encoder ticks a wheel turn"),
+    "pid_rate": _positive(30.0, "the firmware's PID loops a second"),
+    "odometry_rate": _positive(30.0, "encoder reads a second"),
+    **LINK_OPTIONS,
+}
+
+
 def encoder_counts(reply: str) -> tuple[int, int]:
     """The two wheel counts of the base's answer to ``e`` ("LEFT RIGHT", decimal): ValueError for anything
     else, counts beyond a 32-bit long (the firmware's type) included."""
@@ -66,7 +83,7 @@ class SerialBase:
     """The line to one base: commands and replies, one at a time (a lock), reopened when it breaks;
     ``opened`` counts the openings (the current one's number while open)."""
 
-    def __init__(self, port: str, baud: int = 57600, timeout: float = 0.2) -> None:
+    def __init__(self, port: str, baud: int = OPTIONS["baud"].default, timeout: float = 0.2) -> None:
         self.port = port
         self.baud = baud
         self.timeout = timeout
@@ -129,10 +146,14 @@ class SerialPlatform(RealRobotPlatform):
 
     kind = "serial"
 
-    def __init__(self, robot: _core.RobotSettings, port: str, *, baud: int = 57600, wheel_radius: float = 0.0325,
-                 track_width: float = 0.16, ticks_per_rev: float = 1920, pid_rate: float = 30,
-                 watchdog: float = 0.5, reconnect: float = 5.0, control_rate: float = 20.0,
-                 odometry_rate: float = 30.0, flap_limit: FlapLimit | dict[str, Any] | None = None) -> None:
+    def __init__(self, robot: _core.RobotSettings, port: str, *, baud: int = OPTIONS["baud"].default,
+                 wheel_radius: float = OPTIONS["wheel_radius"].default,
+                 track_width: float = OPTIONS["track_width"].default,
+                 ticks_per_rev: float = OPTIONS["ticks_per_rev"].default, pid_rate: float = OPTIONS["pid_rate"].default,
+                 watchdog: float = OPTIONS["watchdog"].default, reconnect: float = OPTIONS["reconnect"].default,
+                 control_rate: float = OPTIONS["control_rate"].default,
+                 odometry_rate: float = OPTIONS["odometry_rate"].default,
+                 flap_limit: FlapLimit | dict[str, Any] | None = None) -> None:
         for name, value in (("wheel_radius", wheel_radius), ("track_width", track_width),
                             ("ticks_per_rev", ticks_per_rev), ("pid_rate", pid_rate), ("odometry_rate", odometry_rate)):
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
@@ -238,26 +259,13 @@ class SerialPlatform(RealRobotPlatform):
         return "serial"
 
 
-def _positive(what: str) -> Option:
-    return Option(float, minimum=0.0, exclusive_minimum=True, help=what)
-
-
 class Serial(RealRobots):
     """The platform ``serial``: one differential-drive base on a serial line (ros_arduino_bridge)."""
 
     name = "serial"
     summary = "a differential-drive base on a serial line (ros_arduino_bridge commands, pyserial URLs)"
     sensors = ()
-    options: ClassVar[dict[str, Option]] = {
-        "port": Option(str, required=True, help="/dev/ttyUSB0, socket://HOST:PORT, or --serial-port"),
-        "baud": Option(int, minimum=1, help="bits a second"),
-        "wheel_radius": _positive("metres"),
-        "track_width": _positive("metres between the wheels"),
-        "ticks_per_rev": _positive("encoder ticks a wheel turn"),
-        "pid_rate": _positive("the firmware's PID loops a second"),
-        "odometry_rate": _positive("encoder reads a second"),
-        **LINK_OPTIONS,
-    }
+    options: ClassVar[dict[str, Option]] = OPTIONS
 
     def __init__(self, world: Any, seed: int, options: Mapping[str, Any]) -> None:
         super().__init__(world, seed, options)
