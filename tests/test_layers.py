@@ -17,8 +17,8 @@ PACKAGE = Path(__file__).resolve().parents[1] / "python" / "vwg"
 #: (Dask, aiohttp, Matplotlib, Gymnasium are optional extras), imported only by the command that needs them.
 DEFERRED = {("cli.py", "vwg.sweep"), ("cli.py", "vwg.experiments"), ("cli.py", "vwg.serve.live"),
             ("cli.py", "vwg.serve.server"), ("cli.py", "vwg.robot.overview")}
-#: The deprecated aliases (one release) and the root itself.
-SKIPPED = {"__init__.py", "sim.py", "maps.py", "registry.py"}
+#: The root itself.
+SKIPPED = {"__init__.py"}
 
 
 def _modules() -> list[Path]:
@@ -85,12 +85,26 @@ def test_import_linter_contracts_hold() -> None:
     assert "2 kept, 0 broken" in out.stdout
 
 
-def test_the_deprecated_names_warn_and_give_the_new_modules() -> None:
-    import vwg
+def test_the_old_module_names_warn_and_give_the_new_modules() -> None:
+    import importlib
 
-    with pytest.warns(DeprecationWarning, match="vwg.sim is deprecated: use vwg.robot.platforms.sim"):
-        sim = vwg.sim  # type: ignore[attr-defined]
-    assert sim.Simulation is vwg.robot.platforms.sim.Simulation
+    import vwg
+    import vwg.robot.case_study
+    import vwg.robot.platforms.sim
+
+    for name in ("vwg.casestudy", "vwg.fake_robot"):
+        sys.modules.pop(name, None)
+    with pytest.warns(DeprecationWarning, match=r"vwg\.casestudy is deprecated: import vwg\.robot\.case_study"):
+        old = importlib.import_module("vwg.casestudy")
+    assert old is vwg.robot.case_study and old.__name__ == "vwg.robot.case_study"
+    with pytest.warns(DeprecationWarning, match=r"vwg\.fake_robot is deprecated: import vwg\.testing\.fake_robot"):
+        from vwg.fake_robot import FakeRosbridgeRobot  # noqa: F401
+    sys.modules.pop("vwg.sim", None)
+    vars(vwg).pop("sim", None)
+    with pytest.warns(DeprecationWarning, match=r"vwg\.sim is deprecated: import vwg\.robot\.platforms\.sim"):
+        assert vwg.sim.Simulation is vwg.robot.platforms.sim.Simulation  # type: ignore[attr-defined]
+    with pytest.raises(ImportError):
+        importlib.import_module("vwg.nosuchmodule")
 
 
 def test_no_import_cycle_between_any_two_modules() -> None:

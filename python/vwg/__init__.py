@@ -22,7 +22,7 @@ the Modeling of an Autonomous Robot").
 
 from __future__ import annotations
 
-from vwg import io, model, perception, plan, plugins, robot
+from vwg import _moved, io, model, perception, plan, plugins, robot
 from vwg import logs as _logs  # noqa: F401  (routes the libraries' messages into `logging`)
 from vwg._core import (
     ActorBatch,
@@ -115,16 +115,13 @@ __all__ = [
     "visualize",
 ]
 
-#: Names that moved when the Python face was organised by concept: an alias for one release.
-_MOVED = {"sim": "vwg.robot.platforms.sim", "maps": "vwg.io.maps", "registry": "vwg.plugins"}
+_moved.install()  # vwg.OLD module names, for one release, with a DeprecationWarning
 
 
 def __getattr__(name: str) -> object:
-    if name in _MOVED:
+    """``vwg.sim`` and the other old names without an import: the module they became, with the warning."""
+    if name in _moved.MOVED:
         import importlib
-        import warnings
 
-        warnings.warn(f"vwg.{name} is deprecated: use {_MOVED[name]} (the alias goes in the next release)",
-                      DeprecationWarning, stacklevel=2)
-        return importlib.import_module(_MOVED[name])
+        return importlib.import_module(f"vwg.{name}")
     raise AttributeError(f"module 'vwg' has no attribute {name!r}")
