@@ -76,7 +76,8 @@ def test_noisy_readings_are_float32_and_spread_as_the_noise_says():
 
 def test_clamped_noisy_readings_are_float32_within_the_range():
     # The left wall's face is 0.31 m away: with σ = 0.2 many readings clamp to min_range (0.3, which
-    # float32 rounds up to 0.30000001) or to max_range. Each must still be a float32 in the range.
+    # float32 rounds up to 0.30000001) or to max_range. Each must still be a float32 in the range,
+    # and a hit clamped at the top stays a hit: just below max_range, which reads as no return.
     alphabet, _, scanner = sim_world(box_map(), [RobotSettings(id=7, start=(0.36, 2.5, 0.0))])
     laser = _core.LaserGenerator(scanner, 7, LaserSpec(beams=360, min_range=0.3, max_range=0.625, noise=0.2), alphabet)
     engine = vwg.Engine(vwg.World(alphabet), "Robot<7>", [laser], seed=3)
@@ -87,8 +88,9 @@ def test_clamped_noisy_readings_are_float32_within_the_range():
     d = np.array(dist)
     assert d.size > 100
     assert np.array_equal(d.astype(np.float32).astype(np.float64), d)
-    assert d.min() >= 0.3 and d.max() <= 0.625
-    assert (d < 0.3 + 1e-6).sum() > 10 and (d == 0.625).sum() > 10  # both bounds were reached
+    below_max = float(np.nextafter(np.float32(0.625), np.float32(0)))
+    assert d.min() >= 0.3 and d.max() == below_max
+    assert (d < 0.3 + 1e-6).sum() > 10 and (d == below_max).sum() > 10  # both bounds were reached
 
 
 def test_a_max_range_that_float32_rounds_down_reads_as_no_obstacle():

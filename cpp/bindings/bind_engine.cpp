@@ -4,7 +4,7 @@
 #include <string>
 
 #include "common.hpp"
-#include "vwg/parallel.hpp"
+#include "src/parallel.hpp"
 #include "vwg/robot/platform_sync.hpp"
 
 namespace vwg::bindings {

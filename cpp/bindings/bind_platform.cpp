@@ -1,12 +1,14 @@
 // The robot platform in Python (vwg/platform/*.hpp): RobotPlatform — implemented by the simulator
 // (PhysicsWorld) and subclassable in Python, so a real-robot link written in Python plugs into
-// the same frame path — the robots' states, collisions and settings, the motion backend and the
-// feedback generators.
+// the same frame path — the robots' states, collisions and settings, the motion backend, the
+// feedback generators, and the rule that turns a laser scan into eLaser events.
+#include <algorithm>
 #include <string>
 #include <vector>
 
 #include "sim_convert.hpp"
 #include "vwg/platform/feedback.hpp"
+#include "vwg/platform/laser_scan.hpp"
 #include "vwg/platform/motion.hpp"
 #include "vwg/platform/motion_follower.hpp"
 #include "vwg/platform/platform.hpp"
@@ -20,6 +22,30 @@ using platform::MotionStep;
 using platform::RobotPlatform;
 using platform::RobotSettings;
 using platform::RobotState;
+
+using FloatArray = py::array_t<float, py::array::c_style | py::array::forcecast>;
+using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
+/// A 1-D array of `field`, converted to T (ranges become float32, as a LaserScan carries them).
+template <class Array>
+Array vector_of(py::handle obj, const std::string& field, const char* what) {
+  auto a = Array::ensure(obj);
+  if (!a) {
+    PyErr_Clear();
+    throw SchemaError(field, std::string("expected a 1-D array of numbers (") + what + ")");
+  }
+  if (a.ndim() != 1) throw SchemaError(field, "expected a 1-D array, got " + std::to_string(a.ndim()) + " dimensions");
+  return a;
+}
+
+py::tuple obstacles_to_python(const platform::ScanEvents& hits) {
+  py::array_t<double> dist(static_cast<py::ssize_t>(hits.size())), angle(static_cast<py::ssize_t>(hits.size()));
+  std::copy(hits.dist().begin(), hits.dist().end(), dist.mutable_data());
+  std::copy(hits.angle().begin(), hits.angle().end(), angle.mutable_data());
+  return py::make_tuple(dist, angle);
+}
+
+constexpr const char* kRangesDoc = "metres, float32; NaN where nothing is known";
 
 py::list steps_to_python(const std::vector<MotionStep>& steps) {
   py::list out;
@@ -144,6 +170,33 @@ at every control tick — the same velocities from the same poses (paper test 3)
         py::arg("pose"),
         "The pose at the simulator's float resolution (x, y rounded to float; the angle wrapped into [-π, π] and rounded): "
         "every platform reports poses so, and a pose carried through a link comes back bit for bit.");
+
+  m.def("scan_obstacles",
+        [](py::handle ranges, double angle_min, double angle_increment, double range_min, double range_max) {
+          const FloatArray r = vector_of<FloatArray>(ranges, "ranges", kRangesDoc);
+          platform::ScanEvents hits;
+          platform::scan_obstacles({r.data(), static_cast<std::size_t>(r.size())}, angle_min, angle_increment, range_min,
+                                   range_max, hits);
+          return obstacles_to_python(hits);
+        },
+        py::arg("ranges"), py::arg("angle_min"), py::arg("angle_increment"), py::arg("range_min"), py::arg("range_max"),
+        R"doc(The eLaser events of a laser scan laid out as sensor_msgs/LaserScan lays it out (beam i at
+angle_min + i·angle_increment): (dist, angle), two float64 arrays, one entry for each beam that met an
+obstacle, in beam order. The one rule of the simulated and the real robots' lasers (REP 117): a reading in
+[range_min, range_max) is an obstacle; a reading >= range_max (+Inf included) is no return, as drivers
+that report no return as range_max mean it; -Inf is an obstacle at range_min; NaN and readings below
+range_min are no measurement. Ranges are taken as float32 (range_max compared as float32 too).)doc");
+  m.def("scan_obstacles",
+        [](py::handle ranges, py::handle angles, double range_min, double range_max) {
+          const FloatArray r = vector_of<FloatArray>(ranges, "ranges", kRangesDoc);
+          const DoubleArray a = vector_of<DoubleArray>(angles, "angles", "radians from the heading");
+          platform::ScanEvents hits;
+          platform::scan_obstacles({r.data(), static_cast<std::size_t>(r.size())},
+                                   {a.data(), static_cast<std::size_t>(a.size())}, range_min, range_max, hits);
+          return obstacles_to_python(hits);
+        },
+        py::arg("ranges"), py::arg("angles"), py::arg("range_min"), py::arg("range_max"),
+        "The same for beams at the given angles (as the simulated laser's: LaserGenerator.angles).");
 
   py::class_<RobotPlatform, PyRobotPlatform, std::shared_ptr<RobotPlatform>>(m, "RobotPlatform", R"doc(
 Where frames meet robots: the Box2D simulator (PhysicsWorld) or a real robot's link. Subclass it in

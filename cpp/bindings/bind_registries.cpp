@@ -1,4 +1,4 @@
-// The C++ registries (vwg/registry.hpp, vwg/robot/registries.hpp) in Python: the names built in
+// The C++ registries (vwg/registry.hpp, vwg/robot/registries.hpp, vwg/sim/registries.hpp) in Python: the names built in
 // and factories by name. vwg.registry starts its Python registries from these.
 #include <map>
 #include <string>
@@ -6,6 +6,7 @@
 #include "sim_convert.hpp"
 #include "vwg/registry.hpp"
 #include "vwg/robot/registries.hpp"
+#include "vwg/sim/registries.hpp"
 
 namespace vwg::bindings {
 
@@ -15,19 +16,19 @@ void init_registries(py::module_& m) {
         "A new decider by its C++ registered name (vwg.SchemaError listing the known ones otherwise).");
   m.def("backend_names", [] { return backends().names(); }, "The backends registered in C++.");
   m.def("create_backend", [](const std::string& name) { return backends().create(name); }, py::arg("name"));
-  m.def("platform_names", [] { return robot::platforms().names(); }, "The robot platforms registered in C++.");
+  m.def("platform_names", [] { return sim::platforms().names(); }, "The robot platforms registered in C++.");
   m.def(
       "create_platform",
       [](const std::string& name, MapArg grid, const std::vector<platform::RobotSettings>& robots,
          const sim::PhysicsSettings& physics, const std::map<std::string, std::string>& options) {
-        robot::PlatformSetup setup{grid_from_python(grid), robots, physics, options};
-        return robot::platforms().create(name, setup);
+        sim::PlatformSetup setup{grid_from_python(grid), robots, physics, options};
+        return sim::platforms().create(name, setup);
       },
       py::arg("name"), py::arg("grid"), py::arg("robots"), py::arg("physics") = sim::PhysicsSettings{},
       py::arg("options") = std::map<std::string, std::string>{},
       "A robot platform by its C++ registered name, with the map, the robots and the simulator's settings.");
-  m.def("sensor_names", [] { return robot::sensors().names(); }, "The sensors registered in C++.");
-  m.def("ranging_sensors", [] { return std::vector<std::string>(robot::ranging_sensors().begin(), robot::ranging_sensors().end()); },
+  m.def("sensor_names", [] { return sim::sensors().names(); }, "The sensors registered in C++.");
+  m.def("ranging_sensors", [] { return std::vector<std::string>(sim::ranging_sensors().begin(), sim::ranging_sensors().end()); },
         "The sensors that come first in the priority order (ranging ones).");
   m.def(
       "create_sensor",
@@ -35,7 +36,7 @@ void init_registries(py::module_& m) {
          int robot, py::object grid, std::shared_ptr<const sim::RangeScanner> scanner, const sim::LaserSpec& laser,
          const sim::DepthCameraSpec& kinect, const sim::CameraSpec& camera, py::object markers, int camera_period,
          std::uint64_t seed) {
-        robot::SensorSetup setup;
+        sim::SensorSetup setup;
         setup.platform = std::move(platform);
         setup.alphabet = std::move(alphabet);
         setup.robot = robot;
@@ -47,7 +48,7 @@ void init_registries(py::module_& m) {
         setup.markers = wall_markers_from_python(markers);
         setup.camera_period = camera_period;
         setup.seed = seed;
-        return robot::sensors().create(name, setup);
+        return sim::sensors().create(name, setup);
       },
       py::arg("name"), py::arg("platform"), py::arg("alphabet"), py::arg("robot"), py::kw_only(), py::arg("grid") = py::none(),
       py::arg("scanner") = nullptr, py::arg("laser") = sim::LaserSpec{}, py::arg("kinect") = sim::DepthCameraSpec{},

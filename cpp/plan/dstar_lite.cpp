@@ -1,6 +1,6 @@
 #include "vwg/plan/dstar_lite.hpp"
 
-#include "vwg/plan/dstar_lite_search.hpp"
+#include "plan/dstar_lite_search.hpp"
 
 namespace vwg::plan {
 

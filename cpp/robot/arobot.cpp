@@ -4,9 +4,9 @@
 #include <string>
 
 #include "vwg/error.hpp"
+#include "vwg/geometry/directions.hpp"
 #include "vwg/geometry/pose.hpp"
-#include "vwg/sim/raycast.hpp"
-#include "vwg/unique_number.hpp"
+#include "src/unique_number.hpp"
 
 namespace vwg::robot {
 
@@ -118,7 +118,7 @@ void ARobot::evolve(ActorState& self, const EventView& e, const EvolutionContext
   if (type == ev_.laser) {
     const double a = self.get_real(kAngle) + e.number(1);
     double cos_a = 0.0, sin_a = 0.0;
-    sim::beam_directions({&a, 1}, "avx2", {&cos_a, 1}, {&sin_a, 1});
+    geometry::beam_directions({&a, 1}, "avx2", {&cos_a, 1}, {&sin_a, 1});
     const ScanBeam b = beam(self, e.number(0), cos_a, sin_a);
     edit_map(self, [&](MapEdit& map, ObstacleBits& bits) {
       sense_scan(map, g, bits, self.get_real(kX), self.get_real(kY), std::span<const ScanBeam>(&b, 1), config_.carve_free_space);
@@ -187,7 +187,7 @@ void ARobot::evolve_run(ActorState& self, const EventList& events, std::span<con
   const double heading = self.get_real(kAngle);
   for (const std::uint32_t i : at) turned.push_back(heading + events[i].number(1));
   cos_a.resize(turned.size()), sin_a.resize(turned.size());
-  sim::beam_directions(turned, "avx2", cos_a, sin_a);  // all at once, 4 at a time
+  geometry::beam_directions(turned, "avx2", cos_a, sin_a);  // all at once, 4 at a time
   for (std::size_t k = 0; k < at.size(); ++k) scan.push_back(beam(self, events[at[k]].number(0), cos_a[k], sin_a[k]));
   edit_map(self, [&](MapEdit& map, ObstacleBits& bits) {
     sense_scan(map, config_.map, bits, self.get_real(kX), self.get_real(kY), scan, config_.carve_free_space);

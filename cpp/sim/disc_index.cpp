@@ -1,4 +1,4 @@
-#include "vwg/sim/disc_index.hpp"
+#include "vwg/detail/disc_index.hpp"
 
 #include <algorithm>
 #include <cmath>

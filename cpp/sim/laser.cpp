@@ -189,25 +189,26 @@ LaserGenerator::LaserGenerator(std::shared_ptr<const RangeScanner> scanner, int 
 void LaserGenerator::generate(const FrameInfo&, EventList& out) {
   const Pose2 pose = scanner_->world().robot(robot_).pose;
   scanner_->scan(robot_, pose, angles_, spec_.max_range, ranges_);
-  events_.clear();
-  // The bounds as floats. The scan writes max_range as a float: a max_range that float32 rounds
-  // down (3.3) must still read as no obstacle.
+  // The bounds as floats. The scan writes max_range as a float (no return): a max_range that
+  // float32 rounds down (3.3) must still read as no obstacle.
   const auto low = static_cast<float>(spec_.min_range), high = static_cast<float>(spec_.max_range);
-  for (std::size_t i = 0; i < ranges_.size(); ++i) {
-    if (ranges_[i] >= high) continue;  // no obstacle: no event (Table II: "if obstacle")
-    if (spec_.noise > 0.0) {
+  if (spec_.noise > 0.0) {
+    for (std::size_t i = 0; i < ranges_.size(); ++i) {
+      if (ranges_[i] >= high) continue;  // no return: nothing to blur
       // A noisy reading in single precision, as a real laser's scan (sensor_msgs/LaserScan)
       // carries it: the events of the simulated and the real robot alike, and a frame log a third
-      // smaller. Clamped to the float32 values within [min_range, max_range].
+      // smaller. Clamped to the float32 values within [min_range, max_range): a hit stays a hit
+      // (a reading of max_range is no return, platform/laser_scan.hpp).
       const double noisy = ranges_[i] + rng_.normal(0.0, spec_.noise);
       float reading = static_cast<float>(std::clamp(noisy, spec_.min_range, spec_.max_range));
       if (reading < spec_.min_range) reading = std::nextafter(low, high);
-      if (reading > spec_.max_range) reading = std::nextafter(high, low);
+      if (reading >= high) reading = std::nextafter(high, low);
       ranges_[i] = reading;
     }
-    if (ranges_[i] < spec_.min_range) continue;
-    events_.add(ranges_[i], angles_[i]);
   }
+  // What a real robot's LaserScan goes through (Table II: an event "if obstacle").
+  events_.clear();
+  platform::scan_obstacles(ranges_, angles_, spec_.min_range, spec_.max_range, events_);
   events_.emit(out, event_, robot_);
 }
 

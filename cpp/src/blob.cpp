@@ -8,7 +8,7 @@
 
 #include "vwg/error.hpp"
 #include "vwg/hash.hpp"
-#include "vwg/unique_number.hpp"
+#include "src/unique_number.hpp"
 
 namespace vwg {
 

@@ -8,7 +8,7 @@
 #include <utility>
 
 #include "vwg/error.hpp"
-#include "vwg/parallel.hpp"
+#include "src/parallel.hpp"
 #include "vwg/random.hpp"
 #include "vwg/text.hpp"
 

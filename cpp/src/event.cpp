@@ -7,7 +7,7 @@
 
 #include "vwg/error.hpp"
 #include "vwg/text.hpp"
-#include "vwg/unique_number.hpp"
+#include "src/unique_number.hpp"
 
 namespace vwg {
 

@@ -1,4 +1,4 @@
-#include "vwg/parallel.hpp"
+#include "src/parallel.hpp"
 
 #include <unistd.h>
 

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "vwg/error.hpp"
-#include "vwg/parallel.hpp"
+#include "src/parallel.hpp"
 #include "vwg/random.hpp"
 #include "vwg/text.hpp"
 

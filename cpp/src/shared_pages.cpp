@@ -1,4 +1,4 @@
-#include "vwg/shared_pages.hpp"
+#include "vwg/detail/shared_pages.hpp"
 
 #include <sys/mman.h>
 #include <unistd.h>

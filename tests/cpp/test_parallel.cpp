@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "helpers.hpp"
-#include "vwg/parallel.hpp"
+#include "src/parallel.hpp"
 
 using namespace vwg;
 using namespace vwg::testing;

@@ -9,6 +9,7 @@
 #include "vwg/robot/planners.hpp"
 #include "vwg/robot/registries.hpp"
 #include "vwg/sim/laser.hpp"
+#include "vwg/sim/registries.hpp"
 
 using namespace vwg;
 
@@ -70,33 +71,33 @@ TEST(Registries, AThirdPartyRegistersWithoutEditingVwg) {
 }
 
 TEST(Registries, TheSimulatorAndItsSensorsByName) {
-  robot::PlatformSetup setup;
+  sim::PlatformSetup setup;
   setup.grid = room(100, 0.05);  // 5 × 5 m, no walls inside (the simulator walls the border)
   platform::RobotSettings r;
   r.id = 4;
   r.start = {2.5, 2.5, 0.0};
   setup.robots = {r};
-  auto sim = robot::platforms().create("sim", setup);
+  auto sim = sim::platforms().create("sim", setup);
   ASSERT_EQ(sim->name(), "sim");
   EXPECT_DOUBLE_EQ(sim->robot(4).pose.x, 2.5);
   setup.options["url"] = "ws://127.0.0.1:9090";
-  const std::string option = error_of([&] { robot::platforms().create("sim", setup); });
+  const std::string option = error_of([&] { sim::platforms().create("sim", setup); });
   EXPECT_NE(option.find("unknown option 'url' (it takes none)"), std::string::npos) << option;
 
   auto alphabet = std::make_shared<Alphabet>();
   alphabet->add_event_type("eLaser", false, Schema{{ParamSpec{"dist", ValueKind::Real, 0.0}, ParamSpec{"angle", ValueKind::Real, 0.0}}});
-  robot::SensorSetup s;
+  sim::SensorSetup s;
   s.platform = sim;
   s.alphabet = alphabet;
   s.robot = 4;
   s.grid = std::make_shared<const geometry::OccupancyGrid>(setup.grid);
   s.laser.beams = 4;
   s.laser.noise = 0.0;
-  auto laser = std::dynamic_pointer_cast<sim::LaserGenerator>(robot::sensors().create("laser", s));
+  auto laser = std::dynamic_pointer_cast<sim::LaserGenerator>(sim::sensors().create("laser", s));
   ASSERT_NE(laser, nullptr);
   EXPECT_EQ(laser->spec().beams, 4);
-  EXPECT_TRUE(robot::ranging_sensors().contains("laser") && !robot::ranging_sensors().contains("camera"));
+  EXPECT_TRUE(sim::ranging_sensors().contains("laser") && !sim::ranging_sensors().contains("camera"));
   s.alphabet = nullptr;
-  const std::string no_alphabet = error_of([&] { robot::sensors().create("kinect", s); });
+  const std::string no_alphabet = error_of([&] { sim::sensors().create("kinect", s); });
   EXPECT_NE(no_alphabet.find("sensor kinect: needs the alphabet"), std::string::npos) << no_alphabet;
 }

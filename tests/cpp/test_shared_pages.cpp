@@ -13,7 +13,7 @@
 #include "helpers.hpp"
 #include "vwg/blob.hpp"
 #include "vwg/log.hpp"
-#include "vwg/shared_pages.hpp"
+#include "vwg/detail/shared_pages.hpp"
 
 using namespace vwg;
 

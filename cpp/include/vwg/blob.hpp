@@ -11,7 +11,7 @@
 #include <string_view>
 #include <vector>
 
-#include "vwg/shared_pages.hpp"
+#include "vwg/detail/shared_pages.hpp"
 
 namespace vwg {
 

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "vwg/geometry/occupancy_grid.hpp"
-#include "vwg/shared_pages.hpp"
+#include "vwg/detail/shared_pages.hpp"
 
 namespace vwg::geometry {
 

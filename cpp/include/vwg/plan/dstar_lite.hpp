@@ -26,7 +26,7 @@
 #include <variant>
 #include <vector>
 
-#include "vwg/plan/filled_array.hpp"
+#include "vwg/detail/filled_array.hpp"
 #include "vwg/plan/grid_graph.hpp"
 
 namespace vwg::plan {

@@ -85,7 +85,7 @@ class ARobot final : public ActorBehavior {
   void decide(ActorState& self, const EvolutionContext& ctx);
   /// Where beam eLaser<dist, angle> stopped, and the point whose cell it marks (eq. 12); cos_a
   /// and sin_a are of the beam's direction in the world (its angle plus the robot's heading), from
-  /// the raycaster's sine and cosine (sim::beam_directions: the same bits on every machine, for one
+  /// vwg's own sine and cosine (geometry::beam_directions: the same bits on every machine, for one
   /// beam or a scan's run of them).
   ScanBeam beam(const ActorState& self, double dist, double cos_a, double sin_a) const;
   bool goal_of(const ActorState& self, int marker, double& x, double& y) const;

@@ -11,7 +11,7 @@
 #include "vwg/blob.hpp"
 #include "vwg/plan/grid_graph.hpp"
 #include "vwg/robot/robot_map.hpp"
-#include "vwg/robot/tiled_index.hpp"
+#include "vwg/detail/tiled_index.hpp"
 
 namespace vwg::robot {
 

@@ -1,67 +1,16 @@
-// The case study's parts by name (vwg/registry.hpp): deciders, robot platforms and sensors, with
-// the built-in ones registered on first use. A third party adds its own with add(); the Python
-// package's registries (vwg.registry) start from these names.
+// The case study's deciders by name (vwg/registry.hpp), the built-in ones registered on first use.
+// A third party adds its own with add(); the Python package's registry (vwg.registry) starts from
+// these names. The platforms and sensors the simulator provides are registered beside it
+// (vwg/sim/registries.hpp), so that a robot program needs no simulator.
 #pragma once
 
-#include <cstdint>
-#include <map>
-#include <memory>
-#include <set>
-#include <string>
-#include <vector>
-
-#include "vwg/alphabet.hpp"
-#include "vwg/generator.hpp"
-#include "vwg/geometry/occupancy_grid.hpp"
-#include "vwg/platform/platform.hpp"
 #include "vwg/registry.hpp"
 #include "vwg/robot/decider.hpp"
-#include "vwg/sim/camera.hpp"
-#include "vwg/sim/depth_camera.hpp"
-#include "vwg/sim/laser.hpp"
-#include "vwg/sim/physics.hpp"
 
 namespace vwg::robot {
 
 /// Deciders by name: random, astar, jps (Jump Point Search), dstar, and the OMPL planners rrtconnect, rrtstar and prm
 /// (LazyPRM), bounded by iterations so that a run is the same on any machine.
 Registry<Decider>& deciders();
-
-/// What a platform is made from: the map, the robots, the simulator's settings, and options a
-/// real-robot link reads (a URL, a port).
-struct PlatformSetup {
-  geometry::OccupancyGrid grid;
-  std::vector<platform::RobotSettings> robots;
-  sim::PhysicsSettings physics{};
-  std::map<std::string, std::string> options;
-};
-
-/// Robot platforms by name: "sim", the Box2D simulator (it takes no options).
-Registry<platform::RobotPlatform, const PlatformSetup&>& platforms();
-
-/// What a sensor is made from: the platform it runs on, the robot, the alphabet its events are
-/// declared in, and the world's sensor settings. `scanner` is shared by the simulated range
-/// sensors of a run (made from `grid` and the platform when null).
-struct SensorSetup {
-  std::shared_ptr<platform::RobotPlatform> platform;
-  std::shared_ptr<const Alphabet> alphabet;
-  int robot = 1;
-  std::shared_ptr<const geometry::OccupancyGrid> grid;
-  std::shared_ptr<const sim::RangeScanner> scanner;
-  sim::LaserSpec laser{};
-  sim::DepthCameraSpec kinect{};
-  sim::CameraSpec camera{};
-  std::vector<sim::WallMarker> markers;
-  int camera_period = 3;  ///< gCamera looks every this many frames
-  std::uint64_t seed = 0;
-};
-
-/// Sensors by name, each an event generator for one robot: "laser" (gLaser), "kinect" (gKinect)
-/// and "camera" (gCamera with AprilTag detection), simulated on the "sim" platform.
-Registry<Generator, const SensorSetup&>& sensors();
-
-/// The names of the ranging sensors ("laser", "kinect", and those a third party adds): they come
-/// first in a frame's priority order, robot by robot (the paper's gLaser/gKinect before gCamera).
-std::set<std::string>& ranging_sensors();
 
 }  // namespace vwg::robot

@@ -13,7 +13,7 @@
 
 #include "vwg/blob_edit.hpp"
 #include "vwg/geometry/map_geometry.hpp"
-#include "vwg/robot/tiled_index.hpp"
+#include "vwg/detail/tiled_index.hpp"
 
 namespace vwg::robot {
 

@@ -14,6 +14,7 @@
 
 #include "vwg/alphabet.hpp"
 #include "vwg/generator.hpp"
+#include "vwg/platform/laser_scan.hpp"
 #include "vwg/random.hpp"
 #include "vwg/sim/physics.hpp"
 #include "vwg/sim/raycast.hpp"
@@ -75,25 +76,14 @@ class RangeScanner {
 /// >= 0); throws SchemaError naming `owner.field`.
 void check_settings(const LaserSpec& spec, const std::string& owner);
 
-/// A range sensor's events of one frame, `<event><to=robot, dist, angle>` a beam, gathered by
-/// columns and emitted as one batch (EventList::emit_columns). Kept by the generator, so a frame
-/// allocates nothing.
-class ScanEvents {
- public:
-  void clear() { dist_.clear(), angle_.clear(); }
-  void add(double dist, double angle) { dist_.push_back(dist), angle_.push_back(angle); }
-  void emit(EventList& out, EventTypeId event, int robot) const {
-    const std::span<const double> columns[] = {dist_, angle_};
-    out.emit_columns(event, columns, robot);
-  }
+/// The eLaser batch of a range sensor (vwg/platform/laser_scan.hpp).
+using platform::ScanEvents;
 
- private:
-  std::vector<double> dist_, angle_;
-};
-
-/// gLaser: each frame, a scan from the robot's true pose with range noise; an event
-/// `<event><to=robot, dist, angle>` for each beam that hit something within range. A noisy dist is
-/// a float32 reading (as sensor_msgs/LaserScan's ranges), clamped to [min_range, max_range].
+/// gLaser: each frame, a scan from the robot's true pose with range noise, turned into events
+/// `<event><to=robot, dist, angle>` by the rule a real robot's LaserScan goes through
+/// (platform::scan_obstacles): one for each beam that hit something nearer than max_range. A beam
+/// that hit nothing reads max_range (no return, as many drivers report it). A hit's noisy reading is
+/// float32 (as sensor_msgs/LaserScan's ranges), clamped to [min_range, max_range): a hit stays a hit.
 class LaserGenerator final : public Generator {
  public:
   LaserGenerator(std::shared_ptr<const RangeScanner> scanner, int robot, LaserSpec spec, const Alphabet& alphabet,

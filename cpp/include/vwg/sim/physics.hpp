@@ -16,7 +16,7 @@
 #include "vwg/random.hpp"
 #include "vwg/platform/motion_follower.hpp"
 #include "vwg/platform/platform.hpp"
-#include "vwg/sim/disc_index.hpp"
+#include "vwg/detail/disc_index.hpp"
 #include "vwg/sim/grid.hpp"
 
 namespace vwg::sim {

@@ -12,8 +12,8 @@
 //   horizontal line (y side) is blocked; otherwise it goes on into the diagonal cell (reported,
 //   if blocked, as entered through its x face). So a diagonal chain of cells is a closed wall;
 // - a hit exactly at max_range counts; cells outside the map and unknown cells are free.
-// Angles become directions through the raycaster's own sine and cosine (within about 2e-16
-// of libm's), the same code for every method.
+// Angles become directions through vwg's own sine and cosine (geometry::beam_directions, within
+// about 2e-16 of libm's), the same code for every method.
 #pragma once
 
 #include <cstdint>
@@ -21,6 +21,7 @@
 #include <string_view>
 #include <vector>
 
+#include "vwg/geometry/directions.hpp"
 #include "vwg/sim/grid.hpp"
 
 namespace vwg::sim {
@@ -41,13 +42,8 @@ struct RayHit {
   double x = 0.0, y = 0.0;
 };
 
-/// The unit directions in grid axes (du = cos, dv = sin of each angle, relative to the grid's yaw)
-/// that a scan's beams take with the code for `simd`: "avx512", "avx2" or "none", lowered to what
-/// this CPU has. Returns the level used. For the tests: the AVX2 code must give the scalar code's
-/// bits (single rays use the scalar code on such CPUs). Throws vwg::Error if the spans' sizes
-/// differ or `simd` is none of those.
-std::string_view beam_directions(std::span<const double> relative, std::string_view simd, std::span<double> du,
-                                 std::span<double> dv);
+/// The beams' directions (vwg/geometry/directions.hpp), here by their old name.
+using geometry::beam_directions;
 
 /// Raycasting on one occupancy grid. Construction precomputes clearance tables (linear in the
 /// cells: about 12 ms for 1000 x 1000); the grid is copied in that form, so the raycaster does

@@ -3,6 +3,9 @@
 // grids are copies of shared grids whose pages are copied on a robot's first write (SharedPages);
 // a sighting writes a small patch round each cell it marks, and in tiles the size of a page that
 // patch writes one or two pages, where rows of a wide map put a page on every row or two of it.
+//
+// Not part of vwg's API (vwg/detail/): installed only because
+// robot::RobotMap and robot::PlanningMap hold them by value.
 #pragma once
 
 #include <cstddef>

@@ -4,6 +4,9 @@
 // that was share()d holds its content in an in-memory file (memfd) mapped privately: its copies
 // map the same file privately too, and the kernel copies a page only when one of them writes it.
 // Readers still see one contiguous array.
+//
+// Not part of vwg's API (vwg/detail/): installed only because
+// Blob (vwg/blob.hpp) and geometry::BlockedGrid hold them by value.
 #pragma once
 
 #include <cstddef>

@@ -1,4 +1,7 @@
 // An array that reads a fill value wherever it was never written, made by zeroing its memory.
+//
+// Not part of vwg's API (vwg/detail/): installed only because
+// plan::DStarLite (vwg/plan/dstar_lite.hpp) holds them by value.
 #pragma once
 
 #include <bit>

@@ -1,6 +1,9 @@
 // Where the robots' discs are, by squares of the floor: a laser looks only at the robots in the
 // squares its reach covers. Every scan used to test every other robot, so ten thousand robots cost
 // a hundred million tests a frame, almost all of them robots tens of metres away.
+//
+// Not part of vwg's API (vwg/detail/): installed only because
+// sim::PhysicsWorld (vwg/sim/physics.hpp) holds one by value.
 #pragma once
 
 #include <cstddef>
