@@ -1,4 +1,4 @@
-#include "vwg/geometry/cell_distance.hpp"
+#include "geometry/cell_distance.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "vwg/geometry/clearance.hpp"
+#include "geometry/clearance.hpp"
 
 #include "vwg/geometry/occupancy_grid.hpp"
 

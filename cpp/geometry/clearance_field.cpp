@@ -4,8 +4,8 @@
 #include <cmath>
 #include <limits>
 
-#include "vwg/geometry/clearance.hpp"
-#include "vwg/geometry/inflate.hpp"
+#include "geometry/clearance.hpp"
+#include "geometry/inflate.hpp"
 
 namespace vwg::geometry {
 

@@ -1,4 +1,4 @@
-#include "vwg/geometry/inflate.hpp"
+#include "geometry/inflate.hpp"
 
 #include <cmath>
 #include <cstdlib>

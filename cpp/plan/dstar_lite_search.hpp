@@ -1,5 +1,6 @@
 // The definitions of DStarLiteSearch (dstar_lite.hpp), for dstar_lite.cpp to instantiate with
 // RealKeys and ExactKeys, and for tests to instantiate with keys of their own.
+// Private to vwg's libraries (beside their sources, under cpp/): not installed.
 #pragma once
 
 #include <algorithm>

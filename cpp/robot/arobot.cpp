@@ -3,10 +3,10 @@
 #include <cmath>
 #include <string>
 
+#include "src/unique_number.hpp"
 #include "vwg/error.hpp"
 #include "vwg/geometry/directions.hpp"
 #include "vwg/geometry/pose.hpp"
-#include "src/unique_number.hpp"
 
 namespace vwg::robot {
 

@@ -6,7 +6,7 @@
 #include <limits>
 #include <tuple>
 
-#include "vwg/geometry/inflate.hpp"
+#include "geometry/inflate.hpp"
 
 namespace vwg::robot {
 

@@ -7,8 +7,8 @@
 #include <limits>
 #include <utility>
 
+#include "geometry/clearance.hpp"
 #include "vwg/error.hpp"
-#include "vwg/geometry/clearance.hpp"
 
 namespace vwg::robot {
 

@@ -6,9 +6,9 @@
 #include <limits>
 #include <string>
 
+#include "src/unique_number.hpp"
 #include "vwg/error.hpp"
 #include "vwg/hash.hpp"
-#include "src/unique_number.hpp"
 
 namespace vwg {
 

@@ -7,8 +7,8 @@
 #include <unordered_map>
 #include <utility>
 
-#include "vwg/error.hpp"
 #include "src/parallel.hpp"
+#include "vwg/error.hpp"
 #include "vwg/random.hpp"
 #include "vwg/text.hpp"
 

@@ -5,9 +5,9 @@
 #include <limits>
 #include <string>
 
+#include "src/unique_number.hpp"
 #include "vwg/error.hpp"
 #include "vwg/text.hpp"
-#include "src/unique_number.hpp"
 
 namespace vwg {
 

@@ -6,6 +6,7 @@
 // child process that uses OpenMP after its parent did hangs, as with multiprocessing's default
 // start method or Dask's local workers), and TBB would be a new dependency for one parallel-for.
 // This pool notices a fork and starts afresh in the child.
+// Private to vwg's libraries (beside their sources, under cpp/): not installed.
 #pragma once
 
 #include <cstddef>

@@ -10,8 +10,8 @@
 #include <unordered_map>
 #include <vector>
 
-#include "vwg/error.hpp"
 #include "src/parallel.hpp"
+#include "vwg/error.hpp"
 #include "vwg/random.hpp"
 #include "vwg/text.hpp"
 

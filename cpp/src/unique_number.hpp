@@ -3,6 +3,7 @@
 // them a block at a time from one counter, since one counter bumped on every write would bounce
 // between the cores when robots' maps are written on several threads at once. The numbers are
 // only compared for equality, so their order across threads does not matter.
+// Private to vwg's libraries (beside their sources, under cpp/): not installed.
 #pragma once
 
 #include <atomic>

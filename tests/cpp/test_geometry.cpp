@@ -6,10 +6,10 @@
 #include <cmath>
 #include <numbers>
 
+#include "geometry/clearance.hpp"
+#include "geometry/inflate.hpp"
 #include "vwg/blob.hpp"
-#include "vwg/geometry/clearance.hpp"
 #include "vwg/geometry/clearance_field.hpp"
-#include "vwg/geometry/inflate.hpp"
 #include "vwg/geometry/map_geometry.hpp"
 #include "vwg/geometry/pose.hpp"
 #include "vwg/robot/robot_map.hpp"

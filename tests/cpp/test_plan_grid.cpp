@@ -18,11 +18,11 @@
 #include <string>
 #include <vector>
 
+#include "plan/dstar_lite_search.hpp"
+#include "vwg/detail/filled_array.hpp"
 #include "vwg/error.hpp"
 #include "vwg/plan/astar.hpp"
 #include "vwg/plan/dstar_lite.hpp"
-#include "plan/dstar_lite_search.hpp"
-#include "vwg/detail/filled_array.hpp"
 #include "vwg/plan/jps.hpp"
 #include "vwg/plan/movingai.hpp"
 

@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "helpers.hpp"
+#include "geometry/inflate.hpp"
 #include "vwg/error.hpp"
-#include "vwg/geometry/inflate.hpp"
 #include "vwg/plan/astar.hpp"
 #include "vwg/robot/planners.hpp"
 #include "vwg/robot/planning_map.hpp"

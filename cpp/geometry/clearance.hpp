@@ -2,12 +2,13 @@
 // the robot's map, the planners' distance field and the Python maps all ask. The grid is given as a
 // predicate so that each caller keeps its own cells (int16 robot maps, BlockedGrid, int8 maps)
 // without copying them into a mask per query.
+// Private to vwg's libraries (beside their sources, under cpp/): not installed.
 #pragma once
 
 #include <algorithm>
 #include <cmath>
 
-#include "vwg/geometry/cell_distance.hpp"
+#include "geometry/cell_distance.hpp"
 
 namespace vwg::geometry {
 

@@ -1,5 +1,6 @@
 // Inflation: the cells where the centre of a disc-shaped robot may not be, the configuration space
 // the grid planners search.
+// Private to vwg's libraries (beside their sources, under cpp/): not installed.
 #pragma once
 
 #include <algorithm>

@@ -1,6 +1,7 @@
 // Exact distances from points and segments to the squares of grid cells, in continuous grid
 // coordinates: u along columns, v along rows, cell (r, c) being the closed square [c, c+1] × [r, r+1]
 // (as OccupancyGrid::world_to_grid gives them).
+// Private to vwg's libraries (beside their sources, under cpp/): not installed.
 #pragma once
 
 #include "vwg/geometry/blocked_grid.hpp"
