@@ -42,7 +42,8 @@ def beam_angles(n: int) -> np.ndarray:
 
 class CarmenReplay(_core.Generator):
     """One scan a frame: the robot's corrected pose as its odometry, then the scan as a
-    sensor_msgs/LaserScan message read by vwg.robot.links.ros_messages.laser_scan (what a rosbridge link does)."""
+    sensor_msgs/LaserScan message read by vwg.robot.links.ros_messages.laser_scan and turned into events
+    by vwg._core.laser_events (what a rosbridge link and its laser do)."""
 
     def __init__(self, scans: list) -> None:
         super().__init__()
@@ -54,8 +55,11 @@ class CarmenReplay(_core.Generator):
         message = scan_message(frame.time, float(angles[0]), float(angles[1] - angles[0]),
                                [r if r < MAX_RANGE else math.inf for r in ranges], 0.0, MAX_RANGE)
         scan = laser_scan(message)
+        dist, angle = _core.laser_events(scan.ranges, scan.angle_min, scan.angle_increment, scan.range_min,
+                                         scan.range_max)
         return [_core.Event("eOdometry", 1, x=x, y=y, angle=theta, busy=False, commands=0),
-                *(_core.Event("eLaser", 1, dist=d, angle=a) for a, d in zip(scan.angles, scan.ranges, strict=True))]
+                *(_core.Event("eLaser", 1, dist=d, angle=a)
+                  for d, a in zip(dist.tolist(), angle.tolist(), strict=True))]
 
 
 def frame_of(scans: list) -> OccupancyGrid:

@@ -21,6 +21,7 @@ import math
 import os
 from pathlib import Path
 
+import numpy as np
 import pytest
 from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
@@ -440,7 +441,10 @@ def test_ros_messages_read_or_refuse_by_field(case):
     if name.startswith("odometry"):
         assert all(math.isfinite(v) for v in (out.x, out.y, out.yaw, out.speed, out.turn_rate))
     elif name == "scan":
-        assert len(out.angles) == len(out.ranges) and all(out.range_min <= r <= out.range_max for r in out.ranges)
+        assert out.ranges.dtype == np.float32 and out.ranges.ndim == 1
+        dist, angle = vwg._core.laser_events(out.ranges, out.angle_min, out.angle_increment, out.range_min,
+                                             out.range_max)
+        assert len(dist) == len(angle) <= len(out.ranges) and all(out.range_min <= d < out.range_max for d in dist)
     elif name == "twist":
         assert all(isinstance(v, float) for v in out)
 

@@ -15,6 +15,8 @@ import pytest
 
 import vwg
 from vwg.robot.links.ros_messages import laser_scan, odometry, odometry_message, pose_compose, same_type, stamp_seconds
+from vwg.robot.platforms.real_robot import RealRobotPlatform
+from vwg.robot.platforms.real_robots import ScanGenerator
 from vwg.robot.platforms.rosbridge import RosbridgePlatform, topics_for
 from vwg.robot.world_file import PlatformSpec
 from vwg.testing.fake_robot import FakeRosbridgeRobot
@@ -49,15 +51,69 @@ def test_odometry_yaw_from_its_quaternion_and_the_start_pose_as_origin():
         odometry({"header": {"stamp": {"sec": 0, "nanosec": 0}}, "pose": {"pose": {}}})
 
 
-def test_laser_scan_ranges_as_rep_117_says():
+def test_laser_scan_keeps_the_readings_as_float32_and_null_as_nan():
     msg = {"header": {"stamp": {"secs": 1, "nsecs": 0}}, "angle_min": -1.0, "angle_increment": 0.5,
            "range_min": 0.1, "range_max": 10.0,
-           # a hit, no return (+Inf), too near (-Inf), nothing known (NaN, null), out of limits both ways
-           "ranges": [2.0, math.inf, -math.inf, math.nan, None, 20.0, 0.05]}
+           "ranges": [2.0, math.inf, -math.inf, math.nan, None, 0.1, 1e300, -1e300]}
     scan = laser_scan(msg)
-    assert scan.angles == (-1.0, 0.0) and scan.ranges == (2.0, 0.1)
+    assert (scan.time, scan.angle_min, scan.angle_increment) == (1.0, -1.0, 0.5)
+    assert (scan.range_min, scan.range_max) == (0.1, 10.0)
+    assert scan.ranges.dtype == np.float32
+    f32max = float(np.finfo(np.float32).max)  # a finite reading stays finite (not -Inf: an obstacle)
+    np.testing.assert_array_equal(scan.ranges, np.array([2.0, math.inf, -math.inf, math.nan, math.nan, np.float32(0.1),
+                                                         f32max, -f32max], np.float32))
     with pytest.raises(ValueError, match="range_min, range_max"):
         laser_scan({**msg, "range_min": 5.0, "range_max": 1.0})
+
+
+class _ScanOnly(RealRobotPlatform):
+    """A real robot's platform whose link only delivers scans (nothing is ever sent)."""
+
+    def send_velocity(self, robot, speed, turn_rate, *, connection=None):
+        return True
+
+    def link_failure(self):
+        return None
+
+    def close_link(self):
+        pass
+
+
+# One scan with each kind of reading of REP 117 (range_min 0.1, range_max 10; beam i at -1 + 0.5 i).
+REP117_SCAN = {"header": {"stamp": {"secs": 3, "nsecs": 0}}, "angle_min": -1.0, "angle_increment": 0.5,
+               "range_min": 0.1, "range_max": 10.0,
+               "ranges": [2.0, 10.0, math.inf, -math.inf, math.nan, None, 20.0, 0.05, 9.5, 0.1]}
+# By hand: beam 0 in range; 1 exactly range_max: no return (drivers report no return so), 2 +Inf: no
+# return; 3 -Inf: nearer than range_min, taken at it; 4 NaN and 5 null: nothing known; 6 beyond
+# range_max, 7 below range_min: no measurement; 8 in range; 9 float32 0.1 (just above range_min) in range.
+REP117_EVENTS = [(2.0, -1.0), (0.1, 0.5), (9.5, 3.0), (float(np.float32(0.1)), 3.5)]
+
+
+def test_a_laserscan_gives_the_same_events_on_the_simulated_and_the_real_path():
+    scan = laser_scan(REP117_SCAN)
+    # The simulated laser's path: its float32 ranges and its beam angles, through laser_events as
+    # LaserGenerator calls it (C++ platform::laser_events).
+    angles = scan.angle_min + np.arange(scan.ranges.size) * scan.angle_increment
+    dist, angle = vwg._core.laser_events(scan.ranges, angles, scan.range_min, scan.range_max)
+    simulated = list(zip(dist.tolist(), angle.tolist(), strict=True))
+    # The real robot's path: the scan as its link hands it on, and the platform's laser generator
+    # in an engine's frames.
+    platform = _ScanOnly([vwg._core.RobotSettings(id=2)])
+    try:
+        alphabet = vwg.Alphabet(events=vwg.robot.platforms.sim.SIM_EVENTS, **vwg.robot.platforms.sim.MOTION_SYMBOLS)
+        engine = vwg.Engine(vwg.World(alphabet), "Robot<2>", [ScanGenerator(platform, 2)])
+        engine.step()
+        assert engine.last_events == []  # no scan yet
+        platform.on_scan(2, scan)
+        engine.step()
+        events = engine.last_events
+        engine.step()
+        assert engine.last_events == []  # once per scan
+    finally:
+        platform.close()
+    assert {e.type for e in events} == {"eLaser"} and {e.target for e in events} == {2}
+    real = [(e.dist, e.angle) for e in events]
+    assert simulated == real == REP117_EVENTS
 
 
 def test_topics_default_per_robot_and_take_the_robot_id():

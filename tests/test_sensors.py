@@ -14,6 +14,7 @@ from conftest import ROOT
 from vwg import _core
 from vwg.robot import RobotSettings
 from vwg.robot.platforms.sim import DepthCameraSpec, LaserSpec
+from vwg.robot.sensors.laser import WallLaser
 
 
 def box_map(cells=100, res=0.05):
@@ -226,3 +227,20 @@ def test_kinect_and_laser_build_nearly_the_same_grid():
           f"cells: laser {laser.sum()}, kinect {kinect.sum()}")
     assert laser.sum() > 200 and kinect.sum() > 200
     assert laser_in_kinect > 0.9 and kinect_in_laser > 0.9
+
+
+def test_a_laser_cast_on_the_walls_alone_gives_the_simulated_lasers_events():
+    # A platform without a simulator of its own (WallLaser: the map's walls from the pose it reports)
+    # and the simulator's laser, with no other robot about: the same ranges through the same rule
+    # (vwg._core.laser_events), so the same events. Some beams meet no wall within 3 m.
+    grid = box_map()
+    alphabet, physics, scanner = sim_world(grid, [RobotSettings(id=7, start=(1.3, 2.2, 0.4))])
+    spec = LaserSpec(beams=90, min_range=0.2, max_range=3.0, noise=0.0)
+    events = []
+    walls = WallLaser(physics, _core.GridRaycaster(grid), 7, spec)
+    for laser in (_core.LaserGenerator(scanner, 7, spec, alphabet), walls):
+        engine = vwg.Engine(vwg.World(alphabet), "Robot<7>", [laser])
+        engine.step()
+        events.append([(e.target, e.dist, e.angle) for e in engine.last_events])
+    assert events[0] == events[1]
+    assert 10 < len(events[0]) < 80

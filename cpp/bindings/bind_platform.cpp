@@ -4,6 +4,7 @@
 // feedback generators, and the rule that turns a laser scan into eLaser events.
 #include <algorithm>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "sim_convert.hpp"
@@ -38,11 +39,12 @@ Array vector_of(py::handle obj, const std::string& field, const char* what) {
   return a;
 }
 
-py::tuple obstacles_to_python(const platform::ScanEvents& hits) {
+/// (dist, angle): the events' columns as two float64 arrays.
+std::pair<py::array_t<double>, py::array_t<double>> events_to_python(const platform::ScanEvents& hits) {
   py::array_t<double> dist(static_cast<py::ssize_t>(hits.size())), angle(static_cast<py::ssize_t>(hits.size()));
   std::copy(hits.dist().begin(), hits.dist().end(), dist.mutable_data());
   std::copy(hits.angle().begin(), hits.angle().end(), angle.mutable_data());
-  return py::make_tuple(dist, angle);
+  return {dist, angle};
 }
 
 constexpr const char* kRangesDoc = "metres, float32; NaN where nothing is known";
@@ -171,13 +173,13 @@ at every control tick — the same velocities from the same poses (paper test 3)
         "The pose at the simulator's float resolution (x, y rounded to float; the angle wrapped into [-π, π] and rounded): "
         "every platform reports poses so, and a pose carried through a link comes back bit for bit.");
 
-  m.def("scan_obstacles",
+  m.def("laser_events",
         [](py::handle ranges, double angle_min, double angle_increment, double range_min, double range_max) {
           const FloatArray r = vector_of<FloatArray>(ranges, "ranges", kRangesDoc);
           platform::ScanEvents hits;
-          platform::scan_obstacles({r.data(), static_cast<std::size_t>(r.size())}, angle_min, angle_increment, range_min,
+          platform::laser_events({r.data(), static_cast<std::size_t>(r.size())}, angle_min, angle_increment, range_min,
                                    range_max, hits);
-          return obstacles_to_python(hits);
+          return events_to_python(hits);
         },
         py::arg("ranges"), py::arg("angle_min"), py::arg("angle_increment"), py::arg("range_min"), py::arg("range_max"),
         R"doc(The eLaser events of a laser scan laid out as sensor_msgs/LaserScan lays it out (beam i at
@@ -186,14 +188,14 @@ obstacle, in beam order. The one rule of the simulated and the real robots' lase
 [range_min, range_max) is an obstacle; a reading >= range_max (+Inf included) is no return, as drivers
 that report no return as range_max mean it; -Inf is an obstacle at range_min; NaN and readings below
 range_min are no measurement. Ranges are taken as float32 (range_max compared as float32 too).)doc");
-  m.def("scan_obstacles",
+  m.def("laser_events",
         [](py::handle ranges, py::handle angles, double range_min, double range_max) {
           const FloatArray r = vector_of<FloatArray>(ranges, "ranges", kRangesDoc);
           const DoubleArray a = vector_of<DoubleArray>(angles, "angles", "radians from the heading");
           platform::ScanEvents hits;
-          platform::scan_obstacles({r.data(), static_cast<std::size_t>(r.size())},
+          platform::laser_events({r.data(), static_cast<std::size_t>(r.size())},
                                    {a.data(), static_cast<std::size_t>(a.size())}, range_min, range_max, hits);
-          return obstacles_to_python(hits);
+          return events_to_python(hits);
         },
         py::arg("ranges"), py::arg("angles"), py::arg("range_min"), py::arg("range_max"),
         "The same for beams at the given angles (as the simulated laser's: LaserGenerator.angles).");

@@ -107,6 +107,12 @@ simulated laser. ``cast`` gives the hit cell, face and entry point; ``scan`` man
           const sim::BeamLayout l = sim::beam_layout(spec);
           return py::make_tuple(l.angle_min, l.increment);
         }, py::arg("spec"), "The laser's beams as a sensor_msgs/LaserScan lays them out: (angle_min, angle_increment).");
+  m.def("beam_angles", [](const sim::LaserSpec& spec) {
+          sim::check_settings(spec, "laser");
+          const std::vector<double> angles = sim::beam_angles(spec);
+          return copy_of(angles.data(), {static_cast<py::ssize_t>(angles.size())});
+        }, py::arg("spec"),
+        "The laser's beam angles from the heading (radians, float64), as LaserGenerator.angles: angle_min + i·angle_increment.");
 
   py::class_<sim::LaserGenerator, Generator, std::shared_ptr<sim::LaserGenerator>>(m, "LaserGenerator", R"doc(
 gLaser: each frame a scan from the robot's true pose; eLaser<to=robot, dist, angle> for each beam

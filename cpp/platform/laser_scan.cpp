@@ -24,8 +24,10 @@ template <class AngleOf>
 void add_obstacles(std::span<const float> ranges, double range_min, double range_max, ScanEvents& out,
                    AngleOf&& angle_of) {
   // range_max as float32, as the ranges are: a range_max that float32 rounds down (3.3) must still
-  // read as no return when a sensor reports it.
-  const auto high = static_cast<float>(range_max);
+  // read as no return when a sensor reports it. Beyond float32's range, only +Inf is no return.
+  const float high = range_max < static_cast<double>(std::numeric_limits<float>::max())
+                         ? static_cast<float>(range_max)
+                         : std::numeric_limits<float>::infinity();
   for (std::size_t i = 0; i < ranges.size(); ++i) {
     const float r = ranges[i];
     if (r >= high) continue;  // no return (+Inf, range_max): no obstacle
@@ -39,16 +41,16 @@ void add_obstacles(std::span<const float> ranges, double range_min, double range
 
 }  // namespace
 
-void scan_obstacles(std::span<const float> ranges, std::span<const double> angles, double range_min, double range_max,
+void laser_events(std::span<const float> ranges, std::span<const double> angles, double range_min, double range_max,
                     ScanEvents& out) {
   if (ranges.size() != angles.size())
-    throw Error("scan_obstacles: " + std::to_string(ranges.size()) + " ranges for " + std::to_string(angles.size()) +
+    throw Error("laser_events: " + std::to_string(ranges.size()) + " ranges for " + std::to_string(angles.size()) +
                 " angles");
   check_limits(range_min, range_max);
   add_obstacles(ranges, range_min, range_max, out, [&](std::size_t i) { return angles[i]; });
 }
 
-void scan_obstacles(std::span<const float> ranges, double angle_min, double angle_increment, double range_min,
+void laser_events(std::span<const float> ranges, double angle_min, double angle_increment, double range_min,
                     double range_max, ScanEvents& out) {
   if (!std::isfinite(angle_min)) throw SchemaError("angle_min", "expected a finite angle, radians, got " + format_real(angle_min));
   if (!std::isfinite(angle_increment))

@@ -208,7 +208,7 @@ void LaserGenerator::generate(const FrameInfo&, EventList& out) {
   }
   // What a real robot's LaserScan goes through (Table II: an event "if obstacle").
   events_.clear();
-  platform::scan_obstacles(ranges_, angles_, spec_.min_range, spec_.max_range, events_);
+  platform::laser_events(ranges_, angles_, spec_.min_range, spec_.max_range, events_);
   events_.emit(out, event_, robot_);
 }
 

@@ -1,4 +1,4 @@
-// A laser scan to eLaser events (platform::scan_obstacles): REP 117's readings, the one choice at
+// A laser scan to eLaser events (platform::laser_events): REP 117's readings, the one choice at
 // range_max, and the simulated laser going through the same rule. Expected events by hand.
 #include <gtest/gtest.h>
 
@@ -44,7 +44,7 @@ TEST(LaserScan, EachReadingAsRep117SaysWithNoReturnAtRangeMax) {
   // range_min 0.1, range_max 10; beam i at -1 + 0.5 i.
   const std::vector<float> ranges = {2.0f, kInf, -kInf, kNaN, 20.0f, 0.05f, 10.0f, 9.5f, 0.1f};
   platform::ScanEvents got;
-  platform::scan_obstacles(ranges, -1.0, 0.5, 0.1, 10.0, got);
+  platform::laser_events(ranges, -1.0, 0.5, 0.1, 10.0, got);
   const Events want = {
       {2.0, -1.0},                           // in range: an obstacle
                                              // +Inf: no return
@@ -60,9 +60,9 @@ TEST(LaserScan, EachReadingAsRep117SaysWithNoReturnAtRangeMax) {
   std::vector<double> angles;
   for (std::size_t i = 0; i < ranges.size(); ++i) angles.push_back(-1.0 + static_cast<double>(i) * 0.5);
   platform::ScanEvents by_angles;
-  platform::scan_obstacles(ranges, angles, 0.1, 10.0, by_angles);
+  platform::laser_events(ranges, angles, 0.1, 10.0, by_angles);
   EXPECT_EQ(pairs(by_angles), want);
-  platform::scan_obstacles(ranges, angles, 0.1, 10.0, by_angles);
+  platform::laser_events(ranges, angles, 0.1, 10.0, by_angles);
   EXPECT_EQ(by_angles.size(), 2 * want.size());
 }
 
@@ -71,24 +71,24 @@ TEST(LaserScan, RangeMaxIsComparedAsTheFloat32TheReadingsAre) {
   const float max32 = 3.3f;
   const std::vector<float> ranges = {max32, std::nextafter(max32, 0.0f)};
   platform::ScanEvents got;
-  platform::scan_obstacles(ranges, 0.0, 1.0, 0.05, 3.3, got);
+  platform::laser_events(ranges, 0.0, 1.0, 0.05, 3.3, got);
   EXPECT_EQ(pairs(got), (Events{{static_cast<double>(std::nextafter(max32, 0.0f)), 1.0}}));
 }
 
 TEST(LaserScan, BadLimitsAndLayoutsAreRefusedByName) {
   const std::vector<float> ranges = {1.0f, 2.0f};
   platform::ScanEvents out;
-  EXPECT_NE(error_of([&] { platform::scan_obstacles(ranges, 0.0, 0.1, -0.1, 5.0, out); }).find("range_min: expected a finite range >= 0"),
+  EXPECT_NE(error_of([&] { platform::laser_events(ranges, 0.0, 0.1, -0.1, 5.0, out); }).find("range_min: expected a finite range >= 0"),
             std::string::npos);
-  EXPECT_NE(error_of([&] { platform::scan_obstacles(ranges, 0.0, 0.1, 1.0, 1.0, out); }).find("range_max: expected a finite range > range_min (1"),
+  EXPECT_NE(error_of([&] { platform::laser_events(ranges, 0.0, 0.1, 1.0, 1.0, out); }).find("range_max: expected a finite range > range_min (1"),
             std::string::npos);
-  EXPECT_NE(error_of([&] { platform::scan_obstacles(ranges, 0.0, 0.1, 0.1, INFINITY, out); }).find("range_max"), std::string::npos);
-  EXPECT_NE(error_of([&] { platform::scan_obstacles(ranges, NAN, 0.1, 0.1, 5.0, out); }).find("angle_min: expected a finite angle"),
+  EXPECT_NE(error_of([&] { platform::laser_events(ranges, 0.0, 0.1, 0.1, INFINITY, out); }).find("range_max"), std::string::npos);
+  EXPECT_NE(error_of([&] { platform::laser_events(ranges, NAN, 0.1, 0.1, 5.0, out); }).find("angle_min: expected a finite angle"),
             std::string::npos);
-  EXPECT_NE(error_of([&] { platform::scan_obstacles(ranges, 0.0, INFINITY, 0.1, 5.0, out); }).find("angle_increment"),
+  EXPECT_NE(error_of([&] { platform::laser_events(ranges, 0.0, INFINITY, 0.1, 5.0, out); }).find("angle_increment"),
             std::string::npos);
   const std::vector<double> one_angle = {0.0};
-  EXPECT_NE(error_of([&] { platform::scan_obstacles(ranges, one_angle, 0.1, 5.0, out); }).find("2 ranges for 1 angles"),
+  EXPECT_NE(error_of([&] { platform::laser_events(ranges, one_angle, 0.1, 5.0, out); }).find("2 ranges for 1 angles"),
             std::string::npos);
   EXPECT_EQ(out.size(), 0u);
 }

@@ -380,18 +380,16 @@ class LiveRun:
 
 
 def _scan_points(laser: Any, pose: tuple[float, float, float]) -> list[list[float]]:
-    """The world points where a robot's last scan met something: the simulator's laser (all its beams,
-    those at max_range left out) or a real robot's (its latest LaserScan's beams that met something)."""
+    """The world points where a robot's last scan met something, by the rule of its eLaser events
+    (vwg._core.laser_events): the simulator's laser or a real robot's latest LaserScan."""
     x, y, angle = pose
     if hasattr(laser, "ranges"):
-        ranges = np.asarray(laser.ranges, dtype=np.float32)
-        hit = ranges < np.float32(laser.max_range)  # compared as the float32 the laser stores
-        angles = np.asarray(laser.angles)[hit]
-        ranges = ranges[hit].astype(float)
+        ranges, angles = _core.laser_events(laser.ranges, laser.angles, laser.spec.min_range, laser.max_range)
     else:
         scan = laser.platform.latest_scan(laser.robot)
         if scan is None:
             return []
-        angles, ranges = np.asarray(scan.angles, dtype=float), np.asarray(scan.ranges, dtype=float)
+        ranges, angles = _core.laser_events(scan.ranges, scan.angle_min, scan.angle_increment, scan.range_min,
+                                            scan.range_max)
     a = angle + angles
     return np.round(np.stack([x + ranges * np.cos(a), y + ranges * np.sin(a)], 1), 3).tolist()

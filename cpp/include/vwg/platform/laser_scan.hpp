@@ -46,12 +46,12 @@ class ScanEvents {
 /// the rule above: ranges[i] is the reading of the beam at angles[i] (radians from the heading,
 /// counter-clockwise). Throws vwg::Error if the spans' sizes differ, SchemaError naming range_min
 /// or range_max unless 0 <= range_min < range_max, both finite.
-void scan_obstacles(std::span<const float> ranges, std::span<const double> angles, double range_min, double range_max,
+void laser_events(std::span<const float> ranges, std::span<const double> angles, double range_min, double range_max,
                     ScanEvents& out);
 /// The same for a LaserScan's layout: beam i at angle_min + i·angle_increment (computed so, as
 /// sim::beam_angles computes the simulator's). SchemaError naming angle_min or angle_increment
 /// unless finite.
-void scan_obstacles(std::span<const float> ranges, double angle_min, double angle_increment, double range_min,
+void laser_events(std::span<const float> ranges, double angle_min, double angle_increment, double range_min,
                     double range_max, ScanEvents& out);
 
 }  // namespace vwg::platform

@@ -81,7 +81,7 @@ using platform::ScanEvents;
 
 /// gLaser: each frame, a scan from the robot's true pose with range noise, turned into events
 /// `<event><to=robot, dist, angle>` by the rule a real robot's LaserScan goes through
-/// (platform::scan_obstacles): one for each beam that hit something nearer than max_range. A beam
+/// (platform::laser_events): one for each beam that hit something nearer than max_range. A beam
 /// that hit nothing reads max_range (no return, as many drivers report it). A hit's noisy reading is
 /// float32 (as sensor_msgs/LaserScan's ranges), clamped to [min_range, max_range): a hit stays a hit.
 class LaserGenerator final : public Generator {

@@ -1,5 +1,5 @@
 """ROS messages as rosbridge v2 carries them (JSON), to and from what vwg uses: a Twist from a
-velocity command, a pose from an Odometry, ranges from a LaserScan (REP 117), a time from a header
+velocity command, a pose from an Odometry, the ranges of a LaserScan, a time from a header
 stamp. ROS 1 and ROS 2 spellings are both read: type names (``geometry_msgs/Twist`` and
 ``geometry_msgs/msg/Twist``) and stamps (``secs``/``nsecs`` and ``sec``/``nanosec``). Pure
 functions, so a fake robot, a log replayer and the link share them.
@@ -15,6 +15,8 @@ import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
+
+import numpy as np
 
 __all__ = [
     "LaserScan",
@@ -148,23 +150,38 @@ def pose_relative(origin: Sequence[float], pose: Sequence[float]) -> tuple[float
     return c * dx + s * dy, -s * dx + c * dy, math.atan2(math.sin(t - ot), math.cos(t - ot))
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class LaserScan:
-    """A scan as vwg uses it: the angle (radians from the heading) and range (metres) of each beam
-    that met an obstacle, and the scan's limits."""
+    """A sensor_msgs/LaserScan as the message has it: beam i at angle_min + i·angle_increment
+    (radians from the heading) read ``ranges[i]`` (metres, float32 as ROS carries them; NaN where the
+    message had null), and the scan's limits. Which beams met an obstacle is one rule for every
+    laser, simulated or real: ``vwg._core.laser_events`` (C++ platform::laser_events, REP 117)."""
 
     time: float
-    angles: tuple[float, ...]
-    ranges: tuple[float, ...]
+    angle_min: float
+    angle_increment: float
+    ranges: np.ndarray
     range_min: float
     range_max: float
 
 
+_FLOAT32_MAX = float(np.finfo(np.float32).max)
+
+
+def _reading(r: Any) -> float:
+    """One range as float32 will hold it: null (rosbridge's JSON for NaN and ±Inf alike) and anything
+    not a number are NaN (nothing known); a finite value beyond float32's range stays finite."""
+    if r is None or isinstance(r, bool) or not isinstance(r, (int, float)):
+        return math.nan
+    if isinstance(r, int) or math.isfinite(r):
+        return float(max(-_FLOAT32_MAX, min(_FLOAT32_MAX, r)))
+    return float(r)
+
+
 def laser_scan(msg: Any) -> LaserScan:
-    """sensor_msgs/LaserScan read as REP 117 says: a range within [range_min, range_max] is an
-    obstacle; −Inf is one nearer than range_min (taken at range_min); +Inf is no return (free to
-    range_max: no obstacle); NaN, null (rosbridge's JSON for NaN and ±Inf alike: nothing is known)
-    and finite values outside the limits are no measurement."""
+    """sensor_msgs/LaserScan, its fields checked (finite angles, 0 <= range_min < range_max, at
+    most 100000 ranges) and its ranges kept as they are, null read as NaN. vwg._core.laser_events
+    turns them into obstacles by REP 117's rules."""
     angle_min, increment = _number(msg, "angle_min"), _number(msg, "angle_increment")
     range_min, range_max = _number(msg, "range_min"), _number(msg, "range_max")
     if not all(math.isfinite(v) for v in (angle_min, increment, range_min, range_max)):
@@ -176,18 +193,8 @@ def laser_scan(msg: Any) -> LaserScan:
         raise ValueError("ranges: expected a list of numbers")
     if len(ranges) > 100_000:
         raise ValueError(f"ranges: {len(ranges)} beams, more than 100000")
-    angles: list[float] = []
-    hits: list[float] = []
-    for i, r in enumerate(ranges):
-        if r is None or isinstance(r, bool) or not isinstance(r, (int, float)) or math.isnan(r):
-            continue
-        if r == -math.inf:
-            r = range_min
-        elif not range_min <= r <= range_max:
-            continue  # +Inf (no return) and finite values outside the limits
-        angles.append(angle_min + i * increment)
-        hits.append(float(r))
-    return LaserScan(stamp_seconds(_field(msg, "header.stamp")), tuple(angles), tuple(hits), range_min, range_max)
+    readings = np.array([_reading(r) for r in ranges], dtype=np.float32)
+    return LaserScan(stamp_seconds(_field(msg, "header.stamp")), angle_min, increment, readings, range_min, range_max)
 
 
 def compressed_image(msg: Any) -> bytes:

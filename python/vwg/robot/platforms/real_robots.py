@@ -3,7 +3,7 @@ simulator — the platform, the motion backend on it, the feedback and sensor ge
 so that CaseStudy and ``vwg run`` take either without knowing which.
 
 The laser's events are those of the simulated laser: ``eLaser<to=robot, dist, angle>`` for each beam
-that met an obstacle (REP 117, see vwg.robot.links.ros_messages.laser_scan), in the same place of the priority
+that met an obstacle, by the simulated laser's rule (REP 117, vwg._core.laser_events), in the same place of the priority
 order, for each scan that came since the last frame. The camera's are gCamera's, on the images the
 link receives (sensor_msgs/CompressedImage), with the calibration of the world file's ``camera``.
 """
@@ -34,7 +34,10 @@ class ScanGenerator(_core.Generator):
         if scan is None or scan is self._last:
             return []
         self._last = scan
-        return [_core.Event(self.event, self.robot, dist=d, angle=a) for a, d in zip(scan.angles, scan.ranges,
+        # The simulated laser's rule (C++ platform::laser_events): the same scan, the same events.
+        dist, angle = _core.laser_events(scan.ranges, scan.angle_min, scan.angle_increment, scan.range_min,
+                                         scan.range_max)
+        return [_core.Event(self.event, self.robot, dist=d, angle=a) for d, a in zip(dist.tolist(), angle.tolist(),
                                                                                       strict=True)]
 
 

@@ -2,15 +2,13 @@
 that met an obstacle (paper Table II: "if obstacle").
 
 On the simulator the beams are cast on the map and the other robots (C++, vwg.sim.LaserGenerator);
-on a real robot they are the beams of its sensor_msgs/LaserScan, read by REP 117's rules; on any
-other platform with the world's map (a kinematic one), they are cast on the map's walls from the
-pose the platform reports."""
+on a real robot they are the beams of its sensor_msgs/LaserScan; on any other platform with the
+world's map (a kinematic one), they are cast on the map's walls from the pose the platform reports.
+Every one turns its ranges into events by the same rule, REP 117's (vwg._core.laser_events)."""
 
 from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any, ClassVar
-
-import numpy as np
 
 import vwg._core as _core
 from vwg.robot.sensor import Sensor
@@ -29,19 +27,15 @@ class WallLaser(_core.Generator):
                  spec: _core.LaserSpec, event: str = "eLaser") -> None:
         super().__init__()
         self.platform, self.raycaster, self.robot, self.spec, self.event = platform, raycaster, robot, spec, event
-        # The beams as a LaserScan lays them out (angle_min + i·angle_increment), as LaserGenerator's.
-        angle_min, increment = _core.beam_layout(spec)
-        self.angles = angle_min + np.arange(spec.beams, dtype=np.float64) * increment
+        self.angles = _core.beam_angles(spec)  # LaserGenerator's, bit for bit
 
     def generate(self, frame: _core.FrameInfo) -> list[Any]:
         ranges = self.raycaster.scan(self.platform.robot(self.robot).pose, self.angles, self.spec.max_range)
-        # TEMPORARY until _core.laser_events lands: the simulator's rule (cpp/sim/laser.cpp, without its
-        # noise): a range at max_range (as float32, the raycaster's) met nothing; one below min_range is dropped.
-        hit = (ranges < np.float32(self.spec.max_range)) & (ranges.astype(np.float64) >= self.spec.min_range)
-        if not hit.any():
+        # The rule of every laser, simulated or real (C++ platform::laser_events), here without noise.
+        dist, angle = _core.laser_events(ranges, self.angles, self.spec.min_range, self.spec.max_range)
+        if dist.size == 0:
             return []
-        return [_core.EventColumns(self.event, target=self.robot, dist=ranges[hit].astype(np.float64),
-                                   angle=self.angles[hit])]
+        return [_core.EventColumns(self.event, target=self.robot, dist=dist, angle=angle)]
 
 
 class Laser(Sensor):
