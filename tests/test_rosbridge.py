@@ -116,6 +116,19 @@ def test_a_laserscan_gives_the_same_events_on_the_simulated_and_the_real_path():
     assert simulated == real == REP117_EVENTS
 
 
+def test_laser_events_refuse_a_bad_scan_by_its_field():
+    with pytest.raises(vwg.SchemaError, match="ranges: expected a 1-D array of numbers"):
+        vwg._core.laser_events([1.0, "far"], 0.0, 0.1, 0.1, 5.0)
+    with pytest.raises(vwg.SchemaError, match="ranges: expected a 1-D array, got 2 dimensions"):
+        vwg._core.laser_events(np.zeros((2, 2)), 0.0, 0.1, 0.1, 5.0)
+    with pytest.raises(vwg.SchemaError, match=r"range_max: expected a finite range > range_min \(5"):
+        vwg._core.laser_events([1.0], 0.0, 0.1, 5.0, 5.0)
+    with pytest.raises(vwg.SchemaError, match="angle_increment: expected a finite angle"):
+        vwg._core.laser_events([1.0], 0.0, math.nan, 0.1, 5.0)
+    with pytest.raises(vwg.Error, match="2 ranges for 1 angles"):
+        vwg._core.laser_events([1.0, 2.0], [0.0], 0.1, 5.0)
+
+
 def test_topics_default_per_robot_and_take_the_robot_id():
     assert topics_for(1, False)["cmd_vel"] == "/cmd_vel"
     assert topics_for(2, True)["odom"] == "/robot2/odom"

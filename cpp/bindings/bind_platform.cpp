@@ -178,7 +178,7 @@ at every control tick — the same velocities from the same poses (paper test 3)
           const FloatArray r = vector_of<FloatArray>(ranges, "ranges", kRangesDoc);
           platform::ScanEvents hits;
           platform::laser_events({r.data(), static_cast<std::size_t>(r.size())}, angle_min, angle_increment, range_min,
-                                   range_max, hits);
+                                 range_max, hits);
           return events_to_python(hits);
         },
         py::arg("ranges"), py::arg("angle_min"), py::arg("angle_increment"), py::arg("range_min"), py::arg("range_max"),
@@ -194,7 +194,7 @@ range_min are no measurement. Ranges are taken as float32 (range_max compared as
           const DoubleArray a = vector_of<DoubleArray>(angles, "angles", "radians from the heading");
           platform::ScanEvents hits;
           platform::laser_events({r.data(), static_cast<std::size_t>(r.size())},
-                                   {a.data(), static_cast<std::size_t>(a.size())}, range_min, range_max, hits);
+                                 {a.data(), static_cast<std::size_t>(a.size())}, range_min, range_max, hits);
           return events_to_python(hits);
         },
         py::arg("ranges"), py::arg("angles"), py::arg("range_min"), py::arg("range_max"),

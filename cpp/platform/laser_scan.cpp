@@ -42,7 +42,7 @@ void add_obstacles(std::span<const float> ranges, double range_min, double range
 }  // namespace
 
 void laser_events(std::span<const float> ranges, std::span<const double> angles, double range_min, double range_max,
-                    ScanEvents& out) {
+                  ScanEvents& out) {
   if (ranges.size() != angles.size())
     throw Error("laser_events: " + std::to_string(ranges.size()) + " ranges for " + std::to_string(angles.size()) +
                 " angles");
@@ -51,7 +51,7 @@ void laser_events(std::span<const float> ranges, std::span<const double> angles,
 }
 
 void laser_events(std::span<const float> ranges, double angle_min, double angle_increment, double range_min,
-                    double range_max, ScanEvents& out) {
+                  double range_max, ScanEvents& out) {
   if (!std::isfinite(angle_min)) throw SchemaError("angle_min", "expected a finite angle, radians, got " + format_real(angle_min));
   if (!std::isfinite(angle_increment))
     throw SchemaError("angle_increment", "expected a finite angle, radians, got " + format_real(angle_increment));

@@ -47,11 +47,11 @@ class ScanEvents {
 /// counter-clockwise). Throws vwg::Error if the spans' sizes differ, SchemaError naming range_min
 /// or range_max unless 0 <= range_min < range_max, both finite.
 void laser_events(std::span<const float> ranges, std::span<const double> angles, double range_min, double range_max,
-                    ScanEvents& out);
+                  ScanEvents& out);
 /// The same for a LaserScan's layout: beam i at angle_min + i·angle_increment (computed so, as
 /// sim::beam_angles computes the simulator's). SchemaError naming angle_min or angle_increment
 /// unless finite.
 void laser_events(std::span<const float> ranges, double angle_min, double angle_increment, double range_min,
-                    double range_max, ScanEvents& out);
+                  double range_max, ScanEvents& out);
 
 }  // namespace vwg::platform
