@@ -186,12 +186,17 @@ asan-python: install asan-configure
 ## headers, libraries and vwgConfig.cmake.
 cpp-package: asan-configure
 	@echo "The installed C++ package and a downstream project (first time 1-2 min after cpp-test)"
-	cmake --build $(ASAN_BUILD) -j $(JOBS) --target vwg_robot
+	cmake --build $(ASAN_BUILD) -j $(JOBS) --target vwg_robot vwg_sim
+	@# A fresh prefix: an old install would keep headers that are private now.
+	rm -rf $(BUILD)/prefix
 	cmake --install $(ASAN_BUILD) --component Unspecified --prefix $(CURDIR)/$(BUILD)/prefix > /dev/null
 	cmake -S examples/cpp -B $(BUILD)/example-cpp -DCMAKE_PREFIX_PATH=$(CURDIR)/$(BUILD)/prefix \
 	  -DCMAKE_CXX_FLAGS="$(SANITIZE)" -DCMAKE_EXE_LINKER_FLAGS="$(SANITIZE)" > /dev/null
 	cmake --build $(BUILD)/example-cpp -j $(JOBS)
 	cd $(BUILD)/example-cpp && ASAN_OPTIONS=detect_leaks=1 ctest --output-on-failure
+	@# Every installed header compiles on its own against the installed tree (about 1 min).
+	cmake -S tests/cpp/installed_headers -B $(BUILD)/installed-headers -DCMAKE_PREFIX_PATH=$(CURDIR)/$(BUILD)/prefix > /dev/null
+	cmake --build $(BUILD)/installed-headers -j $(JOBS)
 	@# An unknown component must fail, naming it.
 	@if cmake -S examples/cpp -B $(BUILD)/example-cpp-bad -DCMAKE_PREFIX_PATH=$(CURDIR)/$(BUILD)/prefix \
 	    -DVWG_EXAMPLE_COMPONENTS="core;nosuch" > $(BUILD)/example-cpp-bad.log 2>&1; then \
