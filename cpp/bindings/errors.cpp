@@ -52,6 +52,9 @@ py::object exception_object(const std::exception_ptr& p) {
     attrs["found"] = e.found();
     attrs["expected"] = e.expected();
     return make_exception("ParseError", e.what(), attrs);
+  } catch (const FileError& e) {
+    // WorldFileError words its message from its parts, as the C++ one does.
+    return python_class("vwg.errors", "WorldFileError")(e.path(), e.field(), e.message(), e.line(), e.column());
   } catch (const SchemaError& e) {
     py::dict attrs;
     attrs["field"] = e.field();

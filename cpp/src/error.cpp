@@ -25,6 +25,32 @@ ParseError::ParseError(std::string source, std::size_t line, std::size_t column,
       source_(std::move(source)), line_(line), column_(column), found_(std::move(found)),
       expected_(std::move(expected)) {}
 
+namespace {
+std::string file_message(const std::string& path, const std::string& field, const std::string& message,
+                         std::size_t line, std::size_t column) {
+  std::string out = path;
+  if (line > 0) {
+    out += ':';
+    out += std::to_string(line);
+    if (column > 0) {
+      out += ':';
+      out += std::to_string(column);
+    }
+  }
+  out += ": ";
+  if (!field.empty()) {
+    out += field;
+    out += ": ";
+  }
+  out += message;
+  return out;
+}
+}  // namespace
+
+FileError::FileError(std::string path, std::string field, std::string message, std::size_t line, std::size_t column)
+    : SchemaError(Worded{}, field, file_message(path, field, message, line, column)), path_(std::move(path)),
+      line_(line), column_(column), message_(std::move(message)) {}
+
 std::string ParseError::reason() const { return "found " + found_ + "; expected " + expected_; }
 
 namespace {

@@ -286,7 +286,7 @@ TEST(MovingAi, ReadsCrlfFiles) {
   std::filesystem::remove_all(dir);
 }
 
-TEST(MovingAi, MalformedMapIsAParseError) {
+TEST(MovingAi, MalformedMapIsAFileErrorNamingTheFileLineAndColumn) {
   const auto dir = std::filesystem::temp_directory_path() / "vwg_test_plan_movingai_bad";
   std::filesystem::create_directories(dir);
   {
@@ -295,11 +295,101 @@ TEST(MovingAi, MalformedMapIsAParseError) {
   }
   try {
     read_movingai_map(dir / "bad.map");
-    ADD_FAILURE() << "no ParseError";
-  } catch (const vwg::ParseError& e) {
+    ADD_FAILURE() << "no FileError";
+  } catch (const vwg::FileError& e) {
+    EXPECT_EQ(e.path(), (dir / "bad.map").string());
+    EXPECT_EQ(e.field(), "map[1]");
     EXPECT_EQ(e.line(), 6u);
+    EXPECT_EQ(e.column(), 3u);  // the first missing character
+    EXPECT_EQ(e.message(), "row has 2 characters, expected 3");
   }
   std::filesystem::remove_all(dir);
+}
+
+/// The FileError of parsing `text`, or a failure when it parses.
+static vwg::FileError movingai_error(const std::string& text) {
+  try {
+    parse_movingai_map(text, "m.map");
+  } catch (const vwg::FileError& e) {
+    return e;
+  }
+  ADD_FAILURE() << "parsed: " << text;
+  return vwg::FileError("", "", "");
+}
+
+TEST(MovingAi, UnknownTerrainIsRefusedByLineColumnAndCharacter) {
+  // The old reader took any other character as blocked; a damaged map then planned around walls
+  // that were not there. Now the character is named, with its place.
+  const vwg::FileError e = movingai_error("type octile\nheight 2\nwidth 3\nmap\n.@.\nT?.\n");
+  EXPECT_EQ(e.field(), "map[1]");
+  EXPECT_EQ(e.line(), 6u);
+  EXPECT_EQ(e.column(), 2u);
+  EXPECT_EQ(std::string(e.what()), "m.map:6:2: map[1]: unknown terrain '?' at column 2 (passable: . G S; blocked: @ O T W)");
+  EXPECT_EQ(movingai_error("type octile\nheight 1\nwidth 2\nmap\n.\x01\n").message(),
+            "unknown terrain '\\x01' at column 2 (passable: . G S; blocked: @ O T W)");
+  const vwg::FileError byte = movingai_error("type octile\nheight 1\nwidth 2\nmap\n.\xc3\xa9\n");
+  EXPECT_EQ(byte.message(), "not an ASCII MovingAI map (byte 0xc3)");
+  EXPECT_EQ(byte.line(), 5u);
+  EXPECT_EQ(byte.column(), 2u);
+}
+
+TEST(MovingAi, HeadersAreCheckedBeforeTheGridIsMade) {
+  // 10^12 cells claimed by a 48-byte file: refused by the size, not by running out of memory.
+  const vwg::FileError wide = movingai_error("type octile\nheight 1\nwidth 1000000000000\nmap\n..\n");
+  EXPECT_EQ(wide.field(), "width");
+  EXPECT_EQ(wide.line(), 3u);
+  EXPECT_EQ(wide.message(), "the header says 1 rows of 1000000000000 cells, more than the file's 48 bytes hold");
+  // More digits than 64 bits hold: still the size check, with the digits as written.
+  EXPECT_EQ(movingai_error("type octile\nheight 99999999999999999999\nwidth 2\nmap\n..\n").message(),
+            "the header says 99999999999999999999 rows of 2 cells, more than the file's 55 bytes hold");
+  EXPECT_EQ(movingai_error("type octile\nheight 0\nwidth 2\nmap\n").field(), "height");
+  EXPECT_EQ(movingai_error("type octile\nheight -2\nwidth 2\nmap\n").message(), "expected a whole number > 0, got '-2'");
+  EXPECT_EQ(movingai_error("height 2\nwidth 3\nmap\n").message(), "expected 'type <value>', got 'height 2'");
+  EXPECT_EQ(movingai_error("type octile\nheight 1\nwidth 1\nmop\n.\n").message(), "expected 'map' on line 4, got 'mop'");
+  const vwg::FileError extra = movingai_error("type octile\nheight 1\nwidth 1\nmap\n.\n.\n");
+  EXPECT_EQ(extra.message(), "more than 1 rows (the header says height 1)");
+  EXPECT_EQ(extra.line(), 6u);
+}
+
+TEST(MovingAi, LineEndsAndTrailingBlankLines) {
+  // LF, CRLF and a lone CR read the same; blank lines after the rows end the file.
+  for (const std::string end : {"\n", "\r\n", "\r"}) {
+    const std::string text = "type octile" + end + "height 2" + end + "width 3" + end + "map" + end + ".@G" + end + "SWT" + end + end + "  " + end;
+    const MovingAiMap m = parse_movingai_map(text, "m.map");
+    ASSERT_EQ(m.height, 2);
+    EXPECT_FALSE(m.grid.blocked({0, 0}));
+    EXPECT_TRUE(m.grid.blocked({0, 1}));
+    EXPECT_FALSE(m.grid.blocked({0, 2}));
+    EXPECT_FALSE(m.grid.blocked({1, 0}));
+    EXPECT_TRUE(m.grid.blocked({1, 1}));
+    EXPECT_TRUE(m.grid.blocked({1, 2}));
+  }
+}
+
+TEST(MovingAi, OccupancyGridFlipsTheRows) {
+  // MovingAI (x, y) = (2, 0) is the top row's last cell: row height - 1 - y = 1 of the grid, from the bottom.
+  const MovingAiMap m = parse_movingai_map("type octile\nheight 2\nwidth 3\nmap\n..@\n...\n", "m.map");
+  const vwg::geometry::OccupancyGrid g = to_occupancy_grid(m, 0.5, {1.0, 2.0, 0.0});
+  EXPECT_EQ(g.data, (std::vector<std::int8_t>{0, 0, 0, 0, 0, 100}));
+  EXPECT_EQ(g.resolution, 0.5);
+  EXPECT_EQ(g.origin.y, 2.0);
+}
+
+TEST(MovingAi, ScenarioLinesAreCheckedByLine) {
+  const auto s = parse_movingai_scenarios("version 1\n\n3\ta.map\t4\t5\t1\t2\t3\t0\t2.5\n", "a.scen");
+  ASSERT_EQ(s.size(), 1u);
+  EXPECT_EQ(s[0].bucket, 3);
+  EXPECT_EQ(s[0].start, (Cell{2, 1}));
+  EXPECT_EQ(s[0].goal, (Cell{0, 3}));
+  try {
+    parse_movingai_scenarios("version 1\n0\ta.map\t4\t5\t1\t2\t3\t0\n", "a.scen");
+    ADD_FAILURE() << "a line without its optimal length parsed";
+  } catch (const vwg::FileError& e) {
+    EXPECT_EQ(e.line(), 2u);
+    EXPECT_EQ(e.field(), "scenario");
+  }
+  EXPECT_THROW(parse_movingai_scenarios("0\ta.map\n", "a.scen"), vwg::FileError);
+  EXPECT_THROW(read_movingai_map("/no/such/file.map"), vwg::FileError);
 }
 
 // Sanitizer builds run several times slower (a minute for all 8180 searches). They are there to

@@ -22,8 +22,32 @@ class SchemaError : public Error {
       : Error(field.empty() ? message : field + ": " + message), field_(std::move(field)) {}
   const std::string& field() const { return field_; }
 
+ protected:
+  /// For subclasses that word the whole message themselves.
+  struct Worded {};
+  SchemaError(Worded, std::string field, const std::string& what) : Error(what), field_(std::move(field)) {}
+
  private:
   std::string field_;
+};
+
+/// A bad file a user named (a map, a world): the file, the line and column (1-based, 0 when not
+/// known), the field inside it ("map[3]", "width") and what was wrong. Its message reads
+/// "path:line:column: field: message", and Python raises it as vwg.errors.WorldFileError.
+class FileError : public SchemaError {
+ public:
+  FileError(std::string path, std::string field, std::string message, std::size_t line = 0, std::size_t column = 0);
+
+  const std::string& path() const { return path_; }
+  std::size_t line() const { return line_; }
+  std::size_t column() const { return column_; }
+  /// What was wrong, without the place.
+  const std::string& message() const { return message_; }
+
+ private:
+  std::string path_;
+  std::size_t line_, column_;
+  std::string message_;
 };
 
 /// Malformed text: names the source, line and column (1-based, in characters), what was found
