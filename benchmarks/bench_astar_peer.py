@@ -32,12 +32,9 @@ MAPS = ("random512-10-0.map", "8room_000.map", "den312d.map", "arena.map")
 
 def queries(name: str) -> tuple[np.ndarray, list[tuple[tuple[int, int], tuple[int, int]]]]:
     grid = vwg.io.maps.load_movingai(DATA / name)
-    out = []
-    for line in (DATA / f"{name}.scen").read_text().splitlines()[1:]:
-        f = line.split("\t")
-        if len(f) >= 9:
-            sx, sy, gx, gy = (int(v) for v in f[4:8])
-            out.append((vwg.io.maps.movingai_cell(sx, sy, grid.height), vwg.io.maps.movingai_cell(gx, gy, grid.height)))
+    h = grid.height
+    out = [(vwg.io.maps.movingai_cell(s.start_x, s.start_y, h), vwg.io.maps.movingai_cell(s.goal_x, s.goal_y, h))
+           for s in vwg.io.maps.load_movingai_scenarios(DATA / f"{name}.scen")]
     return grid.data != 0, out
 
 

@@ -35,16 +35,10 @@ def movingai_blocked(name: str) -> np.ndarray:
 
 
 def scenarios(name: str) -> list[tuple[tuple[int, int], tuple[int, int], float]]:
-    rows = []
-    lines = (DATA / f"{name}.scen").read_text().splitlines()[1:]
-    height = vwg.io.maps.load_movingai(DATA / name).height
-    for line in lines:
-        f = line.split("\t")
-        if len(f) < 9:
-            continue
-        sx, sy, gx, gy = (int(v) for v in f[4:8])
-        rows.append((vwg.io.maps.movingai_cell(sx, sy, height), vwg.io.maps.movingai_cell(gx, gy, height), float(f[8])))
-    return rows
+    maps = vwg.io.maps
+    height = maps.load_movingai(DATA / name).height
+    return [(maps.movingai_cell(s.start_x, s.start_y, height), maps.movingai_cell(s.goal_x, s.goal_y, height),
+             s.optimal_length) for s in maps.load_movingai_scenarios(DATA / f"{name}.scen")]
 
 
 def walk(name: str, events: int) -> dict:

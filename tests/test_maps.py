@@ -502,3 +502,67 @@ def test_inflate_counts_a_centre_exactly_radius_away() -> None:
     inflated = OccupancyGrid(data, 1.0).inflate(1.5, unknown=False)
     assert inflated[3, 5] and inflated[5, 3] and not inflated[4, 5]
     assert inflated.sum() == 13  # the 3 × 3 block and the four cells two away in a line
+
+
+# ---- one grid: vwg.io.maps.OccupancyGrid is the C++ one -------------------------------------------------------
+def test_the_python_grid_is_the_cpp_grid_and_data_is_a_view_of_it() -> None:
+    grid = OccupancyGrid(np.zeros((7, 9), np.int8), 1.0)
+    assert isinstance(grid, _core.OccupancyGrid)
+    # The transforms and masks are the C++ class's: none is defined again in Python.
+    for name in ("world_to_grid", "grid_to_world", "world_to_cell", "cell_to_world", "inside", "contains", "blocked",
+                 "free_mask", "width", "height", "width_m", "height_m", "data", "resolution", "origin"):
+        assert name not in vars(OccupancyGrid), name
+    # A write through the view is seen by C++: from the centre of cell (3, 4), 3.5 m from the grid's nearest edge,
+    # to a new wall in cell (3, 7) is the 2.5 m gap between them.
+    data = grid.data
+    assert grid.clearance(4.5, 3.5, limit=10) == pytest.approx(3.5)
+    data[3, 7] = 100
+    assert grid.clearance(4.5, 3.5, limit=10) == pytest.approx(2.5)
+    # The view keeps the grid alive after the last name of it is gone.
+    del grid
+    import gc
+
+    gc.collect()
+    assert data.sum() == 100 and data.flags.writeable
+
+
+def test_the_grid_copies_what_it_is_given_and_pickles_with_its_file_fields() -> None:
+    import copy
+    import pickle
+
+    given = np.zeros((2, 3), np.int8)
+    grid = OccupancyGrid(given, 0.5, (1.0, 2.0, 0.5), mode="scale", source="m.yaml")
+    given[0, 0] = 100
+    assert grid.data[0, 0] == 0  # copied in: the caller's array is not the grid
+    for again in (pickle.loads(pickle.dumps(grid)), copy.deepcopy(grid), grid.copy()):
+        assert type(again) is OccupancyGrid and again == grid and again is not grid
+        assert (again.mode, again.source, again.origin) == ("scale", "m.yaml", (1.0, 2.0, 0.5))
+        again.data[1, 1] = 100
+        assert grid.data[1, 1] == 0 and again != grid
+    assert OccupancyGrid(np.zeros((2, 3), np.uint16), 0.5) == OccupancyGrid(np.zeros((2, 3), np.int8), 0.5)
+    assert grid != "a grid" and grid != 3
+
+
+def test_far_points_and_huge_indices_are_outside() -> None:
+    grid = OccupancyGrid(np.zeros((4, 4), np.int8), 0.05)
+    assert grid.world_to_cell(float("inf"), float("-inf")) == (-(2**62), 2**62)
+    assert grid.world_to_cell(float("nan"), 0.0) == (0, -(2**62))  # (row, col): x is the column
+    assert not grid.inside(2**70, 0) and not grid.inside(0, -(2**70)) and grid.inside(np.int64(3), np.int32(0))
+
+
+def test_movingai_scenarios_read_by_the_cpp_reader(tmp_path: Path) -> None:
+    from vwg.io.maps import load_movingai_scenarios
+
+    d = _movingai_dir()
+    scenarios = load_movingai_scenarios(d / "arena.map.scen")
+    lines = [line.split("\t") for line in (d / "arena.map.scen").read_text().splitlines()[1:] if line]
+    assert len(scenarios) == len(lines) == 160
+    for s, f in zip(scenarios, lines, strict=True):
+        assert (s.bucket, s.map, s.map_width, s.map_height) == (int(f[0]), f[1], int(f[2]), int(f[3]))
+        assert (s.start_x, s.start_y, s.goal_x, s.goal_y) == tuple(int(v) for v in f[4:8])
+        assert s.optimal_length == float(f[8])
+    bad = tmp_path / "bad.scen"
+    bad.write_text("version 1\n0\tarena.map\t49\t49\t1\t2\n")
+    with pytest.raises(WorldFileError) as e:
+        load_movingai_scenarios(bad)
+    assert (e.value.path, e.value.line, e.value.field) == (str(bad), 2, "scenario")

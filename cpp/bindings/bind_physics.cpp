@@ -10,24 +10,28 @@
 namespace vwg::bindings {
 
 sim::OccupancyGrid grid_from_python(py::handle grid) {
-  for (const char* attr : {"data", "resolution", "origin"}) {
-    if (!py::hasattr(grid, attr)) throw SchemaError("grid", std::string("expected a map with .data, .resolution and .origin; it has no .") + attr);
-  }
-  py::array data = py::array::ensure(grid.attr("data"));
-  if (!data || data.ndim() != 2 || !data.dtype().is(py::dtype::of<std::int8_t>())) {
-    throw SchemaError("grid.data", "expected a 2-D int8 array (row 0 = the bottom row)");
-  }
-  py::array_t<std::int8_t, py::array::c_style | py::array::forcecast> c(data);
   sim::OccupancyGrid g;
-  g.height = static_cast<int>(c.shape(0));
-  g.width = static_cast<int>(c.shape(1));
-  g.data.assign(c.data(), c.data() + c.size());
-  g.resolution = grid.attr("resolution").cast<double>();
+  if (py::isinstance<sim::OccupancyGrid>(grid)) {
+    g = grid.cast<const sim::OccupancyGrid&>();  // vwg.maps.OccupancyGrid: the C++ grid itself
+  } else {
+    for (const char* attr : {"data", "resolution", "origin"}) {
+      if (!py::hasattr(grid, attr)) throw SchemaError("grid", std::string("expected a map with .data, .resolution and .origin; it has no .") + attr);
+    }
+    py::array data = py::array::ensure(grid.attr("data"));
+    if (!data || data.ndim() != 2 || !data.dtype().is(py::dtype::of<std::int8_t>())) {
+      throw SchemaError("grid.data", "expected a 2-D int8 array (row 0 = the bottom row)");
+    }
+    py::array_t<std::int8_t, py::array::c_style | py::array::forcecast> c(data);
+    g.height = static_cast<int>(c.shape(0));
+    g.width = static_cast<int>(c.shape(1));
+    g.data.assign(c.data(), c.data() + c.size());
+    g.resolution = grid.attr("resolution").cast<double>();
+    g.origin = pose_from_python(grid.attr("origin"), "grid.origin");
+  }
   // Metres per cell, and the map's extent, within what Box2D's floats hold (platform::kMaxCoordinate).
   if (!std::isfinite(g.resolution) || g.resolution < 1e-4 || g.resolution > 100) {
     throw SchemaError("grid.resolution", "expected 0.0001 to 100 metres per cell, got " + format_real(g.resolution));
   }
-  g.origin = pose_from_python(grid.attr("origin"), "grid.origin");
   const double extent = std::max(g.width, g.height) * g.resolution;
   if (std::abs(g.origin.x) + extent > platform::kMaxCoordinate || std::abs(g.origin.y) + extent > platform::kMaxCoordinate ||
       std::abs(g.origin.theta) > platform::kMaxAngle) {

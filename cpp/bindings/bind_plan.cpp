@@ -16,6 +16,7 @@
 #include "vwg/plan/astar.hpp"
 #include "vwg/plan/dstar_lite.hpp"
 #include "vwg/plan/jps.hpp"
+#include "vwg/plan/movingai.hpp"
 #include "vwg/plan/ompl_planner.hpp"
 
 namespace vwg::bindings {
@@ -431,6 +432,52 @@ Returns a vwg.OmplPlan: solved, status, waypoints (N×3: x, y, yaw), length (met
 A failure (no path in time, goal in collision) is a plan with solved False, no waypoints and length
 inf. Raises vwg.SchemaError for a start pose off the map or in collision, an unknown planner or a bad
 argument. Each call computes the map's distance transform: reuse a vwg.OmplPlanner to plan many times.)doc");
+
+  // --- the MovingAI benchmark formats: the one reader (vwg.maps.load_movingai and the benchmarks call it) ---
+  py::class_<plan::MovingAiScenario>(m, "MovingAiScenario", "One line of a MovingAI `.map.scen` file.")
+      .def_readonly("bucket", &plan::MovingAiScenario::bucket)
+      .def_readonly("map", &plan::MovingAiScenario::map, "The map's path as written in the file.")
+      .def_readonly("map_width", &plan::MovingAiScenario::map_width)
+      .def_readonly("map_height", &plan::MovingAiScenario::map_height)
+      .def_property_readonly("start_x", [](const plan::MovingAiScenario& s) { return s.start.col; }, "MovingAI x: the column.")
+      .def_property_readonly("start_y", [](const plan::MovingAiScenario& s) { return s.start.row; }, "MovingAI y: the row from the top.")
+      .def_property_readonly("goal_x", [](const plan::MovingAiScenario& s) { return s.goal.col; })
+      .def_property_readonly("goal_y", [](const plan::MovingAiScenario& s) { return s.goal.row; })
+      .def_readonly("optimal_length", &plan::MovingAiScenario::optimal_length,
+                    "The published optimal length: 8-connected, no corner cutting, to about 6 significant digits.")
+      .def("__repr__", [](const plan::MovingAiScenario& s) {
+        return "MovingAiScenario(" + s.map + ", (" + std::to_string(s.start.col) + ", " + std::to_string(s.start.row) +
+               ") -> (" + std::to_string(s.goal.col) + ", " + std::to_string(s.goal.row) + "), " + format_real(s.optimal_length) + ")";
+      });
+  m.def(
+      "movingai_grid",
+      [](const py::bytes& text, const std::string& source, double resolution, PoseArg origin) {
+        char* data = nullptr;
+        Py_ssize_t size = 0;
+        if (PyBytes_AsStringAndSize(text.ptr(), &data, &size) != 0) throw py::error_already_set();
+        geometry::OccupancyGrid grid;
+        const geometry::Pose2 o = pose_from_python(origin, "origin");
+        {
+          py::gil_scoped_release release;
+          grid = plan::to_occupancy_grid(plan::parse_movingai_map({data, static_cast<std::size_t>(size)}, source), resolution, o);
+        }
+        geometry::check_grid(grid, "OccupancyGrid");
+        return grid;
+      },
+      py::arg("text"), py::arg("source"), py::arg("resolution"), py::arg("origin"),
+      "The occupancy grid (0 free, 100 blocked, row 0 the bottom row) of the text of a MovingAI `.map` file, placed "
+      "by `resolution` and `origin` (the format has neither). Characters other than . G S (passable) and @ O T W "
+      "(blocked) are refused: vwg.WorldFileError naming `source`, the line, the column and the field.");
+  m.def(
+      "movingai_scenarios",
+      [](const py::bytes& text, const std::string& source) {
+        char* data = nullptr;
+        Py_ssize_t size = 0;
+        if (PyBytes_AsStringAndSize(text.ptr(), &data, &size) != 0) throw py::error_already_set();
+        return plan::parse_movingai_scenarios({data, static_cast<std::size_t>(size)}, source);
+      },
+      py::arg("text"), py::arg("source"),
+      "The scenarios of the text of a MovingAI `.map.scen` file (vwg.WorldFileError naming `source` and the line).");
 }
 
 }  // namespace vwg::bindings

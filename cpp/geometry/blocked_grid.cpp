@@ -40,7 +40,7 @@ BlockedGrid BlockedGrid::from_occupancy(const OccupancyGrid& grid, int threshold
   for (int r = 0; r < grid.height; ++r) {
     for (int c = 0; c < grid.width; ++c) {
       const int v = grid.at(r, c);
-      out.cells_.set(static_cast<std::size_t>(out.index({r, c})), (v >= threshold || (unknown_blocked && v < 0)) ? 1 : 0);
+      out.cells_.set(static_cast<std::size_t>(out.index({r, c})), blocked_value(v, threshold, unknown_blocked) ? 1 : 0);
     }
   }
   return out;

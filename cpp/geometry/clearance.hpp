@@ -64,6 +64,6 @@ inline double edge_distance(double u, double v, int rows, int cols) { return std
 /// The clearance of the world point (x, y) on an occupancy grid, in metres and capped at `limit`:
 /// the distance to the nearest cell of value ≥ `threshold` (or unknown, < 0, when `unknown_blocked`,
 /// which also makes everything outside the grid an obstacle). 0 inside an obstacle.
-double clearance(const OccupancyGrid& grid, double x, double y, double limit, int threshold = 50, bool unknown_blocked = true);
+double clearance(const OccupancyGrid& grid, double x, double y, double limit, int threshold = kObstacleThreshold, bool unknown_blocked = true);
 
 }  // namespace vwg::geometry

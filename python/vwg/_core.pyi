@@ -9,7 +9,7 @@ import numpy.typing
 import os
 import typing
 import vwg.maps
-__all__: list[str] = ['ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'ArrivalCondition', 'Backend', 'BackendGroup', 'Blob', 'CameraGenerator', 'CameraRenderer', 'CameraSpec', 'Collision', 'CollisionGenerator', 'DStarLite', 'Decider', 'DecisionInput', 'DepthCameraSpec', 'Engine', 'Event', 'EventColumns', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'FrameSink', 'Generator', 'GridDecider', 'GridRaycaster', 'ImageFiles', 'ImageSequence', 'ImageSource', 'KinectGenerator', 'LaserGenerator', 'LaserSpec', 'MotionBackend', 'MotionFollower', 'Node', 'NoiseModel', 'NullBackend', 'OdometryGenerator', 'OmplDecider', 'OmplPlan', 'OmplPlanner', 'OrderGenerator', 'OverviewCamera', 'PhysicsSettings', 'PhysicsWorld', 'PythonActor', 'RandomDecider', 'RangeScanner', 'ReceivedImages', 'RenderStyle', 'RobotPlatform', 'RobotSettings', 'RobotState', 'SimView', 'SimulatedCamera', 'StopCondition', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoSource', 'add_arobot', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'arobot_event_types', 'astar', 'backend_names', 'beam_angles', 'beam_layout', 'build_string', 'create_backend', 'create_decider', 'create_platform', 'create_sensor', 'decider_names', 'default_threads', 'detect_apriltags', 'display', 'encode_image', 'estimate_tag_pose', 'evolve', 'grid_clearance', 'grid_inflate', 'jps', 'laser_events', 'log_message', 'overview_camera', 'plan_ompl', 'platform_names', 'python_budget', 'quantize_pose', 'ranging_sensors', 'read_image', 'render_overview', 'robot_map', 'sensor_names', 'set_log_sink', 'set_python_budget', 'visualize', 'walker_behavior', 'write_image']
+__all__: list[str] = ['ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'ArrivalCondition', 'Backend', 'BackendGroup', 'Blob', 'CameraGenerator', 'CameraRenderer', 'CameraSpec', 'Collision', 'CollisionGenerator', 'DStarLite', 'Decider', 'DecisionInput', 'DepthCameraSpec', 'Engine', 'Event', 'EventColumns', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'FrameSink', 'Generator', 'GridDecider', 'GridRaycaster', 'ImageFiles', 'ImageSequence', 'ImageSource', 'KinectGenerator', 'LaserGenerator', 'LaserSpec', 'MotionBackend', 'MotionFollower', 'MovingAiScenario', 'Node', 'NoiseModel', 'NullBackend', 'OBSTACLE_THRESHOLD', 'OccupancyGrid', 'OdometryGenerator', 'OmplDecider', 'OmplPlan', 'OmplPlanner', 'OrderGenerator', 'OverviewCamera', 'PhysicsSettings', 'PhysicsWorld', 'PythonActor', 'RandomDecider', 'RangeScanner', 'ReceivedImages', 'RenderStyle', 'RobotPlatform', 'RobotSettings', 'RobotState', 'SimView', 'SimulatedCamera', 'StopCondition', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoSource', 'add_arobot', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'arobot_event_types', 'astar', 'backend_names', 'beam_layout', 'build_string', 'create_backend', 'create_decider', 'create_platform', 'create_sensor', 'decider_names', 'default_threads', 'detect_apriltags', 'display', 'encode_image', 'estimate_tag_pose', 'evolve', 'grid_clearance', 'grid_inflate', 'jps', 'log_message', 'movingai_grid', 'movingai_scenarios', 'overview_camera', 'plan_ompl', 'platform_names', 'python_budget', 'quantize_pose', 'ranging_sensors', 'read_image', 'render_overview', 'robot_map', 'sensor_names', 'set_log_sink', 'set_python_budget', 'visualize', 'walker_behavior', 'write_image']
 class Blob:
     """
     A large attribute value held by reference from world strings (an occupancy grid, an image, a path).
@@ -2029,6 +2029,100 @@ class SimView(Backend):
         """
         Each robot's true positions, one per frame (N×2).
         """
+class OccupancyGrid:
+    """
+    A 2-D occupancy grid in nav_msgs/OccupancyGrid order (row 0 = the bottom row, smallest y): the C++
+    vwg::geometry::OccupancyGrid the simulator, the planners and the robots use. `data` is an int8 view
+    (rows × columns) of its cells, -1 unknown / 0 free / 100 occupied (1..99 in "scale" maps), that keeps
+    the grid alive and writes through to it; `resolution` is metres per cell; `origin` the (x, y, yaw)
+    pose of the lower-left corner of cell (0, 0), as map_server's `origin`. The cells are copied in.
+    """
+    __hash__: typing.ClassVar[None] = None
+    def __eq__(self, arg0: typing.Any) -> typing.Any:
+        """
+        Same cells, resolution and origin.
+        """
+    def __getstate__(self) -> tuple[numpy.typing.NDArray[numpy.int8], float, tuple[float, float, float]]:
+        ...
+    @typing.overload
+    def __init__(self, data: numpy.typing.ArrayLike, resolution: typing.SupportsFloat | typing.SupportsIndex, origin: collections.abc.Sequence[float] = (0.0, 0.0, 0.0)) -> None:
+        ...
+    @typing.overload
+    def __init__(self, grid: OccupancyGrid) -> None:
+        """
+        A copy.
+        """
+    def __repr__(self) -> str:
+        ...
+    def __setstate__(self, arg0: tuple) -> None:
+        ...
+    def blocked(self, threshold: typing.SupportsInt | typing.SupportsIndex = 50, unknown: bool = False) -> numpy.typing.NDArray[numpy.bool]:
+        """
+        Boolean mask of obstacle cells: value >= threshold (and unknown cells when `unknown`). The default counts unknown cells as not blocked, as the simulator does; planners and checks that must stay in known space pass unknown=True.
+        """
+    def cell_to_world(self, row: typing.SupportsFloat | typing.SupportsIndex, col: typing.SupportsFloat | typing.SupportsIndex) -> tuple[float, float]:
+        """
+        World (x, y) of the centre of cell (row, col).
+        """
+    def contains(self, x: typing.SupportsFloat | typing.SupportsIndex, y: typing.SupportsFloat | typing.SupportsIndex) -> bool:
+        """
+        Whether the world point (x, y) lies on the map.
+        """
+    def free_mask(self, threshold: typing.SupportsInt | typing.SupportsIndex = 50) -> numpy.typing.NDArray[numpy.bool]:
+        """
+        Boolean mask of known cells below the threshold (0 in a trinary map).
+        """
+    def grid_to_world(self, u: typing.SupportsFloat | typing.SupportsIndex, v: typing.SupportsFloat | typing.SupportsIndex) -> tuple[float, float]:
+        """
+        World point of the continuous grid coordinates (u, v) (cells).
+        """
+    def inside(self, row: int, col: int) -> bool:
+        """
+        Whether (row, col) is a cell of the grid.
+        """
+    def world_to_cell(self, x: typing.SupportsFloat | typing.SupportsIndex, y: typing.SupportsFloat | typing.SupportsIndex) -> tuple[int, int]:
+        """
+        (row, col) of the cell holding the world point (x, y); may lie outside the grid (see `inside`). A point whose cell number is beyond ±2**62 (or not finite) gets ±2**62.
+        """
+    def world_to_grid(self, x: typing.SupportsFloat | typing.SupportsIndex, y: typing.SupportsFloat | typing.SupportsIndex) -> tuple[float, float]:
+        """
+        Continuous grid coordinates (u along columns, v along rows, in cells) of the world point (x, y).
+        """
+    @property
+    def data(self) -> numpy.typing.NDArray[numpy.int8]:
+        """
+        The cells, rows × columns int8, row 0 the bottom row: a view of the grid (writes change it).
+        """
+    @property
+    def height(self) -> int:
+        """
+        Number of rows.
+        """
+    @property
+    def height_m(self) -> float:
+        """
+        Height of the map in metres.
+        """
+    @property
+    def origin(self) -> tuple[float, float, float]:
+        """
+        (x, y, yaw) of the lower-left corner of cell (0, 0).
+        """
+    @property
+    def resolution(self) -> float:
+        """
+        Metres per cell.
+        """
+    @property
+    def width(self) -> int:
+        """
+        Number of columns.
+        """
+    @property
+    def width_m(self) -> float:
+        """
+        Width of the map in metres.
+        """
 class DStarLite:
     """
     Incremental shortest paths (D* Lite, Koenig & Likhachev 2002).
@@ -2151,6 +2245,47 @@ class OmplPlanner:
     @property
     def robot_radius(self) -> float:
         ...
+class MovingAiScenario:
+    """
+    One line of a MovingAI `.map.scen` file.
+    """
+    def __repr__(self) -> str:
+        ...
+    @property
+    def bucket(self) -> int:
+        ...
+    @property
+    def goal_x(self) -> int:
+        ...
+    @property
+    def goal_y(self) -> int:
+        ...
+    @property
+    def map(self) -> str:
+        """
+        The map's path as written in the file.
+        """
+    @property
+    def map_height(self) -> int:
+        ...
+    @property
+    def map_width(self) -> int:
+        ...
+    @property
+    def optimal_length(self) -> float:
+        """
+        The published optimal length: 8-connected, no corner cutting, to about 6 significant digits.
+        """
+    @property
+    def start_x(self) -> int:
+        """
+        MovingAI x: the column.
+        """
+    @property
+    def start_y(self) -> int:
+        """
+        MovingAI y: the row from the top.
+        """
 class DecisionInput:
     """
     What the robot knows when it decides (read it during decide(); the arrays it gives, ``grid`` and
@@ -2521,10 +2656,6 @@ def backend_names() -> list[str]:
     """
     The backends registered in C++.
     """
-def beam_angles(spec: LaserSpec) -> numpy.typing.NDArray[numpy.float64]:
-    """
-    The laser's beam angles from the heading (radians, float64), as LaserGenerator.angles: angle_min + i·angle_increment.
-    """
 def beam_layout(spec: LaserSpec) -> tuple[float, float]:
     """
     The laser's beams as a sensor_msgs/LaserScan lays them out: (angle_min, angle_increment).
@@ -2594,24 +2725,17 @@ def jps(blocked: numpy.typing.NDArray[numpy.bool_], start: tuple[int, int], goal
     turn: on open maps far fewer than A*. Returns (path, length) like astar, every cell of the path
     listed; (None, inf) when there is none.
     """
-@typing.overload
-def laser_events(ranges: typing.Any, angle_min: typing.SupportsFloat | typing.SupportsIndex, angle_increment: typing.SupportsFloat | typing.SupportsIndex, range_min: typing.SupportsFloat | typing.SupportsIndex, range_max: typing.SupportsFloat | typing.SupportsIndex) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64]]:
-    """
-    The eLaser events of a laser scan laid out as sensor_msgs/LaserScan lays it out (beam i at
-    angle_min + i·angle_increment): (dist, angle), two float64 arrays, one entry for each beam that met an
-    obstacle, in beam order. The one rule of the simulated and the real robots' lasers (REP 117): a reading in
-    [range_min, range_max) is an obstacle; a reading >= range_max (+Inf included) is no return, as drivers
-    that report no return as range_max mean it; -Inf is an obstacle at range_min; NaN and readings below
-    range_min are no measurement. Ranges are taken as float32 (range_max compared as float32 too).
-    """
-@typing.overload
-def laser_events(ranges: typing.Any, angles: typing.Any, range_min: typing.SupportsFloat | typing.SupportsIndex, range_max: typing.SupportsFloat | typing.SupportsIndex) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64]]:
-    """
-    The same for beams at the given angles (as the simulated laser's: LaserGenerator.angles).
-    """
 def log_message(level: typing.SupportsInt | typing.SupportsIndex, source: str, message: str) -> None:
     """
     Say `message` through vwg's log sink, as its C++ parts do (a C++ extension's messages, a test of the route).
+    """
+def movingai_grid(text: bytes, source: str, resolution: typing.SupportsFloat | typing.SupportsIndex, origin: tuple[float, float, float]) -> OccupancyGrid:
+    """
+    The occupancy grid (0 free, 100 blocked, row 0 the bottom row) of the text of a MovingAI `.map` file, placed by `resolution` and `origin` (the format has neither). Characters other than . G S (passable) and @ O T W (blocked) are refused: vwg.WorldFileError naming `source`, the line, the column and the field.
+    """
+def movingai_scenarios(text: bytes, source: str) -> list[MovingAiScenario]:
+    """
+    The scenarios of the text of a MovingAI `.map.scen` file (vwg.WorldFileError naming `source` and the line).
     """
 def overview_camera(grid: vwg.maps.OccupancyGrid, wall_height: typing.SupportsFloat | typing.SupportsIndex = 2.5, width: typing.SupportsInt | typing.SupportsIndex = 1000, height: typing.SupportsInt | typing.SupportsIndex = 700, azimuth: typing.SupportsFloat | typing.SupportsIndex = -1.9, elevation: typing.SupportsFloat | typing.SupportsIndex = 1.1, fov: typing.SupportsFloat | typing.SupportsIndex = 0.6, threshold: typing.SupportsInt | typing.SupportsIndex = 50, target: typing.Any = None, scale: typing.Any = None, distance: typing.Any = None) -> OverviewCamera:
     """
@@ -2689,4 +2813,5 @@ def write_image(path: str, image: numpy.ndarray[typing.Any, numpy.dtype[typing.A
     """
     Write an H×W (grey), H×W×3 (RGB) or H×W×4 (RGBA) uint8/uint16 image.
     """
+OBSTACLE_THRESHOLD: int = 50
 __version__: str = '0.1.0'

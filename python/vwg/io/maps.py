@@ -36,14 +36,16 @@ from ROS 1; vwg follows ROS 1, whose upstream tests (map_server/test) are in tes
 MovingAI maps (``type octile`` / ``height H`` / ``width W`` / ``map`` then H rows of W characters, LF or CRLF)
 count their rows from the TOP: MovingAI (x, y) is column x of row y from the top, so it is cell
 ``(row, col) = (H − 1 − y, x)`` here (``movingai_cell``), whose centre is at
-``origin + ((x + 0.5)·res, (H − 1 − y + 0.5)·res)`` for yaw 0. Passable: ``. G S``; blocked: ``@ O T W``.
+``origin + ((x + 0.5)·res, (H − 1 − y + 0.5)·res)`` for yaw 0. Passable: ``. G S``; blocked: ``@ O T W``; any
+other character is refused, naming its line and column (a map holding one is damaged, and neither guess is safe).
+They are read by the C++ reader (``vwg::plan::parse_movingai_map``), the one the C++ planner tests use; scenario
+files (``.map.scen``) too (``load_movingai_scenarios``). The grid is the C++ ``vwg::geometry::OccupancyGrid``.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -56,12 +58,14 @@ from vwg.io.image_size import ImageHeaderError, image_size
 from vwg.io.shipped import expand_user
 from vwg.io.yamldoc import YamlDoc
 
-__all__ = ["FREE", "MAX_IMAGE_PIXELS", "MAX_ORIGIN", "OCCUPIED", "UNKNOWN", "OccupancyGrid", "load_map",
-           "load_map_server", "load_movingai", "movingai_cell"]
+__all__ = ["FREE", "MAX_IMAGE_PIXELS", "MAX_ORIGIN", "OBSTACLE_THRESHOLD", "OCCUPIED", "UNKNOWN", "OccupancyGrid",
+           "load_map", "load_map_server", "load_movingai", "load_movingai_scenarios", "movingai_cell"]
 
 UNKNOWN = -1
 FREE = 0
 OCCUPIED = 100
+#: Cells of at least this value are obstacles unless a caller says otherwise (vwg::geometry::kObstacleThreshold).
+OBSTACLE_THRESHOLD: int = _core.OBSTACLE_THRESHOLD
 
 MODES = ("trinary", "scale", "raw")
 #: Pixels of a map image, read from its header and refused before it is decoded (10,000 × 10,000):
@@ -71,143 +75,68 @@ MAX_IMAGE_PIXELS = 100_000_000
 #: (platform::kMaxCoordinate and kMaxAngle: Box2D keeps coordinates as float).
 MAX_ORIGIN, MAX_YAW = 1e6, 1e3
 _PIXEL_ROWS = 2**20  # pixels turned into cells at a time: the float64 arithmetic needs 8 bytes a value
-# MovingAI terrain by character code: free, occupied, or -2 for a character the format does not have
-_MOVINGAI_CELLS = np.full(256, -2, dtype=np.int8)
-_MOVINGAI_CELLS[[ord(ch) for ch in ".GS"]] = 0
-_MOVINGAI_CELLS[[ord(ch) for ch in "@OTW"]] = 100
 # map_saver's grey levels: free, occupied, unknown (205/255 sits just above free_thresh 0.196).
 _PGM_FREE, _PGM_OCCUPIED, _PGM_UNKNOWN = 254, 0, 205
 
 
-@dataclass(eq=False)
-class OccupancyGrid:
-    """A 2-D occupancy grid in nav_msgs/OccupancyGrid order (row 0 = bottom row).
+class OccupancyGrid(_core.OccupancyGrid):
+    """A 2-D occupancy grid in nav_msgs/OccupancyGrid order (row 0 = bottom row): the C++
+    ``vwg::geometry::OccupancyGrid`` (``vwg._core.OccupancyGrid``, whose transforms and masks it uses)
+    with how a file was read added.
 
     ``data`` is an int8 array (rows × columns) of -1 unknown / 0 free / 100 occupied (1..99 for scale
-    maps); ``resolution`` is metres per cell; ``origin`` the (x, y, yaw) pose of the lower-left corner of
-    cell (0, 0), as map_server's ``origin``; ``mode`` how the image was read; ``source`` the file it came
-    from ("" when built in memory).
+    maps): a view of the C++ grid, which it keeps alive, so writing to it changes the grid. The cells
+    given are copied in (bools as 100 / 0). ``resolution`` is metres per cell; ``origin`` the (x, y, yaw)
+    pose of the lower-left corner of cell (0, 0), as map_server's ``origin``; ``mode`` how the image was
+    read; ``source`` the file it came from ("" when built in memory).
     """
 
-    data: np.ndarray
-    resolution: float
-    origin: tuple[float, float, float] = (0.0, 0.0, 0.0)
-    mode: str = "trinary"
-    source: str = ""
+    mode: str
+    source: str
 
-    def __post_init__(self) -> None:
-        data = np.asarray(self.data)
-        if data.ndim != 2 or data.shape[0] == 0 or data.shape[1] == 0:
-            raise ValueError(f"OccupancyGrid.data: expected a non-empty 2-D array, got shape {data.shape}")
-        if data.dtype != np.int8:
-            if not np.issubdtype(data.dtype, np.integer) and data.dtype != np.bool_:
-                raise ValueError(f"OccupancyGrid.data: expected integers, got {data.dtype}")
-            if data.size and (data.min() < -1 or data.max() > 100):
-                raise ValueError("OccupancyGrid.data: values must be -1 (unknown) or 0..100")
-            data = data.astype(np.int8) * (OCCUPIED if data.dtype == np.bool_ else 1)
-        self.data = np.ascontiguousarray(data, dtype=np.int8)
-        res = float(self.resolution)
-        if not math.isfinite(res) or res <= 0:
-            raise ValueError(f"OccupancyGrid.resolution: expected a finite number > 0, got {self.resolution!r}")
-        self.resolution = res
-        origin = tuple(float(v) for v in self.origin)
-        if len(origin) != 3 or not all(math.isfinite(v) for v in origin):
-            raise ValueError(f"OccupancyGrid.origin: expected three finite numbers (x, y, yaw), got {self.origin!r}")
-        self.origin = (origin[0], origin[1], origin[2])
-        if self.mode not in MODES:
-            raise ValueError(f"OccupancyGrid.mode: expected one of {', '.join(MODES)}, got {self.mode!r}")
+    def __init__(self, data: Any, resolution: float, origin: Sequence[float] = (0.0, 0.0, 0.0),
+                 mode: str = "trinary", source: str = "") -> None:
+        if mode not in MODES:
+            raise ValueError(f"OccupancyGrid.mode: expected one of {', '.join(MODES)}, got {mode!r}")
+        super().__init__(data, resolution, origin)
+        self.mode = mode
+        self.source = source
 
-    # -- size ---------------------------------------------------------------------------------------------
-    @property
-    def width(self) -> int:
-        """Number of columns."""
-        return int(self.data.shape[1])
+    @classmethod
+    def _of(cls, grid: _core.OccupancyGrid, mode: str = "trinary", source: str = "") -> OccupancyGrid:
+        """A copy of a C++ grid (a reader's) with how it was read."""
+        out = cls.__new__(cls)
+        _core.OccupancyGrid.__init__(out, grid)
+        out.mode, out.source = mode, source
+        return out
 
-    @property
-    def height(self) -> int:
-        """Number of rows."""
-        return int(self.data.shape[0])
-
-    @property
-    def width_m(self) -> float:
-        """Width of the map in metres."""
-        return self.width * self.resolution
-
-    @property
-    def height_m(self) -> float:
-        """Height of the map in metres."""
-        return self.height * self.resolution
-
-    # -- coordinates --------------------------------------------------------------------------------------
-    def world_to_grid(self, x: float, y: float) -> tuple[float, float]:
-        """Continuous grid coordinates (u along columns, v along rows, in cells) of the world point (x, y)."""
-        ox, oy, yaw = self.origin
-        dx, dy = x - ox, y - oy
-        c, s = math.cos(yaw), math.sin(yaw)
-        return (c * dx + s * dy) / self.resolution, (-s * dx + c * dy) / self.resolution
-
-    def grid_to_world(self, u: float, v: float) -> tuple[float, float]:
-        """World point of the continuous grid coordinates (u, v) (cells)."""
-        ox, oy, yaw = self.origin
-        c, s = math.cos(yaw), math.sin(yaw)
-        return ox + (c * u - s * v) * self.resolution, oy + (s * u + c * v) * self.resolution
-
-    def world_to_cell(self, x: float, y: float) -> tuple[int, int]:
-        """(row, col) of the cell holding the world point (x, y); may lie outside the grid (see ``inside``)."""
-        u, v = self.world_to_grid(x, y)
-        return _cell_index(v), _cell_index(u)
-
-    def cell_to_world(self, row: int, col: int) -> tuple[float, float]:
-        """World (x, y) of the centre of cell (row, col)."""
-        return self.grid_to_world(col + 0.5, row + 0.5)
-
-    def inside(self, row: int, col: int) -> bool:
-        """Whether (row, col) is a cell of the grid."""
-        return 0 <= row < self.height and 0 <= col < self.width
-
-    def contains(self, x: float, y: float) -> bool:
-        """Whether the world point (x, y) lies on the map."""
-        return self.inside(*self.world_to_cell(x, y))
-
-    # -- masks --------------------------------------------------------------------------------------------
-    def blocked(self, threshold: int = 50, unknown: bool = False) -> np.ndarray:
-        """Boolean mask of obstacle cells: value >= threshold (and unknown cells when ``unknown``).
-
-        The default counts unknown cells as not blocked, as the C++ ``OccupancyGrid::blocked`` does for
-        simulation; planners and checks that must stay in known space pass ``unknown=True``."""
-        mask = self.data >= threshold
-        if unknown:
-            mask |= self.data < 0
-        return mask
-
-    def free_mask(self, threshold: int = 50) -> np.ndarray:
-        """Boolean mask of known cells below the threshold (0 in a trinary map)."""
-        return (self.data >= 0) & (self.data < threshold)
-
-    def inflate(self, radius: float, threshold: int = 50, unknown: bool = True) -> np.ndarray:
+    # -- masks (blocked, free_mask) and coordinates (world_to_cell, cell_to_world, inside, contains, ...) are the
+    # C++ grid's: vwg._core.OccupancyGrid.
+    def inflate(self, radius: float, threshold: int = OBSTACLE_THRESHOLD, unknown: bool = True) -> np.ndarray:
         """Cells a disc robot of ``radius`` metres cannot be centred on: those whose centre is at most
         ``radius`` from a blocked cell (as a square). Cells outside the grid count as blocked when ``unknown``.
         The free cells of the result are the configuration space of the robot, for 8-connected search: the
         same cells the C++ planners avoid (one implementation, ``vwg::geometry::inflate``)."""
         return _core.grid_inflate(self, radius, threshold, unknown)
 
-    def clearance(self, x: float, y: float, limit: float = 1.0, threshold: int = 50, unknown: bool = True) -> float:
+    def clearance(self, x: float, y: float, limit: float = 1.0, threshold: int = OBSTACLE_THRESHOLD,
+                  unknown: bool = True) -> float:
         """Distance (m) from the world point (x, y) to the nearest blocked cell, capped at ``limit``;
         0 inside a blocked cell. Cells outside the grid count as blocked when ``unknown``
         (``vwg::geometry::clearance``)."""
         return _core.grid_clearance(self, x, y, limit, threshold, unknown)
 
     # -- files --------------------------------------------------------------------------------------------
-    def to_image(self, threshold: int = 50) -> np.ndarray:
+    def to_image(self, threshold: int = OBSTACLE_THRESHOLD) -> np.ndarray:
         """The map as a map_saver greyscale image (top row first): 254 free, 0 occupied, 205 unknown.
         Values >= threshold are occupied, 0 <= value < threshold free, -1 unknown, so ``blocked(threshold)``
         and ``free_mask(threshold)`` survive ``save`` and ``load_map`` (map_saver uses 65 and 25 instead)."""
         img = np.full(self.data.shape, _PGM_UNKNOWN, dtype=np.uint8)
         img[self.free_mask(threshold)] = _PGM_FREE
-        img[self.data >= threshold] = _PGM_OCCUPIED
+        img[self.blocked(threshold)] = _PGM_OCCUPIED
         return np.ascontiguousarray(img[::-1])
 
-    def save(self, path: str | Path, threshold: int = 50) -> Path:
+    def save(self, path: str | Path, threshold: int = OBSTACLE_THRESHOLD) -> Path:
         """Write a map_server pair: ``path`` (the YAML) and the PGM beside it with the same stem (trinary,
         see ``to_image``). Returns the YAML path."""
         path = Path(path)
@@ -231,27 +160,14 @@ class OccupancyGrid:
         """A deep copy."""
         return OccupancyGrid(self.data.copy(), self.resolution, self.origin, self.mode, self.source)
 
-    def __eq__(self, other: object) -> bool:
-        if not isinstance(other, OccupancyGrid):
-            return NotImplemented
-        return (self.resolution == other.resolution and self.origin == other.origin
-                and np.array_equal(self.data, other.data))
-
-    __hash__ = None  # type: ignore[assignment]  # mutable, compared by content
+    def __reduce__(self) -> tuple[Any, ...]:
+        return type(self), (self.data.copy(), self.resolution, self.origin, self.mode, self.source)
 
     def __repr__(self) -> str:
         ox, oy, yaw = self.origin
         src = f", source={self.source!r}" if self.source else ""
         return (f"OccupancyGrid({self.width}×{self.height} cells, {self.resolution!r} m/cell, "
                 f"{self.width_m:g}×{self.height_m:g} m, origin=({ox:g}, {oy:g}, {yaw:g}), mode={self.mode!r}{src})")
-
-
-def _cell_index(t: float) -> int:
-    """floor(t); a point so far away that its cell number is not finite (1e308 m at 0.05 m a cell)
-    gets one far outside every grid instead of an OverflowError."""
-    if math.isfinite(t):
-        return math.floor(t)
-    return 2**62 if t > 0 else -(2**62)
 
 
 def movingai_cell(x: int, y: int, height: int) -> tuple[int, int]:
@@ -401,61 +317,22 @@ def load_movingai(path: str | Path, resolution: float = 1.0,
         raise WorldFileError(p, "origin", f"expected x and y within ±{MAX_ORIGIN:g} m and yaw within ±{MAX_YAW:g} "
                                           f"rad (the simulator's bounds), got {list(origin)!r}")
 
-    def bad(field: str, message: str, line: int) -> WorldFileError:
-        return WorldFileError(p, field, message, line)
-
-    raw = read_bytes(path, MAX_MAP_BYTES)
-    try:
-        text = raw.decode("ascii")
-    except UnicodeDecodeError as e:
-        line = raw[:e.start].count(b"\n") + 1
-        raise bad("map", f"not an ASCII MovingAI map (byte {raw[e.start]:#x})", line) from None
-    lines = text.replace("\r\n", "\n").replace("\r", "\n").split("\n")
-
-    def header(index: int, key: str) -> str:
-        if index >= len(lines) or not lines[index].strip():
-            raise bad(key, f"expected '{key} ...' on line {index + 1}", index + 1)
-        parts = lines[index].split()
-        if parts[0] != key or len(parts) != 2:
-            raise bad(key, f"expected '{key} <value>', got {lines[index].strip()!r}", index + 1)
-        return parts[1]
-
-    header(0, "type")
-    dims = {}
-    for index, key in ((1, "height"), (2, "width")):
-        value = header(index, key)
-        if not value.isdigit() or int(value) == 0:
-            raise bad(key, f"expected a whole number > 0, got {value!r}", index + 1)
-        dims[key] = int(value)
-    if len(lines) < 4 or lines[3].strip() != "map":
-        raise bad("map", f"expected 'map' on line 4, got {lines[3].strip() if len(lines) > 3 else 'end of file'!r}", 4)
-    h, w = dims["height"], dims["width"]
-    if h * w > len(raw):
-        # Checked before the grid is made: a header may say a width of 10**12 in 20 bytes.
-        raise bad("width", f"the header says {h} rows of {w} cells, more than the file's {len(raw)} bytes hold", 3)
-    while len(lines) > 4 and not lines[-1].strip():
-        lines.pop()  # trailing blank lines end the file, they are not rows
-    rows = lines[4:]
-    if len(rows) < h:
-        raise bad("map", f"expected {h} rows (the header says height {h}), got {len(rows)}", 4 + len(rows) + 1)
-    if len(rows) > h:
-        raise bad("map", f"more than {h} rows (the header says height {h})", 4 + h + 1)
-    grid = np.empty((h, w), dtype=np.int8)
-    for i, row in enumerate(rows):
-        if len(row) != w:
-            raise bad(f"map[{i}]", f"row has {len(row)} characters, expected {w}", 5 + i)
-        cells = _MOVINGAI_CELLS[np.frombuffer(row.encode("ascii"), dtype=np.uint8)]
-        if (cells < 0).any():
-            j = int(np.argmax(cells < 0))
-            raise bad(f"map[{i}]", f"unknown terrain {row[j]!r} at column {j + 1} (passable: . G S; blocked: @ O T W)",
-                      5 + i)
-        grid[i] = cells
+    # The one MovingAI reader is the C++ one (vwg::plan::parse_movingai_map): a character the format does not
+    # have is refused with its line and column, here as in C++ benchmarks and tests.
     x, y, yaw = (float(v) for v in origin)
-    result = OccupancyGrid(np.ascontiguousarray(grid[::-1]), float(resolution), (x, y, yaw), "trinary", p)
+    result = OccupancyGrid._of(_core.movingai_grid(read_bytes(path, MAX_MAP_BYTES), p, float(resolution), (x, y, yaw)),
+                               "trinary", p)
     if max(abs(x), abs(y)) + max(result.width_m, result.height_m) > MAX_ORIGIN:
         raise WorldFileError(p, "origin", f"a map of {result.width_m:g} × {result.height_m:g} m placed at ({x:g}, "
                                           f"{y:g}) reaches beyond ±{MAX_ORIGIN:g} m, the simulator's bounds")
     return result
+
+
+def load_movingai_scenarios(path: str | Path) -> list[_core.MovingAiScenario]:
+    """The scenarios of a MovingAI ``.map.scen`` file, read by the same C++ reader as the maps: each has
+    bucket, map, map_width, map_height, start_x, start_y, goal_x, goal_y (MovingAI x, y: ``movingai_cell`` gives
+    the grid cell) and optimal_length. A bad line is a WorldFileError naming the file and the line."""
+    return _core.movingai_scenarios(read_bytes(path, MAX_MAP_BYTES), str(path))
 
 
 def _expand_user(doc: YamlDoc, path: tuple[Any, ...], name: str) -> Path:

@@ -56,7 +56,7 @@ class BlockedGrid {
 
   /// The obstacles of an occupancy grid: values of at least `threshold` are blocked, unknown cells
   /// (negative values) too when `unknown_blocked`. Row 0 stays the bottom row.
-  static BlockedGrid from_occupancy(const OccupancyGrid& grid, int threshold = 50, bool unknown_blocked = true);
+  static BlockedGrid from_occupancy(const OccupancyGrid& grid, int threshold = kObstacleThreshold, bool unknown_blocked = true);
 
   int rows() const { return rows_; }
   int cols() const { return cols_; }

@@ -71,7 +71,7 @@ class OmplGridPlanner {
   /// or an empty grid.
   OmplGridPlanner(BlockedGrid grid, double resolution, geometry::Pose2 origin, double robot_radius);
   /// The obstacles of an occupancy grid (see BlockedGrid::from_occupancy) with its geometry.
-  static OmplGridPlanner from_occupancy(const geometry::OccupancyGrid& grid, double robot_radius, int threshold = 50,
+  static OmplGridPlanner from_occupancy(const geometry::OccupancyGrid& grid, double robot_radius, int threshold = geometry::kObstacleThreshold,
                                         bool unknown_blocked = true);
 
   /// Plan from `start` to `goal`. Throws SchemaError("start_pose") when the start is off the map,

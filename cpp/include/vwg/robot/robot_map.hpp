@@ -48,7 +48,7 @@ void check_robot_map(const Blob& map, const geometry::MapGeometry& g);
 /// A robot map of the world's geometry: the known map (walls 100, free 0, unknown -1) when
 /// `knows_map`, else all free (the empty grid of eq. 13). Shared (Blob::share): give every robot
 /// this one blob, and each robot's copy keeps only the memory pages its sensors change.
-std::shared_ptr<Blob> make_robot_map(const geometry::OccupancyGrid& world, bool knows_map, int threshold = 50);
+std::shared_ptr<Blob> make_robot_map(const geometry::OccupancyGrid& world, bool knows_map, int threshold = geometry::kObstacleThreshold);
 
 /// The cells of a robot map being written (in place and journaled during a frame: ActorState::edit_blob).
 using MapEdit = BlobEdit<std::int16_t>;

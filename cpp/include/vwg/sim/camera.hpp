@@ -128,7 +128,7 @@ class CameraRenderer {
  public:
   /// Cells >= threshold are walls. Throws vwg::SchemaError for a bad spec, markers or grid.
   CameraRenderer(const OccupancyGrid& grid, std::vector<WallMarker> markers, CameraSpec spec = {},
-                 int threshold = 50, std::uint64_t seed = 0);
+                 int threshold = kObstacleThreshold, std::uint64_t seed = 0);
   ~CameraRenderer();
   CameraRenderer(CameraRenderer&&) noexcept;
   CameraRenderer& operator=(CameraRenderer&&) noexcept;

@@ -8,6 +8,7 @@
 namespace vwg::sim {
 
 using geometry::kFree;
+using geometry::kObstacleThreshold;
 using geometry::kOccupied;
 using geometry::kUnknown;
 using geometry::OccupancyGrid;

@@ -61,12 +61,12 @@ struct OverviewCamera : PinholeCamera {
 void check_overview_view(const OverviewView& view);
 
 /// The projection render_overview uses for this map and view.
-OverviewCamera overview_camera(const OccupancyGrid& grid, double wall_height, const OverviewView& view, int threshold = 50);
+OverviewCamera overview_camera(const OccupancyGrid& grid, double wall_height, const OverviewView& view, int threshold = kObstacleThreshold);
 
 /// The overview image, RGB (CV_8UC3). Cells >= threshold are walls, `wall_height` metres tall;
 /// markers are drawn as their tag with a coloured frame, robots in the 2D view's colours (by id).
 /// Throws vwg::SchemaError for a bad grid, view, wall height or markers.
 cv::Mat render_overview(const OccupancyGrid& grid, double wall_height, std::span<const WallMarker> markers,
-                        std::span<const RobotShape> robots, const OverviewView& view = {}, int threshold = 50);
+                        std::span<const RobotShape> robots, const OverviewView& view = {}, int threshold = kObstacleThreshold);
 
 }  // namespace vwg::sim

@@ -52,7 +52,7 @@ struct PhysicsSettings {
   double step = 0.01;  ///< fixed time step of Box2D, seconds
   int velocity_iterations = 8;
   int position_iterations = 3;
-  int obstacle_threshold = 50;  ///< grid values >= this are walls
+  int obstacle_threshold = kObstacleThreshold;  ///< grid values >= this are walls
   bool walls_at_border = true;  ///< a wall around the map, so robots cannot leave it
   NoiseModel noise{};
   std::uint64_t seed = 0;

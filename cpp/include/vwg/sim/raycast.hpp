@@ -53,7 +53,7 @@ class GridRaycaster {
   /// Cells with a value >= threshold are obstacles. Throws vwg::Error if the grid is malformed
   /// (data size, resolution not positive) or has 2^29 cells or more, counted in whole blocks of
   /// 8 x 8. Takes 4 bytes per cell of the map padded to whole blocks of 8 x 8 cells.
-  explicit GridRaycaster(const OccupancyGrid& grid, int threshold = 50);
+  explicit GridRaycaster(const OccupancyGrid& grid, int threshold = kObstacleThreshold);
 
   /// The ray from (x, y) along `angle` (radians, world frame), up to max_range metres (may be
   /// +infinity). Throws vwg::Error on a non-finite start or angle, or a negative or NaN max_range.
