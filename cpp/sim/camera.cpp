@@ -20,16 +20,6 @@ namespace {
 
 constexpr const char* kFamily = "tag36h11";
 
-/// A colour in 0..255 floats, shaded before it is stored as 8-bit pixels.
-struct Colour {
-  float r = 0, g = 0, b = 0;
-};
-Colour operator*(Colour c, float k) { return {c.r * k, c.g * k, c.b * k}; }
-Colour operator+(Colour a, Colour b) { return {a.r + b.r, a.g + b.g, a.b + b.b}; }
-Colour mix(Colour a, Colour b, float t) { return a * (1.0f - t) + b * t; }
-
-std::uint8_t to_byte(float v) { return static_cast<std::uint8_t>(std::clamp(v, 0.0f, 255.0f) + 0.5f); }
-
 /// A colour as the bytes of one pixel of the output format.
 template <int Channels>
 struct Pixel {
@@ -39,7 +29,7 @@ struct Pixel {
     if constexpr (Channels == 3) {
       p.v = {to_byte(c.r), to_byte(c.g), to_byte(c.b)};
     } else {
-      p.v = {to_byte(0.299f * c.r + 0.587f * c.g + 0.114f * c.b)};
+      p.v = {to_byte(luma(c))};
     }
     return p;
   }
@@ -69,12 +59,11 @@ const Colour kPaper{246, 246, 242};  // the tag's white cells
 const Colour kInk{20, 20, 22};       // its black cells
 constexpr double kHazeDistance = 40.0;  // metres at which 1/e of the surface colour is left
 
-/// How much of a surface's own colour is left at depth z (the rest is haze).
-float clarity(double z) { return static_cast<float>(std::exp(-z / kHazeDistance)); }
 /// Half-Lambert shading of a vertical surface with horizontal normal (nx, ny): never fully dark, so
 /// a wall turned away from the light still shows its markers.
-float lambert(double nx, double ny) { return static_cast<float>(0.64 + 0.36 * (0.5 + 0.5 * (nx * kLightX + ny * kLightY))); }
-Colour seen(Colour surface, float shade, double z) { return mix(kHaze, surface * shade, clarity(z)); }
+float lambert(double nx, double ny) { return half_lambert(nx * kLightX + ny * kLightY, 0.64, 0.36); }
+/// A surface's colour, shaded, seen through the haze at depth z.
+Colour seen(Colour surface, float shade, double z) { return mix(kHaze, surface * shade, clarity(z, kHazeDistance)); }
 
 /// A marker pixel that straddles a cell edge is the mean of kSub × kSub rays: edges land within
 /// 1/16 px on average, well under the detector's own corner error.

@@ -22,19 +22,11 @@ namespace vwg::sim {
 
 namespace {
 
-struct Colour {
-  float r = 0, g = 0, b = 0;
-};
-Colour operator*(Colour c, float k) { return {c.r * k, c.g * k, c.b * k}; }
-Colour mix(Colour a, Colour b, float t) { return {a.r + (b.r - a.r) * t, a.g + (b.g - a.g) * t, a.b + (b.b - a.b) * t}; }
 /// floor(v) as an int within [lo - 1, hi + 1], clamped before the conversion (which is undefined
 /// out of int's range: a point near the eye projects far out).
 int floor_within(double v, int lo, int hi) { return static_cast<int>(std::floor(std::clamp(v, lo - 1.0, hi + 1.0))); }
 
-cv::Vec3b to_pixel(Colour c) {
-  auto byte = [](float v) { return static_cast<std::uint8_t>(std::clamp(v, 0.0f, 255.0f) + 0.5f); };
-  return {byte(c.r), byte(c.g), byte(c.b)};
-}
+cv::Vec3b to_pixel(Colour c) { return {to_byte(c.r), to_byte(c.g), to_byte(c.b)}; }
 
 // --- the look -----------------------------------------------------------------------------------
 
@@ -54,7 +46,7 @@ constexpr double kLightElevation = 0.85;     // radians above the horizon
 constexpr double kTileLine = 0.02;           // width of the floor's 1 m lines, metres
 
 /// Ambient plus Lambert: faces turned away from the light keep 45 % of their colour.
-float shade(const Vec3& normal, const Vec3& light) { return static_cast<float>(0.45 + 0.55 * std::max(0.0, normal.dot(light))); }
+float shade(const Vec3& normal, const Vec3& light) { return lambert(normal.dot(light), 0.45, 0.55); }
 
 // --- the scene as polygons ------------------------------------------------------------------------
 

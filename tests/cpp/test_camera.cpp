@@ -644,3 +644,29 @@ TEST(Overview, BadViewsNameTheField) {
   EXPECT_EQ(field_of(v), "view.scale");
   EXPECT_THROW(render_overview(g, 0.0, {}, {}, OverviewView{}), SchemaError);
 }
+
+// --- the shading both renderers use (vwg/sim/view3d.hpp), against hand-worked values ---
+
+TEST(Shading, LambertHalfLambertHazeAndPixels) {
+  // Lambert with an ambient floor: lit head-on 0.45 + 0.55 = 1; at 60° 0.45 + 0.55/2; facing away only the ambient.
+  EXPECT_FLOAT_EQ(lambert(1.0, 0.45, 0.55), 1.0f);
+  EXPECT_FLOAT_EQ(lambert(0.5, 0.45, 0.55), 0.725f);
+  EXPECT_FLOAT_EQ(lambert(-1.0, 0.45, 0.55), 0.45f);
+  // Half-Lambert keeps grading on the far side: 0.64 + 0.36·(0.5 + 0.5·cos).
+  EXPECT_FLOAT_EQ(half_lambert(1.0, 0.64, 0.36), 1.0f);
+  EXPECT_FLOAT_EQ(half_lambert(0.0, 0.64, 0.36), 0.82f);
+  EXPECT_FLOAT_EQ(half_lambert(-1.0, 0.64, 0.36), 0.64f);
+  // Haze: all of the colour at 0 m, 1/e at the haze distance.
+  EXPECT_FLOAT_EQ(clarity(0.0, 40.0), 1.0f);
+  EXPECT_FLOAT_EQ(clarity(40.0, 40.0), static_cast<float>(std::exp(-1.0)));
+  const Colour c = mix(Colour{0, 100, 200}, Colour{100, 100, 0}, 0.25f);
+  EXPECT_FLOAT_EQ(c.r, 25.0f);
+  EXPECT_FLOAT_EQ(c.g, 100.0f);
+  EXPECT_FLOAT_EQ(c.b, 150.0f);
+  // Bytes: rounded, clamped; grey is BT.601 luma (white stays 255).
+  EXPECT_EQ(to_byte(254.5f), 255);
+  EXPECT_EQ(to_byte(-3.0f), 0);
+  EXPECT_EQ(to_byte(300.0f), 255);
+  EXPECT_EQ(to_byte(luma(Colour{255, 255, 255})), 255);
+  EXPECT_EQ(to_byte(luma(Colour{100, 0, 0})), 30);  // 29.9
+}

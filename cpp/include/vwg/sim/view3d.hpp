@@ -1,9 +1,13 @@
 // The 3D maths the software renderers share (the robot camera, the depth camera and the 3D
-// overview): Eigen vectors and one pinhole camera model. World: metres, z up. Image: OpenCV's
-// pixels, the centre of pixel (u, v) at (u, v), v growing downwards.
+// overview): Eigen vectors, one pinhole camera model, and the colour and shading arithmetic. World:
+// metres, z up. Image: OpenCV's pixels, the centre of pixel (u, v) at (u, v), v growing downwards.
+// Each renderer keeps its own look (its palette, where its light is, how strong); how a colour is
+// lit, fogged, mixed and stored as a pixel is computed here, once.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -79,5 +83,36 @@ struct PinholeCamera {
     }
   }
 };
+
+// --- colour and shading -------------------------------------------------------------------------
+
+/// A colour in 0..255 floats, shaded before it is stored as 8-bit pixels.
+struct Colour {
+  float r = 0, g = 0, b = 0;
+};
+inline Colour operator*(Colour c, float k) { return {c.r * k, c.g * k, c.b * k}; }
+inline Colour operator+(Colour a, Colour b) { return {a.r + b.r, a.g + b.g, a.b + b.b}; }
+/// a at t = 0, b at t = 1.
+inline Colour mix(Colour a, Colour b, float t) { return a * (1.0f - t) + b * t; }
+
+/// A channel as a byte: clamped to 0..255 and rounded.
+inline std::uint8_t to_byte(float v) { return static_cast<std::uint8_t>(std::clamp(v, 0.0f, 255.0f) + 0.5f); }
+/// Grey of a colour: ITU-R BT.601 luma, as OpenCV's RGB to grey.
+inline float luma(Colour c) { return 0.299f * c.r + 0.587f * c.g + 0.114f * c.b; }
+
+/// Lambert's diffuse light with an ambient floor: `ambient + diffuse·max(0, cos)`, where `cos` is the
+/// cosine between a surface's normal and the direction towards the light. Faces turned away keep
+/// `ambient` of their colour.
+inline float lambert(double cos_to_light, double ambient, double diffuse) {
+  return static_cast<float>(ambient + diffuse * std::max(0.0, cos_to_light));
+}
+/// Half-Lambert (the cosine mapped from [-1, 1] to [0, 1]): `ambient + diffuse·(0.5 + 0.5·cos)`. Never
+/// fully dark and still graded on the far side: a wall turned away from the light shows its markers.
+inline float half_lambert(double cos_to_light, double ambient, double diffuse) {
+  return static_cast<float>(ambient + diffuse * (0.5 + 0.5 * cos_to_light));
+}
+/// Haze: the share of a surface's own colour left at `distance` metres when 1/e of it is left at
+/// `e_distance` (the rest is the haze colour: mix(haze, surface, clarity)).
+inline float clarity(double distance, double e_distance) { return static_cast<float>(std::exp(-distance / e_distance)); }
 
 }  // namespace vwg::sim
