@@ -204,8 +204,8 @@ y), facing, and optionally size (0.3), height (0.6), label; or RobotWorld.rooms 
              py::gil_scoped_release release;  // the raycaster's tables and the normals take a while on big maps
              return std::make_shared<Camera>(std::move(g), std::move(ms), spec, threshold, seed);
            }),
-           py::arg("grid"), py::arg("markers") = py::list(), py::arg("spec") = sim::CameraSpec{}, py::arg("seed") = 0,
-           py::arg("threshold") = 50)
+           py::arg("grid"), py::arg("markers") = py::list(), py::arg("spec") = sim::CameraSpec{}, py::arg("seed") = sim::CameraRenderer::kDefaultSeed,
+           py::arg("threshold") = sim::kObstacleThreshold)
       .def(
           "render",
           [](Camera& cam, PoseArg pose, py::object robots, bool grey) {
@@ -299,12 +299,14 @@ y), facing, and optionally size (0.3), height (0.6), label; or RobotWorld.rooms 
       [](MapArg grid, double wall_height, int width, int height, double azimuth, double elevation, double fov,
          int threshold, py::object target, py::object scale, py::object distance) {
         const sim::OccupancyGrid g = grid_from_python(grid);
-        const sim::OverviewView v = view_from(width, height, azimuth, elevation, fov, 0.4, false, 1, target, scale, distance);
+        const sim::OverviewView v = view_from(width, height, azimuth, elevation, fov, sim::OverviewView{}.robot_height, false, 1, target,
+                                              scale, distance);
         return sim::overview_camera(g, wall_height, v, threshold);
       },
-      py::arg("grid"), py::arg("wall_height") = 2.5, py::arg("width") = 1000, py::arg("height") = 700,
-      py::arg("azimuth") = sim::OverviewView{}.azimuth, py::arg("elevation") = sim::OverviewView{}.elevation,
-      py::arg("fov") = sim::OverviewView{}.fov, py::arg("threshold") = 50, py::arg("target") = py::none(),
+      py::arg("grid"), py::arg("wall_height") = sim::kDefaultWallHeight, py::arg("width") = sim::OverviewView{}.width,
+      py::arg("height") = sim::OverviewView{}.height, py::arg("azimuth") = sim::OverviewView{}.azimuth,
+      py::arg("elevation") = sim::OverviewView{}.elevation, py::arg("fov") = sim::OverviewView{}.fov,
+      py::arg("threshold") = sim::kObstacleThreshold, py::arg("target") = py::none(),
       py::arg("scale") = py::none(), py::arg("distance") = py::none(),
       (std::string("The projection render_overview uses with these arguments (to draw over its image). ") + kViewArgs).c_str());
 
@@ -325,10 +327,12 @@ y), facing, and optionally size (0.3), height (0.6), label; or RobotWorld.rooms 
         }
         return rgb_to_numpy(image);
       },
-      py::arg("grid"), py::arg("markers") = py::list(), py::arg("robots") = py::list(), py::arg("wall_height") = 2.5,
-      py::arg("width") = 1000, py::arg("height") = 700, py::arg("azimuth") = sim::OverviewView{}.azimuth,
-      py::arg("elevation") = sim::OverviewView{}.elevation, py::arg("fov") = sim::OverviewView{}.fov,
-      py::arg("robot_height") = 0.4, py::arg("labels") = true, py::arg("supersample") = 3, py::arg("threshold") = 50,
+      py::arg("grid"), py::arg("markers") = py::list(), py::arg("robots") = py::list(), py::arg("wall_height") = sim::kDefaultWallHeight,
+      py::arg("width") = sim::OverviewView{}.width, py::arg("height") = sim::OverviewView{}.height,
+      py::arg("azimuth") = sim::OverviewView{}.azimuth, py::arg("elevation") = sim::OverviewView{}.elevation,
+      py::arg("fov") = sim::OverviewView{}.fov, py::arg("robot_height") = sim::OverviewView{}.robot_height,
+      py::arg("labels") = sim::OverviewView{}.labels, py::arg("supersample") = sim::OverviewView{}.supersample,
+      py::arg("threshold") = sim::kObstacleThreshold,
       py::arg("target") = py::none(), py::arg("scale") = py::none(), py::arg("distance") = py::none(),
       (std::string("A 3D overview of a map (the paper's Fig. 5) as an H×W×3 uint8 RGB array: walls (cells >= "
                    "threshold) extruded to wall_height and lit, the floor with their shadows and 1 m tiles, the markers "

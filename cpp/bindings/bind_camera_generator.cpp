@@ -42,18 +42,18 @@ void init_camera_generator(py::module_& m) {
             out = perception::encode_image(view, format, quality);
           }
           return py::bytes(reinterpret_cast<const char*>(out.data()), out.size());
-        }, py::arg("image"), py::arg("format") = "jpeg", py::arg("quality") = 90,
+        }, py::arg("image"), py::arg("format") = "jpeg", py::arg("quality") = perception::kDefaultJpegQuality,
         "JPEG or PNG bytes of an image (as sensor_msgs/CompressedImage carries them).");
   py::class_<sim::SimulatedCamera, perception::ImageSource, std::shared_ptr<sim::SimulatedCamera>>(m, "SimulatedCamera",
       "The robot's view in the simulated world (see CameraRenderer), other robots included.")
       .def(py::init([](std::shared_ptr<sim::PhysicsWorld> world, int robot, MapArg grid, py::object markers,
                        const sim::CameraSpec& spec, std::uint64_t seed) {
              auto renderer = std::make_shared<sim::CameraRenderer>(grid_from_python(grid), wall_markers_from_python(markers),
-                                                                  spec, 50, seed);
+                                                                  spec, sim::kObstacleThreshold, seed);
              return std::make_shared<sim::SimulatedCamera>(std::move(world), robot, std::move(renderer));
            }),
            py::arg("world"), py::arg("robot"), py::arg("grid"), py::arg("markers"), py::arg("spec") = sim::CameraSpec{},
-           py::arg("seed") = 0)
+           py::arg("seed") = sim::CameraRenderer::kDefaultSeed)
       .def("apriltag_intrinsics", [](const sim::SimulatedCamera& c) {
         const auto i = c.renderer().apriltag_intrinsics();
         return py::make_tuple(i.fx, i.fy, i.cx, i.cy);
@@ -78,8 +78,11 @@ the black square, or tag_sizes per id). ``image`` is the last image, ``detection
              return std::make_shared<perception::CameraGenerator>(std::move(source), s, alphabet, event);
            }),
            py::arg("source"), py::arg("robot"), py::arg("alphabet"), py::arg("fx"), py::arg("fy"), py::arg("cx"),
-           py::arg("cy"), py::arg("tag_size") = 0.3, py::arg("tag_sizes") = std::map<int, double>{},
-           py::arg("quad_decimate") = 2.0, py::arg("refine_edges") = true, py::arg("period") = 1,
+           py::arg("cy"), py::arg("tag_size") = perception::CameraGeneratorSettings{}.tag_size,
+           py::arg("tag_sizes") = std::map<int, double>{},
+           py::arg("quad_decimate") = perception::AprilTagSettings{}.quad_decimate,
+           py::arg("refine_edges") = perception::AprilTagSettings{}.refine_edges,
+           py::arg("period") = perception::CameraGeneratorSettings{}.period,
            py::arg("event") = "eCamera")
       .def_property_readonly("image", [](const perception::CameraGenerator& g) -> py::object {
         const cv::Mat& im = g.image();

@@ -136,8 +136,9 @@ vwg.FrameError naming the frame, the stage, the actor and the event.)doc")
              e.engine = std::make_unique<Engine>(initial, std::move(gens), std::move(b), EngineOptions{dt, seed, first_frame, max_symbols, static_cast<unsigned>(threads)});
              return e;
            }),
-           py::arg("initial"), py::arg("generators") = py::list(), py::arg("backend") = py::none(), py::arg("dt") = 0.1,
-           py::arg("seed") = 0, py::arg("first_frame") = 0, py::arg("max_symbols") = 0, py::arg("threads") = 0)
+           py::arg("initial"), py::arg("generators") = py::list(), py::arg("backend") = py::none(), py::arg("dt") = EngineOptions{}.dt,
+           py::arg("seed") = EngineOptions{}.seed, py::arg("first_frame") = EngineOptions{}.first_frame,
+           py::arg("max_symbols") = EngineOptions{}.max_symbols, py::arg("threads") = EngineOptions{}.threads)
       .def("step", [](PyEngine& e) {
         py::gil_scoped_release release;
         return e.engine->step();
@@ -176,7 +177,7 @@ vwg.FrameError naming the frame, the stage, the actor and the event.)doc")
         robot::PlatformSync sync(*e.engine->alphabet_ptr(), platform, radius, {}, actor);
         py::gil_scoped_release release;  // waits for a frame under way, which may need the GIL
         e.engine->add_observer(std::move(sync));
-      }, py::arg("platform"), py::arg("radius") = 0.18, py::arg("actor") = "ARobot",
+      }, py::arg("platform"), py::arg("radius") = platform::kDefaultRobotRadius, py::arg("actor") = "ARobot",
       "After each frame, give the platform a robot (of `radius`, at its believed pose) for each robot actor a λ "
       "spawned, and take it away from those that left the string (in C++, no call into Python).")
       .def("stop_when", [](PyEngine& e, py::object condition) {

@@ -241,9 +241,12 @@ void init_perception(py::module_& m) {
         for (const auto& d : found) out.append(py::cast(d));
         return out;
       },
-      py::arg("image"), py::arg("family") = "tag36h11", py::arg("quad_decimate") = 2.0,
-      py::arg("refine_edges") = true, py::kw_only(), py::arg("quad_sigma") = 0.0,
-      py::arg("decode_sharpening") = 0.25, py::arg("threads") = 1, py::arg("max_hamming") = 2,
+      py::arg("image"), py::arg("family") = pc::AprilTagSettings{}.family,
+      py::arg("quad_decimate") = pc::AprilTagSettings{}.quad_decimate,
+      py::arg("refine_edges") = pc::AprilTagSettings{}.refine_edges, py::kw_only(),
+      py::arg("quad_sigma") = pc::AprilTagSettings{}.quad_sigma,
+      py::arg("decode_sharpening") = pc::AprilTagSettings{}.decode_sharpening,
+      py::arg("threads") = pc::AprilTagSettings{}.threads, py::arg("max_hamming") = pc::AprilTagSettings{}.max_hamming,
       "Detect AprilTags in a 2-D uint8 grey image (H×W numpy array; a crop of one is fine).\n\n"
       "Returns a list of AprilTagDetection in the library's order. quad_decimate is 1, 1.5 or a whole "
       "number (2: fast, tags from about 20 px; 1: smaller tags). The image is never modified. Raises "
@@ -268,7 +271,8 @@ void init_perception(py::module_& m) {
         std::memcpy(out.mutable_data(), img.pixels.data(), img.pixels.size());
         return out;
       },
-      py::arg("id"), py::arg("family") = "tag36h11", py::arg("scale") = 1, py::arg("border") = 0,
+      py::arg("id"), py::arg("family") = pc::AprilTagSettings{}.family, py::arg("scale") = pc::kDefaultTagScale,
+      py::arg("border") = pc::kDefaultTagBorder,
       "The tag's bitmap (the library's apriltag_to_image) as an H×W uint8 array, white 255, black 0: "
       "total_width cells across (tag36h11: 10, a white ring around the 8×8 black-bordered code), as in "
       "AprilRobotics/apriltag-imgs. Each cell becomes scale×scale pixels, then border white pixels are "

@@ -214,6 +214,7 @@ the argument for a start or goal outside the grid, a blocked start, or a mask th
 }  // namespace
 
 void init_plan(py::module_& m) {
+  const std::string kDefaultHeuristic(plan::heuristic_name(plan::GridSearchOptions{}.heuristic));
   m.def(
       "astar",
       [](MaskArg blocked, CellArg start, CellArg goal, bool diagonal, bool corner_cutting,
@@ -231,8 +232,8 @@ void init_plan(py::module_& m) {
         }
         return path_to_python(p);
       },
-      py::arg("blocked"), py::arg("start"), py::arg("goal"), py::arg("diagonal") = true,
-      py::arg("corner_cutting") = false, py::arg("heuristic") = "euclidean", kAstarDoc);
+      py::arg("blocked"), py::arg("start"), py::arg("goal"), py::arg("diagonal") = plan::GridSearchOptions{}.diagonal,
+      py::arg("corner_cutting") = plan::GridSearchOptions{}.corner_cutting, py::arg("heuristic") = kDefaultHeuristic, kAstarDoc);
 
   m.def(
       "jps",
@@ -248,7 +249,7 @@ void init_plan(py::module_& m) {
         }
         return path_to_python(p);
       },
-      py::arg("blocked"), py::arg("start"), py::arg("goal"), py::arg("heuristic") = "euclidean",
+      py::arg("blocked"), py::arg("start"), py::arg("goal"), py::arg("heuristic") = kDefaultHeuristic,
       R"doc(Shortest path on a grid by Jump Point Search (Harabor & Grastien 2011).
 
 The same problem and answer lengths as vwg.plan.astar with 8-connected moves and no corner cutting
@@ -274,8 +275,8 @@ after cells change or the robot moves it repairs its previous search instead of 
              const plan::GridSearchOptions o = options_from_python(diagonal, corner_cutting, heuristic);
              return std::make_unique<DStarLiteHandle>(plan::DStarLite(std::move(grid), s, g, o));
            }),
-           py::arg("blocked"), py::arg("start"), py::arg("goal"), py::arg("diagonal") = true,
-           py::arg("corner_cutting") = false, py::arg("heuristic") = "euclidean")
+           py::arg("blocked"), py::arg("start"), py::arg("goal"), py::arg("diagonal") = plan::GridSearchOptions{}.diagonal,
+           py::arg("corner_cutting") = plan::GridSearchOptions{}.corner_cutting, py::arg("heuristic") = kDefaultHeuristic)
       .def(
           "path",
           [](DStarLiteHandle& self) {
@@ -386,14 +387,15 @@ motions are checked exactly (no sampling), so paths never cross or graze an obst
             py::gil_scoped_release release;
             return self.plan(s, g, o);
           },
-          py::arg("start_pose"), py::arg("goal_pose"), py::arg("planner") = "RRTConnect", py::arg("time_limit") = 1.0,
-          py::arg("seed") = 0, py::kw_only(), py::arg("simplify") = true, py::arg("spacing") = py::none(),
-          py::arg("iterations") = 0,
+          py::arg("start_pose"), py::arg("goal_pose"), py::arg("planner") = plan::OmplOptions{}.planner,
+          py::arg("time_limit") = plan::OmplOptions{}.time_limit,
+          py::arg("seed") = plan::OmplOptions{}.seed, py::kw_only(), py::arg("simplify") = plan::OmplOptions{}.simplify, py::arg("spacing") = py::none(),
+          py::arg("iterations") = plan::OmplOptions{}.iterations,
           "Plan from start_pose to goal_pose ((x, y) or (x, y, yaw)); see vwg.plan_ompl for the options.")
       .def("valid", &plan::OmplGridPlanner::valid, py::arg("x"), py::arg("y"), "Whether the robot fits at (x, y).")
       .def("motion_valid", &plan::OmplGridPlanner::motion_valid, py::arg("x0"), py::arg("y0"), py::arg("x1"),
            py::arg("y1"), "Whether the robot can move straight from (x0, y0) to (x1, y1).")
-      .def("clearance", &plan::OmplGridPlanner::clearance, py::arg("x"), py::arg("y"), py::arg("cap") = 1.0,
+      .def("clearance", &plan::OmplGridPlanner::clearance, py::arg("x"), py::arg("y"), py::arg("cap") = plan::OmplGridPlanner::kDefaultClearanceCap,
            "Metres from (x, y) to the nearest obstacle or map edge, at most cap.")
       .def_property_readonly("robot_radius", &plan::OmplGridPlanner::robot_radius)
       .def_property_readonly("resolution", &plan::OmplGridPlanner::resolution)
@@ -415,8 +417,10 @@ motions are checked exactly (no sampling), so paths never cross or graze an obst
         return plan::plan_ompl(grid, res, o, s, g, radius, opts);
       },
       py::arg("blocked"), py::arg("resolution"), py::arg("origin"), py::arg("start_pose"), py::arg("goal_pose"),
-      py::arg("robot_radius"), py::arg("planner") = "RRTConnect", py::arg("time_limit") = 1.0, py::arg("seed") = 0,
-      py::kw_only(), py::arg("simplify") = true, py::arg("spacing") = py::none(), py::arg("iterations") = 0,
+      py::arg("robot_radius"), py::arg("planner") = plan::OmplOptions{}.planner,
+          py::arg("time_limit") = plan::OmplOptions{}.time_limit, py::arg("seed") = plan::OmplOptions{}.seed,
+      py::kw_only(), py::arg("simplify") = plan::OmplOptions{}.simplify, py::arg("spacing") = py::none(),
+      py::arg("iterations") = plan::OmplOptions{}.iterations,
       R"doc(Plan a path for a disc robot with an OMPL planner, in SE(2).
 
 blocked: 2-D numpy bool array, True = blocked, row 0 the BOTTOM row (smallest y) as in vwg.OccupancyGrid;

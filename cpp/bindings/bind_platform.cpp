@@ -115,9 +115,10 @@ void init_platform(py::module_& m) {
              s.turn_rate = turn_rate;
              return s;
            }),
-           py::arg("id"), py::arg("pose"), py::arg("odometry") = py::none(), py::kw_only(), py::arg("radius") = 0.18,
-           py::arg("busy") = false, py::arg("commands") = 0, py::arg("collisions") = 0, py::arg("travelled") = 0.0,
-           py::arg("speed") = 0.0, py::arg("turn_rate") = 0.0)
+           py::arg("id"), py::arg("pose"), py::arg("odometry") = py::none(), py::kw_only(), py::arg("radius") = platform::kDefaultRobotRadius,
+           py::arg("busy") = RobotState{}.busy, py::arg("commands") = RobotState{}.commands,
+           py::arg("collisions") = RobotState{}.collisions, py::arg("travelled") = RobotState{}.travelled,
+           py::arg("speed") = RobotState{}.speed, py::arg("turn_rate") = RobotState{}.turn_rate)
       .def_readonly("id", &RobotState::id)
       .def_readonly("radius", &RobotState::radius)
       .def_property_readonly("pose", [](const RobotState& s) { return pose_to_python(s.pose); },
@@ -139,7 +140,7 @@ void init_platform(py::module_& m) {
       .def(py::init([](int robot, int other, PoseArg pose, double time) {
              return Collision{robot, other, pose_from_python(pose, "pose"), time};
            }),
-           py::arg("robot"), py::arg("other"), py::arg("pose") = py::make_tuple(0.0, 0.0, 0.0), py::arg("time") = 0.0)
+           py::arg("robot"), py::arg("other"), py::arg("pose") = pose_to_python(Collision{}.pose), py::arg("time") = Collision{}.time)
       .def_readonly("robot", &Collision::robot)
       .def_readonly("other", &Collision::other)
       .def_property_readonly("pose", [](const Collision& c) { return pose_to_python(c.pose); })
@@ -151,7 +152,7 @@ at every tick from where the pose says the robot is, so a step ends when the pos
 The simulator runs it on the true pose at every physics step; a real robot's link on its odometry
 at every control tick — the same velocities from the same poses (paper test 3).)doc")
       .def(py::init([](const RobotSettings& robot, double tolerance) { return platform::MotionFollower(robot.limits, tolerance); }),
-           py::arg("robot"), py::arg("tolerance") = 0.01,
+           py::arg("robot"), py::arg("tolerance") = platform::MotionFollower::kDefaultTolerance,
            "The follower of a robot with these limits; a step that meant to land on its end is done within `tolerance` (m or rad).")
       .def("command", [](platform::MotionFollower& f, py::handle steps) { f.command(steps_from_python(steps)); },
            py::arg("steps"), "Replace the plan: a list of ('turn', radians) and ('drive', metres); [] brings the robot to rest.")

@@ -34,7 +34,7 @@ void init_registries(py::module_& m) {
       "create_sensor",
       [](const std::string& name, std::shared_ptr<platform::RobotPlatform> platform, std::shared_ptr<Alphabet> alphabet,
          int robot, py::object grid, std::shared_ptr<const sim::RangeScanner> scanner, const sim::LaserSpec& laser,
-         const sim::DepthCameraSpec& kinect, const sim::CameraSpec& camera, py::object markers, int camera_period,
+         const sim::DepthCameraSpec& kinect, const sim::CameraSpec& camera, py::object markers,
          std::uint64_t seed) {
         sim::SensorSetup setup;
         setup.platform = std::move(platform);
@@ -46,14 +46,13 @@ void init_registries(py::module_& m) {
         setup.kinect = kinect;
         setup.camera = camera;
         setup.markers = wall_markers_from_python(markers);
-        setup.camera_period = camera_period;
         setup.seed = seed;
         return sim::sensors().create(name, setup);
       },
       py::arg("name"), py::arg("platform"), py::arg("alphabet"), py::arg("robot"), py::kw_only(), py::arg("grid") = py::none(),
       py::arg("scanner") = nullptr, py::arg("laser") = sim::LaserSpec{}, py::arg("kinect") = sim::DepthCameraSpec{},
-      py::arg("camera") = sim::CameraSpec{}, py::arg("markers") = py::list(), py::arg("camera_period") = 3,
-      py::arg("seed") = 0,
+      py::arg("camera") = sim::CameraSpec{}, py::arg("markers") = py::list(),
+      py::arg("seed") = sim::SensorSetup{}.seed,
       "A sensor's event generator for one robot by its C++ registered name (laser, kinect, camera).");
 }
 

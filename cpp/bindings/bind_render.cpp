@@ -273,7 +273,7 @@ void init_render(py::module_& m) {
             if (label) l = *label;
             r.draw_robot(pose_from(pose), radius, id, l, c);
           },
-          py::arg("pose"), py::arg("radius"), py::arg("id") = 0, py::arg("label") = py::none(),
+          py::arg("pose"), py::arg("radius"), py::arg("id") = sim::TopDownRenderer::kDefaultRobotId, py::arg("label") = py::none(),
           py::arg("colour") = py::none(),
           "A disc of radius metres at pose (x, y, theta) with a heading line, in robot id's palette colour "
           "(or colour), labelled with the id (or label; '' for none).")
@@ -289,20 +289,20 @@ void init_render(py::module_& m) {
           "Laser rays from the sensor pose (x, y, theta): angles (radians, relative to theta) and ranges "
           "(metres), 1-D arrays of one length. Ranges that are inf/NaN or reach max_range are misses, drawn faint.")
       .def("draw_marker", &sim::TopDownRenderer::draw_marker, py::arg("x"), py::arg("y"), py::arg("facing"),
-           py::arg("label") = "", py::arg("tag_id") = -1,
+           py::arg("label") = "", py::arg("tag_id") = sim::TopDownRenderer::kNoId,
            "A wall marker at (x, y) facing the direction `facing` (radians): a thick segment along the wall, "
            "labelled 'label #tag_id' on the side it faces.")
       .def(
           "draw_path",
           [](sim::TopDownRenderer& r, py::handle points, int id) { r.draw_path(points_of(points, "points"), id); },
-          py::arg("points"), py::arg("id") = -1,
+          py::arg("points"), py::arg("id") = sim::TopDownRenderer::kNoId,
           "A planned path: N×2 world points (metres), ending in a ring at the goal; robot id's colour if id >= 0.")
       .def(
           "draw_trajectory",
           [](sim::TopDownRenderer& r, py::handle points, int id) {
             r.draw_trajectory(points_of(points, "points"), id);
           },
-          py::arg("points"), py::arg("id") = -1, "A trajectory: N×2 world points, oldest first, fading into the past.")
+          py::arg("points"), py::arg("id") = sim::TopDownRenderer::kNoId, "A trajectory: N×2 world points, oldest first, fading into the past.")
       .def("draw_start", &sim::TopDownRenderer::draw_start, py::arg("x"), py::arg("y"), py::arg("id"),
            "Where robot id started: a hollow square in its colour.")
       .def(
@@ -369,7 +369,8 @@ void init_render(py::module_& m) {
       .def(py::init([](const std::filesystem::path& directory, const std::string& prefix, int first, int digits) {
              return std::make_unique<PyImageSequence>(sim::ImageSequence(directory.string(), prefix, first, digits));
            }),
-           py::arg("directory"), py::arg("prefix") = "frame_", py::arg("first") = 1, py::arg("digits") = 5,
+           py::arg("directory"), py::arg("prefix") = sim::ImageSequence::kDefaultPrefix,
+           py::arg("first") = sim::ImageSequence::kDefaultFirst, py::arg("digits") = sim::ImageSequence::kDefaultDigits,
            "Creates the folder if needed; frame files are prefix + the number with `digits` digits + '.png'.")
       .def(
           "write",

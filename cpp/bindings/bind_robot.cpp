@@ -6,6 +6,7 @@
 #include "vwg/robot/arobot.hpp"
 #include "vwg/robot/decider.hpp"
 #include "vwg/robot/orders.hpp"
+#include "vwg/plan/ompl_planner.hpp"
 #include "vwg/robot/planners.hpp"
 
 namespace vwg::bindings {
@@ -152,14 +153,16 @@ registered as "astar-octile" and "jps-octile").)doc")
                throw SchemaError("algorithm", "expected 'astar', 'dstar' or 'jps', got '" + algorithm + "'");
              const Algorithm a = algorithm == "dstar" ? Algorithm::DStarLite : algorithm == "jps" ? Algorithm::JumpPoint : Algorithm::AStar;
              return std::make_shared<robot::GridDecider>(a, plan::heuristic_from_name(heuristic));
-           }), py::arg("algorithm") = "astar", py::arg("heuristic") = "euclidean")
+           }), py::arg("algorithm") = "astar",
+           py::arg("heuristic") = std::string(plan::heuristic_name(plan::GridSearchOptions{}.heuristic)))
       .def_property_readonly("search_seconds", &robot::GridDecider::search_seconds, "Time spent searching so far.")
       .def_property_readonly("searches", &robot::GridDecider::searches, "Searches (plans and repairs) so far.");
   py::class_<robot::OmplDecider, robot::Decider, std::shared_ptr<robot::OmplDecider>>(m, "OmplDecider", R"doc(
 Sampling-based motion planning with OMPL on the robot's map (SE2, a disc robot): RRTConnect, RRTstar,
 LazyPRM, ... Each plan is bounded by `iterations` (no clock), so runs are reproducible on any
 machine. Replans when the path becomes blocked.)doc")
-      .def(py::init<std::string, unsigned>(), py::arg("planner") = "RRTConnect", py::arg("iterations") = 20000)
+      .def(py::init<std::string, unsigned>(), py::arg("planner") = plan::OmplOptions{}.planner,
+           py::arg("iterations") = robot::OmplDecider::kDefaultIterations)
       .def_property_readonly("search_seconds", &robot::OmplDecider::search_seconds)
       .def_property_readonly("searches", &robot::OmplDecider::searches);
 
@@ -201,8 +204,9 @@ while running (order, from any thread: they go out at the next frame).)doc")
          const SymbolId id = alphabet.add_actor(name, robot::arobot_events(), robot::arobot_attributes(), nullptr);
          alphabet.set_behavior(id, std::make_shared<robot::ARobot>(alphabet, config, std::move(decider)));
        },
-       py::arg("alphabet"), py::arg("decider"), py::arg("grid"), py::arg("rooms"), py::arg("radius") = 0.18,
-       py::arg("margin") = 0.07, py::arg("goal_tolerance") = 0.25, py::arg("step_length") = 1.0, py::arg("carve") = true,
+       py::arg("alphabet"), py::arg("decider"), py::arg("grid"), py::arg("rooms"), py::arg("radius") = robot::ARobotConfig{}.radius,
+       py::arg("margin") = robot::ARobotConfig{}.margin, py::arg("goal_tolerance") = robot::ARobotConfig{}.goal_tolerance,
+       py::arg("step_length") = robot::ARobotConfig{}.step_length, py::arg("carve") = robot::ARobotConfig{}.carve_free_space,
        py::arg("name") = "ARobot",
        // The alphabet keeps a decider written in Python alive: its C++ part alone cannot call decide().
        py::keep_alive<1, 2>(),

@@ -40,7 +40,7 @@ Exact raycasting over an occupancy grid (cells with a value >= threshold are obs
 simulated laser. ``cast`` gives the hit cell, face and entry point; ``scan`` many ranges at once.)doc")
       .def(py::init([](MapArg grid, int threshold) {
              return std::make_shared<sim::GridRaycaster>(grid_from_python(grid), threshold);
-           }), py::arg("grid"), py::arg("threshold") = 50)
+           }), py::arg("grid"), py::arg("threshold") = sim::kObstacleThreshold)
       .def("cast", [](const sim::GridRaycaster& r, double x, double y, double angle, double max_range) {
              return hit_to_python(r.cast(x, y, angle, max_range));
            }, py::arg("x"), py::arg("y"), py::arg("angle"), py::arg("max_range"),

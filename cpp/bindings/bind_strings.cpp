@@ -136,13 +136,15 @@ equal. Build one with ``World.parse`` or as the return value of an actor.)doc")
          EventList list = events_from_python(w.alphabet_ptr(), events);
          py::gil_scoped_release release;
          return evolve(w, list, FrameContext{frame, time, seed});
-       }, py::arg("w"), py::arg("events"), py::arg("frame") = 0, py::arg("time") = 0.0, py::arg("seed") = 0,
+       }, py::arg("w"), py::arg("events"), py::arg("frame") = FrameContext{}.frame, py::arg("time") = FrameContext{}.time,
+       py::arg("seed") = FrameContext{}.seed,
        "η(w, S) (paper eq. 8): every actor takes the events of S it responds to, in order.");
   m.def("visualize", [](const WorldString& w, py::object events, std::uint64_t frame, double time, std::uint64_t seed) {
          EventList list = events_from_python(w.alphabet_ptr(), events);
          py::gil_scoped_release release;
          return visualize(w, list, FrameContext{frame, time, seed});
-       }, py::arg("w"), py::arg("events"), py::arg("frame") = 0, py::arg("time") = 0.0, py::arg("seed") = 0,
+       }, py::arg("w"), py::arg("events"), py::arg("frame") = FrameContext{}.frame, py::arg("time") = FrameContext{}.time,
+       py::arg("seed") = FrameContext{}.seed,
        "π(w, Z) (paper eq. 9): the displayable string for the visual events among `events`.");
   m.def("display", [](const WorldString& v, std::shared_ptr<Backend> backend) {
          if (!backend) throw SchemaError("backend", "is None");

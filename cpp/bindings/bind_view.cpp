@@ -63,7 +63,8 @@ or GIF) and/or PNG files; without either nothing is drawn.)doc")
              }
              return std::make_shared<sim::SimView>(std::move(platform), grid_from_python(grid), s);
            }),
-           py::arg("platform"), py::arg("grid"), py::arg("style") = py::none(), py::arg("width") = 800, py::arg("header") = 40)
+           py::arg("platform"), py::arg("grid"), py::arg("style") = py::none(),
+           py::arg("width") = sim::SimView::kDefaultWidth, py::arg("header") = sim::SimView::kDefaultHeader)
       .def("add_laser", &sim::SimView::add_laser, py::arg("laser"))
       .def("add_kinect", &sim::SimView::add_kinect, py::arg("kinect"))
       .def("add_marker", &sim::SimView::add_marker, py::arg("x"), py::arg("y"), py::arg("facing"), py::arg("label"),
@@ -83,7 +84,7 @@ or GIF) and/or PNG files; without either nothing is drawn.)doc")
       .def("finish", [](sim::SimView& v, int hold_frames, std::optional<WorldString> final_view) {
              py::gil_scoped_release release;
              v.finish(hold_frames, final_view ? &*final_view : nullptr);
-           }, py::arg("hold_frames") = 10, py::arg("final") = py::none(),
+           }, py::arg("hold_frames") = sim::SimView::kDefaultHoldFrames, py::arg("final") = py::none(),
            "Draw the last frame again — with `final`, the displayable string of the state reached (π of the last "
            "string), shown instead of the last frame's — write it hold_frames times to the video (once to the "
            "images), and close.")

@@ -22,7 +22,7 @@ Registry<Decider>& deciders() {
            [] { return std::make_shared<GridDecider>(GridDecider::Algorithm::JumpPoint, plan::Heuristic::Octile); });
     // RRT-Connect stops at its first solution; RRT* improves its path for all its iterations; "prm" is
     // OMPL's LazyPRM (PRM proper builds its roadmap on a second thread and is not reproducible).
-    r->add("rrtconnect", [] { return std::make_shared<OmplDecider>("RRTConnect", 20000); });
+    r->add("rrtconnect", [] { return std::make_shared<OmplDecider>("RRTConnect", OmplDecider::kDefaultIterations); });
     r->add("rrtstar", [] { return std::make_shared<OmplDecider>("RRTstar", 5000); });
     r->add("prm", [] { return std::make_shared<OmplDecider>("LazyPRM", 5000); });
   });

@@ -96,6 +96,9 @@ void check_settings(const CameraSpec& s, const std::string& owner) {
   if (!std::isfinite(s.robot_height) || s.robot_height <= 0) throw SchemaError(owner + ".robot_height", "expected a finite height > 0, metres");
   if (!std::isfinite(s.noise) || s.noise < 0) throw SchemaError(owner + ".noise", "expected a finite standard deviation >= 0, grey levels");
   if (!std::isfinite(s.blur) || s.blur < 0 || s.blur > 100) throw SchemaError(owner + ".blur", "expected a Gaussian sigma of 0 to 100 pixels");
+  if (s.period < 1 || s.period > 1000000) {
+    throw SchemaError(owner + ".period", "expected 1 to 1000000 frames between looks, got " + std::to_string(s.period));
+  }
 }
 
 perception::CameraIntrinsics apriltag_intrinsics(const CameraSpec& s) {

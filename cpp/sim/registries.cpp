@@ -62,13 +62,13 @@ Registry<Generator, const SensorSetup&>& sensors() {
     r->add("camera", [](const SensorSetup& s) -> std::shared_ptr<Generator> {
       auto world = simulator_of(s, "camera");
       if (!s.grid) throw SchemaError("sensor camera", "needs the map (grid)");
-      auto renderer = std::make_shared<CameraRenderer>(*s.grid, s.markers, s.camera, 50,
+      auto renderer = std::make_shared<CameraRenderer>(*s.grid, s.markers, s.camera, kObstacleThreshold,
                                                       s.seed * 1009 + static_cast<std::uint64_t>(s.robot));
       perception::CameraGeneratorSettings settings;
       settings.robot = s.robot;
       settings.intrinsics = renderer->apriltag_intrinsics();
       for (const WallMarker& m : s.markers) settings.tag_sizes[m.id] = m.size;
-      settings.period = s.camera_period;
+      settings.period = s.camera.period;
       auto source = std::make_shared<SimulatedCamera>(world, s.robot, std::move(renderer));
       return std::make_shared<perception::CameraGenerator>(std::move(source), settings, *s.alphabet);
     });

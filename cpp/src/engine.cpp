@@ -3,6 +3,7 @@
 #include <optional>
 
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <unordered_map>
 #include <utility>
@@ -13,6 +14,22 @@
 #include "vwg/text.hpp"
 
 namespace vwg {
+
+void check_dt(double dt, const std::string& field) {
+  if (!(dt >= kMinDt && dt <= kMaxDt)) {  // NaN fails both
+    char range[64];
+    std::snprintf(range, sizeof range, "%g to %g", kMinDt, kMaxDt);
+    throw SchemaError(field, std::string("expected a number of seconds from ") + range + ", got " + format_real(dt));
+  }
+}
+
+void check_settings(const EngineOptions& options, const std::string& owner) {
+  check_dt(options.dt, owner + ".dt");
+  if (options.threads > kMaxThreads) {
+    throw SchemaError(owner + ".threads", "expected 0 (the machine's cores) to " + std::to_string(kMaxThreads) +
+                                              " threads, got " + std::to_string(options.threads));
+  }
+}
 
 class Engine::Use {
  public:
@@ -90,14 +107,8 @@ Engine::Engine(WorldString initial, std::vector<std::shared_ptr<Generator>> gene
                std::shared_ptr<Backend> backend, EngineOptions options)
     : w_(std::move(initial)), alphabet_(w_.alphabet_ptr()), generators_(std::move(generators)), backend_(std::move(backend)),
       options_(options), frame_(options.first_frame), last_events_(w_.alphabet_ptr()), next_events_(w_.alphabet_ptr()) {
+  check_settings(options_, "EngineOptions");
   if (options_.threads == 0) options_.threads = default_threads();
-  if (options_.threads > kMaxThreads) {
-    throw SchemaError("EngineOptions.threads", "expected 0 (the machine's cores) to " + std::to_string(kMaxThreads) +
-                                                   " threads, got " + std::to_string(options_.threads));
-  }
-  if (!(options_.dt > 0.0) || !std::isfinite(options_.dt)) {
-    throw SchemaError("EngineOptions.dt", "expected a finite time step > 0, got " + std::to_string(options_.dt));
-  }
   std::unordered_map<const Generator*, std::size_t> side_by_side;
   for (std::size_t k = 0; k < generators_.size(); ++k) {
     if (!generators_[k]) throw SchemaError("generators[" + std::to_string(k) + "]", "is null");

@@ -7,11 +7,14 @@
 #pragma once
 
 #include <atomic>
+#include <concepts>
 #include <cstdint>
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <string>
 #include <thread>
+#include <type_traits>
 #include <vector>
 
 #include "vwg/backend.hpp"
@@ -34,6 +37,30 @@ struct EngineOptions {
   /// same frames.
   unsigned threads = 0;
 };
+
+/// Simulated seconds per frame a run may have, from a microsecond to an hour: world files, the
+/// command line, records and the engine take this one range (below it, a scripted order's frame
+/// number time / dt leaves 64 bits).
+inline constexpr double kMinDt = 1e-6;
+inline constexpr double kMaxDt = 3600.0;
+
+/// Throws SchemaError(field) for a dt that is not a number of seconds in [kMinDt, kMaxDt].
+void check_dt(double dt, const std::string& field = "dt");
+
+/// Each field with its name and meaning (vwg.EngineOptions in Python).
+template <class S, class F>
+  requires std::same_as<std::remove_const_t<S>, EngineOptions>
+void visit_settings(S& s, F&& field) {
+  field("dt", s.dt, "simulated seconds per frame");
+  field("seed", s.seed, "fixes every random choice of generators and actors");
+  field("first_frame", s.first_frame, "t of the first frame (a replay starts where its record did)");
+  field("max_symbols", s.max_symbols, "a frame whose string would have more symbols fails (0: no limit)");
+  field("threads", s.threads, "threads for the frame's independent work (0: the machine's cores)");
+}
+
+/// Throws SchemaError naming `owner.field`: a dt outside [kMinDt, kMaxDt] (check_dt), more threads
+/// than kMaxThreads.
+void check_settings(const EngineOptions& options, const std::string& owner);
 
 /// What one frame did, handed to frame observers (recorders, viewers) after the frame completes:
 /// its events and the string they made. The string at its start is the previous frame's `after`

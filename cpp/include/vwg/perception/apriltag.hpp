@@ -142,11 +142,14 @@ class AprilTagDetector {
 /// degenerate quad, vwg::Error when the estimate fails.
 TagPose estimate_pose(const TagDetection& detection, double tag_size, const CameraIntrinsics& camera);
 
+/// render_tag's defaults: one pixel a cell, no quiet zone beyond the tag's own white ring.
+inline constexpr int kDefaultTagScale = 1, kDefaultTagBorder = 0;
+
 /// The tag's bitmap from the library's apriltag_to_image: total_width × total_width cells (for
 /// tag36h11: 10×10, a 1-cell white ring around the 8×8 black-bordered code), white 255, black 0,
 /// as in AprilRobotics/apriltag-imgs. Each cell becomes `scale`×`scale` pixels, then `border_px`
 /// white pixels are added on every side (a quiet zone). Throws vwg::SchemaError for an unknown
 /// family, an id outside 0..codes-1, scale < 1 or border_px < 0.
-GrayImage render_tag(std::string_view family, int id, int border_px = 0, int scale = 1);
+GrayImage render_tag(std::string_view family, int id, int border_px = kDefaultTagBorder, int scale = kDefaultTagScale);
 
 }  // namespace vwg::perception

@@ -72,6 +72,7 @@ class ReceivedImages final : public ImageSource {
 };
 
 /// An 8-bit grey or RGB image as JPEG (`quality` 0..100) or PNG bytes (`format` "jpeg" or "png").
-std::vector<std::uint8_t> encode_image(const cv::Mat& image, const std::string& format, int quality = 90);
+inline constexpr int kDefaultJpegQuality = 90;
+std::vector<std::uint8_t> encode_image(const cv::Mat& image, const std::string& format, int quality = kDefaultJpegQuality);
 
 }  // namespace vwg::perception

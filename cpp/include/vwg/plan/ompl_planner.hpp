@@ -85,7 +85,8 @@ class OmplGridPlanner {
   /// Whether the robot can move in a straight line from (x0, y0) to (x1, y1).
   bool motion_valid(double x0, double y0, double x1, double y1) const;
   /// Metres from (x, y) to the nearest obstacle (or map edge), up to `cap` metres.
-  double clearance(double x, double y, double cap) const;
+  double clearance(double x, double y, double cap = kDefaultClearanceCap) const;
+  static constexpr double kDefaultClearanceCap = 1.0;  ///< metres
 
   /// World (metres) to continuous grid coordinates (cells), as OccupancyGrid::world_to_grid.
   void world_to_grid(double x, double y, double& u, double& v) const;

@@ -25,7 +25,8 @@ class MotionFollower {
  public:
   /// `tolerance`: a step whose last tick meant to land on its end is done when the pose is within
   /// this distance (m) or angle (rad) of it; otherwise it goes on from where the robot is.
-  explicit MotionFollower(RobotLimits limits, double tolerance = 0.01);
+  explicit MotionFollower(RobotLimits limits, double tolerance = kDefaultTolerance);
+  static constexpr double kDefaultTolerance = 0.01;  ///< m or rad
 
   /// Replace the plan (the latest command wins; an empty one brings the robot to rest). Throws
   /// vwg::SchemaError for a non-finite amount.

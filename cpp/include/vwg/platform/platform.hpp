@@ -25,12 +25,16 @@ struct RobotLimits {
   double max_turn_accel = 4.0;  ///< rad/s²
 };
 
+/// The radius of a robot none was given for (a TurtleBot-sized disc), metres: RobotSettings' default,
+/// and so that of every struct that describes a robot (ARobotConfig, DecisionInput, RobotShape).
+inline constexpr double kDefaultRobotRadius = 0.18;
+
 /// A robot as the world file describes it: id, start pose, size, limits and the sensors it carries
 /// (by registered name). The defaults here are the only ones (bindings and loaders take them).
 struct RobotSettings {
   int id = 1;
   Pose2 start{};
-  double radius = 0.18;  ///< m
+  double radius = kDefaultRobotRadius;  ///< m
   RobotLimits limits{};
   std::vector<std::string> sensors{"laser", "camera"};
 };

@@ -37,7 +37,7 @@ namespace vwg::robot {
 
 struct ARobotConfig {
   geometry::MapGeometry map;               ///< geometry of the robots' grids (that of the world map)
-  double radius = 0.18;          ///< metres
+  double radius = platform::kDefaultRobotRadius;  ///< metres
   double margin = 0.07;          ///< extra clearance kept from obstacles when moving, metres
   double goal_tolerance = 0.25;  ///< arrived when the belief is this close to the goal, metres
   double step_length = 1.0;      ///< longest straight move per decision, metres

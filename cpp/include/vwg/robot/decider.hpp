@@ -12,6 +12,7 @@
 #include "vwg/blob.hpp"
 #include "vwg/geometry/map_geometry.hpp"
 #include "vwg/geometry/pose.hpp"
+#include "vwg/platform/platform.hpp"
 #include "vwg/robot/robot_map.hpp"
 
 namespace vwg::robot {
@@ -25,7 +26,7 @@ struct DecisionInput {
   const geometry::MapGeometry* geometry = nullptr;
   geometry::Pose2 pose{};            ///< where the robot believes it is
   double goal_x = 0, goal_y = 0;
-  double radius = 0.18;         ///< robot radius plus the clearance it keeps, metres
+  double radius = platform::kDefaultRobotRadius;  ///< robot radius plus the clearance it keeps, metres
   double step_length = 1.0;     ///< the longest straight move of one decision, metres
   std::span<const double> path; ///< the current plan: x0, y0, x1, y1, ... (may be empty)
   std::shared_ptr<const Blob> path_owner;  ///< the blob `path` views, if any (kept alive by views)

@@ -88,6 +88,8 @@ class OmplDecider final : public Decider {
   /// PRM and PRMstar are refused: they grow their roadmap on a second thread, so their plans differ
   /// from run to run; LazyPRM is the single-threaded roadmap planner.
   OmplDecider(std::string planner, unsigned iterations);
+  /// Iterations of a plan when none is said: RRTConnect's ("rrtconnect" in the registry).
+  static constexpr unsigned kDefaultIterations = 20000;
   Decision decide(const DecisionInput& in) override;
   std::string name() const override { return planner_; }
   double search_seconds() const { return stats_.seconds; }

@@ -26,22 +26,25 @@
 #include <opencv2/core.hpp>
 
 #include "vwg/perception/apriltag.hpp"
+#include "vwg/platform/platform.hpp"
 #include "vwg/random.hpp"
 #include "vwg/sim/grid.hpp"
 #include "vwg/sim/view3d.hpp"
 
 namespace vwg::sim {
 
-/// The camera: image size, field of view, where it sits, how tall the world is, and its defects.
+/// The camera: image size, field of view, where it sits, how tall the world is, its defects, and how
+/// often gCamera looks.
 struct CameraSpec {
   int width = 640;
   int height = 480;
   double hfov = 1.0471975511965976;  ///< horizontal field of view, radians (60°)
   double mount_height = 0.5;         ///< optical centre above the floor, metres
-  double wall_height = 2.5;          ///< walls and ceiling, metres
+  double wall_height = kDefaultWallHeight;  ///< walls and ceiling, metres
   double robot_height = 0.4;         ///< other robots are cylinders this tall, metres
   double noise = 0.0;                ///< standard deviation of the added pixel noise, grey levels (0..255)
   double blur = 0.0;                 ///< Gaussian blur sigma, pixels (applied before the noise, as optics are)
+  int period = 3;                    ///< gCamera looks every this many frames (AprilTag detection costs milliseconds)
 
   /// Focal lengths in pixels (square pixels: fy = fx).
   double fx() const;
@@ -62,11 +65,12 @@ void visit_settings(S& s, F&& field) {
   field("robot_height", s.robot_height, "other robots are cylinders this tall, metres");
   field("noise", s.noise, "standard deviation of the added pixel noise, grey levels (0..255)");
   field("blur", s.blur, "Gaussian blur sigma, pixels");
+  field("period", s.period, "gCamera looks every this many frames (detection costs milliseconds)");
 }
 
 /// Throws vwg::SchemaError naming `owner`.field for a size outside 1..8192, a field of view outside
-/// (0, π), heights that are not 0 < mount_height < wall_height and 0 < robot_height, or negative or
-/// non-finite noise or blur.
+/// (0, π), heights that are not 0 < mount_height < wall_height and 0 < robot_height, negative or
+/// non-finite noise or blur, or a period outside 1..1000000 frames.
 void check_settings(const CameraSpec& spec, const std::string& owner = "camera");
 
 /// The intrinsics to give vwg::perception::estimate_pose for images of this camera: the library
@@ -87,7 +91,7 @@ struct WallMarker {
 /// Another robot as the cameras see it: an upright cylinder on the floor.
 struct RobotShape {
   Pose2 pose{};
-  double radius = 0.18;  ///< metres
+  double radius = platform::kDefaultRobotRadius;  ///< metres
   int id = 0;            ///< picks the colour, as the 2D view does (RenderStyle::palette[id mod 10])
 };
 
@@ -128,7 +132,8 @@ class CameraRenderer {
  public:
   /// Cells >= threshold are walls. Throws vwg::SchemaError for a bad spec, markers or grid.
   CameraRenderer(const OccupancyGrid& grid, std::vector<WallMarker> markers, CameraSpec spec = {},
-                 int threshold = kObstacleThreshold, std::uint64_t seed = 0);
+                 int threshold = kObstacleThreshold, std::uint64_t seed = kDefaultSeed);
+  static constexpr std::uint64_t kDefaultSeed = 0;  ///< of the pixel noise
   ~CameraRenderer();
   CameraRenderer(CameraRenderer&&) noexcept;
   CameraRenderer& operator=(CameraRenderer&&) noexcept;

@@ -25,7 +25,7 @@ struct DepthCameraSpec {
   double min_range = 0.5;            ///< depths nearer than this are invalid (the Kinect's blind zone)
   double max_range = 4.5;
   double mount_height = 0.3;  ///< optical centre above the floor, metres
-  double wall_height = 2.5;   ///< walls and ceiling
+  double wall_height = kDefaultWallHeight;  ///< walls and ceiling
   double robot_height = 0.4;  ///< other robots are cylinders this tall
   /// Axial noise σ(z) = noise_a + noise_b·(z - 0.4)² metres (Nguyen, Izadi & Lovell 2012);
   /// `noise` switches it on.

@@ -7,6 +7,10 @@
 
 namespace vwg::sim {
 
+/// Height of the walls (and the ceiling) when a world gives none, metres: the cameras' and the 3D
+/// overview's default.
+inline constexpr double kDefaultWallHeight = 2.5;
+
 using geometry::kFree;
 using geometry::kObstacleThreshold;
 using geometry::kOccupied;

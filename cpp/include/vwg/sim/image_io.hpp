@@ -22,7 +22,10 @@ void write_image(const std::string& path, const cv::Mat& image);
 class ImageSequence {
  public:
   /// Creates the folder if needed. Throws vwg::Error naming it when it cannot.
-  explicit ImageSequence(std::string directory, std::string prefix = "frame_", int first = 1, int digits = 5);
+  static constexpr const char* kDefaultPrefix = "frame_";
+  static constexpr int kDefaultFirst = 1, kDefaultDigits = 5;
+  explicit ImageSequence(std::string directory, std::string prefix = kDefaultPrefix, int first = kDefaultFirst,
+                         int digits = kDefaultDigits);
   /// Write the next frame (RGB, CV_8UC3; or grey / RGBA) and return the file's path.
   std::string write(const cv::Mat& rgb);
   /// The path frame number `number` has (number counts from `first`).

@@ -49,7 +49,6 @@ struct SensorSetup {
   DepthCameraSpec kinect{};
   CameraSpec camera{};
   std::vector<WallMarker> markers;
-  int camera_period = 3;  ///< gCamera looks every this many frames
   std::uint64_t seed = 0;
 };
 

@@ -108,12 +108,17 @@ class TopDownRenderer {
   /// Replace the map's cell values (same width and height) and redraw the cached layer.
   void update_map(std::span<const std::int8_t> cells);
 
+  /// An id that names no robot (a path or trajectory in the style's own colour) or no tag.
+  static constexpr int kNoId = -1;
+  /// The robot a disc is drawn for when none is said (palette colour 0).
+  static constexpr int kDefaultRobotId = 0;
+
   /// Start a frame: the map layer, and the corner text drawn on top when the frame is read.
   void begin(const FrameText& text = {});
 
   /// A disc of `radius` metres at the pose with a heading line, in robot `id`'s colour (or
   /// `colour`), labelled with the id (or `label`; an empty label draws none).
-  void draw_robot(const Pose2& pose, double radius, int id = 0, std::optional<std::string_view> label = std::nullopt,
+  void draw_robot(const Pose2& pose, double radius, int id = kDefaultRobotId, std::optional<std::string_view> label = std::nullopt,
                   std::optional<Rgb> colour = std::nullopt);
 
   /// Laser rays from `sensor`: angles (radians, relative to the sensor's heading) and ranges
@@ -126,14 +131,14 @@ class TopDownRenderer {
   /// A marker on a wall at (x, y) whose face looks towards `facing` (radians): a thick segment
   /// along the wall, and the label (e.g. the room name) with " #tag_id" when tag_id >= 0, on the
   /// side it faces.
-  void draw_marker(double x, double y, double facing, std::string_view label = {}, int tag_id = -1);
+  void draw_marker(double x, double y, double facing, std::string_view label = {}, int tag_id = kNoId);
 
   /// A planned path: a polyline through world points (metres), ending in a ring at the goal, in
   /// robot `id`'s colour (id < 0: RenderStyle::path).
-  void draw_path(std::span<const cv::Point2d> points, int id = -1);
+  void draw_path(std::span<const cv::Point2d> points, int id = kNoId);
 
   /// A trajectory (oldest point first): a thin polyline that fades from the newest point back.
-  void draw_trajectory(std::span<const cv::Point2d> points, int id = -1);
+  void draw_trajectory(std::span<const cv::Point2d> points, int id = kNoId);
 
   /// Where robot `id` started: a hollow square in its colour (the legend names it "start").
   void draw_start(double x, double y, int id);

@@ -26,6 +26,9 @@ namespace vwg::sim {
 
 class SimView final : public Backend {
  public:
+  /// The image's width and the text band above the map (pixels) when no RenderStyle is given, and
+  /// how many times finish() writes the last frame to a video (a pause at its end).
+  static constexpr int kDefaultWidth = 800, kDefaultHeader = 40, kDefaultHoldFrames = 10;
   /// The robots of `platform` (the simulator or a real robot's link) drawn on `grid`.
   SimView(std::shared_ptr<const platform::RobotPlatform> platform, OccupancyGrid grid, RenderStyle style = {},
           platform::MotionSymbols symbols = {});
@@ -48,7 +51,7 @@ class SimView final : public Backend {
   /// such as a robot's arrival, which is only known after its frame was drawn.
   /// With `final_view` (π of the string the run ended with), that is what is drawn, so the end
   /// shows what the last frame's λ decided (an arrival) rather than what that frame displayed.
-  void finish(int hold_frames, const WorldString* final_view = nullptr);
+  void finish(int hold_frames = kDefaultHoldFrames, const WorldString* final_view = nullptr);
 
   void begin_frame(const FrameInfo& frame) override;
   void primitive(const NodeView& p) override;
