@@ -1,4 +1,4 @@
-// The geometry library in vwg._core: the occupancy grid itself (vwg.maps.OccupancyGrid is this class
+// The geometry library in vwg._core: the occupancy grid itself (vwg.io.maps.OccupancyGrid is this class
 // with a file's mode and source added), its cell <-> world transforms and masks, and clearance and
 // inflation, so that Python answers with the same code as the robots, planners and simulator.
 #include <cstdint>

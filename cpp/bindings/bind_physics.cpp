@@ -12,7 +12,7 @@ namespace vwg::bindings {
 sim::OccupancyGrid grid_from_python(py::handle grid) {
   sim::OccupancyGrid g;
   if (py::isinstance<sim::OccupancyGrid>(grid)) {
-    g = grid.cast<const sim::OccupancyGrid&>();  // vwg.maps.OccupancyGrid: the C++ grid itself
+    g = grid.cast<const sim::OccupancyGrid&>();  // vwg.io.maps.OccupancyGrid: the C++ grid itself
   } else {
     for (const char* attr : {"data", "resolution", "origin"}) {
       if (!py::hasattr(grid, attr)) throw SchemaError("grid", std::string("expected a map with .data, .resolution and .origin; it has no .") + attr);

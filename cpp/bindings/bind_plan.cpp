@@ -437,7 +437,7 @@ A failure (no path in time, goal in collision) is a plan with solved False, no w
 inf. Raises vwg.SchemaError for a start pose off the map or in collision, an unknown planner or a bad
 argument. Each call computes the map's distance transform: reuse a vwg.OmplPlanner to plan many times.)doc");
 
-  // --- the MovingAI benchmark formats: the one reader (vwg.maps.load_movingai and the benchmarks call it) ---
+  // --- the MovingAI benchmark formats: the one reader (vwg.io.maps.load_movingai and the benchmarks call it) ---
   py::class_<plan::MovingAiScenario>(m, "MovingAiScenario", "One line of a MovingAI `.map.scen` file.")
       .def_readonly("bucket", &plan::MovingAiScenario::bucket)
       .def_readonly("map", &plan::MovingAiScenario::map, "The map's path as written in the file.")

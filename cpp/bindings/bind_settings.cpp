@@ -27,6 +27,9 @@ void init_settings(py::module_& m) {
   settings::bind<sim::NoiseModel>(m, "NoiseModel", "The simulator's motor and odometry noise (0 = exact).");
   settings::bind<sim::PhysicsSettings>(m, "PhysicsSettings", "The Box2D simulator's settings.");
   settings::bind<EngineOptions>(m, "EngineOptions", "A run of the engine: seconds per frame, seed, limits, threads.");
+  settings::bind<robot::ARobotConfig>(m, "ARobotConfig",
+                                      "The case study's robot actor ARobot: size, clearance, when it has arrived, how far it moves.");
+  settings::bind<sim::OverviewView>(m, "OverviewView", "How the 3D overview is seen: image size, angles, robots, labels.");
 
   // The one range of seconds per frame, and its check: world files, the command line, records and the
   // engine all take it from here.
@@ -36,25 +39,13 @@ void init_settings(py::module_& m) {
         py::arg("field") = "dt",
         "Raise vwg.SchemaError naming `field` unless dt is a number of seconds from MIN_DT to MAX_DT (1e-06 to 3600).");
 
-  // The defaults of the C++ structs whose fields the bindings take as keywords (settings structs report
-  // theirs through fields()), for tests that compare them with what the Python side says. Read here from
-  // default-constructed structs, never restated.
+  // The defaults of C++ structs that are not settings classes (those report theirs through fields()),
+  // for tests that compare them with what the Python side says. Read from default-constructed structs.
   m.def("struct_defaults", [] {
     py::dict out;
-    const robot::ARobotConfig arobot{};
-    out["ARobotConfig"] = py::dict(py::arg("radius") = arobot.radius, py::arg("margin") = arobot.margin,
-                                   py::arg("goal_tolerance") = arobot.goal_tolerance,
-                                   py::arg("step_length") = arobot.step_length,
-                                   py::arg("carve_free_space") = arobot.carve_free_space,
-                                   py::arg("retry_frames") = arobot.retry_frames);
     out["DecisionInput"] = py::dict(py::arg("radius") = robot::DecisionInput{}.radius,
                                     py::arg("step_length") = robot::DecisionInput{}.step_length);
     out["RobotShape"] = py::dict(py::arg("radius") = sim::RobotShape{}.radius);
-    const sim::OverviewView view{};
-    out["OverviewView"] = py::dict(py::arg("width") = view.width, py::arg("height") = view.height,
-                                   py::arg("azimuth") = view.azimuth, py::arg("elevation") = view.elevation,
-                                   py::arg("fov") = view.fov, py::arg("robot_height") = view.robot_height,
-                                   py::arg("labels") = view.labels, py::arg("supersample") = view.supersample);
     out["SensorSetup"] = py::dict(py::arg("seed") = sim::SensorSetup{}.seed);
     out["constants"] = py::dict(py::arg("kDefaultRobotRadius") = platform::kDefaultRobotRadius,
                                 py::arg("kDefaultWallHeight") = sim::kDefaultWallHeight,

@@ -126,7 +126,7 @@ inline bool accept_any(PyObject*) { return true; }
 /// An argument taken as any Python object and checked by the function, so that a bad one raises a
 /// vwg error naming it rather than pybind11's TypeError; `Tag::name` only gives signatures and
 /// stubs the type the argument should have (a map is any object with .data, .resolution and
-/// .origin, typed as vwg.maps.OccupancyGrid).
+/// .origin, typed as the C++ grid vwg._core.OccupancyGrid, which vwg.io.maps.OccupancyGrid is).
 template <class Tag>
 class LooseArg : public py::object {
  public:
@@ -134,7 +134,7 @@ class LooseArg : public py::object {
 };
 
 struct MapTag {
-  static constexpr auto name = py::detail::const_name("vwg.maps.OccupancyGrid");
+  static constexpr auto name = py::detail::const_name("OccupancyGrid");
 };
 struct PoseTag {
   static constexpr auto name = py::detail::const_name("tuple[float, float, float]");

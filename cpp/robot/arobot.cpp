@@ -2,11 +2,13 @@
 
 #include <cmath>
 #include <string>
+#include <utility>
 
 #include "src/unique_number.hpp"
 #include "vwg/error.hpp"
 #include "vwg/geometry/directions.hpp"
 #include "vwg/geometry/pose.hpp"
+#include "vwg/text.hpp"
 
 namespace vwg::robot {
 
@@ -76,15 +78,24 @@ std::vector<std::pair<std::string, Schema>> arobot_event_types() {
 
 struct ARobotSerials;
 
+void check_settings(const ARobotConfig& c, const std::string& owner) {
+  const std::pair<const char*, double> positive[] = {{"radius", c.radius}, {"goal_tolerance", c.goal_tolerance},
+                                                     {"step_length", c.step_length},
+                                                     {"marker_goal_distance", c.marker_goal_distance}};
+  for (const auto& [name, v] : positive) {
+    if (!std::isfinite(v) || v <= 0) throw SchemaError(owner + "." + name, "expected a finite number > 0, got " + format_real(v));
+  }
+  if (!std::isfinite(c.margin) || c.margin < 0) throw SchemaError(owner + ".margin", "expected a finite number >= 0, got " + format_real(c.margin));
+  if (c.retry_frames < 0) throw SchemaError(owner + ".retry_frames", "expected a number of frames >= 0, got " + std::to_string(c.retry_frames));
+}
+
 ARobot::ARobot(const Alphabet& alphabet, ARobotConfig config, std::shared_ptr<Decider> decider)
     : config_(std::move(config)), decider_(std::move(decider)), serial_(next_unique_number<ARobotSerials>()) {
   if (!decider_) throw SchemaError("ARobot", "needs a decider (random, A*, OMPL or one written in Python)");
   if (config_.map.width <= 0 || config_.map.height <= 0 || !(config_.map.resolution > 0)) {
     throw SchemaError("ARobot.map", "expected the world map's geometry");
   }
-  for (double v : {config_.radius, config_.goal_tolerance, config_.step_length}) {
-    if (!std::isfinite(v) || v <= 0) throw SchemaError("ARobot", "radius, goal tolerance and step length must be > 0");
-  }
+  check_settings(config_, "ARobot");
   ev_ = Events{alphabet.event_type_id("eLaser"),   alphabet.event_type_id("eCamera"),
                alphabet.event_type_id("eDecide"),  alphabet.event_type_id("eExecute"),
                alphabet.event_type_id("eObjective"), alphabet.event_type_id("eOdometry"),

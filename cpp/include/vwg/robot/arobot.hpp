@@ -20,12 +20,14 @@
 //                            with Path<id, points> and Status<id, text> when the alphabet has them
 #pragma once
 
+#include <concepts>
 #include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <unordered_map>
 #include <string>
+#include <type_traits>
 #include <utility>
 
 #include "vwg/actor.hpp"
@@ -48,6 +50,24 @@ struct ARobotConfig {
   bool carve_free_space = true;  ///< clear reported obstacles along laser beams
   int retry_frames = 10;         ///< after finding no way (another robot in it?), decisions to skip before trying again
 };
+
+/// The settings among ARobotConfig's fields (vwg._core.ARobotConfig through the settings binder:
+/// the defaults a world file and the Python side start from); `map` and `rooms` come from the world.
+template <class S, class F>
+  requires std::same_as<std::remove_const_t<S>, ARobotConfig>
+void visit_settings(S& s, F&& field) {
+  field("radius", s.radius, "metres");
+  field("margin", s.margin, "extra clearance kept from obstacles when moving, metres");
+  field("goal_tolerance", s.goal_tolerance, "arrived when the belief is this close to the goal, metres");
+  field("step_length", s.step_length, "longest straight move per decision, metres");
+  field("marker_goal_distance", s.marker_goal_distance, "where to stand in front of a marker known only from the camera, metres");
+  field("carve_free_space", s.carve_free_space, "clear reported obstacles along laser beams");
+  field("retry_frames", s.retry_frames, "decisions to skip after finding no way before trying again");
+}
+
+/// Throws SchemaError naming `owner.field`: a radius, goal tolerance, step length or marker goal
+/// distance that is not finite and > 0, a negative or non-finite margin, negative retry frames.
+void check_settings(const ARobotConfig& config, const std::string& owner);
 
 /// The attribute schema of ARobot (register the actor type with it).
 Schema arobot_attributes();

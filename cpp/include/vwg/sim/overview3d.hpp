@@ -4,7 +4,10 @@
 // GPU or display.
 #pragma once
 
+#include <concepts>
 #include <span>
+#include <string>
+#include <type_traits>
 
 #include <opencv2/core.hpp>
 
@@ -37,6 +40,21 @@ struct OverviewView {
   double distance = 0.0;
 };
 
+/// The view's settings (vwg._core.OverviewView through the settings binder); where it aims when
+/// not fitted (fit, target, scale, distance) is given per call.
+template <class S, class F>
+  requires std::same_as<std::remove_const_t<S>, OverviewView>
+void visit_settings(S& s, F&& field) {
+  field("width", s.width, "image width, pixels");
+  field("height", s.height, "image height, pixels");
+  field("azimuth", s.azimuth, "direction from the scene's centre towards the eye, radians counter-clockwise from +x");
+  field("elevation", s.elevation, "angle of the line of sight below the horizon, radians");
+  field("fov", s.fov, "horizontal field of view, radians; 0 = orthographic");
+  field("robot_height", s.robot_height, "robots are cylinders this tall, metres");
+  field("labels", s.labels, "write each marker's label above it");
+  field("supersample", s.supersample, "rays per pixel side (anti-aliasing), 1..4");
+}
+
 /// The projection of an overview: world points (metres, z up) to pixels (OpenCV convention: the
 /// centre of pixel (u, v) is at (u, v)). The camera model is the renderers' shared PinholeCamera;
 /// an orthographic overview's eye is a point far behind the scene.
@@ -59,6 +77,8 @@ struct OverviewCamera : PinholeCamera {
 /// elevation outside (0, π/2], a field of view outside [0, π), supersample outside 1..4, or (fit
 /// off) a non-finite target or a scale / distance that is not > 0.
 void check_overview_view(const OverviewView& view);
+/// check_overview_view, for the settings binder (its fields are named view.FIELD whatever the owner).
+inline void check_settings(const OverviewView& view, const std::string& /*owner*/) { check_overview_view(view); }
 
 /// The projection render_overview uses for this map and view.
 OverviewCamera overview_camera(const OccupancyGrid& grid, double wall_height, const OverviewView& view, int threshold = kObstacleThreshold);
