@@ -369,7 +369,7 @@ def test_every_setting_of_the_structs_is_a_world_file_key(world_dir: Path) -> No
                                            noise_a=0.002, noise_b=0.003, scan_rows=3)
     assert [name for name, *_ in LaserSpec.fields()] == ["beams", "fov", "min_range", "max_range", "noise"]
     assert [name for name, *_ in CameraSpec.fields()] == ["width", "height", "hfov", "mount_height", "wall_height",
-                                                          "robot_height", "noise", "blur"]
+                                                          "robot_height", "noise", "blur", "period"]
 
 
 def test_the_structs_defaults_are_the_documented_ones() -> None:

@@ -8,8 +8,7 @@ import numpy
 import numpy.typing
 import os
 import typing
-import vwg.maps
-__all__: list[str] = ['ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'ArrivalCondition', 'Backend', 'BackendGroup', 'Blob', 'CameraGenerator', 'CameraRenderer', 'CameraSpec', 'Collision', 'CollisionGenerator', 'DStarLite', 'Decider', 'DecisionInput', 'DepthCameraSpec', 'Engine', 'Event', 'EventColumns', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'FrameSink', 'Generator', 'GridDecider', 'GridRaycaster', 'ImageFiles', 'ImageSequence', 'ImageSource', 'KinectGenerator', 'LaserGenerator', 'LaserSpec', 'MotionBackend', 'MotionFollower', 'MovingAiScenario', 'Node', 'NoiseModel', 'NullBackend', 'OBSTACLE_THRESHOLD', 'OccupancyGrid', 'OdometryGenerator', 'OmplDecider', 'OmplPlan', 'OmplPlanner', 'OrderGenerator', 'OverviewCamera', 'PhysicsSettings', 'PhysicsWorld', 'PythonActor', 'RandomDecider', 'RangeScanner', 'ReceivedImages', 'RenderStyle', 'RobotPlatform', 'RobotSettings', 'RobotState', 'SimView', 'SimulatedCamera', 'StopCondition', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoSource', 'add_arobot', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'arobot_event_types', 'astar', 'backend_names', 'beam_layout', 'build_string', 'create_backend', 'create_decider', 'create_platform', 'create_sensor', 'decider_names', 'default_threads', 'detect_apriltags', 'display', 'encode_image', 'estimate_tag_pose', 'evolve', 'grid_clearance', 'grid_inflate', 'jps', 'log_message', 'movingai_grid', 'movingai_scenarios', 'overview_camera', 'plan_ompl', 'platform_names', 'python_budget', 'quantize_pose', 'ranging_sensors', 'read_image', 'render_overview', 'robot_map', 'sensor_names', 'set_log_sink', 'set_python_budget', 'visualize', 'walker_behavior', 'write_image']
+__all__: list[str] = ['ARobotConfig', 'ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'ArrivalCondition', 'Backend', 'BackendGroup', 'Blob', 'CameraGenerator', 'CameraRenderer', 'CameraSpec', 'Collision', 'CollisionGenerator', 'DStarLite', 'Decider', 'DecisionInput', 'DepthCameraSpec', 'Engine', 'EngineOptions', 'Event', 'EventColumns', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'FrameSink', 'Generator', 'GridDecider', 'GridRaycaster', 'ImageFiles', 'ImageSequence', 'ImageSource', 'KinectGenerator', 'LaserGenerator', 'LaserSpec', 'MAX_DT', 'MIN_DT', 'MotionBackend', 'MotionFollower', 'MovingAiScenario', 'Node', 'NoiseModel', 'NullBackend', 'OBSTACLE_THRESHOLD', 'OccupancyGrid', 'OdometryGenerator', 'OmplDecider', 'OmplPlan', 'OmplPlanner', 'OrderGenerator', 'OverviewCamera', 'OverviewView', 'PhysicsSettings', 'PhysicsWorld', 'PythonActor', 'RandomDecider', 'RangeScanner', 'ReceivedImages', 'RenderStyle', 'RobotPlatform', 'RobotSettings', 'RobotState', 'SimView', 'SimulatedCamera', 'StopCondition', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoSource', 'add_arobot', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'arobot_event_types', 'astar', 'backend_names', 'beam_layout', 'build_string', 'check_dt', 'create_backend', 'create_decider', 'create_platform', 'create_sensor', 'decider_names', 'default_threads', 'detect_apriltags', 'display', 'encode_image', 'estimate_tag_pose', 'evolve', 'grid_clearance', 'grid_inflate', 'jps', 'log_message', 'movingai_grid', 'movingai_scenarios', 'overview_camera', 'plan_ompl', 'platform_names', 'python_budget', 'quantize_pose', 'ranging_sensors', 'read_image', 'render_overview', 'robot_map', 'sensor_names', 'set_log_sink', 'set_python_budget', 'struct_defaults', 'visualize', 'walker_behavior', 'write_image']
 class Blob:
     """
     A large attribute value held by reference from world strings (an occupancy grid, an image, a path).
@@ -645,6 +644,7 @@ class CameraSpec:
       robot_height = 0.4: other robots are cylinders this tall, metres
       noise = 0.0: standard deviation of the added pixel noise, grey levels (0..255)
       blur = 0.0: Gaussian blur sigma, pixels
+      period = 3: gCamera looks every this many frames (detection costs milliseconds)
     """
     __hash__: typing.ClassVar[None] = None
     @staticmethod
@@ -660,7 +660,7 @@ class CameraSpec:
         ...
     def __getstate__(self) -> dict:
         ...
-    def __init__(self, *, width: int = 640, height: int = 480, hfov: float = 1.0471975511965976, mount_height: float = 0.5, wall_height: float = 2.5, robot_height: float = 0.4, noise: float = 0.0, blur: float = 0.0) -> None:
+    def __init__(self, *, width: int = 640, height: int = 480, hfov: float = 1.0471975511965976, mount_height: float = 0.5, wall_height: float = 2.5, robot_height: float = 0.4, noise: float = 0.0, blur: float = 0.0, period: int = 3) -> None:
         """
         The settings, each keyword replacing its default.
         """
@@ -725,6 +725,14 @@ class CameraSpec:
         """
     @noise.setter
     def noise(self, arg1: float) -> None:
+        ...
+    @property
+    def period(self) -> int:
+        """
+        gCamera looks every this many frames (detection costs milliseconds) (int)
+        """
+    @period.setter
+    def period(self, arg1: int) -> None:
         ...
     @property
     def robot_height(self) -> float:
@@ -1029,6 +1037,312 @@ class PhysicsSettings:
     @walls_at_border.setter
     def walls_at_border(self, arg1: bool) -> None:
         ...
+class EngineOptions:
+    """
+    A run of the engine: seconds per frame, seed, limits, threads.
+    
+    Fields (defaults from the C++ struct):
+      dt = 0.1: simulated seconds per frame
+      seed = 0: fixes every random choice of generators and actors
+      first_frame = 0: t of the first frame (a replay starts where its record did)
+      max_symbols = 0: a frame whose string would have more symbols fails (0: no limit)
+      threads = 0: threads for the frame's independent work (0: the machine's cores)
+    """
+    __hash__: typing.ClassVar[None] = None
+    @staticmethod
+    def fields() -> list[tuple[str, str, typing.Any, str]]:
+        """
+        [(name, type, default, meaning)] of every field, in order.
+        """
+    def __copy__(self) -> EngineOptions:
+        ...
+    def __deepcopy__(self, memo: typing.Any) -> EngineOptions:
+        ...
+    def __eq__(self, arg0: typing.Any) -> bool:
+        ...
+    def __getstate__(self) -> dict:
+        ...
+    def __init__(self, *, dt: float = 0.1, seed: int = 0, first_frame: int = 0, max_symbols: int = 0, threads: int = 0) -> None:
+        """
+        The settings, each keyword replacing its default.
+        """
+    def __ne__(self, arg0: typing.Any) -> bool:
+        ...
+    def __repr__(self) -> str:
+        ...
+    def __setstate__(self, arg0: dict) -> None:
+        ...
+    def check(self, owner: str) -> None:
+        """
+        Raise vwg.SchemaError naming `owner.field` for a value out of range (what the C++ side would refuse).
+        """
+    def replace(self, **kwargs) -> EngineOptions:
+        """
+        A copy with these fields changed: spec.replace(beams=180).
+        """
+    def to_dict(self) -> dict:
+        """
+        {field: value}, as a world file writes them.
+        """
+    @property
+    def dt(self) -> float:
+        """
+        simulated seconds per frame (float)
+        """
+    @dt.setter
+    def dt(self, arg1: float) -> None:
+        ...
+    @property
+    def first_frame(self) -> int:
+        """
+        t of the first frame (a replay starts where its record did) (int)
+        """
+    @first_frame.setter
+    def first_frame(self, arg1: int) -> None:
+        ...
+    @property
+    def max_symbols(self) -> int:
+        """
+        a frame whose string would have more symbols fails (0: no limit) (int)
+        """
+    @max_symbols.setter
+    def max_symbols(self, arg1: int) -> None:
+        ...
+    @property
+    def seed(self) -> int:
+        """
+        fixes every random choice of generators and actors (int)
+        """
+    @seed.setter
+    def seed(self, arg1: int) -> None:
+        ...
+    @property
+    def threads(self) -> int:
+        """
+        threads for the frame's independent work (0: the machine's cores) (int)
+        """
+    @threads.setter
+    def threads(self, arg1: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+class ARobotConfig:
+    """
+    The case study's robot actor ARobot: size, clearance, when it has arrived, how far it moves.
+    
+    Fields (defaults from the C++ struct):
+      radius = 0.18: metres
+      margin = 0.07: extra clearance kept from obstacles when moving, metres
+      goal_tolerance = 0.25: arrived when the belief is this close to the goal, metres
+      step_length = 1.0: longest straight move per decision, metres
+      marker_goal_distance = 1.0: where to stand in front of a marker known only from the camera, metres
+      carve_free_space = True: clear reported obstacles along laser beams
+      retry_frames = 10: decisions to skip after finding no way before trying again
+    """
+    __hash__: typing.ClassVar[None] = None
+    @staticmethod
+    def fields() -> list[tuple[str, str, typing.Any, str]]:
+        """
+        [(name, type, default, meaning)] of every field, in order.
+        """
+    def __copy__(self) -> ARobotConfig:
+        ...
+    def __deepcopy__(self, memo: typing.Any) -> ARobotConfig:
+        ...
+    def __eq__(self, arg0: typing.Any) -> bool:
+        ...
+    def __getstate__(self) -> dict:
+        ...
+    def __init__(self, *, radius: float = 0.18, margin: float = 0.07, goal_tolerance: float = 0.25, step_length: float = 1.0, marker_goal_distance: float = 1.0, carve_free_space: bool = True, retry_frames: int = 10) -> None:
+        """
+        The settings, each keyword replacing its default.
+        """
+    def __ne__(self, arg0: typing.Any) -> bool:
+        ...
+    def __repr__(self) -> str:
+        ...
+    def __setstate__(self, arg0: dict) -> None:
+        ...
+    def check(self, owner: str) -> None:
+        """
+        Raise vwg.SchemaError naming `owner.field` for a value out of range (what the C++ side would refuse).
+        """
+    def replace(self, **kwargs) -> ARobotConfig:
+        """
+        A copy with these fields changed: spec.replace(beams=180).
+        """
+    def to_dict(self) -> dict:
+        """
+        {field: value}, as a world file writes them.
+        """
+    @property
+    def carve_free_space(self) -> bool:
+        """
+        clear reported obstacles along laser beams (bool)
+        """
+    @carve_free_space.setter
+    def carve_free_space(self, arg1: bool) -> None:
+        ...
+    @property
+    def goal_tolerance(self) -> float:
+        """
+        arrived when the belief is this close to the goal, metres (float)
+        """
+    @goal_tolerance.setter
+    def goal_tolerance(self, arg1: float) -> None:
+        ...
+    @property
+    def margin(self) -> float:
+        """
+        extra clearance kept from obstacles when moving, metres (float)
+        """
+    @margin.setter
+    def margin(self, arg1: float) -> None:
+        ...
+    @property
+    def marker_goal_distance(self) -> float:
+        """
+        where to stand in front of a marker known only from the camera, metres (float)
+        """
+    @marker_goal_distance.setter
+    def marker_goal_distance(self, arg1: float) -> None:
+        ...
+    @property
+    def radius(self) -> float:
+        """
+        metres (float)
+        """
+    @radius.setter
+    def radius(self, arg1: float) -> None:
+        ...
+    @property
+    def retry_frames(self) -> int:
+        """
+        decisions to skip after finding no way before trying again (int)
+        """
+    @retry_frames.setter
+    def retry_frames(self, arg1: int) -> None:
+        ...
+    @property
+    def step_length(self) -> float:
+        """
+        longest straight move per decision, metres (float)
+        """
+    @step_length.setter
+    def step_length(self, arg1: float) -> None:
+        ...
+class OverviewView:
+    """
+    How the 3D overview is seen: image size, angles, robots, labels.
+    
+    Fields (defaults from the C++ struct):
+      width = 1000: image width, pixels
+      height = 700: image height, pixels
+      azimuth = -1.9: direction from the scene's centre towards the eye, radians counter-clockwise from +x
+      elevation = 1.1: angle of the line of sight below the horizon, radians
+      fov = 0.6: horizontal field of view, radians; 0 = orthographic
+      robot_height = 0.4: robots are cylinders this tall, metres
+      labels = True: write each marker's label above it
+      supersample = 3: rays per pixel side (anti-aliasing), 1..4
+    """
+    __hash__: typing.ClassVar[None] = None
+    @staticmethod
+    def fields() -> list[tuple[str, str, typing.Any, str]]:
+        """
+        [(name, type, default, meaning)] of every field, in order.
+        """
+    def __copy__(self) -> OverviewView:
+        ...
+    def __deepcopy__(self, memo: typing.Any) -> OverviewView:
+        ...
+    def __eq__(self, arg0: typing.Any) -> bool:
+        ...
+    def __getstate__(self) -> dict:
+        ...
+    def __init__(self, *, width: int = 1000, height: int = 700, azimuth: float = -1.9, elevation: float = 1.1, fov: float = 0.6, robot_height: float = 0.4, labels: bool = True, supersample: int = 3) -> None:
+        """
+        The settings, each keyword replacing its default.
+        """
+    def __ne__(self, arg0: typing.Any) -> bool:
+        ...
+    def __repr__(self) -> str:
+        ...
+    def __setstate__(self, arg0: dict) -> None:
+        ...
+    def check(self, owner: str) -> None:
+        """
+        Raise vwg.SchemaError naming `owner.field` for a value out of range (what the C++ side would refuse).
+        """
+    def replace(self, **kwargs) -> OverviewView:
+        """
+        A copy with these fields changed: spec.replace(beams=180).
+        """
+    def to_dict(self) -> dict:
+        """
+        {field: value}, as a world file writes them.
+        """
+    @property
+    def azimuth(self) -> float:
+        """
+        direction from the scene's centre towards the eye, radians counter-clockwise from +x (float)
+        """
+    @azimuth.setter
+    def azimuth(self, arg1: float) -> None:
+        ...
+    @property
+    def elevation(self) -> float:
+        """
+        angle of the line of sight below the horizon, radians (float)
+        """
+    @elevation.setter
+    def elevation(self, arg1: float) -> None:
+        ...
+    @property
+    def fov(self) -> float:
+        """
+        horizontal field of view, radians; 0 = orthographic (float)
+        """
+    @fov.setter
+    def fov(self, arg1: float) -> None:
+        ...
+    @property
+    def height(self) -> int:
+        """
+        image height, pixels (int)
+        """
+    @height.setter
+    def height(self, arg1: int) -> None:
+        ...
+    @property
+    def labels(self) -> bool:
+        """
+        write each marker's label above it (bool)
+        """
+    @labels.setter
+    def labels(self, arg1: bool) -> None:
+        ...
+    @property
+    def robot_height(self) -> float:
+        """
+        robots are cylinders this tall, metres (float)
+        """
+    @robot_height.setter
+    def robot_height(self, arg1: float) -> None:
+        ...
+    @property
+    def supersample(self) -> int:
+        """
+        rays per pixel side (anti-aliasing), 1..4 (int)
+        """
+    @supersample.setter
+    def supersample(self, arg1: int) -> None:
+        ...
+    @property
+    def width(self) -> int:
+        """
+        image width, pixels (int)
+        """
+    @width.setter
+    def width(self, arg1: int) -> None:
+        ...
 class RobotState:
     """
     A robot as a platform knows it after its last step.
@@ -1331,7 +1645,7 @@ class PhysicsWorld(RobotPlatform):
     differential-drive robots (vwg.RobotSettings) that execute motion plans under speed and acceleration
     limits, stepped at the fixed time step of `settings`.
     """
-    def __init__(self, grid: vwg.maps.OccupancyGrid, robots: collections.abc.Sequence[RobotSettings], settings: PhysicsSettings = ...) -> None:
+    def __init__(self, grid: OccupancyGrid, robots: collections.abc.Sequence[RobotSettings], settings: PhysicsSettings = ...) -> None:
         ...
     def drive(self, robot: typing.SupportsInt | typing.SupportsIndex, speed: typing.SupportsFloat | typing.SupportsIndex, turn_rate: typing.SupportsFloat | typing.SupportsIndex) -> None:
         """
@@ -1884,7 +2198,7 @@ class GridRaycaster:
     Exact raycasting over an occupancy grid (cells with a value >= threshold are obstacles): the
     simulated laser. ``cast`` gives the hit cell, face and entry point; ``scan`` many ranges at once.
     """
-    def __init__(self, grid: vwg.maps.OccupancyGrid, threshold: typing.SupportsInt | typing.SupportsIndex = 50) -> None:
+    def __init__(self, grid: OccupancyGrid, threshold: typing.SupportsInt | typing.SupportsIndex = 50) -> None:
         ...
     def cast(self, x: typing.SupportsFloat | typing.SupportsIndex, y: typing.SupportsFloat | typing.SupportsIndex, angle: typing.SupportsFloat | typing.SupportsIndex, max_range: typing.SupportsFloat | typing.SupportsIndex) -> dict:
         """
@@ -1989,7 +2303,7 @@ class SimView(Backend):
     after the SimBackend in a BackendGroup. Frames go to a video (a FrameSink: vwg.VideoWriter writes MP4 H.264
     or GIF) and/or PNG files; without either nothing is drawn.
     """
-    def __init__(self, platform: RobotPlatform, grid: vwg.maps.OccupancyGrid, style: RenderStyle | None = None, width: typing.SupportsInt | typing.SupportsIndex = 800, header: typing.SupportsInt | typing.SupportsIndex = 40) -> None:
+    def __init__(self, platform: RobotPlatform, grid: OccupancyGrid, style: RenderStyle | None = None, width: typing.SupportsInt | typing.SupportsIndex = 800, header: typing.SupportsInt | typing.SupportsIndex = 40) -> None:
         ...
     def add_kinect(self, kinect: KinectGenerator) -> None:
         ...
@@ -2436,7 +2750,7 @@ class CameraRenderer:
     markers: a list of dicts or objects (vwg.robotworld.Room) with id (or marker), at=(x, y) (or x and
     y), facing, and optionally size (0.3), height (0.6), label; or RobotWorld.rooms (a dict).
     """
-    def __init__(self, grid: vwg.maps.OccupancyGrid, markers: typing.Any = [], spec: CameraSpec = ..., seed: typing.SupportsInt | typing.SupportsIndex = 0, threshold: typing.SupportsInt | typing.SupportsIndex = 50) -> None:
+    def __init__(self, grid: OccupancyGrid, markers: typing.Any = [], spec: CameraSpec = ..., seed: typing.SupportsInt | typing.SupportsIndex = 0, threshold: typing.SupportsInt | typing.SupportsIndex = 50) -> None:
         ...
     def __repr__(self) -> str:
         ...
@@ -2589,7 +2903,7 @@ class SimulatedCamera(ImageSource):
     """
     The robot's view in the simulated world (see CameraRenderer), other robots included.
     """
-    def __init__(self, world: PhysicsWorld, robot: typing.SupportsInt | typing.SupportsIndex, grid: vwg.maps.OccupancyGrid, markers: typing.Any, spec: CameraSpec = ..., seed: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
+    def __init__(self, world: PhysicsWorld, robot: typing.SupportsInt | typing.SupportsIndex, grid: OccupancyGrid, markers: typing.Any, spec: CameraSpec = ..., seed: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
         ...
     def apriltag_intrinsics(self) -> tuple[float, float, float, float]:
         """
@@ -2617,7 +2931,7 @@ class CameraGenerator(Generator):
     @property
     def robot(self) -> int:
         ...
-def add_arobot(alphabet: Alphabet, decider: Decider, grid: vwg.maps.OccupancyGrid, rooms: dict, radius: typing.SupportsFloat | typing.SupportsIndex = 0.18, margin: typing.SupportsFloat | typing.SupportsIndex = 0.07, goal_tolerance: typing.SupportsFloat | typing.SupportsIndex = 0.25, step_length: typing.SupportsFloat | typing.SupportsIndex = 1.0, carve: bool = True, name: str = 'ARobot') -> None:
+def add_arobot(alphabet: Alphabet, decider: Decider, grid: OccupancyGrid, rooms: dict, radius: typing.SupportsFloat | typing.SupportsIndex = 0.18, margin: typing.SupportsFloat | typing.SupportsIndex = 0.07, goal_tolerance: typing.SupportsFloat | typing.SupportsIndex = 0.25, step_length: typing.SupportsFloat | typing.SupportsIndex = 1.0, carve: bool = True, name: str = 'ARobot') -> None:
     """
     Register the actor type ARobot (paper eq. 11) with its decider. `grid` gives the map geometry,
     `rooms` the known rooms as {marker id: (x, y) goal}. The alphabet must already have the symbols
@@ -2664,17 +2978,21 @@ def build_string(alphabet: Alphabet, parts: typing.Any) -> String:
     """
     A string from Python parts: text, vwg.String, actors, vwg.Sym, or lists of these.
     """
+def check_dt(dt: typing.SupportsFloat | typing.SupportsIndex, field: str = 'dt') -> None:
+    """
+    Raise vwg.SchemaError naming `field` unless dt is a number of seconds from MIN_DT to MAX_DT (1e-06 to 3600).
+    """
 def create_backend(name: str) -> Backend:
     ...
 def create_decider(name: str) -> Decider:
     """
     A new decider by its C++ registered name (vwg.SchemaError listing the known ones otherwise).
     """
-def create_platform(name: str, grid: vwg.maps.OccupancyGrid, robots: collections.abc.Sequence[RobotSettings], physics: PhysicsSettings = ..., options: collections.abc.Mapping[str, str] = {}) -> RobotPlatform:
+def create_platform(name: str, grid: OccupancyGrid, robots: collections.abc.Sequence[RobotSettings], physics: PhysicsSettings = ..., options: collections.abc.Mapping[str, str] = {}) -> RobotPlatform:
     """
     A robot platform by its C++ registered name, with the map, the robots and the simulator's settings.
     """
-def create_sensor(name: str, platform: RobotPlatform, alphabet: Alphabet, robot: typing.SupportsInt | typing.SupportsIndex, *, grid: typing.Any = None, scanner: RangeScanner = None, laser: LaserSpec = ..., kinect: DepthCameraSpec = ..., camera: CameraSpec = ..., markers: typing.Any = [], camera_period: typing.SupportsInt | typing.SupportsIndex = 3, seed: typing.SupportsInt | typing.SupportsIndex = 0) -> Generator:
+def create_sensor(name: str, platform: RobotPlatform, alphabet: Alphabet, robot: typing.SupportsInt | typing.SupportsIndex, *, grid: typing.Any = None, scanner: RangeScanner = None, laser: LaserSpec = ..., kinect: DepthCameraSpec = ..., camera: CameraSpec = ..., markers: typing.Any = [], seed: typing.SupportsInt | typing.SupportsIndex = 0) -> Generator:
     """
     A sensor's event generator for one robot by its C++ registered name (laser, kinect, camera).
     """
@@ -2708,11 +3026,11 @@ def evolve(w: String, events: typing.Any, frame: typing.SupportsInt | typing.Sup
     """
     η(w, S) (paper eq. 8): every actor takes the events of S it responds to, in order.
     """
-def grid_clearance(grid: vwg.maps.OccupancyGrid, x: typing.SupportsFloat | typing.SupportsIndex, y: typing.SupportsFloat | typing.SupportsIndex, limit: typing.SupportsFloat | typing.SupportsIndex, threshold: typing.SupportsInt | typing.SupportsIndex = 50, unknown: bool = True) -> float:
+def grid_clearance(grid: OccupancyGrid, x: typing.SupportsFloat | typing.SupportsIndex, y: typing.SupportsFloat | typing.SupportsIndex, limit: typing.SupportsFloat | typing.SupportsIndex, threshold: typing.SupportsInt | typing.SupportsIndex = 50, unknown: bool = True) -> float:
     """
     Distance (m) from the world point (x, y) to the nearest cell of value >= threshold (and unknown cells and everything off the grid when `unknown`), capped at `limit`; 0 inside one.
     """
-def grid_inflate(grid: vwg.maps.OccupancyGrid, radius: typing.SupportsFloat | typing.SupportsIndex, threshold: typing.SupportsInt | typing.SupportsIndex = 50, unknown: bool = True) -> numpy.typing.NDArray[numpy.bool]:
+def grid_inflate(grid: OccupancyGrid, radius: typing.SupportsFloat | typing.SupportsIndex, threshold: typing.SupportsInt | typing.SupportsIndex = 50, unknown: bool = True) -> numpy.typing.NDArray[numpy.bool]:
     """
     Boolean mask of the cells whose centre is within `radius` metres (inclusive) of a cell of value >= threshold (and of unknown cells and the grid's edge when `unknown`): where a disc robot's centre may not be.
     """
@@ -2737,7 +3055,7 @@ def movingai_scenarios(text: bytes, source: str) -> list[MovingAiScenario]:
     """
     The scenarios of the text of a MovingAI `.map.scen` file (vwg.WorldFileError naming `source` and the line).
     """
-def overview_camera(grid: vwg.maps.OccupancyGrid, wall_height: typing.SupportsFloat | typing.SupportsIndex = 2.5, width: typing.SupportsInt | typing.SupportsIndex = 1000, height: typing.SupportsInt | typing.SupportsIndex = 700, azimuth: typing.SupportsFloat | typing.SupportsIndex = -1.9, elevation: typing.SupportsFloat | typing.SupportsIndex = 1.1, fov: typing.SupportsFloat | typing.SupportsIndex = 0.6, threshold: typing.SupportsInt | typing.SupportsIndex = 50, target: typing.Any = None, scale: typing.Any = None, distance: typing.Any = None) -> OverviewCamera:
+def overview_camera(grid: OccupancyGrid, wall_height: typing.SupportsFloat | typing.SupportsIndex = 2.5, width: typing.SupportsInt | typing.SupportsIndex = 1000, height: typing.SupportsInt | typing.SupportsIndex = 700, azimuth: typing.SupportsFloat | typing.SupportsIndex = -1.9, elevation: typing.SupportsFloat | typing.SupportsIndex = 1.1, fov: typing.SupportsFloat | typing.SupportsIndex = 0.6, threshold: typing.SupportsInt | typing.SupportsIndex = 50, target: typing.Any = None, scale: typing.Any = None, distance: typing.Any = None) -> OverviewCamera:
     """
     The projection render_overview uses with these arguments (to draw over its image). azimuth: direction from the map's centre towards the eye, radians counter-clockwise from +x (-π/2: from the south). elevation: how steeply the eye looks down, radians (π/2: straight down). fov: horizontal field of view, radians; 0 = orthographic. Without target the view frames the map's free cells and their walls; with target (x, y[, z]) it aims there with scale pixels per metre (orthographic) or the eye distance metres away (perspective).
     """
@@ -2779,11 +3097,11 @@ def read_image(path: str) -> numpy.ndarray[typing.Any, numpy.dtype[typing.Any]]:
     """
     Read an image file (PNG, PGM, BMP, JPEG) as stored: uint8 or uint16, H×W, H×W×3 (RGB) or H×W×4 (RGBA).
     """
-def render_overview(grid: vwg.maps.OccupancyGrid, markers: typing.Any = [], robots: typing.Any = [], wall_height: typing.SupportsFloat | typing.SupportsIndex = 2.5, width: typing.SupportsInt | typing.SupportsIndex = 1000, height: typing.SupportsInt | typing.SupportsIndex = 700, azimuth: typing.SupportsFloat | typing.SupportsIndex = -1.9, elevation: typing.SupportsFloat | typing.SupportsIndex = 1.1, fov: typing.SupportsFloat | typing.SupportsIndex = 0.6, robot_height: typing.SupportsFloat | typing.SupportsIndex = 0.4, labels: bool = True, supersample: typing.SupportsInt | typing.SupportsIndex = 3, threshold: typing.SupportsInt | typing.SupportsIndex = 50, target: typing.Any = None, scale: typing.Any = None, distance: typing.Any = None) -> numpy.typing.NDArray[numpy.uint8]:
+def render_overview(grid: OccupancyGrid, markers: typing.Any = [], robots: typing.Any = [], wall_height: typing.SupportsFloat | typing.SupportsIndex = 2.5, width: typing.SupportsInt | typing.SupportsIndex = 1000, height: typing.SupportsInt | typing.SupportsIndex = 700, azimuth: typing.SupportsFloat | typing.SupportsIndex = -1.9, elevation: typing.SupportsFloat | typing.SupportsIndex = 1.1, fov: typing.SupportsFloat | typing.SupportsIndex = 0.6, robot_height: typing.SupportsFloat | typing.SupportsIndex = 0.4, labels: bool = True, supersample: typing.SupportsInt | typing.SupportsIndex = 3, threshold: typing.SupportsInt | typing.SupportsIndex = 50, target: typing.Any = None, scale: typing.Any = None, distance: typing.Any = None) -> numpy.typing.NDArray[numpy.uint8]:
     """
     A 3D overview of a map (the paper's Fig. 5) as an H×W×3 uint8 RGB array: walls (cells >= threshold) extruded to wall_height and lit, the floor with their shadows and 1 m tiles, the markers (as for CameraRenderer) as their tags in an orange frame with their labels, robots (as for CameraRenderer.render) as cylinders in the 2D view's colours. azimuth: direction from the map's centre towards the eye, radians counter-clockwise from +x (-π/2: from the south). elevation: how steeply the eye looks down, radians (π/2: straight down). fov: horizontal field of view, radians; 0 = orthographic. Without target the view frames the map's free cells and their walls; with target (x, y[, z]) it aims there with scale pixels per metre (orthographic) or the eye distance metres away (perspective). supersample: rays per pixel side (1..4). Releases the GIL.
     """
-def robot_map(grid: vwg.maps.OccupancyGrid, knows_map: bool = True) -> Blob:
+def robot_map(grid: OccupancyGrid, knows_map: bool = True) -> Blob:
     """
     A robot's grid (an int16 vwg.Blob): the known map (walls 100, free 0, unknown -1), or all free (eq. 13).
     """
@@ -2799,6 +3117,10 @@ def set_python_budget(seconds: typing.SupportsFloat | typing.SupportsIndex) -> N
     """
     The time one call of a Python part (an actor's λ or θ, a generator, a backend, a decider) may take before a warning names it and its time (logger `vwg`); 0 turns the reports off; default 1 s. Only reported: the frames never depend on a clock.
     """
+def struct_defaults() -> dict:
+    """
+    {struct: {field: default}} of C++ structs that are not settings classes, read from default-constructed ones.
+    """
 def visualize(w: String, events: typing.Any, frame: typing.SupportsInt | typing.SupportsIndex = 0, time: typing.SupportsFloat | typing.SupportsIndex = 0.0, seed: typing.SupportsInt | typing.SupportsIndex = 0) -> String:
     """
     π(w, Z) (paper eq. 9): the displayable string for the visual events among `events`.
@@ -2813,5 +3135,7 @@ def write_image(path: str, image: numpy.ndarray[typing.Any, numpy.dtype[typing.A
     """
     Write an H×W (grey), H×W×3 (RGB) or H×W×4 (RGBA) uint8/uint16 image.
     """
+MAX_DT: float = 3600.0
+MIN_DT: float = 1e-06
 OBSTACLE_THRESHOLD: int = 50
 __version__: str = '0.1.0'

@@ -274,10 +274,8 @@ def _cmd_serve(args: argparse.Namespace) -> int:
         raise Error(f"--port: expected 0 to 65535 (0: any free port), got {args.port}")
     if args.dt is not None:
         import dataclasses
-        import math
 
-        if not (math.isfinite(args.dt) and 0 < args.dt <= 10):
-            raise Error(f"--dt: expected 0 < dt <= 10 seconds per frame, got {args.dt}")
+        _core.check_dt(args.dt, "--dt")  # the range vwg run and world files take
         world = dataclasses.replace(world, dt=args.dt)
     spec = world.platform.given(args.platform, **_platform_options(args))
     live = LiveRun(world, planner=args.planner or world.planner, platform=spec, speed=args.speed, seed=args.seed,

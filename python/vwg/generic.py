@@ -201,7 +201,7 @@ def load_world(path: str | Path, *, seed: int | None = None, frames: int | None 
     world = build_world(doc)
     initial_text = doc.get(("initial",), str)
     initial = _wrap(doc, ("initial",), world.parse, initial_text, f"{doc.path}:initial")
-    dt_value = dt if dt is not None else doc.number(("dt",), 0.1, minimum=MIN_DT, maximum=MAX_DT)
+    dt_value = dt if dt is not None else doc.number(("dt",), _core.EngineOptions().dt, minimum=MIN_DT, maximum=MAX_DT)
     gens = [_generator(doc, world, i, g, dt_value) for i, g in enumerate(doc.get(("generators",), list, default=[]))]
     backend_obj = _wrap(doc, ("backend",), backends.create, backend, world=world) if backend else _backend(doc, world)
     return WorldSpec(

@@ -28,7 +28,7 @@ from vwg.io.files import check_output_file
 from vwg.io.record import Recorder, read_key, robot_data, robot_world_file
 from vwg.io.shipped import resolve_world
 from vwg.io.yamldoc import YamlDoc
-from vwg.model.limits import MAX_DT, MAX_FRAMES, MAX_SEED, MIN_DT
+from vwg.model.limits import MAX_FRAMES, MAX_SEED
 from vwg.plugins import world_kinds
 
 __all__ = ["COMMON_OPTIONS", "EXIT_LINK_FAULT", "EXIT_UNREACHED", "Outcome", "Run", "RunOptions", "WorldKind",
@@ -77,8 +77,8 @@ class RunOptions:
             raise Error(f"--frames: expected a number of frames from 0 to 2**64 - 1, got {self.frames}")
         if self.seed is not None and not 0 <= self.seed <= MAX_SEED:
             raise Error(f"--seed: expected an integer from 0 to 2**64 - 1, got {self.seed}")
-        if self.dt is not None and not (math.isfinite(self.dt) and MIN_DT <= self.dt <= MAX_DT):
-            raise Error(f"--dt: expected a number of seconds from {MIN_DT:g} to {MAX_DT:g}, got {self.dt}")
+        if self.dt is not None:
+            _core.check_dt(self.dt, "--dt")  # the engine's range and check (vwg::check_dt)
         if not 0 <= self.max_symbols < 2**63:
             raise Error(f"--max-symbols: expected a count from 0 (no limit) to 2**63 - 1, got {self.max_symbols}")
         if not 0 <= self.threads <= 256:

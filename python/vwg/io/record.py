@@ -107,7 +107,7 @@ from typing import IO, Any
 import numpy as np
 
 import vwg._core as _core
-from vwg.errors import Error, WorldFileError, clip
+from vwg.errors import Error, SchemaError, WorldFileError, clip
 from vwg.io.files import read_bytes
 from vwg.io.shipped import resolve_world
 from vwg.model.limits import MAX_DT, MAX_TIME, MIN_DT
@@ -744,7 +744,11 @@ def _check_header(path: Path, obj: dict[str, Any]) -> None:
     if not _is_int(obj["seed"], 0, 2**64 - 1):
         raise bad("seed", f"expected an integer from 0 to 2**64 - 1, got {obj['seed']!r}")
     dt = obj["dt"]  # the bounds a run takes (vwg.launch), so a record replays only what a run could make
-    if type(dt) not in (int, float) or not MIN_DT <= dt <= MAX_DT:
+    try:  # the engine's range and check (vwg::check_dt); a JSON integer may be beyond a float's range
+        ok = type(dt) in (int, float) and _core.check_dt(float(dt), "dt") is None
+    except (SchemaError, OverflowError):
+        ok = False
+    if not ok:
         raise bad("dt", f"expected a number of seconds from {MIN_DT:g} to {MAX_DT:g}, got {dt!r}")
     if not _is_int(obj.get("frame", 0), 0, 2**62):
         raise bad("frame", f"expected a frame number from 0 to 2**62, got {obj['frame']!r}")

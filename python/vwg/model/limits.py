@@ -4,11 +4,14 @@ frames."""
 
 from __future__ import annotations
 
+import vwg._core as _core
+
 __all__ = ["MAX_DT", "MAX_FRAMES", "MAX_SEED", "MAX_TIME", "MIN_DT"]
 
 #: The largest seed and number of frames (the engine's unsigned 64-bit integers).
 MAX_SEED = MAX_FRAMES = 2**64 - 1
-#: Seconds per frame.
-MIN_DT, MAX_DT = 1e-6, 3600.0
+#: Seconds per frame: the C++ engine's one range (vwg::kMinDt, kMaxDt), checked by _core.check_dt.
+MIN_DT: float = _core.MIN_DT
+MAX_DT: float = _core.MAX_DT
 #: Seconds from the start of a scripted order or event: 31 years, under 2**63 frames at MIN_DT.
 MAX_TIME = 1e9

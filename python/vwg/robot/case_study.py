@@ -32,7 +32,7 @@ from vwg.launch import EXIT_LINK_FAULT, EXIT_UNREACHED, TRAJECTORY_FORMATS, Outc
 from vwg.model.actor import Sym
 from vwg.model.engine import Engine
 from vwg.model.generators import every_frame
-from vwg.model.limits import MAX_DT, MAX_TIME, MIN_DT
+from vwg.model.limits import MAX_TIME
 from vwg.model.world import Alphabet, World
 from vwg.plugins import backends as backend_registry
 from vwg.plugins import deciders, platforms
@@ -55,7 +55,12 @@ def make_decider(planner: str | _core.Decider) -> _core.Decider:
     return deciders.create(name)
 
 
-def case_study_world(world: RobotWorld, decider: _core.Decider, *, step_length: float = 1.0) -> World:
+#: A robot's radius when a world has no robots (RobotSettings' default, the C++ platform::kDefaultRobotRadius).
+_DEFAULT_RADIUS: float = _core.RobotSettings().radius
+
+
+def case_study_world(world: RobotWorld, decider: _core.Decider, *,
+                     step_length: float = _core.ARobotConfig().step_length) -> World:
     """The alphabet of the case study with ARobot deciding by `decider`, for this robot world."""
     events = {name: {f: spec[1] for f, spec in fields.items()} for name, fields in _core.arobot_event_types().items()}
     # The events of the sensors the robots carry (a plugin's sensor may emit its own kinds).
@@ -64,7 +69,7 @@ def case_study_world(world: RobotWorld, decider: _core.Decider, *, step_length: 
             events.setdefault(event, fields)
     alphabet = Alphabet(events=events, visual=["eExecute"], **MOTION_SYMBOLS)
     rooms = {room.marker: room.goal for room in world.rooms.values()}
-    radius = max((r.radius for r in world.robots), default=0.18)
+    radius = max((r.radius for r in world.robots), default=_DEFAULT_RADIUS)
     _core.add_arobot(alphabet, decider, world.grid, rooms, radius=radius, goal_tolerance=world.goal_tolerance,
                      step_length=step_length)
     return World(alphabet)
@@ -193,8 +198,7 @@ class CaseStudy:
 
         # A world made in Python (or changed with dataclasses.replace) is checked as a world file is: a
         # frame time of 5e-324 s would make an order's frame number (time / dt) overflow.
-        if not (math.isfinite(world.dt) and MIN_DT <= world.dt <= MAX_DT):
-            raise SchemaError(f"dt: expected {MIN_DT:g} to {MAX_DT:g} seconds per frame, got {world.dt!r}")
+        _core.check_dt(world.dt, "dt")
         for order in world.orders:
             if not (math.isfinite(order.time) and 0 <= order.time <= MAX_TIME):
                 raise SchemaError(f"orders: expected a time from 0 to {MAX_TIME:g} seconds, got {order.time!r}")
@@ -239,7 +243,7 @@ class CaseStudy:
             self.engine.stop_when(_core.ArrivalCondition(alphabet, self.orders.generator))
             # A robot a λ spawns gets a body on the platform; one that leaves the string loses it.
             self.engine.keep_robots_in_step(self.sim.platform,
-                                            radius=max((r.radius for r in world.robots), default=0.18))
+                                            radius=max((r.radius for r in world.robots), default=_DEFAULT_RADIUS))
             self.video = str(video) if video else None
             # The video is finished by close(), or at the latest when this object goes or Python exits.
             self._hold = max(1, round(1.0 / world.dt))

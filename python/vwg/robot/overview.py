@@ -17,8 +17,9 @@ from vwg.robot.world_file import RobotWorld
 
 __all__ = ["VIEWS", "render_world_overview", "robots_seen"]
 
-_DEFAULT_AZIMUTH = -1.9
-_DEFAULT_ELEVATION = 1.1
+_VIEW = _core.OverviewView()  # the C++ defaults of a view (vwg::sim::OverviewView)
+_DEFAULT_AZIMUTH = _VIEW.azimuth
+_DEFAULT_ELEVATION = _VIEW.elevation
 #: (azimuth, elevation) candidates in order of preference: oblique first, steeper after.
 VIEWS: tuple[tuple[float, float], ...] = tuple(
     (az, el)
@@ -27,7 +28,7 @@ VIEWS: tuple[tuple[float, float], ...] = tuple(
 )
 
 
-def robots_seen(world: RobotWorld, azimuth: float, elevation: float, robot_height: float = 0.4) -> int:
+def robots_seen(world: RobotWorld, azimuth: float, elevation: float, robot_height: float = _VIEW.robot_height) -> int:
     """How many robots (at their starts) the view from (azimuth, elevation) sees over the walls."""
     grid = world.grid
     rise = math.tan(elevation)
@@ -42,15 +43,15 @@ def robots_seen(world: RobotWorld, azimuth: float, elevation: float, robot_heigh
             row, col = grid.world_to_cell(x0 + s * dx, y0 + s * dy)
             if not grid.inside(row, col):
                 break
-            if grid.data[row, col] >= 50:
+            if grid.data[row, col] >= _core.OBSTACLE_THRESHOLD:
                 hidden = True
                 break
         seen += not hidden
     return seen
 
 
-def render_world_overview(world: RobotWorld, *, width: int = 1000, height: int = 700,
-                          labels: bool = True) -> np.ndarray:
+def render_world_overview(world: RobotWorld, *, width: int = _VIEW.width, height: int = _VIEW.height,
+                          labels: bool = _VIEW.labels) -> np.ndarray:
     """The world in 3D (H×W×3 uint8) from the preferred view that shows the most robots."""
     best = max(VIEWS, key=lambda v: (robots_seen(world, *v), -VIEWS.index(v)))
     return _core.render_overview(world.grid, markers=world.rooms, robots=world.robots, wall_height=world.wall_height,

@@ -26,7 +26,7 @@ their sensors, noise, and a timed script of user orders.
     sensors:                           # [{}] each sensor's settings, by its registered name
       laser: {beams: 360, fov: 6.283185307179586, min_range: 0.05, max_range: 8.0, noise: 0.01}
       kinect: {width: 640, height: 480, hfov: 1.0122909661567112, max_range: 4.5, min_range: 0.5, mount_height: 0.3}
-      camera: {width: 640, height: 480, hfov: 1.0471975511965976, mount_height: 0.5, noise: 0.0, blur: 0.0}
+      camera: {width: 640, height: 480, hfov: 1.0471975511965976, mount_height: 0.5, noise: 0.0, blur: 0.0, period: 3}
     noise: {odometry: 0.0, motors: 0.0, laser: 0.01}   # noise.SENSOR is that sensor's noise, given here instead
     frames: 3000                       # [3000]
     dt: 0.1                            # [0.1] seconds per frame
@@ -49,7 +49,8 @@ The sections ``laser:``, ``kinect:`` and ``camera:`` at the top (older files) ar
 
 Sensors' image size is ``width``/``height`` (pixels) and their mounting height above the floor ``mount_height``
 (metres): one mapping cannot hold two ``height`` keys. Camera ``noise`` is the standard deviation of added grey
-levels (0..255), ``blur`` the Gaussian blur's sigma in pixels. ``noise.odometry`` and ``noise.motors`` are relative
+levels (0..255), ``blur`` the Gaussian blur's sigma in pixels, ``period`` the frames between two looks for
+markers (detection costs milliseconds). ``noise.odometry`` and ``noise.motors`` are relative
 standard deviations (per metre travelled and per radian turned); 0 is exact.
 
 The loader checks what a run would trip over later, and names the file, the line and the field: unknown keys,
@@ -72,6 +73,7 @@ from typing import Any
 
 import yaml
 
+import vwg._core as _core
 from vwg._core import NoiseModel, RobotSettings
 from vwg.errors import SchemaError, WorldFileError
 from vwg.io.files import MAX_MAP_BYTES
@@ -156,7 +158,7 @@ class RobotWorld:
     dt: float
     seed: int
     orders: list[Order]
-    goal_tolerance: float = 0.25  # the one definition of "reached", for the robots and the summary
+    goal_tolerance: float = _core.ARobotConfig().goal_tolerance  # the one definition of "reached" (robots, summary)
     platform: PlatformSpec = field(default_factory=PlatformSpec)
     planner: str = "astar"  # the decider a run takes unless told another (--planner)
     data: dict[str, Any] = field(default_factory=dict)  # the YAML as read
@@ -497,20 +499,22 @@ def load_robot_world(path: str | Path) -> RobotWorld:
     description = doc.get(("description",), str, default="")
     grid, map_path = _load_grid(doc, base)
     # At most 100 m (a tall atrium's): views and cameras allocate by it (1e12 m was 148 TiB in vwg overview).
-    wall_height = float(doc.number(("wall_height",), 2.5, minimum=0.0, exclusive_minimum=True,
-                                   maximum=MAX_WALL_HEIGHT))
+    wall_height = float(doc.number(("wall_height",), _core.CameraSpec().wall_height, minimum=0.0,
+                                   exclusive_minimum=True, maximum=MAX_WALL_HEIGHT))
     robots = _robots(doc, grid)
     rooms = _rooms(doc, grid, wall_height, max(r.radius for r in robots))
     sensors, noise = _sensors(doc, wall_height, robots)
     frames = int(doc.number(("frames",), 3000, minimum=0, maximum=MAX_FRAMES, integer=True))
-    dt = float(doc.number(("dt",), 0.1, minimum=MIN_DT, maximum=MAX_DT))
-    seed = int(doc.number(("seed",), 0, minimum=0, maximum=MAX_SEED, integer=True))
+    engine = _core.EngineOptions()  # the defaults, and the range of dt (MIN_DT..MAX_DT, the engine's)
+    dt = float(doc.number(("dt",), engine.dt, minimum=MIN_DT, maximum=MAX_DT))
+    seed = int(doc.number(("seed",), engine.seed, minimum=0, maximum=MAX_SEED, integer=True))
     orders = _orders(doc, rooms, robots)
     platform = _platform(doc)
     planner = doc.get(("planner",), str, default="astar")
     if planner.lower() not in deciders:
         raise doc.error(("planner",), f"unknown planner {planner!r} (registered: {', '.join(deciders)})")
-    tolerance = float(doc.number(("goal_tolerance",), 0.25, minimum=0.0, exclusive_minimum=True))
+    tolerance = float(doc.number(("goal_tolerance",), _core.ARobotConfig().goal_tolerance, minimum=0.0,
+                                 exclusive_minimum=True))
     return RobotWorld(path=path, platform=platform, planner=planner, goal_tolerance=tolerance, name=name,
                       description=description, map_path=map_path, grid=grid,
                       wall_height=wall_height, rooms=rooms, robots=robots, sensors=sensors,

@@ -16,8 +16,8 @@ if TYPE_CHECKING:
 
 __all__ = ["PERIOD", "Camera"]
 
-#: gCamera looks every this many frames (detection costs milliseconds; real robots run it at a few Hz).
-PERIOD = 3
+#: How often gCamera looks by default (frames): the C++ CameraSpec's ``period``, which a world file may set.
+PERIOD: int = _core.CameraSpec().period
 
 
 class Camera(Sensor):
@@ -41,7 +41,8 @@ class Camera(Sensor):
                 return None
             source = images
         fx, fy, cx, cy = self.settings.apriltag_intrinsics()
-        return _core.CameraGenerator(source, robot, alphabet, fx, fy, cx, cy, tag_sizes=sizes, period=PERIOD)
+        return _core.CameraGenerator(source, robot, alphabet, fx, fy, cx, cy, tag_sizes=sizes,
+                                     period=self.settings.period)
 
     def describe(self) -> str:
         s = self.settings
