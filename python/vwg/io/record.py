@@ -744,10 +744,12 @@ def _check_header(path: Path, obj: dict[str, Any]) -> None:
     if not _is_int(obj["seed"], 0, 2**64 - 1):
         raise bad("seed", f"expected an integer from 0 to 2**64 - 1, got {obj['seed']!r}")
     dt = obj["dt"]  # the bounds a run takes (vwg.launch), so a record replays only what a run could make
-    try:  # the engine's range and check (vwg::check_dt); a JSON integer may be beyond a float's range
-        ok = type(dt) in (int, float) and _core.check_dt(float(dt), "dt") is None
-    except (SchemaError, OverflowError):
-        ok = False
+    ok = type(dt) in (int, float)
+    if ok:
+        try:  # the engine's range and check (vwg::check_dt); a JSON integer may be beyond a float's range
+            _core.check_dt(float(dt), "dt")
+        except (SchemaError, OverflowError):
+            ok = False
     if not ok:
         raise bad("dt", f"expected a number of seconds from {MIN_DT:g} to {MAX_DT:g}, got {dt!r}")
     if not _is_int(obj.get("frame", 0), 0, 2**62):
