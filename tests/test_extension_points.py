@@ -151,3 +151,10 @@ def test_a_run_with_a_decider_written_in_python_replays(tmp_path: Path, capsys) 
 
     gc.collect()
     assert main(["replay", str(record)]) == 0, capsys.readouterr().err
+
+
+def test_experiments_take_the_deciders_test_1_compares_by_registered_name(tmp_path: Path, capsys) -> None:
+    assert main(["experiments", str(tmp_path / "out"), "--quick", "--planner", "astar", "--planner", "dijkstra"]) == 2
+    err = capsys.readouterr().err
+    assert "--planner: unknown planner 'dijkstra' (known: astar, " in err and "wavefront" in err
+    assert not (tmp_path / "out").exists()  # refused before anything ran

@@ -255,7 +255,16 @@ def _cmd_experiments(args: argparse.Namespace) -> int:
     if args.output.exists() and not args.output.is_dir():
         raise Error(f"{args.output}: is not a folder (expected the folder to write the report in)")
     size = "quick" if args.quick else "full"
-    report = run_experiments(args.output, size, workers=args.workers, scheduler=args.scheduler, resume=args.resume,
+    config: Any = size
+    if args.planner:  # test 1 swaps these deciders (any registered, a plugin's too)
+        from vwg.experiments import CONFIGS
+
+        unknown = [p for p in args.planner if p.lower() not in deciders]
+        if unknown:
+            raise Error(f"--planner: unknown planner {unknown[0]!r} (known: {_registered(deciders)})")
+        base = CONFIGS[size]
+        config = dataclasses.replace(base, evolution=dataclasses.replace(base.evolution, planners=list(args.planner)))
+    report = run_experiments(args.output, config, workers=args.workers, scheduler=args.scheduler, resume=args.resume,
                              progress=args.progress)
     print(f"vwg experiments ({size}): {report}")
     return 0
@@ -490,6 +499,9 @@ def build_parser() -> argparse.ArgumentParser:
                                      "takes a few minutes.")
     exp.add_argument("output", type=Path, metavar="OUT_DIR", help="the folder for the report, its tables and plots")
     exp.add_argument("--quick", action="store_true", help="a small configuration (a few minutes)")
+    exp.add_argument("--planner", action="append", type=_planner_name, metavar="NAME",
+                     help=f"a decider test 1 compares, instead of its list (repeatable; registered: "
+                          f"{_registered(deciders)})")
     exp.add_argument("--resume", action="store_true",
                      help="keep the sweep cells of an earlier run in OUT_DIR/sweeps (the report says how many)")
     _dask_options(exp)
