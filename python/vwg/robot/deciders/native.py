@@ -4,51 +4,31 @@ random walk. The C++ registry holds their settings (the OMPL planners' budgets);
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import vwg._core as _core
 
 __all__ = ["astar", "astar_octile", "dstar", "jps", "jps_octile", "prm", "random", "rrtconnect", "rrtstar"]
 
 
-def astar() -> _core.Decider:
-    """A* on the robot's own grid, 8-connected, Euclidean heuristic (the paper's decision)."""
-    return _core.create_decider("astar")
+def _factory(name: str, doc: str) -> Callable[[], _core.Decider]:
+    """A factory of the C++ decider registered as `name`."""
+
+    def make() -> _core.Decider:
+        return _core.create_decider(name)
+
+    make.__name__ = make.__qualname__ = name.replace("-", "_")
+    make.__doc__ = doc
+    return make
 
 
-def astar_octile() -> _core.Decider:
-    """A* with the octile heuristic (tighter on an 8-connected grid, the same paths' lengths)."""
-    return _core.create_decider("astar-octile")
-
-
-def jps() -> _core.Decider:
-    """Jump Point Search: A*'s optimal paths, fewer expansions (Euclidean heuristic)."""
-    return _core.create_decider("jps")
-
-
-def jps_octile() -> _core.Decider:
-    """Jump Point Search with the octile heuristic."""
-    return _core.create_decider("jps-octile")
-
-
-def dstar() -> _core.Decider:
-    """D* Lite: replans incrementally as the robot's map changes."""
-    return _core.create_decider("dstar")
-
-
-def rrtconnect() -> _core.Decider:
-    """OMPL's RRT-Connect, bounded by iterations (the same run on any machine)."""
-    return _core.create_decider("rrtconnect")
-
-
-def rrtstar() -> _core.Decider:
-    """OMPL's RRT*, bounded by iterations."""
-    return _core.create_decider("rrtstar")
-
-
-def prm() -> _core.Decider:
-    """OMPL's LazyPRM, bounded by iterations."""
-    return _core.create_decider("prm")
-
-
-def random() -> _core.Decider:
-    """A random walk (the paper's baseline of a decision without a plan)."""
-    return _core.create_decider("random")
+astar = _factory("astar", "A* on the robot's own grid, 8-connected, Euclidean heuristic (the paper's decision).")
+astar_octile = _factory("astar-octile", "A* with the octile heuristic (tighter on an 8-connected grid, the same "
+                                        "paths' lengths).")
+jps = _factory("jps", "Jump Point Search: A*'s optimal paths, fewer expansions (Euclidean heuristic).")
+jps_octile = _factory("jps-octile", "Jump Point Search with the octile heuristic.")
+dstar = _factory("dstar", "D* Lite: replans incrementally as the robot's map changes.")
+rrtconnect = _factory("rrtconnect", "OMPL's RRT-Connect, bounded by iterations (the same run on any machine).")
+rrtstar = _factory("rrtstar", "OMPL's RRT*, bounded by iterations.")
+prm = _factory("prm", "OMPL's LazyPRM, bounded by iterations.")
+random = _factory("random", "A random walk (the paper's baseline of a decision without a plan).")

@@ -8,6 +8,7 @@ Every one turns its ranges into events by the same rule, REP 117's (vwg._core.la
 
 from __future__ import annotations
 
+import math
 from typing import TYPE_CHECKING, Any, ClassVar
 
 import vwg._core as _core
@@ -58,7 +59,5 @@ class Laser(Sensor):
         return None
 
     def describe(self) -> str:
-        import math
-
         s = self.settings
         return (f"{s.beams} beams over {math.degrees(s.fov):.0f}°, {s.max_range:g} m, noise {s.noise:g} m")
