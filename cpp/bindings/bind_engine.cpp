@@ -104,6 +104,38 @@ other event comes as its text. No Python object is made per event of a run.)doc"
         return out;
       }, "The blobs referred to by the strings and events of the frame, by name.");
 
+  py::class_<EngineState>(m, "EngineState", R"doc(
+What a run keeps in its engine, between frames (Engine.save_state): the frame number, the string
+w as text with the blobs it names (by name, without '@'), each generator's state and each actor
+type's behaviour's state, as bytes. vwg.resume writes and reads them in a state file.)doc")
+      .def(py::init<>())
+      .def_readwrite("frame", &EngineState::frame)
+      .def_readwrite("string", &EngineState::string, "The text form of w.")
+      .def_property("blobs", [](const EngineState& s) {
+        py::dict out;
+        for (const auto& [name, blob] : s.blobs) out[py::str(name)] = std::const_pointer_cast<Blob>(blob);
+        return out;
+      }, [](EngineState& s, py::dict blobs) {
+        BlobTable table;
+        for (auto item : blobs) {
+          const std::string key = py::str(item.first);
+          table.emplace(key, blob_from_python(item.second, "blobs['" + key + "']"));
+        }
+        s.blobs = std::move(table);
+      }, "The blobs the text names, by name.")
+      .def_property("generators", [](const EngineState& s) {
+        py::list out;
+        for (const std::string& b : s.generators) out.append(py::bytes(b));
+        return out;
+      }, [](EngineState& s, const std::vector<std::string>& v) { s.generators = v; },
+      "Each generator's saved state, in priority order.")
+      .def_property("actors", [](const EngineState& s) {
+        py::list out;
+        for (const auto& [name, b] : s.actors) out.append(py::make_tuple(name, py::bytes(b)));
+        return out;
+      }, [](EngineState& s, const std::vector<std::pair<std::string, std::string>>& v) { s.actors = v; },
+      "(actor type, its behaviour's saved state) for each actor type that has a behaviour.");
+
   py::class_<PyEngine>(m, "Engine", R"doc(
 The system algorithm (paper §II.D). Each frame: S = the generators' events in priority order,
 w_next = η(w, S), v = π(w, Z), φ(v) on the backend, w = w_next. A frame is all or nothing: if λ, θ,
@@ -194,6 +226,14 @@ vwg.FrameError naming the frame, the stage, the actor and the event.)doc")
         return e.engine->string_copy();
       }, "The current string w (a copy, taken between frames: safe from any thread).")
       .def("set_string", [](PyEngine& e, const WorldString& w) { e.engine->set_string(w); }, py::arg("w"))
+      .def("save_state", [](PyEngine& e) {
+        py::gil_scoped_release release;  // the generators' and behaviours' own methods take it when they are Python's
+        return e.engine->save_state();
+      }, "The run's state between frames (vwg.EngineState); the platform keeps its own.")
+      .def("load_state", [](PyEngine& e, const EngineState& state) {
+        py::gil_scoped_release release;
+        e.engine->load_state(state);
+      }, py::arg("state"), "Go on from a saved state (an engine made as the saved one was).")
       .def_property_readonly("frame", [](const PyEngine& e) { return e.engine->frame(); }, "Frames completed so far (t).")
       .def_property_readonly("time", [](const PyEngine& e) { return e.engine->time(); }, "Simulated seconds: frame * dt.")
       .def_property_readonly("dt", [](const PyEngine& e) { return e.engine->options().dt; })

@@ -62,7 +62,9 @@ limits, stepped at the fixed time step of `settings`.)doc")
       .def("drive", &sim::PhysicsWorld::drive, py::arg("robot"), py::arg("speed"), py::arg("turn_rate"),
            "Hold the robot at these velocities (m/s, rad/s) from now on, as a base driven by velocity commands "
            "(a fake robot behind a link); its plan is dropped, and the next command() ends it.")
-      .def_property_readonly("wall_shapes", &sim::PhysicsWorld::wall_shapes, "Rectangles the walls were merged into.");
+      .def_property_readonly("wall_shapes", &sim::PhysicsWorld::wall_shapes, "Rectangles the walls were merged into.")
+      .def_property_readonly("journal_bytes", &sim::PhysicsWorld::journal_bytes,
+                             "Bytes of its journal: every call made to it, which its saved state holds.");
 
   py::class_<BackendGroup, Backend, std::shared_ptr<BackendGroup>>(m, "BackendGroup",
       "Several backends as one: every call goes to each, in order (e.g. the simulator, then a renderer).")

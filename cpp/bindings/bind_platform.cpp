@@ -80,6 +80,22 @@ class PyRobotPlatform final : public RobotPlatform {
   }
   double time() const override { PYBIND11_OVERRIDE_PURE(double, RobotPlatform, time, ); }
   std::string name() const override { PYBIND11_OVERRIDE_PURE(std::string, RobotPlatform, name, ); }
+  /// A Python platform is saved only by its own save_state(self) -> bytes and load_state(self, data).
+  void save_state(StateWriter& out) const override {
+    py::gil_scoped_acquire gil;
+    py::function fn = py::get_override(static_cast<const RobotPlatform*>(this), "save_state");
+    if (!fn) RobotPlatform::save_state(out);
+    const std::string bytes = fn().cast<std::string>();
+    out.raw(bytes.data(), bytes.size());
+  }
+  void load_state(StateReader& in) override {
+    py::gil_scoped_acquire gil;
+    py::function fn = py::get_override(static_cast<const RobotPlatform*>(this), "load_state");
+    if (!fn) RobotPlatform::load_state(in);
+    std::string bytes(in.left(), '\0');
+    in.raw(bytes.data(), bytes.size(), "the state");
+    fn(py::bytes(bytes));
+  }
 
  private:
   mutable std::vector<RobotState> robots_;
@@ -218,7 +234,22 @@ robots() -> list of RobotState, take_collisions() -> list of Collision, time() a
       .def("robot", &RobotPlatform::robot, py::arg("id"), py::return_value_policy::copy)
       .def("take_collisions", &RobotPlatform::take_collisions, "The collisions since the last call.")
       .def("time", &RobotPlatform::time, "The platform's clock, seconds.")
-      .def("name", &RobotPlatform::name);
+      .def("name", &RobotPlatform::name)
+      .def("save_state", [](const RobotPlatform& p) {
+        StateWriter out;
+        {
+          py::gil_scoped_release release;
+          p.save_state(out);
+        }
+        return py::bytes(out.bytes());
+      }, "Everything that decides what the platform does next, as bytes (a saved run); a real robot's "
+         "platform refuses. A Python platform may define save_state(self) -> bytes and load_state(self, data).")
+      .def("load_state", [](RobotPlatform& p, const py::bytes& data) {
+        const std::string bytes = data;
+        StateReader in(bytes, "platform " + p.name());
+        py::gil_scoped_release release;
+        p.load_state(in);
+      }, py::arg("data"), "Back to what save_state() returned, on a platform made as the saved one was.");
 
   py::class_<platform::MotionBackend, Backend, std::shared_ptr<platform::MotionBackend>>(m, "MotionBackend", R"doc(
 φ on a robot platform (paper Table I): α(Robot<id>) commands robot `id` with the Move<d> and

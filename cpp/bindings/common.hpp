@@ -51,6 +51,14 @@ py::class_<Options...> declared_class(py::module_& m, const char* name, const ch
   return cls;
 }
 
+// --- saved runs (vwg/state.hpp) ---
+/// The state of a generator or decider written in Python: its save_state() if its class defines
+/// one (bytes), else its attributes as vwg.model.state.capture() writes them (refused, naming the
+/// attribute, when one is of a kind it cannot keep). `what` names it in errors ("generator food_drops").
+void save_python_state(py::handle self, StateWriter& out, const std::string& what);
+/// Back: its load_state(data) if its class defines one, else vwg.model.state.restore().
+void load_python_state(py::handle self, StateReader& in, const std::string& what);
+
 // --- values ---
 /// A Python value as a Datum of the kind `spec` declares (or inferred when `spec` is null).
 /// Raises vwg::SchemaError naming `field` when it does not fit.

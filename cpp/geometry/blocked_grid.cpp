@@ -68,4 +68,29 @@ void BlockedGrid::check_mask_size(std::size_t size) const {
   }
 }
 
+void BlockedGrid::save(StateWriter& out) const {
+  out.i64(rows_);
+  out.i64(cols_);
+  // The inside only (the border is always blocked), a row at a time.
+  for (int r = 0; r < rows_; ++r) out.raw(cells_.data() + index({r, 0}), static_cast<std::size_t>(cols_));
+}
+
+BlockedGrid BlockedGrid::load(StateReader& in) {
+  const std::int64_t rows = in.i64(), cols = in.i64();
+  if (rows < 0 || cols < 0 || rows > std::numeric_limits<std::int32_t>::max() || cols > std::numeric_limits<std::int32_t>::max() ||
+      (cols > 0 && static_cast<std::uint64_t>(rows) > in.left() / static_cast<std::uint64_t>(cols))) {
+    in.fail("a grid of " + std::to_string(rows) + " × " + std::to_string(cols) + " cells, more than the state holds");
+  }
+  BlockedGrid grid(static_cast<int>(rows), static_cast<int>(cols));
+  std::vector<std::uint8_t> row(static_cast<std::size_t>(cols));
+  for (int r = 0; r < grid.rows_; ++r) {
+    in.raw(row.data(), row.size(), "grid cells");
+    for (int c = 0; c < grid.cols_; ++c) {
+      if (row[c] > 1) in.fail("a grid cell that is neither free (0) nor blocked (1)");
+      if (row[c]) grid.cells_.set(static_cast<std::size_t>(grid.index({r, c})), 1);
+    }
+  }
+  return grid;
+}
+
 }  // namespace vwg::geometry

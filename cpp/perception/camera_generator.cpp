@@ -44,4 +44,11 @@ void CameraGenerator::generate(const FrameInfo& frame, EventList& out) {
   }
 }
 
+void CameraGenerator::save_state(StateWriter&) const {
+  if (!source_->stateless()) {
+    throw SchemaError(name(), "cannot be saved: its images come from " + source_->name() +
+                                  ", read in order (a saved run needs a simulated camera)");
+  }
+}
+
 }  // namespace vwg::perception

@@ -20,4 +20,14 @@ std::variant<DStarLiteSearch<ExactKeys>, DStarLiteSearch<RealKeys>> make_search(
 DStarLite::DStarLite(BlockedGrid grid, Cell start, Cell goal, const GridSearchOptions& options)
     : search_(make_search(std::move(grid), start, goal, options)) {}
 
+void DStarLite::save(StateWriter& out) const {
+  out.boolean(exact());
+  std::visit([&](const auto& s) { s.save(out); }, search_);
+}
+
+DStarLite DStarLite::load(StateReader& in) {
+  if (in.boolean()) return DStarLite(DStarLiteSearch<ExactKeys>::load(in));
+  return DStarLite(DStarLiteSearch<RealKeys>::load(in));
+}
+
 }  // namespace vwg::plan

@@ -32,6 +32,81 @@ DStarLiteSearch<Keys>::DStarLiteSearch(BlockedGrid grid, Cell start, Cell goal, 
 }
 
 template <class Keys>
+void DStarLiteSearch<Keys>::save(StateWriter& out) const {
+  grid_.save(out);
+  out.boolean(options_.diagonal);
+  out.boolean(options_.corner_cutting);
+  out.u8(static_cast<std::uint8_t>(options_.heuristic));
+  for (const std::int32_t v : {start_.row, start_.col, goal_.row, goal_.col, start_node_, goal_node_, last_node_}) out.i64(v);
+  out.f64(static_cast<double>(km_));  // a double holds every Cost exactly (a double, or 32 bits)
+  g_.save(out);
+  rhs_.save(out);
+  slot_.save(out);
+  out.u64(queue_.size());
+  for (const Entry& e : queue_) {  // field by field: Entry has padding
+    out.u64(static_cast<std::uint64_t>(e.order));
+    if constexpr (sizeof(Order) > 8) out.u64(static_cast<std::uint64_t>(e.order >> 64));
+    out.i64(e.node);
+  }
+  out.u64(expanded_);
+  out.boolean(dive_);
+  out.boolean(exact_keys_);
+}
+
+template <class Keys>
+DStarLiteSearch<Keys> DStarLiteSearch<Keys>::load(StateReader& in) {
+  DStarLiteSearch s;
+  s.grid_ = BlockedGrid::load(in);
+  s.options_.diagonal = in.boolean();
+  s.options_.corner_cutting = in.boolean();
+  const std::uint8_t heuristic = in.u8();
+  if (heuristic > static_cast<std::uint8_t>(Heuristic::Zero)) in.fail("a heuristic of unknown kind");
+  s.options_.heuristic = static_cast<Heuristic>(heuristic);
+  const std::size_t n = s.grid_.padded().size();
+  auto node = [&] {
+    const std::int64_t v = in.i64();
+    if (v < 0 || static_cast<std::uint64_t>(v) >= n) in.fail("a search node outside the grid");
+    return static_cast<std::int32_t>(v);
+  };
+  auto cell = [&] {
+    const std::int64_t row = in.i64(), col = in.i64();
+    const Cell c{static_cast<int>(row), static_cast<int>(col)};
+    if (row != c.row || col != c.col || !s.grid_.inside(c)) in.fail("a cell outside the grid");
+    return c;
+  };
+  s.start_ = cell();
+  s.goal_ = cell();
+  s.start_node_ = node();
+  s.goal_node_ = node();
+  s.last_node_ = node();
+  s.km_ = static_cast<Cost>(in.f64());
+  s.g_ = FilledArray<Cost>::load(in, n);
+  s.rhs_ = FilledArray<Cost>::load(in, n);
+  s.slot_ = FilledArray<std::uint32_t>::load(in, n);
+  s.queue_.resize(in.count(sizeof(Order) + 8, "queue entries"));
+  for (Entry& e : s.queue_) {
+    const std::uint64_t low = in.u64();
+    if constexpr (sizeof(Order) > 8) {
+      e.order = (static_cast<Order>(in.u64()) << 64) | low;
+    } else {
+      e.order = static_cast<Order>(low);
+    }
+    e.node = node();
+  }
+  // Every queued node knows its place, and no other node claims one (the heap's operations index by both).
+  for (std::size_t k = 0; k < s.queue_.size(); ++k) {
+    if (s.slot_[static_cast<std::size_t>(s.queue_[k].node)] != k) in.fail("a queue whose positions disagree");
+  }
+  std::size_t queued = 0;
+  for (std::size_t i = 0; i < n; ++i) queued += s.slot_[i] != kNotQueued;
+  if (queued != s.queue_.size()) in.fail("a queue whose positions disagree");
+  s.expanded_ = in.u64();
+  s.dive_ = in.boolean();
+  s.exact_keys_ = in.boolean();
+  return s;
+}
+
+template <class Keys>
 typename DStarLiteSearch<Keys>::Cost DStarLiteSearch<Keys>::heuristic_from_start(std::int32_t node) const {
   const std::int32_t s = grid_.stride();
   return Keys::heuristic(options_.heuristic, node / s - start_node_ / s, node % s - start_node_ % s);

@@ -48,4 +48,11 @@ const RobotState& RobotPlatform::robot(int id) const {
   throw SchemaError("robot", "no robot " + std::to_string(id) + " on the " + name() + " platform");
 }
 
+void RobotPlatform::save_state(StateWriter&) const {
+  throw SchemaError("platform " + name(), "cannot be saved: a run on it cannot be resumed (a real robot's state is "
+                                          "the robot itself; the simulator's can be)");
+}
+
+void RobotPlatform::load_state(StateReader& in) { in.fail("the platform " + name() + " cannot load a saved state"); }
+
 }  // namespace vwg::platform

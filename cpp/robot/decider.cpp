@@ -71,4 +71,11 @@ bool follow_path(const DecisionInput& in_, std::span<const double> path, Decisio
   return true;
 }
 
+void Decider::save_state(StateWriter&) const {
+  throw SchemaError("decider " + name(), "cannot be saved: it does not say what it keeps between decisions "
+                                         "(override save_state and load_state)");
+}
+
+void Decider::load_state(StateReader& in) { in.fail("the decider " + name() + " does not say how to load a state"); }
+
 }  // namespace vwg::robot

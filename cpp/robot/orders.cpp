@@ -1,5 +1,7 @@
 #include "vwg/robot/orders.hpp"
 
+#include <limits>
+
 #include "vwg/error.hpp"
 
 namespace vwg::robot {
@@ -74,6 +76,58 @@ bool ArrivalCondition::done(const WorldString& w, std::uint64_t frame) {
     ++arrived;
   }
   return arrived == last.size();  // a robot that was sent somewhere and has gone has not arrived
+}
+
+void OrderGenerator::save_state(StateWriter& out) const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  out.u64(script_.size());
+  for (const auto& [frame, order] : script_) {
+    out.u64(frame);
+    out.i64(order.first);
+    out.i64(order.second);
+  }
+  out.u64(live_.size());
+  for (const auto& [robot, marker] : live_) {
+    out.i64(robot);
+    out.i64(marker);
+  }
+  out.u64(given_);
+  out.u64(last_.size());
+  for (const auto& [robot, marker] : last_) {
+    out.i64(robot);
+    out.i64(marker);
+  }
+}
+
+void OrderGenerator::load_state(StateReader& in) {
+  auto read_int = [&] {
+    const std::int64_t v = in.i64();
+    if (v < std::numeric_limits<int>::min() || v > std::numeric_limits<int>::max()) in.fail("a robot or marker out of range");
+    return static_cast<int>(v);
+  };
+  std::multimap<std::uint64_t, std::pair<int, int>> script;
+  for (std::size_t n = in.count(24, "scripted orders"); n > 0; --n) {
+    const std::uint64_t frame = in.u64();
+    const int robot = read_int();
+    script.emplace(frame, std::pair{robot, read_int()});
+  }
+  std::deque<std::pair<int, int>> live;
+  for (std::size_t n = in.count(16, "orders given"); n > 0; --n) {
+    const int robot = read_int();
+    live.emplace_back(robot, read_int());
+  }
+  const std::uint64_t given = in.u64();
+  std::map<int, int> last;
+  for (std::size_t n = in.count(16, "orders sent"); n > 0; --n) {
+    const int robot = read_int();
+    last[robot] = read_int();
+  }
+  in.end();
+  const std::lock_guard<std::mutex> lock(mutex_);
+  script_ = std::move(script);
+  live_ = std::move(live);
+  given_ = given;
+  last_ = std::move(last);
 }
 
 }  // namespace vwg::robot

@@ -127,6 +127,30 @@ bool NoWayMemo::shut(const geometry::BlockedGrid& grid, geometry::Cell start, ge
   return true;
 }
 
+void NoWayMemo::save(StateWriter& out) const {
+  out.boolean(known_);
+  out.i64(rows_);
+  out.i64(cols_);
+  out.pods(side_);
+  out.pods(border_);
+}
+
+void NoWayMemo::load(StateReader& in) {
+  NoWayMemo m;
+  m.known_ = in.boolean();
+  const std::int64_t rows = in.i64(), cols = in.i64();
+  m.side_ = in.pods<std::uint64_t>();
+  m.border_ = in.pods<std::int32_t>();
+  if (rows < 0 || cols < 0 || rows > (1 << 30) || cols > (1 << 30)) in.fail("a memo of a grid of impossible size");
+  m.rows_ = static_cast<int>(rows), m.cols_ = static_cast<int>(cols);
+  const std::uint64_t nodes = static_cast<std::uint64_t>(rows + 2) * static_cast<std::uint64_t>(cols + 2);
+  if (m.known_ && m.side_.size() != (nodes + 63) / 64) in.fail("a memo whose side is not the size of its grid");
+  for (const std::int32_t node : m.border_) {
+    if (node < 0 || static_cast<std::uint64_t>(node) >= nodes) in.fail("a memo with a cell outside its grid");
+  }
+  *this = std::move(m);
+}
+
 GridDecider::GridDecider(Algorithm algorithm, plan::Heuristic heuristic) : algorithm_(algorithm) {
   options_.heuristic = heuristic;
   plan::validate(options_);
@@ -148,6 +172,38 @@ double GridDecider::search_seconds() const {
 std::size_t GridDecider::searches() const {
   const std::lock_guard<std::mutex> lock(mutex_);
   return stats_.searches;
+}
+
+void GridDecider::save_state(StateWriter& out) const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  out.text(name());
+  out.u64(robots_.size());
+  for (const auto& [robot, s] : robots_) {
+    out.i64(robot);
+    s.map.save(out);
+    out.boolean(s.dstar.has_value());
+    if (s.dstar) s.dstar->save(out);
+    out.i64(s.goal.row);
+    out.i64(s.goal.col);
+    s.no_way.save(out);
+  }
+}
+
+void GridDecider::load_state(StateReader& in) {
+  if (const std::string saved = in.text(); saved != name()) in.fail("saved by the decider " + saved + ", not " + name());
+  std::map<std::int64_t, RobotState> robots;
+  for (std::size_t n = in.count(1, "robots"); n > 0; --n) {
+    RobotState& s = robots[in.i64()];
+    s.map.load(in);
+    if (in.boolean()) s.dstar.emplace(plan::DStarLite::load(in));
+    const std::int64_t row = in.i64(), col = in.i64();
+    if (row < -1 || col < -1 || row > (1 << 30) || col > (1 << 30)) in.fail("a goal cell out of range");
+    s.goal = {static_cast<int>(row), static_cast<int>(col)};
+    s.no_way.load(in);
+  }
+  in.end();
+  const std::lock_guard<std::mutex> lock(mutex_);
+  robots_ = std::move(robots);
 }
 
 GridDecider::RobotState& GridDecider::state_of(std::int64_t robot) {
@@ -250,6 +306,23 @@ OmplDecider::OmplDecider(std::string planner, unsigned iterations) : planner_(st
                                  "use LazyPRM (single-threaded)");
   }
   if (iterations_ == 0) throw SchemaError("iterations", "expected an iteration budget > 0");
+}
+
+void OmplDecider::save_state(StateWriter& out) const {
+  out.text(planner_);
+  out.u64(maps_.size());
+  for (const auto& [robot, map] : maps_) {
+    out.i64(robot);
+    map.save(out);
+  }
+}
+
+void OmplDecider::load_state(StateReader& in) {
+  if (const std::string saved = in.text(); saved != planner_) in.fail("saved by the decider " + saved + ", not " + planner_);
+  std::map<std::int64_t, PlanningMap> maps;
+  for (std::size_t n = in.count(1, "robots"); n > 0; --n) maps[in.i64()].load(in);
+  in.end();
+  maps_ = std::move(maps);
 }
 
 Decision OmplDecider::decide(const DecisionInput& in) {

@@ -17,10 +17,30 @@ bool planning_obstacle(std::int16_t v) { return is_obstacle(v) || v == kUnknownC
 }  // namespace
 
 void PlanningMap::rebuild(std::span<const std::int16_t> cells, const geometry::MapGeometry& g, double radius) {
-  const int rows = g.height, cols = g.width;
-  const double rc = radius / g.resolution;
   std::vector<std::uint8_t> mask(cells.size());
   for (std::size_t i = 0; i < cells.size(); ++i) mask[i] = planning_obstacle(cells[i]);
+  rebuild_mask(std::move(mask), g, radius);
+}
+
+void PlanningMap::save(StateWriter& out) const {
+  const bool pending = loaded_.has_value();  // loaded and not yet brought up to a map
+  out.f64(pending ? loaded_radius_ : radius_);
+  (pending ? *loaded_ : obstacles_).save(out);
+}
+
+void PlanningMap::load(StateReader& in) {
+  const double radius = in.f64();
+  geometry::BlockedGrid obstacles = geometry::BlockedGrid::load(in);
+  if (radius != -1.0 && (!(radius >= 0.0) || !std::isfinite(radius))) in.fail("a planning radius that is not a finite number >= 0");
+  *this = PlanningMap();
+  if (radius < 0.0) return;  // saved before its first update
+  loaded_ = std::move(obstacles);
+  loaded_radius_ = radius;
+}
+
+void PlanningMap::rebuild_mask(std::vector<std::uint8_t> mask, const geometry::MapGeometry& g, double radius) {
+  const int rows = g.height, cols = g.width;
+  const double rc = radius / g.resolution;
   obstacles_ = geometry::BlockedGrid::from_mask(std::span<const std::uint8_t>(mask), rows, cols);
   radius_ = radius;
   // The disc of geometry::inflate; per row offset it is one run of columns [-w, w].
@@ -132,6 +152,18 @@ bool PlanningMap::follow_all(std::span<const std::int16_t> cells, int cols) {
 bool PlanningMap::update(const Blob& map, const geometry::MapGeometry& g, double radius) {
   check_robot_map(map, g);
   const auto cells = map.view<std::int16_t>();
+  if (loaded_) {  // a saved run's grids, made now that the geometry is known; then compared with the map
+    std::optional<geometry::BlockedGrid> saved;
+    saved.swap(loaded_);
+    if (saved->rows() == g.height && saved->cols() == g.width) {
+      std::vector<std::uint8_t> mask(static_cast<std::size_t>(g.height) * g.width);
+      for (int r = 0; r < g.height; ++r) {
+        for (int c = 0; c < g.width; ++c) mask[static_cast<std::size_t>(r) * g.width + c] = saved->blocked({r, c});
+      }
+      rebuild_mask(std::move(mask), g, loaded_radius_);
+      looked_ = Blob::Mark{};  // of no revision: the map is compared cell by cell
+    }
+  }
   const Blob::Mark then = looked_;
   bool changed = false;
   if (radius != radius_ || obstacles_.rows() != g.height || obstacles_.cols() != g.width) {

@@ -3,12 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <limits>
 #include <string>
 #include <utility>
 
 #include <box2d/box2d.h>
 
 #include "vwg/error.hpp"
+#include "vwg/hash.hpp"
 #include "vwg/text.hpp"
 #include "vwg/geometry/pose.hpp"
 
@@ -17,6 +19,50 @@ namespace vwg::sim {
 namespace {
 
 constexpr std::uintptr_t kWallTag = 0;  // fixture user data of walls; robots store their id (>= 1)
+
+// The journal's entries (save_state): one byte saying which call, then its arguments.
+enum Op : std::uint8_t { kAddRobot = 1, kRemoveRobot, kCommand, kDrive, kAdvance, kTakeCollisions };
+constexpr std::uint64_t kJournalFormat = 1;
+
+void write_robot(StateWriter& out, const RobotSettings& rs) {
+  out.i64(rs.id);
+  for (double v : {rs.start.x, rs.start.y, rs.start.theta, rs.radius, rs.limits.max_speed, rs.limits.max_turn_rate,
+                   rs.limits.max_accel, rs.limits.max_turn_accel}) {
+    out.f64(v);
+  }
+  out.u64(rs.sensors.size());
+  for (const std::string& sensor : rs.sensors) out.text(sensor);
+}
+
+RobotSettings read_robot(StateReader& in) {
+  RobotSettings rs;
+  const std::int64_t id = in.i64();
+  if (id < 1 || id > std::numeric_limits<int>::max()) in.fail("a robot id out of range: " + std::to_string(id));
+  rs.id = static_cast<int>(id);
+  for (double* v : {&rs.start.x, &rs.start.y, &rs.start.theta, &rs.radius, &rs.limits.max_speed, &rs.limits.max_turn_rate,
+                    &rs.limits.max_accel, &rs.limits.max_turn_accel}) {
+    *v = in.f64();
+  }
+  rs.sensors.resize(in.count(8, "sensors"));
+  for (std::string& sensor : rs.sensors) sensor = in.text();
+  return rs;
+}
+
+std::uint64_t fingerprint_of(const OccupancyGrid& grid, std::span<const RobotSettings> robots, const PhysicsSettings& s) {
+  StateWriter out;
+  out.i64(grid.width);
+  out.i64(grid.height);
+  for (double v : {grid.resolution, grid.origin.x, grid.origin.y, grid.origin.theta, s.step, s.noise.motors, s.noise.odometry}) {
+    out.f64(v);
+  }
+  for (std::int64_t v : {std::int64_t{s.velocity_iterations}, std::int64_t{s.position_iterations},
+                         std::int64_t{s.obstacle_threshold}, std::int64_t{s.walls_at_border}}) {
+    out.i64(v);
+  }
+  out.u64(s.seed);
+  for (const RobotSettings& rs : robots) write_robot(out, rs);
+  return hash_combine(hash_bytes(grid.data.data(), grid.data.size()), hash_bytes(out.bytes().data(), out.bytes().size()));
+}
 
 }  // namespace
 
@@ -160,11 +206,14 @@ PhysicsWorld::PhysicsWorld(const OccupancyGrid& grid, std::span<const RobotSetti
   states_.reserve(robots.size());
   for (const RobotSettings& rs : robots) add_body(rs);
   disc_index_.rebuild(discs_);  // once for all of them
+  fingerprint_ = fingerprint_of(grid_, robots, settings_);
 }
 
 void PhysicsWorld::add_robot(const RobotSettings& rs) {
   add_body(rs);
   disc_index_.rebuild(discs_);
+  journal_.u8(kAddRobot);
+  write_robot(journal_, rs);
 }
 
 void PhysicsWorld::add_body(const RobotSettings& rs) {
@@ -230,6 +279,8 @@ void PhysicsWorld::remove_robot(int id) {
   disc_index_.rebuild(discs_);
   index_.erase(id);
   for (auto& [other, k] : index_) k -= k > i ? 1 : 0;
+  journal_.u8(kRemoveRobot);
+  journal_.i64(id);
 }
 
 std::size_t PhysicsWorld::index_of(int id) const {
@@ -252,6 +303,13 @@ void PhysicsWorld::command(int robot, std::vector<MotionStep> plan) {
   for (const MotionStep& s : plan) {
     if (!std::isfinite(s.amount)) throw SchemaError("robot " + std::to_string(robot) + " command", "non-finite amount");
   }
+  journal_.u8(kCommand);
+  journal_.i64(robot);
+  journal_.u64(plan.size());
+  for (const MotionStep& s : plan) {
+    journal_.u8(s.kind);
+    journal_.f64(s.amount);
+  }
   // The motors' error: each step is executed as amount·(1 + N(0, motors²)) (the follower, closed
   // on the true pose, then carries out the wrong amount faithfully).
   if (settings_.noise.motors > 0.0) {
@@ -270,6 +328,10 @@ void PhysicsWorld::drive(int robot, double speed, double turn_rate) {
     throw SchemaError("robot " + std::to_string(robot) + " drive", "expected finite velocities");
   }
   Robot& r = find(robot);
+  journal_.u8(kDrive);
+  journal_.i64(robot);
+  journal_.f64(speed);
+  journal_.f64(turn_rate);
   r.follower.stop();
   r.driven = true;
   r.held = {speed, turn_rate};
@@ -287,6 +349,8 @@ void PhysicsWorld::step_robot(Robot& r, const RobotState& state, double dt) {
 
 void PhysicsWorld::advance(double seconds) {
   if (!std::isfinite(seconds) || seconds < 0.0) throw SchemaError("advance", "expected a finite time >= 0");
+  journal_.u8(kAdvance);
+  journal_.f64(seconds);
   const double dt = settings_.step;
   const double total = pending_ + seconds;
   const auto steps = static_cast<std::int64_t>(std::floor(total / dt + 1e-9));
@@ -348,6 +412,68 @@ void PhysicsWorld::advance(double seconds) {
   }
 }
 
-std::vector<Collision> PhysicsWorld::take_collisions() { return std::exchange(collisions_, {}); }
+std::vector<Collision> PhysicsWorld::take_collisions() {
+  journal_.u8(kTakeCollisions);
+  return std::exchange(collisions_, {});
+}
+
+void PhysicsWorld::save_state(StateWriter& out) const {
+  out.u64(kJournalFormat);
+  out.u64(fingerprint_);
+  out.text(journal_.bytes());
+}
+
+void PhysicsWorld::load_state(StateReader& in) {
+  if (const std::uint64_t format = in.u64(); format != kJournalFormat) {
+    in.fail("a simulator journal of format " + std::to_string(format) + "; this vwg reads format " +
+            std::to_string(kJournalFormat));
+  }
+  if (in.u64() != fingerprint_) {
+    in.fail("saved by a simulator of another map, settings or robots than this one");
+  }
+  const std::string journal = in.text();
+  in.end();
+  const std::string& done = journal_.bytes();
+  if (journal.size() < done.size() || journal.compare(0, done.size(), done) != 0) {
+    in.fail("this simulator has already been used in another way than the saved one (load a state into a new one)");
+  }
+  // The rest, call by call: the same calls give the same bits (and journal themselves again).
+  StateReader ops(std::string_view(journal).substr(done.size()), in.part() + " journal");
+  while (ops.left() > 0) {
+    switch (ops.u8()) {
+      case kAddRobot:
+        add_robot(read_robot(ops));
+        break;
+      case kRemoveRobot:
+        remove_robot(static_cast<int>(ops.i64()));
+        break;
+      case kCommand: {
+        const std::int64_t robot = ops.i64();
+        std::vector<MotionStep> plan(ops.count(9, "motion steps"));
+        for (MotionStep& step : plan) {
+          const std::uint8_t kind = ops.u8();
+          if (kind > MotionStep::Drive) ops.fail("a motion step of unknown kind " + std::to_string(kind));
+          step = MotionStep{static_cast<MotionStep::Kind>(kind), ops.f64()};
+        }
+        command(static_cast<int>(robot), std::move(plan));
+        break;
+      }
+      case kDrive: {
+        const std::int64_t robot = ops.i64();
+        const double speed = ops.f64();
+        drive(static_cast<int>(robot), speed, ops.f64());
+        break;
+      }
+      case kAdvance:
+        advance(ops.f64());
+        break;
+      case kTakeCollisions:
+        take_collisions();
+        break;
+      default:
+        ops.fail("an entry of unknown kind");
+    }
+  }
+}
 
 }  // namespace vwg::sim

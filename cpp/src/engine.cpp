@@ -130,6 +130,74 @@ void Engine::set_string(WorldString w) {
   w_ = std::move(w);
 }
 
+EngineState Engine::save_state() const {
+  if (user_.load() == std::this_thread::get_id()) {
+    throw Error("Engine.save_state: called during a frame of the same engine; save between frames");
+  }
+  const Between between(*this);
+  EngineState state;
+  state.frame = frame();
+  state.string = to_text(w_);
+  const ValueStore& store = w_.store();
+  for (const Node& node : w_.nodes()) {
+    if (node.kind == NodeKind::Close) continue;
+    for (std::uint32_t k = 0; k < node.value_count; ++k) {
+      const Value& v = store[node.first_value + k];
+      if (v.kind != ValueKind::Blob) continue;
+      const std::shared_ptr<const Blob>& blob = store.blob(v);
+      state.blobs.try_emplace(blob_name(*blob).substr(1), blob);  // the table's names have no '@'
+    }
+  }
+  for (const auto& g : generators_) {
+    StateWriter out;
+    g->save_state(out);
+    state.generators.push_back(out.take());
+  }
+  for (std::size_t id = 0; id < alphabet_->symbol_count(); ++id) {
+    const SymbolInfo& info = alphabet_->symbol(static_cast<SymbolId>(id));
+    if (!info.behavior) continue;
+    StateWriter out;
+    info.behavior->save_state(out);
+    state.actors.emplace_back(info.name, out.take());
+  }
+  return state;
+}
+
+void Engine::load_state(const EngineState& state) {
+  const Use use(*this, "load_state");
+  if (state.generators.size() != generators_.size()) {
+    throw SchemaError("state.generators", "the saved run had " + std::to_string(state.generators.size()) +
+                                              " generators; this one has " + std::to_string(generators_.size()));
+  }
+  WorldString w = parse_string(alphabet_, state.string, "<saved string>", &state.blobs);
+  std::vector<std::shared_ptr<ActorBehavior>> behaviors;
+  for (std::size_t id = 0; id < alphabet_->symbol_count(); ++id) {
+    const SymbolInfo& info = alphabet_->symbol(static_cast<SymbolId>(id));
+    if (info.behavior) behaviors.push_back(info.behavior);
+  }
+  if (state.actors.size() != behaviors.size()) {
+    throw SchemaError("state.actors", "the saved run had " + std::to_string(state.actors.size()) +
+                                          " actor types with a behaviour; this one has " + std::to_string(behaviors.size()));
+  }
+  for (std::size_t k = 0; k < generators_.size(); ++k) {
+    StateReader in(state.generators[k], "state.generators[" + std::to_string(k) + "] (" + generators_[k]->name() + ")");
+    generators_[k]->load_state(in);
+  }
+  std::size_t b = 0;
+  for (std::size_t id = 0; id < alphabet_->symbol_count(); ++id) {
+    const SymbolInfo& info = alphabet_->symbol(static_cast<SymbolId>(id));
+    if (!info.behavior) continue;
+    const auto& [name, bytes] = state.actors[b++];
+    if (name != info.name) throw SchemaError("state.actors", "expected the actor type " + info.name + ", found " + name);
+    StateReader in(bytes, "state.actors." + name);
+    info.behavior->load_state(in);
+  }
+  const auto lock = lock_state();
+  w_ = std::move(w);
+  frame_.store(state.frame, std::memory_order_release);
+  last_events_.clear();
+}
+
 EventList Engine::collect_events() {
   const Use use(*this, "collect_events");
   EventList events(w_.alphabet_ptr());

@@ -29,4 +29,13 @@ void EveryFrameGenerator::generate(const FrameInfo&, EventList& out) { out.emit(
 
 std::string EveryFrameGenerator::name() const { return name_; }
 
+void Generator::save_state(StateWriter&) const {
+  throw SchemaError(name(), "cannot be saved: the generator does not say what it keeps (override save_state and "
+                            "load_state; one that keeps nothing writes nothing)");
+}
+
+void Generator::load_state(StateReader& in) {
+  in.fail("the generator " + name() + " does not say how to load a state");
+}
+
 }  // namespace vwg

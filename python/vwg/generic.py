@@ -43,6 +43,7 @@ from vwg.model.generators import Schedule, every_frame, resolve_generators
 from vwg.model.limits import MAX_DT, MAX_FRAMES, MAX_SEED, MAX_TIME, MIN_DT
 from vwg.model.world import Alphabet, World
 from vwg.plugins import backends
+from vwg.saved_run import save_state
 from vwg.plugins import generators as generator_registry
 
 __all__ = ["GenericKind", "WorldSpec", "build_world", "load_object", "load_world", "replay", "world_of_record"]
@@ -257,6 +258,11 @@ class GenericRun:
                    "simulated_time_s": self.engine.time, "wall_time_s": wall, "seed": self.spec.seed,
                    "symbols": len(w), "actors": w.actor_count}
         return Outcome(self.spec.name, rows, summary)
+
+    def save_state(self, path: str | Path | None = None) -> bytes:
+        """The run's state after its last whole frame (vwg.saved_run): the string and what its generators
+        keep; written to `path` when given."""
+        return save_state(self, path)
 
     def close(self) -> None:
         # A backend that writes files (a video) finishes them in its finish(), if it has one

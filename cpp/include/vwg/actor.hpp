@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "vwg/alphabet.hpp"
+#include "vwg/state.hpp"
 #include "vwg/blob_edit.hpp"
 #include "vwg/event.hpp"
 #include "vwg/value.hpp"
@@ -181,6 +182,13 @@ class ActorBehavior {
                           const EvolutionContext& ctx, Replacement& out) {
     for (const std::uint32_t i : at) evolve(self, events[i], ctx, out);
   }
+
+  /// What λ keeps outside the string that decides anything (a decider's searches), for a saved run
+  /// (vwg/state.hpp). The paper's actor keeps its state in its attributes, in the string: the
+  /// default keeps nothing. A cache that only repeats what the string holds is not kept.
+  virtual void save_state(StateWriter& out) const { (void)out; }
+  /// Back to what save_state() wrote (before the first frame of a resumed run).
+  virtual void load_state(StateReader& in) { in.end(); }
 };
 
 }  // namespace vwg

@@ -21,6 +21,7 @@
 #include "vwg/event.hpp"
 #include "vwg/generator.hpp"
 #include "vwg/semantics.hpp"
+#include "vwg/text.hpp"
 #include "vwg/world_string.hpp"
 
 namespace vwg {
@@ -70,6 +71,19 @@ struct FrameRecord {
   double time;
   const EventList& events;  ///< S
   const WorldString& after;  ///< w_next
+};
+
+/// What a run keeps in its engine, between frames, for a saved run (vwg/state.hpp): the frame
+/// number, w (its text and the blobs the text names, each once), and what each generator and each
+/// actor type's behaviour keeps outside the string. The platform a run drives keeps its own
+/// (RobotPlatform::save_state).
+struct EngineState {
+  std::uint64_t frame = 0;
+  std::string string;  ///< the text form of w; blobs as @name
+  BlobTable blobs;     ///< every blob the text names, by name (without its '@')
+  std::vector<std::string> generators;  ///< save_state() of each generator, in priority order
+  /// save_state() of the behaviour of each actor type of the alphabet that has one, by type name.
+  std::vector<std::pair<std::string, std::string>> actors;
 };
 
 /// Why run() returned.
@@ -123,6 +137,13 @@ class Engine {
   WorldString string_copy() const;
   /// Replace w (e.g. to load a snapshot); the frame counter is kept.
   void set_string(WorldString w);
+  /// The run's state between frames (from any thread; inside a frame it throws).
+  EngineState save_state() const;
+  /// Go on from `state`, saved by an engine made as this one was (the same alphabet, generators in
+  /// the same order, actor types with the same behaviours): w, the frame number, the generators'
+  /// and behaviours' states. Throws SchemaError naming the part that does not fit (and then
+  /// changes nothing of w or the frame; generators already loaded keep their new state).
+  void load_state(const EngineState& state);
   std::uint64_t frame() const { return frame_.load(std::memory_order_acquire); }
   double time() const { return static_cast<double>(frame()) * options_.dt; }
   const EngineOptions& options() const { return options_; }

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "vwg/event.hpp"
+#include "vwg/state.hpp"
 #include "vwg/world_string.hpp"
 
 namespace vwg {
@@ -35,6 +36,12 @@ class Generator {
   virtual bool concurrent() const { return false; }
   /// A short name for messages ("every_frame(tick)", "gLaser").
   virtual std::string name() const { return "generator"; }
+  /// What decides its future events (random streams, timers, pending orders), for a saved run
+  /// (vwg/state.hpp); a generator that keeps nothing writes nothing. The default refuses, naming
+  /// the generator: one that does not say what it keeps cannot be saved.
+  virtual void save_state(StateWriter& out) const;
+  /// Back to what save_state() wrote (after reset(), before the first frame of a resumed run).
+  virtual void load_state(StateReader& in);
 };
 
 /// One event of a fixed type (and fields) every frame: the paper's gDecide and gExecute.
@@ -45,6 +52,8 @@ class EveryFrameGenerator final : public Generator {
                       std::vector<Datum> fields = {}, std::int64_t target = kNoTarget);
   void generate(const FrameInfo& frame, EventList& out) override;
   std::string name() const override;
+  void save_state(StateWriter&) const override {}  // the same event every frame: nothing to keep
+  void load_state(StateReader& in) override { in.end(); }
 
  private:
   EventTypeId type_;

@@ -6,6 +6,7 @@
 #include <cstdint>
 
 #include "vwg/hash.hpp"
+#include "vwg/state.hpp"
 
 namespace vwg {
 
@@ -63,6 +64,19 @@ class Rng {
     return u * scale;
   }
   double normal(double mean, double stddev) { return mean + stddev * normal(); }
+
+  /// The whole state (a saved run): the four words and normal()'s spare value.
+  void save(StateWriter& out) const {
+    for (const std::uint64_t word : s_) out.u64(word);
+    out.f64(spare_);
+    out.boolean(has_spare_);
+  }
+  void load(StateReader& in) {
+    for (auto& word : s_) word = in.u64();
+    if (s_[0] == 0 && s_[1] == 0 && s_[2] == 0 && s_[3] == 0) in.fail("a random stream of all zeros");
+    spare_ = in.f64();
+    has_spare_ = in.boolean();
+  }
 
  private:
   static std::uint64_t rotl(std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }

@@ -40,6 +40,7 @@ from vwg.plugins import sensors as sensor_registry
 from vwg.robot.links.rosbridge_client import LinkError
 from vwg.robot.platforms.sim import MOTION_SYMBOLS, Simulation
 from vwg.robot.world_file import PlatformSpec, RobotWorld, load_robot_world
+from vwg.saved_run import save_state
 
 __all__ = ["CaseStudy", "Orders", "RobotSummary", "RunSummary", "case_study_world", "make_decider"]
 
@@ -485,6 +486,11 @@ class RobotRun:
                        "(--allow-unreached exits 0)")
         title = f"{self.world.name}, planner {summary.planner}, seed {summary.seed}"
         return Outcome(title, rows, summary.to_json(), status, message, summary.outputs)
+
+    def save_state(self, path: str | Path | None = None) -> bytes:
+        """The run's state after its last whole frame (vwg.saved_run): the string, the generators',
+        deciders' and platform's states; written to `path` when given."""
+        return save_state(self, path)
 
     def close(self) -> None:
         self.case.close()

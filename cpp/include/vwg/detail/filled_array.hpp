@@ -8,10 +8,13 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
+#include <string>
 #include <cstring>
 #include <memory>
 #include <new>
 #include <type_traits>
+
+#include "vwg/state.hpp"
 
 namespace vwg::plan {
 
@@ -40,6 +43,24 @@ class FilledArray {
   T operator[](std::size_t i) const { return std::bit_cast<T>(static_cast<Bits>(bits_[i] ^ fill_)); }
   void set(std::size_t i, T value) { bits_[i] = static_cast<Bits>(std::bit_cast<Bits>(value) ^ fill_); }
   std::size_t size() const { return size_; }
+
+  /// For a saved run (vwg/state.hpp): the fill and the stored bits.
+  void save(StateWriter& out) const {
+    out.u64(fill_);
+    out.u64(size_);
+    out.raw(bits_.get(), size_ * sizeof(Bits));
+  }
+  /// An array of `expected` elements, as save() wrote it.
+  static FilledArray load(StateReader& in, std::size_t expected) {
+    FilledArray a;
+    a.fill_ = static_cast<Bits>(in.u64());
+    const std::size_t size = in.count(sizeof(Bits), "array elements");
+    if (size != expected) in.fail("an array of " + std::to_string(size) + " elements where " + std::to_string(expected) + " belong");
+    a.size_ = size;
+    a.bits_ = allocate(size);
+    in.raw(a.bits_.get(), size * sizeof(Bits), "array elements");
+    return a;
+  }
 
  private:
   // calloc, not mmap for large arrays: on a virtual machine a page fault per 4 KB cost more than

@@ -31,6 +31,10 @@ class CameraGenerator final : public Generator {
                   const std::string& event = "eCamera");
   void generate(const FrameInfo& frame, EventList& out) override;
   std::string name() const override { return "gCamera(" + std::to_string(settings_.robot) + ", " + source_->name() + ")"; }
+  /// Nothing of its own (the period is counted in frames); refused when its images come from a
+  /// source read in order (files, a video, a link).
+  void save_state(StateWriter& out) const override;
+  void load_state(StateReader& in) override { in.end(); }
 
   const cv::Mat& image() const { return image_; }  ///< the last image (grey)
   const std::vector<TagDetection>& detections() const { return detections_; }

@@ -22,6 +22,9 @@ class ImageSource {
   /// of a list or a video). Throws vwg::Error naming the file or device when it cannot be read.
   virtual bool grab(const FrameInfo& frame, cv::Mat& grey) = 0;
   virtual std::string name() const = 0;
+  /// Whether its images depend on nothing but the frame and the world (a simulated camera): then a
+  /// run that reads it can be saved and resumed. Files, videos and links are read once, in order.
+  virtual bool stateless() const { return false; }
 };
 
 /// One image file per frame, in order; none after the last.

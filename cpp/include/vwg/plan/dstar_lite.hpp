@@ -114,8 +114,14 @@ class DStarLiteSearch {
   /// km of the paper: the sum of h between the robot's successive starts since the keys were last
   /// computed from scratch (here for the tests).
   Cost km() const { return km_; }
+  /// Everything it keeps, for a saved run (vwg/state.hpp).
+  void save(StateWriter& out) const;
+  /// A search as save() wrote it; SchemaError (StateReader::fail) for one that cannot be (a node
+  /// outside the grid, a queue whose positions disagree).
+  static DStarLiteSearch load(StateReader& in);
 
  private:
+  DStarLiteSearch() = default;  // for load()
   /// A priority [k1; k2], compared lexicographically by before().
   struct Key {
     Cost k1;
@@ -235,8 +241,12 @@ class DStarLite {
   }
   /// Whether costs and keys are whole numbers in 32 bits (ExactKeys) rather than doubles.
   bool exact() const { return std::holds_alternative<DStarLiteSearch<ExactKeys>>(search_); }
+  /// For a saved run (vwg/state.hpp): the kind of keys, then the search.
+  void save(StateWriter& out) const;
+  static DStarLite load(StateReader& in);
 
  private:
+  explicit DStarLite(std::variant<DStarLiteSearch<ExactKeys>, DStarLiteSearch<RealKeys>> search) : search_(std::move(search)) {}
   std::variant<DStarLiteSearch<ExactKeys>, DStarLiteSearch<RealKeys>> search_;
 };
 

@@ -22,6 +22,8 @@ class OdometryGenerator final : public Generator {
                     const std::string& event = "eOdometry");
   void generate(const FrameInfo& frame, EventList& out) override;
   std::string name() const override { return "odometry"; }
+  void save_state(StateWriter&) const override {}  // reads the platform, which keeps its own
+  void load_state(StateReader& in) override { in.end(); }
 
  private:
   std::shared_ptr<RobotPlatform> platform_;
@@ -36,6 +38,8 @@ class CollisionGenerator final : public Generator {
                      const std::string& event = "eCollision");
   void generate(const FrameInfo& frame, EventList& out) override;
   std::string name() const override { return "collisions"; }
+  void save_state(StateWriter&) const override {}  // reads the platform, which keeps its own
+  void load_state(StateReader& in) override { in.end(); }
 
  private:
   std::shared_ptr<RobotPlatform> platform_;

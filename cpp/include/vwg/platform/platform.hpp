@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "vwg/geometry/pose.hpp"
+#include "vwg/state.hpp"
 
 namespace vwg::platform {
 
@@ -114,6 +115,13 @@ class RobotPlatform {
   /// The platform's clock, seconds since it started.
   virtual double time() const = 0;
   virtual std::string name() const = 0;
+  /// Everything that decides what the platform does next (bodies, contacts, clocks, motion
+  /// followers, noise), for a saved run (vwg/state.hpp). The default refuses, naming the platform: a
+  /// real robot's cannot be saved.
+  virtual void save_state(StateWriter& out) const;
+  /// Back to what save_state() wrote, on a platform made as the saved one was (same robots, same
+  /// settings) and not yet stepped.
+  virtual void load_state(StateReader& in);
 };
 
 }  // namespace vwg::platform

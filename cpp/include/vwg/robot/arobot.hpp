@@ -98,6 +98,10 @@ class ARobot final : public ActorBehavior {
   void evolve_run(ActorState& self, const EventList& events, std::span<const std::uint32_t> at, const EvolutionContext& ctx,
                   Replacement& out) override;
 
+  /// Its decider's state; the obstacle bits are a cache of each robot's map, made again from it.
+  void save_state(StateWriter& out) const override { decider_->save_state(out); }
+  void load_state(StateReader& in) override { decider_->load_state(in); }
+
   const ARobotConfig& config() const { return config_; }
   Decider& decider() { return *decider_; }
 

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "vwg/blob.hpp"
+#include "vwg/state.hpp"
 #include "vwg/geometry/map_geometry.hpp"
 #include "vwg/geometry/pose.hpp"
 #include "vwg/platform/platform.hpp"
@@ -52,6 +53,11 @@ class Decider {
   /// True if decide() may run for several robots at the same time (the engine's threads); the
   /// default, false, keeps every robot with this decider on the engine's thread.
   virtual bool concurrent() const { return false; }
+  /// What it keeps between decisions that decides anything (searches to repair, the grids a plan
+  /// was checked on), for a saved run (vwg/state.hpp). The default refuses, naming the decider.
+  virtual void save_state(StateWriter& out) const;
+  /// Back to what save_state() wrote, before the first decision of a resumed run.
+  virtual void load_state(StateReader& in);
 };
 
 /// The paper's first algorithm: random moves (a random heading, then up to step_length ahead)
@@ -61,6 +67,8 @@ class RandomDecider final : public Decider {
   Decision decide(const DecisionInput& in) override;
   std::string name() const override { return "random"; }
   bool concurrent() const override { return true; }  // no state: its randomness comes from in.seed
+  void save_state(StateWriter&) const override {}
+  void load_state(StateReader& in) override { in.end(); }
 };
 
 /// The motion towards the farthest point of `path` (x0, y0, ...) within `step_length` that the

@@ -34,6 +34,9 @@ class OrderGenerator final : public Generator {
 
   void generate(const FrameInfo& frame, EventList& out) override;
   std::string name() const override { return "gObjective"; }
+  /// The script still to come, the orders given and not yet sent, and what was sent so far.
+  void save_state(StateWriter& out) const override;
+  void load_state(StateReader& in) override;
 
  private:
   EventTypeId event_;

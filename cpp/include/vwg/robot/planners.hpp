@@ -41,6 +41,9 @@ class NoWayMemo {
   bool shut(const geometry::BlockedGrid& grid, geometry::Cell start, geometry::Cell goal) const;
   /// A way was found: what was learnt no longer holds.
   void forget() { known_ = false; }
+  /// For a saved run (vwg/state.hpp).
+  void save(StateWriter& out) const;
+  void load(StateReader& in);
 
  private:
   bool inside(std::int32_t node) const { return (side_[node >> 6] >> (node & 63)) & 1; }
@@ -65,6 +68,10 @@ class GridDecider final : public Decider {
   bool concurrent() const override { return true; }
   double search_seconds() const;
   std::size_t searches() const;
+  /// Each robot's grids, D* Lite search, goal and what it knows has no way (the searches' times
+  /// are not kept).
+  void save_state(StateWriter& out) const override;
+  void load_state(StateReader& in) override;
 
  private:
   struct RobotState {
@@ -94,6 +101,9 @@ class OmplDecider final : public Decider {
   std::string name() const override { return planner_; }
   double search_seconds() const { return stats_.seconds; }
   std::size_t searches() const { return stats_.searches; }
+  /// Each robot's grids (a plan's randomness comes from the decision's seed).
+  void save_state(StateWriter& out) const override;
+  void load_state(StateReader& in) override;
 
  private:
   std::string planner_;

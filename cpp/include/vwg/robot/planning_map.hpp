@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -38,9 +39,19 @@ class PlanningMap {
   /// The memory pages of its grids that differ from the grids it started from (0 unless it
   /// started from those of a shared map): what this robot's grids cost beyond the shared ones.
   std::size_t private_pages() const;
+  /// For a saved run (vwg/state.hpp): the radius and the obstacles it last followed (the inflated
+  /// grid and the counts follow from them). What update() reports next depends on those alone.
+  void save(StateWriter& out) const;
+  /// Back to what save() wrote: the grids are made from the saved obstacles at the next update(),
+  /// which then compares the map with them cell by cell.
+  void load(StateReader& in);
 
  private:
   void rebuild(std::span<const std::int16_t> cells, const geometry::MapGeometry& g, double radius);
+  /// rebuild() from the obstacle mask (a byte a cell, 1 = obstacle).
+  void rebuild_mask(std::vector<std::uint8_t> mask, const geometry::MapGeometry& g, double radius);
+  std::optional<geometry::BlockedGrid> loaded_;  // saved obstacles for the next update() (load())
+  double loaded_radius_ = -1.0;
   /// Become the shared grids of `map`'s original content; false if it has none.
   bool start_from_original(const Blob& map, const geometry::MapGeometry& g, double radius);
   void set_obstacle(int row, int col, bool blocked);

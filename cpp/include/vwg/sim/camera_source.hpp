@@ -17,6 +17,7 @@ class SimulatedCamera final : public perception::ImageSource {
   SimulatedCamera(std::shared_ptr<const PhysicsWorld> world, int robot, std::shared_ptr<CameraRenderer> renderer);
   bool grab(const FrameInfo& frame, cv::Mat& grey) override;
   std::string name() const override { return "simulated camera"; }
+  bool stateless() const override { return true; }  // renders the platform's world as it is
   const CameraRenderer& renderer() const { return *renderer_; }
 
  private:

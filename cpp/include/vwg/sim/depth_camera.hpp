@@ -87,6 +87,12 @@ class KinectGenerator final : public Generator {
   void reset(std::uint64_t seed) override { rng_.reseed(derive_seed(seed, 0x6B696E656374ULL, static_cast<std::uint64_t>(robot_))); }
   void generate(const FrameInfo& frame, EventList& out) override;
   std::string name() const override { return "gKinect(" + std::to_string(robot_) + ")"; }
+  /// Its noise's random stream (the scanner reads the platform as it is).
+  void save_state(StateWriter& out) const override { rng_.save(out); }
+  void load_state(StateReader& in) override {
+    rng_.load(in);
+    in.end();
+  }
 
   std::span<const float> depth() const { return depth_; }  ///< the last depth image, height × width
   std::span<const float> ranges() const { return ranges_; }  ///< its scan (NaN: no return)

@@ -93,6 +93,12 @@ class LaserGenerator final : public Generator {
   /// Reads the physics world (unchanged while events are collected); writes its own scan and rng.
   bool concurrent() const override { return true; }
   std::string name() const override { return "gLaser(" + std::to_string(robot_) + ")"; }
+  /// Its noise's random stream (the scanner reads the platform as it is).
+  void save_state(StateWriter& out) const override { rng_.save(out); }
+  void load_state(StateReader& in) override {
+    rng_.load(in);
+    in.end();
+  }
 
   /// The last scan: ranges (max_range where nothing was hit), and the beam angles.
   std::span<const float> ranges() const { return ranges_; }

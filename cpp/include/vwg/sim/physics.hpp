@@ -108,6 +108,18 @@ class PhysicsWorld final : public platform::RobotPlatform {
   double time() const override { return time_; }
   std::string name() const override { return "sim"; }
   const OccupancyGrid& grid() const { return grid_; }
+  /// The simulator's state is what was done to it since it was made: every robot added or
+  /// removed, every command, drive and advance, every take of the collisions, in order (its
+  /// journal). Box2D 2.4 keeps its broad phase (a tree whose shape and proxy numbers follow the
+  /// bodies' history) and its contacts' order private, and both decide the next steps' bits; so a
+  /// saved simulator is its journal and the fingerprint of what it was made from, and loading runs
+  /// the journal again on a simulator made the same way, without sensing or deciding.
+  void save_state(StateWriter& out) const override;
+  /// Throws SchemaError("platform sim") for a state of another map, settings or robots, or one this
+  /// simulator's own journal is not the beginning of.
+  void load_state(StateReader& in) override;
+  /// Bytes of the journal so far (what a saved state holds beside its fingerprint).
+  std::size_t journal_bytes() const { return journal_.bytes().size(); }
   /// How many rectangles the walls were merged into (one Box2D fixture each).
   std::size_t wall_shapes() const { return wall_shapes_; }
 
@@ -141,6 +153,9 @@ class PhysicsWorld final : public platform::RobotPlatform {
   double time_ = 0.0;
   double pending_ = 0.0;
   std::size_t wall_shapes_ = 0;
+  /// What it was made from (map, settings, robots), so a state is loaded only where it was saved.
+  std::uint64_t fingerprint_ = 0;
+  StateWriter journal_;  // see save_state()
 };
 
 }  // namespace vwg::sim

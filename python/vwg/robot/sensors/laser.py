@@ -12,6 +12,7 @@ import math
 from typing import TYPE_CHECKING, Any, ClassVar
 
 import vwg._core as _core
+from vwg.errors import SchemaError
 from vwg.robot.sensor import Sensor
 
 if TYPE_CHECKING:
@@ -37,6 +38,13 @@ class WallLaser(_core.Generator):
         if dist.size == 0:
             return []
         return [_core.EventColumns(self.event, target=self.robot, dist=dist, angle=angle)]
+
+    def save_state(self) -> bytes:
+        return b""  # it casts from the pose the platform reports: nothing of its own
+
+    def load_state(self, data: bytes) -> None:
+        if data:
+            raise SchemaError(f"{self.name}: expected an empty saved state, got {len(data)} bytes")
 
 
 class Laser(Sensor):

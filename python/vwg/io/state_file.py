@@ -1,0 +1,276 @@
+"""The state file of a saved run (``vwg run --save-state``, ``run.save_state``, ``vwg resume``).
+
+Layout, every number little-endian::
+
+    b"vwg-state\\n"                      10 bytes: what the file is
+    u64 n, then n bytes of JSON         the manifest: format, vwg version, world, seed, frame, ... and
+                                        its parts: [{"name", "bytes" (stored), "size" (raw), "sha256"}]
+    the parts, one after the other     each deflated (zlib); the manifest says how long
+    32 bytes                            SHA-256 of the manifest
+    32 bytes                            SHA-256 of everything before it
+
+Reading checks the end's two hashes and each part's (after inflating it no further than the size the
+manifest gives), so a flipped byte anywhere is an error naming the part it is in (the manifest, a part,
+or the hashes at the end); sizes are checked before anything is allocated for them. A state file holds
+no code: reading one runs none.
+
+The engine's state (vwg.EngineState) is kept as the parts ``string`` (w's text), ``blobs`` (every
+blob once, by name; one of the dtype and shape of an earlier blob is stored as its XOR with it, so a
+robot's map costs what it changed of the known map), ``generators`` and ``actors``; a robot run adds
+``platform``.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import io
+import json
+import struct
+import zlib
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+import vwg._core as _core
+from vwg.errors import Error
+
+__all__ = ["FORMAT", "MAX_BYTES", "SavedState", "engine_parts", "engine_state", "read_state", "write_state"]
+
+MAGIC = b"vwg-state\n"
+#: The layout above; a reader refuses another.
+FORMAT = 1
+#: What a state may expand to, in all: its parts inflated (a 1,000-robot run on a 1,600² map is ~1 GiB).
+MAX_BYTES = 8 * 2**30
+MAX_MANIFEST = 2**24
+_U64 = struct.Struct("<Q")
+
+
+@dataclass
+class SavedState:
+    """A state file read and checked: its manifest and its parts (inflated)."""
+
+    manifest: dict[str, Any]
+    parts: dict[str, bytes]
+
+
+def write_state(manifest: dict[str, Any], parts: dict[str, bytes]) -> bytes:
+    """The bytes of a state file holding `parts` (name -> raw bytes), described by `manifest`."""
+    stored = {name: zlib.compress(raw, 6) for name, raw in parts.items()}
+    described = {**manifest, "format": FORMAT,
+                 "parts": [{"name": name, "bytes": len(stored[name]), "size": len(raw),
+                            "sha256": hashlib.sha256(raw).hexdigest()} for name, raw in parts.items()]}
+    head = json.dumps(described, sort_keys=True, allow_nan=False).encode("utf-8")
+    out = io.BytesIO()
+    out.write(MAGIC)
+    out.write(_U64.pack(len(head)))
+    out.write(head)
+    for name in parts:
+        out.write(stored[name])
+    out.write(hashlib.sha256(head).digest())
+    body = out.getvalue()
+    return body + hashlib.sha256(body).digest()
+
+
+def read_state(data: bytes, source: str) -> SavedState:
+    """A state file's content checked (see the module's description); Error naming `source` and the
+    part that is wrong."""
+
+    def fail(what: str) -> Error:
+        return Error(f"{source}: {what}")
+
+    if not data.startswith(MAGIC):
+        raise fail("not a vwg state file (it does not begin with 'vwg-state')")
+    if len(data) < len(MAGIC) + 8 + 64:
+        raise fail(f"cut short: {len(data)} bytes is less than the smallest state file")
+    (n,) = _U64.unpack_from(data, len(MAGIC))
+    start = len(MAGIC) + 8
+    if n > min(MAX_MANIFEST, len(data) - start - 64):
+        raise fail(f"the manifest's length ({n} bytes) is more than the file holds: the file is cut short or damaged")
+    head = data[start:start + n]
+    manifest_hash, file_hash = data[-64:-32], data[-32:]
+    whole = hashlib.sha256(data[:-32]).digest() == file_hash
+    if hashlib.sha256(head).digest() != manifest_hash:
+        raise fail("the manifest is damaged (its SHA-256 differs)" if whole or _parts_hold(data, head, start + n)
+                   else "the file is cut short or damaged: the hashes at its end are not those of its content")
+    try:
+        manifest = json.loads(head.decode("utf-8"))
+    except (UnicodeDecodeError, json.JSONDecodeError) as e:
+        raise fail(f"the manifest is not JSON: {e}") from None
+    if not isinstance(manifest, dict):
+        raise fail("the manifest is not a JSON object")
+    if manifest.get("format") != FORMAT:
+        raise fail(f"a state file of format {manifest.get('format')!r}; this vwg reads format {FORMAT}")
+    entries = manifest.get("parts")
+    if not (isinstance(entries, list) and all(_entry_ok(e) for e in entries)):
+        raise fail("the manifest's list of parts is malformed")
+    if sum(e["size"] for e in entries) > MAX_BYTES:
+        raise fail(f"its parts would expand to more than {MAX_BYTES} bytes")
+    at = start + n
+    if at + sum(e["bytes"] for e in entries) != len(data) - 64:
+        raise fail("the file is cut short or damaged: its parts do not fill it as the manifest says")
+    parts: dict[str, bytes] = {}
+    for e in entries:
+        stored = data[at:at + e["bytes"]]
+        at += e["bytes"]
+        parts[e["name"]] = _inflate(stored, e, fail)
+    if not whole:
+        raise fail("the hashes at its end are damaged (the manifest and parts check)")
+    return SavedState(manifest, parts)
+
+
+def _entry_ok(e: Any) -> bool:
+    return (isinstance(e, dict) and isinstance(e.get("name"), str) and isinstance(e.get("sha256"), str)
+            and all(isinstance(e.get(k), int) and not isinstance(e.get(k), bool) and e[k] >= 0 for k in ("bytes", "size")))
+
+
+def _inflate(stored: bytes, entry: dict[str, Any], fail: Any) -> bytes:
+    name = entry["name"]
+    try:
+        d = zlib.decompressobj()
+        raw = d.decompress(stored, entry["size"])
+        if d.unconsumed_tail or not d.eof or d.unused_data:
+            raise fail(f"the part '{name}' is damaged: it does not inflate to the {entry['size']} bytes the manifest says")
+    except zlib.error as e:
+        raise fail(f"the part '{name}' is damaged ({e})") from None
+    if len(raw) != entry["size"] or hashlib.sha256(raw).hexdigest() != entry["sha256"]:
+        raise fail(f"the part '{name}' is damaged (its SHA-256 differs)")
+    return raw
+
+
+def _parts_hold(data: bytes, head: bytes, at: int) -> bool:
+    """Whether the parts check against a manifest whose hash did not (then the manifest is what changed)."""
+    try:
+        manifest = json.loads(head.decode("utf-8"))
+        for e in manifest["parts"]:
+            _inflate(data[at:at + e["bytes"]], e, Error)
+            at += e["bytes"]
+        return True
+    except Exception:  # noqa: BLE001 (any failure: the parts cannot be told to hold)
+        return False
+
+
+# ---- the engine's state as parts --------------------------------------------------------------------
+def _pack_list(items: list[tuple[str, bytes]]) -> bytes:
+    out = io.BytesIO()
+    out.write(_U64.pack(len(items)))
+    for name, blob in items:
+        encoded = name.encode("utf-8")
+        out.write(_U64.pack(len(encoded)))
+        out.write(encoded)
+        out.write(_U64.pack(len(blob)))
+        out.write(blob)
+    return out.getvalue()
+
+
+class _Reader:
+    def __init__(self, data: bytes, part: str) -> None:
+        self.data, self.at, self.part = data, 0, part
+
+    def u64(self) -> int:
+        if self.at + 8 > len(self.data):
+            raise Error(f"state part '{self.part}': cut short at byte {self.at}")
+        (v,) = _U64.unpack_from(self.data, self.at)
+        self.at += 8
+        return int(v)
+
+    def take(self) -> bytes:
+        n = self.u64()
+        if n > len(self.data) - self.at:
+            raise Error(f"state part '{self.part}': a length of {n} bytes is more than is left")
+        self.at += n
+        return self.data[self.at - n:self.at]
+
+    def end(self) -> None:
+        if self.at != len(self.data):
+            raise Error(f"state part '{self.part}': {len(self.data) - self.at} bytes after its end")
+
+
+def _unpack_list(data: bytes, part: str) -> list[tuple[str, bytes]]:
+    r = _Reader(data, part)
+    count = r.u64()
+    if count > len(data) // 16:
+        raise Error(f"state part '{part}': a count of {count} is more than it can hold")
+    items = []
+    for _ in range(count):
+        try:
+            name = r.take().decode("utf-8")
+        except UnicodeDecodeError:
+            raise Error(f"state part '{part}': a name that is not UTF-8") from None
+        items.append((name, r.take()))
+    r.end()
+    return items
+
+
+def _pack_blobs(blobs: dict[str, _core.Blob]) -> bytes:
+    """Every blob once; one of the dtype and shape of an earlier one as its XOR with that one."""
+    out = io.BytesIO()
+    out.write(_U64.pack(len(blobs)))
+    bases: dict[tuple[str, tuple[int, ...]], tuple[int, np.ndarray]] = {}
+    for k, (name, blob) in enumerate(sorted(blobs.items())):
+        array = np.asarray(blob)
+        key = (blob.dtype, tuple(int(n) for n in array.shape))
+        raw = np.ascontiguousarray(array).view(np.uint8).reshape(-1)
+        base = bases.get(key)
+        meta = json.dumps({"name": name, "dtype": blob.dtype, "shape": list(key[1]),
+                           "base": base[0] if base else -1}).encode("utf-8")
+        out.write(_U64.pack(len(meta)))
+        out.write(meta)
+        payload = raw ^ base[1] if base else raw
+        out.write(_U64.pack(payload.size))
+        out.write(payload.tobytes())
+        if base is None:
+            bases[key] = (k, raw)
+    return out.getvalue()
+
+
+def _unpack_blobs(data: bytes) -> dict[str, _core.Blob]:
+    r = _Reader(data, "blobs")
+    count = r.u64()
+    if count > len(data) // 16:
+        raise Error(f"state part 'blobs': a count of {count} is more than it can hold")
+    raws: list[np.ndarray] = []
+    blobs: dict[str, _core.Blob] = {}
+    for k in range(count):
+        try:
+            meta = json.loads(r.take().decode("utf-8"))
+            name, dtype, shape, base = meta["name"], np.dtype(meta["dtype"]), tuple(meta["shape"]), meta["base"]
+            if not (isinstance(name, str) and all(isinstance(n, int) and n >= 0 for n in shape)
+                    and isinstance(base, int) and -1 <= base < k and not dtype.hasobject):
+                raise ValueError("malformed")
+        except (UnicodeDecodeError, ValueError, KeyError, TypeError) as e:
+            raise Error(f"state part 'blobs': blob {k} is described wrongly ({e})") from None
+        payload = np.frombuffer(r.take(), np.uint8)
+        expected = int(np.prod(shape, dtype=np.int64)) * dtype.itemsize
+        if payload.size != expected or (base >= 0 and raws[base].size != expected):
+            raise Error(f"state part 'blobs': blob {name} holds {payload.size} bytes, not the {expected} of its shape")
+        raw = payload ^ raws[base] if base >= 0 else payload
+        raws.append(raw)
+        blobs[name] = _core.Blob(raw.view(dtype).reshape(shape).copy())
+    r.end()
+    return blobs
+
+
+def engine_parts(state: _core.EngineState) -> dict[str, bytes]:
+    """The parts of a file that hold an engine's state."""
+    return {"string": state.string.encode("utf-8"),
+            "blobs": _pack_blobs(state.blobs),
+            "generators": _pack_list([(str(k), bytes(b)) for k, b in enumerate(state.generators)]),
+            "actors": _pack_list([(name, bytes(b)) for name, b in state.actors])}
+
+
+def engine_state(saved: SavedState, frame: int) -> _core.EngineState:
+    """The engine's state kept in a file's parts (see engine_parts)."""
+    missing = [p for p in ("string", "blobs", "generators", "actors") if p not in saved.parts]
+    if missing:
+        raise Error(f"the state file has no part {', '.join(missing)}")
+    state = _core.EngineState()
+    state.frame = frame
+    try:
+        state.string = saved.parts["string"].decode("utf-8")
+    except UnicodeDecodeError:
+        raise Error("state part 'string': not UTF-8 text") from None
+    state.blobs = _unpack_blobs(saved.parts["blobs"])
+    state.generators = [b for _, b in _unpack_list(saved.parts["generators"], "generators")]
+    state.actors = _unpack_list(saved.parts["actors"], "actors")
+    return state
