@@ -226,10 +226,12 @@ vwg.FrameError naming the frame, the stage, the actor and the event.)doc")
         return e.engine->string_copy();
       }, "The current string w (a copy, taken between frames: safe from any thread).")
       .def("set_string", [](PyEngine& e, const WorldString& w) { e.engine->set_string(w); }, py::arg("w"))
-      .def("save_state", [](PyEngine& e) {
+      .def("save_state", [](PyEngine& e, bool generators) {
         py::gil_scoped_release release;  // the generators' and behaviours' own methods take it when they are Python's
-        return e.engine->save_state();
-      }, "The run's state between frames (vwg.EngineState); the platform keeps its own.")
+        return e.engine->save_state(generators);
+      }, py::arg("generators") = true,
+      "The run's state between frames (vwg.EngineState); the platform keeps its own. generators=False leaves "
+      "the generators' states out (a real robot's run: its string and its robots' maps and planners are kept).")
       .def("load_state", [](PyEngine& e, const EngineState& state) {
         py::gil_scoped_release release;
         e.engine->load_state(state);

@@ -13,7 +13,8 @@ py::object own_method(py::handle self, const char* name) {
   py::object type = py::type::of(self);
   for (py::handle klass : type.attr("__mro__")) {
     if (py::hasattr(klass, "__module__") && py::str(klass.attr("__module__")).cast<std::string>() == "vwg._core") break;
-    if (py::reinterpret_borrow<py::dict>(klass.attr("__dict__")).contains(name)) return self.attr(name);
+    // A class's __dict__ is a mappingproxy, not a dict: asked through the mapping protocol.
+    if (py::bool_(klass.attr("__dict__").attr("__contains__")(name))) return self.attr(name);
   }
   return py::none();
 }

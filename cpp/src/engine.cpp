@@ -130,9 +130,16 @@ void Engine::set_string(WorldString w) {
   w_ = std::move(w);
 }
 
-EngineState Engine::save_state() const {
-  if (user_.load() == std::this_thread::get_id()) {
-    throw Error("Engine.save_state: called during a frame of the same engine; save between frames");
+namespace {
+// The engine whose observers this thread is running: its frame is complete, so its state may be
+// saved from there (a run that keeps a state every K frames).
+thread_local const Engine* observed = nullptr;
+}  // namespace
+
+EngineState Engine::save_state(bool generators) const {
+  if (user_.load() == std::this_thread::get_id() && observed != this) {
+    throw Error("Engine.save_state: called during a frame of the same engine (from a λ, θ, generator or backend); "
+                "save between frames or from an observer");
   }
   const Between between(*this);
   EngineState state;
@@ -148,7 +155,7 @@ EngineState Engine::save_state() const {
       state.blobs.try_emplace(blob_name(*blob).substr(1), blob);  // the table's names have no '@'
     }
   }
-  for (const auto& g : generators_) {
+  for (const auto& g : generators ? generators_ : std::vector<std::shared_ptr<Generator>>{}) {
     StateWriter out;
     g->save_state(out);
     state.generators.push_back(out.take());
@@ -305,6 +312,11 @@ bool Engine::run_frame(EventList& events) {
   events.clear();  // the frame before last's events: only their buffers are kept
   const std::uint64_t done = frame_++;
   const FrameRecord record{done, static_cast<double>(done) * options_.dt, last_events_, w_};
+  struct Observing {
+    const Engine* before;
+    explicit Observing(const Engine* e) : before(observed) { observed = e; }
+    ~Observing() { observed = before; }
+  } observing(this);
   for (const auto& observer : observers_) observer(record);
   return true;
 }

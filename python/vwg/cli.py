@@ -29,8 +29,10 @@ import yaml
 import vwg._core as _core
 from vwg.errors import Error, FrameError, ReplayError, clip
 from vwg.generic import named_world_file, replay
+from vwg.io.files import check_output_file
 from vwg.io.record import Recorder, check_goals, read_key, read_record, robot_data, robot_world_file
 from vwg.io.shipped import resolve_world, shipped_worlds
+from vwg.io.state_file import engine_state
 from vwg.io.yamldoc import YamlDoc
 from vwg.launch import (
     EXIT_UNREACHED,
@@ -41,11 +43,13 @@ from vwg.launch import (
     load,
     platform_faults,
     replay_world,
+    run_inputs,
     start,
     strict_json,
 )
 from vwg.plugins import GROUPS, backends, deciders, platforms
 from vwg.robot.world_file import load_robot_world
+from vwg.saved_run import keep_snapshots, nearest_snapshot, read_state_file, resume
 
 __all__ = ["EXIT_UNREACHED", "main", "strict_json"]
 
@@ -78,6 +82,71 @@ def _options(args: argparse.Namespace) -> Any:
                       images=args.images, trajectory=args.trajectory, allow_unreached=args.allow_unreached)
 
 
+class _StopOnInterrupt:
+    """While a run that saves its state runs, the first Ctrl-C asks the engine to stop after the frame under
+    way (so the state saved is that of the last whole frame); a second one interrupts at once."""
+
+    def __init__(self, engine: Any, active: bool) -> None:
+        self.engine, self.active, self.interrupted = engine, active, False
+        self.previous: Any = None
+
+    def _handle(self, signum: int, frame: Any) -> None:
+        self.interrupted = True
+        self.engine.request_stop()
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+        print("vwg: interrupted: stopping after this frame to save the state (Ctrl-C again to stop at once)",
+              file=sys.stderr)
+
+    def __enter__(self) -> _StopOnInterrupt:
+        if self.active:
+            self.previous = signal.signal(signal.SIGINT, self._handle)
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        if self.active:
+            signal.signal(signal.SIGINT, self.previous)
+
+
+def _execute(run: Any, args: argparse.Namespace, progress: bool | None) -> tuple[Any, bool]:
+    """Run it to its end, keeping states beside the record (--snapshot-every) and the last one
+    (--save-state, also when Ctrl-C stops it); the outcome and whether Ctrl-C stopped it."""
+    if args.snapshot_every is not None:
+        if not getattr(run, "recorder", None):
+            raise Error("--snapshot-every keeps the states beside the record: give --record too")
+        keep_snapshots(run, args.record, args.snapshot_every)
+    with _StopOnInterrupt(run.engine, active=args.save_state is not None) as stop:
+        outcome = run.execute(progress=progress)
+    if args.save_state is not None:
+        note = ""
+        try:
+            run.save_state(args.save_state)
+        except Error as e:
+            if run.kind != "robot" or not str(e).startswith("platform "):
+                raise
+            # A real robot: what it believed and mapped, to go on on the simulator.
+            run.save_state(args.save_state, platform=False)
+            note = "; the robots' beliefs, maps and planners only (its platform cannot be saved): resumed, on the sim"
+        outcome.outputs["state"] = f"{args.save_state} (frame {run.engine.frame}{note})"
+    return outcome, stop.interrupted
+
+
+def _check_state_outputs(world: Any, args: argparse.Namespace, inputs: dict[str, Path] | None = None) -> None:
+    if args.save_state is not None:
+        check_output_file(Path(args.save_state), "--save-state", {**run_inputs(world), **(inputs or {})})
+
+
+def _report(args: argparse.Namespace, title: str, outcome: Any, interrupted: bool) -> int:
+    if not args.quiet:
+        print(f"{title} — {outcome.title}")
+        _print_summary(outcome.rows + list(outcome.outputs.items()))
+    if interrupted:
+        print("vwg: interrupted", file=sys.stderr)
+        return 130
+    if outcome.exit_status:
+        print(f"vwg: {outcome.message}", file=sys.stderr)
+    return int(outcome.exit_status)
+
+
 def _cmd_run(args: argparse.Namespace) -> int:
 
     if not 0 <= args.python_budget <= 86400:  # (NaN fails both)
@@ -85,10 +154,13 @@ def _cmd_run(args: argparse.Namespace) -> int:
     _core.set_python_budget(args.python_budget)
     world = load(args.world)
     options = _options(args)
+    if args.snapshot_every is not None and args.record is None:
+        raise Error("--snapshot-every keeps the states beside the record: give --record too")
+    _check_state_outputs(world, args)
     try:
         run = start(world, options)
         try:
-            outcome = run.execute(progress=options.progress)
+            outcome, interrupted = _execute(run, args, options.progress)
         finally:
             run.close()
     except (FrameError, MemoryError) as e:
@@ -98,12 +170,26 @@ def _cmd_run(args: argparse.Namespace) -> int:
         cells = f" (its map has {grid.width * grid.height:,} cells)" if grid is not None else ""
         raise Error(f"{args.world}: not enough memory for this run{cells}: use a smaller map or a machine "
                     "with more memory") from None
-    if not args.quiet:
-        print(f"vwg run {args.world} — {outcome.title}")
-        _print_summary(outcome.rows + list(outcome.outputs.items()))
-    if outcome.exit_status:
-        print(f"vwg: {outcome.message}", file=sys.stderr)
-    return outcome.exit_status
+    return _report(args, f"vwg run {args.world}", outcome, interrupted)
+
+
+def _cmd_resume(args: argparse.Namespace) -> int:
+
+    options = RunOptions(frames=args.frames, threads=args.threads, record=args.record, record_key=args.record_key,
+                         summary_json=args.summary_json, progress=args.progress, backend=args.backend,
+                         video=args.video, images=args.images, trajectory=args.trajectory,
+                         allow_unreached=args.allow_unreached, stdin_orders=args.stdin_orders)
+    if args.snapshot_every is not None and args.record is None:
+        raise Error("--snapshot-every keeps the states beside the record: give --record too")
+    run = resume(args.state, options)
+    try:
+        world = run.world if hasattr(run, "world") else run.spec
+        _check_state_outputs(world, args, {"the state being resumed": args.state})
+        first = run.engine.frame
+        outcome, interrupted = _execute(run, args, options.progress)
+    finally:
+        run.close()
+    return _report(args, f"vwg resume {args.state} (from frame {first})", outcome, interrupted)
 
 
 def _out_of_memory(e: BaseException) -> bool:
@@ -137,7 +223,8 @@ def _cmd_replay(args: argparse.Namespace) -> int:
 
 
 def _resume(args: argparse.Namespace, record: Any, key: bytes | None) -> int:
-    """vwg replay --from FRAME: run the world again from its start, the frames before FRAME with the
+    """vwg replay --from FRAME: run the world again from its start (or from the latest state kept beside
+    the record at or before FRAME, vwg run --snapshot-every), the frames before FRAME with the
     recorded events (each checked against the record; the generators still run, so they are where
     they were), then live from FRAME on with the world's generators (a new record with --record).
     The world file is --world, or the one the record names: a generic world's only if it holds the
@@ -181,11 +268,18 @@ def _resume(args: argparse.Namespace, record: Any, key: bytes | None) -> int:
         raise Error("--allow-unreached is for robot worlds; this record is of a generic world")
     # The new record overwrites neither the record read nor the world's files, nor is it a named pipe.
     check_outputs(loaded, RunOptions(record=args.new_record), {"the record being replayed": Path(args.record)})
-    with start(loaded, options) as run:
+    snapshot = nearest_snapshot(args.record, args.resume_from)
+    first = snapshot[1] if snapshot else 0
+    if snapshot:
+        _check_snapshot(snapshot[0], header, record, first, path)
+    with (resume(snapshot[0], RunOptions(allow_unreached=args.allow_unreached)) if snapshot
+          else start(loaded, options)) as run:
         engine = run.engine
         alphabet = engine.world.alphabet
         try:
             for frame in record.frames:
+                if frame["t"] < first:
+                    continue
                 if frame["t"] == args.resume_from:
                     break
                 if str(engine.string) != frame["string"]:
@@ -202,20 +296,37 @@ def _resume(args: argparse.Namespace, record: Any, key: bytes | None) -> int:
                             world_kind=run.kind, frames_planned=header.get("frames_planned"), key=key) \
             if args.new_record else None
         try:
+            left = max(0, int(header.get("frames_planned") or 0) - args.resume_from)
             if robot:
-                run.case.frames = max(0, run.case.frames - args.resume_from)
+                run.case.frames = left
             else:
-                run.frames_to_run = max(0, run.frames_to_run - args.resume_from)
+                run.frames_to_run = left
             outcome = run.execute()
         finally:
             if recorder is not None:
                 recorder.close(faults=platform_faults(run))
-    print(f"vwg replay {args.record} --from {args.resume_from}: frames 0 to {args.resume_from - 1} as recorded, "
-          f"then live to frame {engine.frame}")
+    kept = f"the state kept at frame {first}, " if snapshot else ""
+    print(f"vwg replay {args.record} --from {args.resume_from}: {kept}frames {first} to {args.resume_from - 1} as "
+          f"recorded, then live to frame {engine.frame}")
     _print_summary(outcome.rows + list(outcome.outputs.items()))
     if robot and outcome.exit_status:
         print(f"vwg: {outcome.message}", file=sys.stderr)
     return 0 if not robot else outcome.exit_status
+
+
+def _check_snapshot(state: Path, header: dict[str, Any], record: Any, frame: int, world_file: Path) -> None:
+    """A state kept beside a record is of that record's run: its world file, seed and the string the record
+    holds at its frame (else it was left there by another run)."""
+    saved = read_state_file(state)
+    strings = {f["t"]: f["string"] for f in record.frames}
+    m = saved.manifest
+    if (Path(str(m.get("world_file"))) != world_file.resolve() or m.get("seed") != header.get("seed")
+            or frame not in strings):
+        raise Error(f"--from: {state} was not kept by the run of this record (another world, seed or frame); "
+                    f"remove it or its folder to replay from frame 0")
+    if engine_state(saved, frame).string != strings[frame]:
+        raise Error(f"--from: {state} holds another string at frame {frame} than the record; it was not kept by "
+                    "this record's run")
 
 
 def _cmd_check(args: argparse.Namespace) -> int:
@@ -459,7 +570,35 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
                      help="show a progress bar (default: on a terminal)")
     run.add_argument("--quiet", "-q", action="store_true", help="print nothing on success")
+    _state_arguments(run)
     run.set_defaults(func=_cmd_run)
+
+    res = sub.add_parser("resume", help="go on with a run saved by --save-state",
+                         description="Go on from a state saved by `vwg run --save-state` (or --snapshot-every): the "
+                                     "same world, seed, planner, platform and orders, for --frames more frames "
+                                     "(default: those the saved run had left), on this machine or another. A record "
+                                     "it writes continues the saved run's frame numbers. Exit status as vwg run's.")
+    res.add_argument("state", type=Path, help="a state file (vwg run --save-state)")
+    res.add_argument("--frames", type=int,
+                     help="frames to run from the saved one (default: what the saved run had left)")
+    res.add_argument("--threads", type=int, default=0, help="threads (default 0: the machine's cores); any count gives "
+                                                            "the same frames")
+    res.add_argument("--backend", help="a registered backend by name, shown on beside the world's own")
+    res.add_argument("--record", type=Path, help="write every frame from the saved one on to this JSON Lines file")
+    res.add_argument("--record-key", type=Path, metavar="FILE", help="make the record's chain an HMAC with this key")
+    res.add_argument("--summary-json", type=Path, help="write the summary as JSON")
+    res.add_argument("--video", type=Path, help="a robot world: write the frames from the saved one on as a video")
+    res.add_argument("--images", type=Path, help="a robot world: write every frame as a PNG into this folder")
+    res.add_argument("--trajectory", type=Path, help="a robot world: PNG of the trajectories from the saved frame on")
+    res.add_argument("--allow-unreached", action="store_true",
+                     help=f"a robot world: exit 0 even when a robot did not reach its room (otherwise "
+                          f"{EXIT_UNREACHED})")
+    res.add_argument("--stdin-orders", action="store_true", help="a robot world: read orders from standard input")
+    res.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
+                     help="show a progress bar (default: on a terminal)")
+    res.add_argument("--quiet", "-q", action="store_true", help="print nothing on success")
+    _state_arguments(res)
+    res.set_defaults(func=_cmd_resume)
 
     rep = sub.add_parser("replay", help="replay a record and check it",
                          description="Run a record's events again and check every string against it.")
@@ -553,6 +692,15 @@ def build_parser() -> argparse.ArgumentParser:
                          description="List the shipped robot worlds; run one with `vwg run NAME`.")
     wld.set_defaults(func=_cmd_worlds)
     return parser
+
+
+def _state_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--save-state", type=Path, metavar="FILE",
+                   help="write the run's state after its last frame (also when Ctrl-C stops it: the state of the last "
+                        "whole frame); vwg resume FILE goes on from it")
+    p.add_argument("--snapshot-every", type=int, metavar="K",
+                   help="keep the state every K frames beside the record (RECORD.states/), from which vwg replay "
+                        "RECORD --from FRAME starts instead of frame 0")
 
 
 def main(argv: Sequence[str] | None = None) -> int:

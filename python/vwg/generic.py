@@ -43,8 +43,8 @@ from vwg.model.generators import Schedule, every_frame, resolve_generators
 from vwg.model.limits import MAX_DT, MAX_FRAMES, MAX_SEED, MAX_TIME, MIN_DT
 from vwg.model.world import Alphabet, World
 from vwg.plugins import backends
-from vwg.saved_run import save_state
 from vwg.plugins import generators as generator_registry
+from vwg.saved_run import save_state
 
 __all__ = ["GenericKind", "WorldSpec", "build_world", "load_object", "load_world", "replay", "world_of_record"]
 

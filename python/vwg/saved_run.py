@@ -32,7 +32,18 @@ from vwg.errors import Error
 from vwg.io.state_file import MAX_BYTES, SavedState, engine_parts, engine_state, read_state, write_state
 from vwg.launch import RecordedRun, Run, RunOptions, check_outputs, load, run_inputs, start
 
-__all__ = ["RESUME_OPTIONS", "read_state_file", "resume", "save_state"]
+__all__ = [
+    "RESUME_OPTIONS",
+    "check_saved_by_this_vwg",
+    "keep_snapshots",
+    "load_parts",
+    "nearest_snapshot",
+    "read_state_file",
+    "resume",
+    "save_state",
+    "snapshot_folder",
+    "state_parts",
+]
 
 #: The run options a resumed run takes: what it writes and how fast, not what it is (its world, seed,
 #: dt, planner, platform and orders are the saved run's).
@@ -58,19 +69,23 @@ def _frames_left(run: Any) -> int:
     return int(case.frames if case is not None else run.frames_to_run)
 
 
-def save_state(run: Run, path: str | Path | None = None) -> bytes:
+def save_state(run: Run, path: str | Path | None = None, *, platform: bool = True) -> bytes:
     """The state of `run` after its last whole frame, as the bytes of a state file; written to `path`
     too when given (whole or not at all: through a temporary file in its folder). Error naming the part
-    that cannot be saved (a real robot's platform, a Python generator holding an open file)."""
+    that cannot be saved (a real robot's platform, a Python generator holding an open file).
+
+    ``platform=False`` keeps only the string (the robots' beliefs and maps) and what the actors' behaviours
+    keep (their deciders' searches): what a real robot's run can give. Resumed, it goes on on the simulator
+    with each robot where it believed it was; the generators start afresh."""
 
     world = getattr(run, "world", None) or getattr(run, "spec", None)
     engine = run.engine
-    parts: dict[str, bytes] = {}
-    platform = _platform_of(run)
-    if platform is not None:  # first: a real robot's refusal names the platform, not a generator of its link
-        parts["platform"] = bytes(platform.save_state())
-    state = engine.save_state()
-    parts.update(engine_parts(state))
+    if platform:
+        parts, frame = state_parts(engine, _platform_of(run))
+    else:
+        state = engine.save_state(generators=False)
+        parts, frame = engine_parts(state), int(state.frame)
+        del parts["generators"]
     inputs = {role: {"path": str(Path(p).resolve()), "sha256": _sha256(Path(p))}
               for role, p in run_inputs(world).items() if Path(p).is_file()}
     manifest: dict[str, Any] = {
@@ -80,16 +95,58 @@ def save_state(run: Run, path: str | Path | None = None) -> bytes:
         "inputs": inputs,
         "seed": int(engine.seed),
         "dt": float(engine.dt),
-        "frame": int(state.frame),
+        "frame": frame,
         "time": float(engine.time),
-        "frames_left": max(0, _frames_left(run) - (int(state.frame) - int(getattr(run, "first_frame", 0)))),
-        "platform": platform.name() if platform is not None else None,
+        "frames_left": max(0, _frames_left(run) - (frame - int(getattr(run, "first_frame", 0)))),
+        "platform": _platform_of(run).name() if platform and _platform_of(run) is not None else None,
+        "partial": not platform,
         "run": run.record_data if run.kind == "robot" else {},
     }
     data = write_state(manifest, parts)
     if path is not None:
         _write_whole(Path(path), data)
     return data
+
+
+def state_parts(engine: _core.Engine, platform: _core.RobotPlatform | None) -> tuple[dict[str, bytes], int]:
+    """The parts of a state file for an engine and the platform it drives (if any), and the frame."""
+    parts: dict[str, bytes] = {}
+    if platform is not None:  # first: a real robot's refusal names the platform, not a generator of its link
+        parts["platform"] = bytes(platform.save_state())
+    state = engine.save_state()
+    parts.update(engine_parts(state))
+    return parts, int(state.frame)
+
+
+def load_parts(saved: SavedState, engine: _core.Engine, platform: _core.RobotPlatform | None, source: str) -> None:
+    """Set a freshly made engine and platform to the state a file holds."""
+    if ("platform" in saved.parts) != (platform is not None):
+        raise Error(f"{source}: the state {'has' if 'platform' in saved.parts else 'has no'} platform part; "
+                    f"this run {'has' if platform is not None else 'has no'} platform")
+    if platform is not None:
+        platform.load_state(saved.parts["platform"])
+    engine.load_state(engine_state(saved, int(saved.manifest["frame"])))
+
+
+def _load_beliefs(saved: SavedState, run: Any, source: str) -> None:
+    """A state without generators and platform (save_state(platform=False)): the string and the behaviours'
+    states, the generators as they are made, each robot on the platform where its actor believes it is."""
+    parts = dict(saved.parts)
+    parts["generators"] = engine_parts(run.engine.save_state())["generators"]  # as made: they start afresh
+    run.engine.load_state(engine_state(SavedState(saved.manifest, parts), int(saved.manifest["frame"])))
+    platform = _platform_of(run)
+    if platform is None:
+        raise Error(f"{source}: a state of the robots' beliefs goes on on a robot platform; this run has none")
+    settings = {r.id: r for r in run.case.world.robots}
+    for actor in run.case.robot_actors().values():
+        rid = int(actor["id"])
+        robot = settings.get(rid)
+        if robot is None:
+            continue  # one a λ spawned: the platform follows the string by itself (keep_robots_in_step)
+        fields = {name: getattr(robot, name) for name, *_ in _core.RobotSettings.fields()}
+        fields["start"] = (float(actor["x"]), float(actor["y"]), float(actor["angle"]))
+        platform.remove_robot(rid)
+        platform.add_robot(_core.RobotSettings(**fields))
 
 
 def _write_whole(path: Path, data: bytes) -> None:
@@ -119,7 +176,8 @@ def read_state_file(state: str | Path | bytes) -> SavedState:
     return read_state(data, str(path))
 
 
-def _check_saved_by_this_vwg(saved: SavedState, source: str) -> None:
+def check_saved_by_this_vwg(saved: SavedState, source: str) -> None:
+    """Error unless this vwg saved it and every file its run read is as it was."""
     m = saved.manifest
     if m.get("vwg") != _core.__version__:
         raise Error(f"{source}: saved by vwg {m.get('vwg')}; this is vwg {_core.__version__}, and a run is resumed "
@@ -144,30 +202,28 @@ def resume(state: str | Path | bytes, options: RunOptions | None = None) -> Run:
             raise Error(f"--{name.replace('_', '-')}: a resumed run keeps the saved run's; give it to vwg run instead")
     source = "<state bytes>" if isinstance(state, (bytes, bytearray, memoryview)) else str(state)
     saved = read_state_file(state)
-    _check_saved_by_this_vwg(saved, source)
+    check_saved_by_this_vwg(saved, source)
     m = saved.manifest
     world = load(str(m["world_file"]))
     kind = m.get("world_kind")
     frames = options.frames if options.frames is not None else int(m.get("frames_left", 0))
     made = dataclasses.replace(options, frames=frames, seed=int(m["seed"]), dt=float(m["dt"]), record=None,
                                record_key=None, summary_json=None)
+    partial = bool(m.get("partial"))
     if kind == "robot":
         data = m.get("run") or {}
         made = dataclasses.replace(made, planner=data.get("planner"), goals=data.get("goals") or None,
                                    no_world_orders=not data.get("world_orders", True),
-                                   platform=m.get("platform") or None)
+                                   platform="sim" if partial else m.get("platform") or None)
     check_outputs(world, options, {"the state being resumed": Path(source)} if not source.startswith("<") else None)
     run = start(world, made)
     try:
         if kind != run.kind:
             raise Error(f"{source}: saved by a {kind} world; {world.path} is a {run.kind} world")
-        platform = _platform_of(run)
-        if ("platform" in saved.parts) != (platform is not None):
-            raise Error(f"{source}: the state {'has' if 'platform' in saved.parts else 'has no'} platform part; "
-                        f"this run {'has' if platform is not None else 'has no'} platform")
-        if platform is not None:
-            platform.load_state(saved.parts["platform"])
-        run.engine.load_state(engine_state(saved, int(m["frame"])))
+        if partial:
+            _load_beliefs(saved, run, source)
+        else:
+            load_parts(saved, run.engine, _platform_of(run), source)
         run.first_frame = int(m["frame"])  # type: ignore[attr-defined]
     except BaseException:
         run.close()
@@ -175,3 +231,39 @@ def resume(state: str | Path | bytes, options: RunOptions | None = None) -> Run:
     given = RunOptions(record=options.record, record_key=options.record_key, summary_json=options.summary_json,
                        frames=frames)
     return RecordedRun(run, world, given) if options.record or options.summary_json else run
+
+
+# ---- states kept beside a record (vwg run --snapshot-every, vwg replay --from) ---------------------------
+def snapshot_folder(record: str | Path) -> Path:
+    """The folder of the states kept beside a record: ``RECORD.states/``, one ``FRAME.vwgstate`` each."""
+    record = Path(record)
+    return record.with_name(record.name + ".states")
+
+
+def keep_snapshots(run: Run, record: str | Path, every: int) -> Path:
+    """Save the run's state after every `every`-th frame into snapshot_folder(record) (from the engine's
+    observers, when each frame is complete); returns the folder."""
+    if every < 1:
+        raise Error(f"--snapshot-every: expected a number of frames >= 1, got {every}")
+    folder = snapshot_folder(record)
+    folder.mkdir(parents=True, exist_ok=True)
+
+    def keep(frame: _core.FrameRecord) -> None:
+        done = frame.frame + 1  # frames complete: the state's frame
+        if done % every == 0:
+            save_state(run, folder / f"{done:012d}.vwgstate")
+
+    run.engine.add_observer(keep)
+    return folder
+
+
+def nearest_snapshot(record: str | Path, frame: int) -> tuple[Path, int] | None:
+    """The state kept beside `record` of the latest frame at or before `frame`, and that frame; None if
+    there is none."""
+    folder = snapshot_folder(record)
+    best: tuple[Path, int] | None = None
+    if folder.is_dir():
+        for p in folder.glob("*.vwgstate"):
+            if p.stem.isdigit() and int(p.stem) <= frame and (best is None or int(p.stem) > best[1]):
+                best = (p, int(p.stem))
+    return best

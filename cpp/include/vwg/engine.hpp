@@ -137,8 +137,10 @@ class Engine {
   WorldString string_copy() const;
   /// Replace w (e.g. to load a snapshot); the frame counter is kept.
   void set_string(WorldString w);
-  /// The run's state between frames (from any thread; inside a frame it throws).
-  EngineState save_state() const;
+  /// The run's state between frames, from any thread or from an observer (the frame is complete
+  /// then); from a λ, θ, generator or backend it throws. Without `generators`, their states are left
+  /// out (a real robot's run, whose links cannot be saved: its string and its robots' maps can).
+  EngineState save_state(bool generators = true) const;
   /// Go on from `state`, saved by an engine made as this one was (the same alphabet, generators in
   /// the same order, actor types with the same behaviours): w, the frame number, the generators'
   /// and behaviours' states. Throws SchemaError naming the part that does not fit (and then

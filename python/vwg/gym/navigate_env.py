@@ -53,8 +53,16 @@ class NavigateEnv(gym.Env[Any, Any]):
         super().reset(seed=seed)
         # Each episode's world from the env's generator: reset(seed=s) then resets give one sequence.
         episode_seed = int(self.np_random.integers(2**63 - 1))
-        self.nav.reset(episode_seed)
+        state = (options or {}).get("state")
+        if state is not None:  # an episode saved by save_state(), as it stood (a path or its bytes)
+            self.nav.restore(state)
+        else:
+            self.nav.reset(episode_seed)
         return self._observation(), self.nav.info(self.nav.robots[0])
+
+    def save_state(self) -> bytes:
+        """The episode as it stands, for ``reset(options={"state": data})`` (here or in another process)."""
+        return self.nav.save_state()
 
     def step(self, action: Any) -> tuple[Any, float, bool, bool, dict[str, Any]]:
         if self.nav.case is None:

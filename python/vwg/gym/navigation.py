@@ -13,18 +13,23 @@ where it is (a zero move).
 from __future__ import annotations
 
 import dataclasses
+import hashlib
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 import vwg._core as _core
-from vwg.errors import SchemaError
+from vwg.errors import Error, SchemaError
+from vwg.io.state_file import write_state
+from vwg.launch import run_inputs
 from vwg.robot.case_study import CaseStudy
 from vwg.robot.shortest import DistanceField
 from vwg.robot.world_file import RobotWorld
+from vwg.saved_run import check_saved_by_this_vwg, load_parts, read_state_file, state_parts
 from vwg.trial import cached_world, random_task, replace_robot
 
 __all__ = ["REWARD", "AgentDecider", "Navigation", "Reward"]
@@ -90,8 +95,14 @@ class Navigation:
 
     # ---- episodes ---------------------------------------------------------------------------------------
     def reset(self, seed: int) -> None:
+        self._make(seed)
+        # One frame: the first scans and the orders reach the robots (they decide nothing yet: no move).
+        self._frames(1)
 
+    def _make(self, seed: int) -> None:
+        """The episode of `seed` made, before its first frame."""
         self.close()
+        self.seed = seed
         world, goals = random_task(self.base, self.n_robots, np.random.default_rng(seed))
         world = dataclasses.replace(world, robots=[replace_robot(r, sensors=("laser",)) for r in world.robots])
         self.world, self.goals = world, goals
@@ -103,8 +114,45 @@ class Navigation:
         self._last_way = {rid: self.way_left(rid) for rid in goals}
         self._last_collisions = {rid: 0 for rid in goals}
         self._arrived = {}
-        # One frame: the first scans and the orders reach the robots (they decide nothing yet: no move).
-        self._frames(1)
+
+    # ---- saved episodes ---------------------------------------------------------------------------------
+    def save_state(self) -> bytes:
+        """The episode as it stands between steps, as the bytes of a state file (vwg.io.state_file): its
+        seed (the task), the engine's and the simulator's state, and the rewards' bookkeeping."""
+        if self.case is None:
+            raise Error("save_state: no episode yet (reset() first)")
+        parts, frame = state_parts(self.case.engine, self.case.sim.platform)
+        inputs = {role: {"path": str(p.resolve()), "sha256": hashlib.sha256(p.read_bytes()).hexdigest()}
+                  for role, p in run_inputs(self.base).items() if p.is_file()}
+        episode = {"robots": self.n_robots, "beams": self.laser.beams, "frames_per_step": self.frames_per_step,
+                   "last_way": list(self._last_way.items()), "last_collisions": list(self._last_collisions.items()),
+                   "arrived": list(self._arrived.items()), "frames_run": self.frames_run}
+        manifest = {"vwg": _core.__version__, "world_kind": "gym-navigation", "world_file": str(self.base.path),
+                    "inputs": inputs, "seed": self.seed, "dt": self.world.dt, "frame": frame, "episode": episode}
+        return write_state(manifest, parts)
+
+    def restore(self, state: str | Path | bytes) -> None:
+        """Go on with an episode save_state() saved (a path or its bytes), in this environment's settings."""
+        source = "<state bytes>" if isinstance(state, (bytes, bytearray, memoryview)) else str(state)
+        saved = read_state_file(state)
+        check_saved_by_this_vwg(saved, source)
+        m = saved.manifest
+        episode = m.get("episode")
+        if m.get("world_kind") != "gym-navigation" or not isinstance(episode, dict):
+            raise Error(f"{source}: not an episode saved by a vwg.gym environment (env.unwrapped.save_state())")
+        mine = {"robots": self.n_robots, "beams": self.laser.beams, "frames_per_step": self.frames_per_step}
+        theirs = {k: episode.get(k) for k in mine}
+        if theirs != mine or Path(str(m.get("world_file"))) != Path(self.base.path):
+            raise Error(f"{source}: saved by an environment of {m.get('world_file')} with {theirs}; this one is of "
+                        f"{self.base.path} with {mine}")
+        self._make(int(m["seed"]))
+        assert self.case is not None
+        load_parts(saved, self.case.engine, self.case.sim.platform, source)
+        self.actors = self.case.robot_actors()
+        self._last_way = {int(k): float(v) for k, v in episode["last_way"]}
+        self._last_collisions = {int(k): int(v) for k, v in episode["last_collisions"]}
+        self._arrived = {int(k): bool(v) for k, v in episode["arrived"]}
+        self.frames_run = int(episode["frames_run"])
 
     def _field(self, goal: tuple[float, float]) -> Any:
 

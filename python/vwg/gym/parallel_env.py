@@ -60,8 +60,14 @@ class NavigateParallelEnv(ParallelEnv):  # type: ignore[misc]
             self._rng = np.random.default_rng(seed)
         elif not hasattr(self, "_rng"):
             self._rng = np.random.default_rng()
-        self.nav.reset(int(self._rng.integers(2**63 - 1)))
-        self.agents = list(self.possible_agents)
+        state = (options or {}).get("state")
+        episode_seed = int(self._rng.integers(2**63 - 1))
+        if state is not None:  # an episode saved by save_state() (a path or its bytes)
+            self.nav.restore(state)
+        else:
+            self.nav.reset(episode_seed)
+        # A restored episode's robots that had reached their rooms had left (terminated).
+        self.agents = [a for a in self.possible_agents if state is None or not self.nav.reached(self._robot(a))]
         self._steps = 0
         return ({a: self._observe(a) for a in self.agents}, {a: self.nav.info(self._robot(a)) for a in self.agents})
 
@@ -80,6 +86,10 @@ class NavigateParallelEnv(ParallelEnv):  # type: ignore[misc]
         infos = {a: self.nav.info(self._robot(a)) for a in agents}
         self.agents = [a for a in agents if not (terminations[a] or truncations[a])]
         return observations, rewards, terminations, truncations, infos
+
+    def save_state(self) -> bytes:
+        """The episode as it stands, for ``reset(options={"state": data})`` (its step count starts again)."""
+        return self.nav.save_state()
 
     def close(self) -> None:
         self.nav.close()

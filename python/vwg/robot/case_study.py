@@ -487,10 +487,11 @@ class RobotRun:
         title = f"{self.world.name}, planner {summary.planner}, seed {summary.seed}"
         return Outcome(title, rows, summary.to_json(), status, message, summary.outputs)
 
-    def save_state(self, path: str | Path | None = None) -> bytes:
+    def save_state(self, path: str | Path | None = None, *, platform: bool = True) -> bytes:
         """The run's state after its last whole frame (vwg.saved_run): the string, the generators',
-        deciders' and platform's states; written to `path` when given."""
-        return save_state(self, path)
+        deciders' and platform's states; written to `path` when given. ``platform=False``: the robots'
+        beliefs, maps and planners only (a real robot's run), to go on on the simulator."""
+        return save_state(self, path, platform=platform)
 
     def close(self) -> None:
         self.case.close()
