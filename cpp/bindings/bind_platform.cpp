@@ -244,12 +244,15 @@ robots() -> list of RobotState, take_collisions() -> list of Collision, time() a
         return py::bytes(out.bytes());
       }, "Everything that decides what the platform does next, as bytes (a saved run); a real robot's "
          "platform refuses. A Python platform may define save_state(self) -> bytes and load_state(self, data).")
-      .def("load_state", [](RobotPlatform& p, const py::bytes& data) {
+      .def("load_state", [](RobotPlatform& p, const py::bytes& data, std::optional<double> seconds) {
         const std::string bytes = data;
         StateReader in(bytes, "platform " + p.name());
+        if (seconds) in.limit_seconds(*seconds);
         py::gil_scoped_release release;
         p.load_state(in);
-      }, py::arg("data"), "Back to what save_state() returned, on a platform made as the saved one was.");
+      }, py::arg("data"), py::arg("seconds") = py::none(),
+      "Back to what save_state() returned, on a platform made as the saved one was. `seconds`: the saved run's "
+      "simulated time, which nothing in the state may exceed (a state from someone else cannot ask for years).");
 
   py::class_<platform::MotionBackend, Backend, std::shared_ptr<platform::MotionBackend>>(m, "MotionBackend", R"doc(
 φ on a robot platform (paper Table I): α(Robot<id>) commands robot `id` with the Move<d> and

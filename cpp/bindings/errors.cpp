@@ -8,9 +8,15 @@ namespace vwg::bindings {
 
 namespace {
 
+/// Text as Python sees it: a message may quote bytes that are not UTF-8 (a damaged state's name, a
+/// file's line), which are shown as U+FFFD rather than turning the error into a UnicodeDecodeError.
+py::object readable(const std::string& text) {
+  return py::reinterpret_steal<py::object>(PyUnicode_DecodeUTF8(text.data(), static_cast<Py_ssize_t>(text.size()), "replace"));
+}
+
 py::object make_exception(const char* cls_name, const std::string& message, const py::dict& attrs) {
   py::object cls = python_class("vwg.errors", cls_name);
-  py::object exc = cls(message);
+  py::object exc = cls(readable(message));
   for (auto item : attrs) py::setattr(exc, item.first, item.second);
   return exc;
 }
@@ -24,10 +30,10 @@ py::object exception_object(const std::exception_ptr& p) {
   } catch (const FrameError& e) {
     py::dict attrs;
     attrs["frame"] = e.frame();
-    attrs["stage"] = e.stage();
-    attrs["actor"] = e.actor();
-    attrs["event"] = e.event();
-    attrs["where"] = e.where();
+    attrs["stage"] = readable(e.stage());
+    attrs["actor"] = readable(e.actor());
+    attrs["event"] = readable(e.event());
+    attrs["where"] = readable(e.where());
     std::string message = e.what();
     py::object cause;
     if (e.cause()) {
@@ -46,23 +52,24 @@ py::object exception_object(const std::exception_ptr& p) {
     return exc;
   } catch (const ParseError& e) {
     py::dict attrs;
-    attrs["source"] = e.source();
+    attrs["source"] = readable(e.source());
     attrs["line"] = e.line();
     attrs["column"] = e.column();
-    attrs["found"] = e.found();
-    attrs["expected"] = e.expected();
+    attrs["found"] = readable(e.found());
+    attrs["expected"] = readable(e.expected());
     return make_exception("ParseError", e.what(), attrs);
   } catch (const FileError& e) {
     // WorldFileError words its message from its parts, as the C++ one does.
-    return python_class("vwg.errors", "WorldFileError")(e.path(), e.field(), e.message(), e.line(), e.column());
+    return python_class("vwg.errors", "WorldFileError")(readable(e.path()), readable(e.field()), readable(e.message()),
+                                                        e.line(), e.column());
   } catch (const SchemaError& e) {
     py::dict attrs;
-    attrs["field"] = e.field();
+    attrs["field"] = readable(e.field());
     return make_exception("SchemaError", e.what(), attrs);
   } catch (const Error& e) {
     return make_exception("Error", e.what(), py::dict());
   } catch (const std::exception& e) {
-    return py::reinterpret_borrow<py::object>(PyExc_RuntimeError)(e.what());
+    return py::reinterpret_borrow<py::object>(PyExc_RuntimeError)(readable(e.what()));
   } catch (...) {
     return py::reinterpret_borrow<py::object>(PyExc_RuntimeError)("unknown C++ exception");
   }

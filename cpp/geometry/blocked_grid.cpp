@@ -77,7 +77,9 @@ void BlockedGrid::save(StateWriter& out) const {
 
 BlockedGrid BlockedGrid::load(StateReader& in) {
   const std::int64_t rows = in.i64(), cols = in.i64();
-  if (rows < 0 || cols < 0 || rows > std::numeric_limits<std::int32_t>::max() || cols > std::numeric_limits<std::int32_t>::max() ||
+  // Every cell's byte must be there, and a grid with rows has columns (else 16 bytes would ask for a
+  // grid of a billion empty rows).
+  if (rows < 0 || cols < 0 || rows > (1 << 30) || cols > (1 << 30) || (rows == 0) != (cols == 0) ||
       (cols > 0 && static_cast<std::uint64_t>(rows) > in.left() / static_cast<std::uint64_t>(cols))) {
     in.fail("a grid of " + std::to_string(rows) + " × " + std::to_string(cols) + " cells, more than the state holds");
   }

@@ -79,7 +79,13 @@ DStarLiteSearch<Keys> DStarLiteSearch<Keys>::load(StateReader& in) {
   s.start_node_ = node();
   s.goal_node_ = node();
   s.last_node_ = node();
-  s.km_ = static_cast<Cost>(in.f64());
+  const double km = in.f64();
+  // A key offset the search could have reached (ExactKeys keeps km below kKmLimit).
+  if (!(km >= 0.0) || !std::isfinite(km) || (std::is_integral_v<Cost> && (km >= static_cast<double>(Keys::kKmLimit) ||
+                                                                          km != std::floor(km)))) {
+    in.fail("a key offset km out of range");
+  }
+  s.km_ = static_cast<Cost>(km);
   s.g_ = FilledArray<Cost>::load(in, n);
   s.rhs_ = FilledArray<Cost>::load(in, n);
   s.slot_ = FilledArray<std::uint32_t>::load(in, n);

@@ -155,12 +155,14 @@ bool PlanningMap::update(const Blob& map, const geometry::MapGeometry& g, double
   if (loaded_) {  // a saved run's grids, made now that the geometry is known; then compared with the map
     std::optional<geometry::BlockedGrid> saved;
     saved.swap(loaded_);
-    if (saved->rows() == g.height && saved->cols() == g.width) {
+    // For the radius in use and the map's size only: a state of another radius (or a damaged one) is the
+    // first look, as for a robot never seen (its grids made from the map; update() reports a change).
+    if (saved->rows() == g.height && saved->cols() == g.width && loaded_radius_ == radius) {
       std::vector<std::uint8_t> mask(static_cast<std::size_t>(g.height) * g.width);
       for (int r = 0; r < g.height; ++r) {
         for (int c = 0; c < g.width; ++c) mask[static_cast<std::size_t>(r) * g.width + c] = saved->blocked({r, c});
       }
-      rebuild_mask(std::move(mask), g, loaded_radius_);
+      rebuild_mask(std::move(mask), g, radius);
       looked_ = Blob::Mark{};  // of no revision: the map is compared cell by cell
     }
   }

@@ -9,6 +9,7 @@
 
 #include <box2d/box2d.h>
 
+#include "vwg/engine.hpp"
 #include "vwg/error.hpp"
 #include "vwg/hash.hpp"
 #include "vwg/text.hpp"
@@ -437,41 +438,72 @@ void PhysicsWorld::load_state(StateReader& in) {
   if (journal.size() < done.size() || journal.compare(0, done.size(), done) != 0) {
     in.fail("this simulator has already been used in another way than the saved one (load a state into a new one)");
   }
-  // The rest, call by call: the same calls give the same bits (and journal themselves again).
+  // The rest, read whole and checked first (ids, kinds, times: a forged journal is refused before it
+  // runs), then call by call: the same calls give the same bits (and journal themselves again).
+  struct Call {
+    Op op;
+    int robot = 0;
+    double a = 0.0, b = 0.0;
+    RobotSettings settings;
+    std::vector<MotionStep> plan;
+  };
+  std::vector<Call> calls;
   StateReader ops(std::string_view(journal).substr(done.size()), in.part() + " journal");
+  auto robot_id = [&] {
+    const std::int64_t id = ops.i64();
+    if (id < 1 || id > std::numeric_limits<int>::max()) ops.fail("a robot id out of range: " + std::to_string(id));
+    return static_cast<int>(id);
+  };
+  double seconds = time_ + pending_;
   while (ops.left() > 0) {
-    switch (ops.u8()) {
+    Call c;
+    c.op = static_cast<Op>(ops.u8());
+    switch (c.op) {
       case kAddRobot:
-        add_robot(read_robot(ops));
+        c.settings = read_robot(ops);
         break;
       case kRemoveRobot:
-        remove_robot(static_cast<int>(ops.i64()));
+        c.robot = robot_id();
         break;
       case kCommand: {
-        const std::int64_t robot = ops.i64();
-        std::vector<MotionStep> plan(ops.count(9, "motion steps"));
-        for (MotionStep& step : plan) {
+        c.robot = robot_id();
+        c.plan.resize(ops.count(9, "motion steps"));
+        for (MotionStep& step : c.plan) {
           const std::uint8_t kind = ops.u8();
           if (kind > MotionStep::Drive) ops.fail("a motion step of unknown kind " + std::to_string(kind));
           step = MotionStep{static_cast<MotionStep::Kind>(kind), ops.f64()};
         }
-        command(static_cast<int>(robot), std::move(plan));
         break;
       }
-      case kDrive: {
-        const std::int64_t robot = ops.i64();
-        const double speed = ops.f64();
-        drive(static_cast<int>(robot), speed, ops.f64());
+      case kDrive:
+        c.robot = robot_id();
+        c.a = ops.f64();
+        c.b = ops.f64();
         break;
-      }
       case kAdvance:
-        advance(ops.f64());
+        c.a = ops.f64();
+        // A frame's time at most, and in all no more than the saved run's.
+        if (!(c.a >= 0.0 && c.a <= kMaxDt)) ops.fail("an advance of " + format_real(c.a) + " s");
+        seconds += c.a;
+        if (seconds > in.max_seconds() * (1.0 + 1e-9) + 1e-6) {
+          ops.fail("its steps pass more time than the saved run's " + format_real(in.max_seconds()) + " s");
+        }
         break;
       case kTakeCollisions:
-        take_collisions();
         break;
       default:
         ops.fail("an entry of unknown kind");
+    }
+    calls.push_back(std::move(c));
+  }
+  for (Call& c : calls) {
+    switch (c.op) {
+      case kAddRobot: add_robot(c.settings); break;
+      case kRemoveRobot: remove_robot(c.robot); break;
+      case kCommand: command(c.robot, std::move(c.plan)); break;
+      case kDrive: drive(c.robot, c.a, c.b); break;
+      case kAdvance: advance(c.a); break;
+      case kTakeCollisions: take_collisions(); break;
     }
   }
 }

@@ -45,6 +45,9 @@ __all__ = [
     "state_parts",
 ]
 
+#: The role of the world file among a run's inputs (launch.run_inputs).
+WORLD_FILE = "the world file being run"
+
 #: The run options a resumed run takes: what it writes and how fast, not what it is (its world, seed,
 #: dt, planner, platform and orders are the saved run's).
 RESUME_OPTIONS = frozenset({"frames", "threads", "record", "record_key", "summary_json", "progress", "backend",
@@ -123,8 +126,8 @@ def load_parts(saved: SavedState, engine: _core.Engine, platform: _core.RobotPla
     if ("platform" in saved.parts) != (platform is not None):
         raise Error(f"{source}: the state {'has' if 'platform' in saved.parts else 'has no'} platform part; "
                     f"this run {'has' if platform is not None else 'has no'} platform")
-    if platform is not None:
-        platform.load_state(saved.parts["platform"])
+    if platform is not None:  # its steps may pass no more time than the saved run's
+        platform.load_state(saved.parts["platform"], seconds=float(saved.manifest["time"]))
     engine.load_state(engine_state(saved, int(saved.manifest["frame"])))
 
 
@@ -176,14 +179,55 @@ def read_state_file(state: str | Path | bytes) -> SavedState:
     return read_state(data, str(path))
 
 
+def _check_manifest(m: dict[str, Any], source: str) -> None:
+    """The fields a resume reads, of the types and ranges a run has (a forged file is refused by name)."""
+
+    def bad(field: str, expected: str) -> Error:
+        return Error(f"{source}: the manifest's {field} is {str(m.get(field))[:80]!r}; expected {expected}")
+
+    def whole(v: Any, hi: int) -> bool:
+        return isinstance(v, int) and not isinstance(v, bool) and 0 <= v <= hi
+
+    for field, hi in (("frame", 2**64 - 1), ("seed", 2**64 - 1), ("frames_left", 2**64 - 1)):
+        if not whole(m.get(field), hi):
+            raise bad(field, f"an integer from 0 to {hi}")
+    for field, lo, hi in (("dt", 1e-6, 3600.0), ("time", 0.0, 1e300)):
+        v = m.get(field)
+        if not (isinstance(v, (int, float)) and not isinstance(v, bool) and lo <= v <= hi):
+            raise bad(field, f"a number of seconds from {lo:g} to {hi:g}")
+    for field in ("world_file", "world_kind"):
+        if not isinstance(m.get(field), str):
+            raise bad(field, "text")
+    if not isinstance(m.get("partial", False), bool):
+        raise bad("partial", "true or false")
+    if not (m.get("platform") is None or isinstance(m.get("platform"), str)):
+        raise bad("platform", "a platform's name or null")
+    inputs = m.get("inputs")
+    if not (isinstance(inputs, dict) and inputs and all(
+            isinstance(e, dict) and isinstance(e.get("path"), str) and isinstance(e.get("sha256"), str)
+            for e in inputs.values())):
+        raise bad("inputs", "the files the run read, each {path, sha256} (at least the world file)")
+    if inputs.get(WORLD_FILE, {}).get("path") != m["world_file"]:
+        raise bad("world_file", f"the file of the inputs' {WORLD_FILE!r}")
+    run = m.get("run", {})
+    if not isinstance(run, dict):
+        raise bad("run", "a mapping")
+    if m["world_kind"] == "robot":
+        goals = run.get("goals") or []
+        if not (isinstance(run.get("planner"), str) and isinstance(goals, list)
+                and all(isinstance(g, str) for g in goals) and isinstance(run.get("world_orders", True), bool)):
+            raise bad("run", "the robot run's planner (text), goals (texts) and world_orders (true or false)")
+
+
 def check_saved_by_this_vwg(saved: SavedState, source: str) -> None:
-    """Error unless this vwg saved it and every file its run read is as it was."""
+    """Error unless this vwg saved it, its manifest is well formed and every file its run read is as it was."""
     m = saved.manifest
     if m.get("vwg") != _core.__version__:
-        raise Error(f"{source}: saved by vwg {m.get('vwg')}; this is vwg {_core.__version__}, and a run is resumed "
-                    "by the vwg that saved it (the frames after it would differ)")
-    for role, entry in (m.get("inputs") or {}).items():
-        p = Path(str(entry.get("path", "")))
+        raise Error(f"{source}: saved by vwg {str(m.get('vwg'))[:40]}; this is vwg {_core.__version__}, and a run is "
+                    "resumed by the vwg that saved it (the frames after it would differ)")
+    _check_manifest(m, source)
+    for role, entry in m["inputs"].items():
+        p = Path(entry["path"])
         if not p.is_file():
             raise Error(f"{source}: {role} ({p}) is gone; the run cannot be made again without it")
         if _sha256(p) != entry.get("sha256"):

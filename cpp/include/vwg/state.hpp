@@ -8,6 +8,7 @@
 #include <bit>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <string_view>
 #include <type_traits>
@@ -112,11 +113,16 @@ class StateReader {
   }
   [[noreturn]] void fail(const std::string& what) const { throw SchemaError(part_, "saved state: " + what); }
   const std::string& part() const { return part_; }
+  /// The saved run's simulated time, when the reader knows it: nothing the state holds may make
+  /// more time pass (a simulator's journal), so a damaged or forged state cannot ask for years.
+  void limit_seconds(double seconds) { max_seconds_ = seconds; }
+  double max_seconds() const { return max_seconds_; }
 
  private:
   std::string_view bytes_;
   std::size_t at_ = 0;
   std::string part_;
+  double max_seconds_ = std::numeric_limits<double>::infinity();
 };
 
 }  // namespace vwg

@@ -127,8 +127,10 @@ class Navigation:
         episode = {"robots": self.n_robots, "beams": self.laser.beams, "frames_per_step": self.frames_per_step,
                    "last_way": list(self._last_way.items()), "last_collisions": list(self._last_collisions.items()),
                    "arrived": list(self._arrived.items()), "frames_run": self.frames_run}
-        manifest = {"vwg": _core.__version__, "world_kind": "gym-navigation", "world_file": str(self.base.path),
-                    "inputs": inputs, "seed": self.seed, "dt": self.world.dt, "frame": frame, "episode": episode}
+        manifest = {"vwg": _core.__version__, "world_kind": "gym-navigation",
+                    "world_file": str(Path(self.base.path).resolve()), "inputs": inputs, "seed": self.seed,
+                    "dt": self.world.dt, "frame": frame,
+                    "time": float(self.case.engine.time), "frames_left": 0, "episode": episode}
         return write_state(manifest, parts)
 
     def restore(self, state: str | Path | bytes) -> None:
@@ -142,7 +144,7 @@ class Navigation:
             raise Error(f"{source}: not an episode saved by a vwg.gym environment (env.unwrapped.save_state())")
         mine = {"robots": self.n_robots, "beams": self.laser.beams, "frames_per_step": self.frames_per_step}
         theirs = {k: episode.get(k) for k in mine}
-        if theirs != mine or Path(str(m.get("world_file"))) != Path(self.base.path):
+        if theirs != mine or Path(str(m.get("world_file"))) != Path(self.base.path).resolve():
             raise Error(f"{source}: saved by an environment of {m.get('world_file')} with {theirs}; this one is of "
                         f"{self.base.path} with {mine}")
         self._make(int(m["seed"]))

@@ -90,13 +90,15 @@ def read_state(data: bytes, source: str) -> SavedState:
     head = data[start:start + n]
     manifest_hash, file_hash = data[-64:-32], data[-32:]
     whole = hashlib.sha256(data[:-32]).digest() == file_hash
+    manifest = _parse_manifest(head)
     if hashlib.sha256(head).digest() != manifest_hash:
-        raise fail("the manifest is damaged (its SHA-256 differs)" if whole or _parts_hold(data, head, start + n)
-                   else "the file is cut short or damaged: the hashes at its end are not those of its content")
-    try:
-        manifest = json.loads(head.decode("utf-8"))
-    except (UnicodeDecodeError, json.JSONDecodeError) as e:
-        raise fail(f"the manifest is not JSON: {e}") from None
+        if hashlib.sha256(data[:-64] + hashlib.sha256(head).digest()).digest() == file_hash:
+            raise fail("the hashes at its end are damaged (the manifest and parts check)")
+        if isinstance(manifest, dict) and _fits(manifest, len(data) - start - n - 64) is False:
+            raise fail("the file is cut short or damaged: its parts do not fill it as the manifest says")
+        raise fail("the manifest is damaged (its SHA-256 differs from the one kept at the end)")
+    if isinstance(manifest, str):
+        raise fail(f"the manifest is not JSON: {manifest}")
     if not isinstance(manifest, dict):
         raise fail("the manifest is not a JSON object")
     if manifest.get("format") != FORMAT:
@@ -119,9 +121,28 @@ def read_state(data: bytes, source: str) -> SavedState:
     return SavedState(manifest, parts)
 
 
+def _parse_manifest(head: bytes) -> dict[str, Any] | str:
+    """The manifest, or what is wrong with its text."""
+    try:
+        return json.loads(head.decode("utf-8"))  # type: ignore[no-any-return]
+    except (UnicodeDecodeError, json.JSONDecodeError) as e:
+        return str(e)
+    except (RecursionError, ValueError) as e:  # nested too deep; an integer of thousands of digits
+        return f"{type(e).__name__}: {str(e)[:200]}"
+
+
+def _fits(manifest: dict[str, Any], room: int) -> bool | None:
+    """Whether the parts a manifest lists fill `room` bytes (None: it lists none readably)."""
+    entries = manifest.get("parts")
+    if not (isinstance(entries, list) and all(_entry_ok(e) for e in entries)):
+        return None
+    return sum(e["bytes"] for e in entries) == room
+
+
 def _entry_ok(e: Any) -> bool:
     return (isinstance(e, dict) and isinstance(e.get("name"), str) and isinstance(e.get("sha256"), str)
-            and all(isinstance(e.get(k), int) and not isinstance(e.get(k), bool) and e[k] >= 0 for k in ("bytes", "size")))
+            and all(isinstance(e.get(k), int) and not isinstance(e.get(k), bool) and e[k] >= 0
+                    for k in ("bytes", "size")))
 
 
 def _inflate(stored: bytes, entry: dict[str, Any], fail: Any) -> bytes:
@@ -130,24 +151,13 @@ def _inflate(stored: bytes, entry: dict[str, Any], fail: Any) -> bytes:
         d = zlib.decompressobj()
         raw = d.decompress(stored, entry["size"])
         if d.unconsumed_tail or not d.eof or d.unused_data:
-            raise fail(f"the part '{name}' is damaged: it does not inflate to the {entry['size']} bytes the manifest says")
+            raise fail(f"the part '{name}' is damaged: it does not inflate to the {entry['size']} bytes the "
+                       "manifest says")
     except zlib.error as e:
         raise fail(f"the part '{name}' is damaged ({e})") from None
     if len(raw) != entry["size"] or hashlib.sha256(raw).hexdigest() != entry["sha256"]:
         raise fail(f"the part '{name}' is damaged (its SHA-256 differs)")
     return raw
-
-
-def _parts_hold(data: bytes, head: bytes, at: int) -> bool:
-    """Whether the parts check against a manifest whose hash did not (then the manifest is what changed)."""
-    try:
-        manifest = json.loads(head.decode("utf-8"))
-        for e in manifest["parts"]:
-            _inflate(data[at:at + e["bytes"]], e, Error)
-            at += e["bytes"]
-        return True
-    except Exception:  # noqa: BLE001 (any failure: the parts cannot be told to hold)
-        return False
 
 
 # ---- the engine's state as parts --------------------------------------------------------------------
@@ -238,8 +248,8 @@ def _unpack_blobs(data: bytes) -> dict[str, _core.Blob]:
             if not (isinstance(name, str) and all(isinstance(n, int) and n >= 0 for n in shape)
                     and isinstance(base, int) and -1 <= base < k and not dtype.hasobject):
                 raise ValueError("malformed")
-        except (UnicodeDecodeError, ValueError, KeyError, TypeError) as e:
-            raise Error(f"state part 'blobs': blob {k} is described wrongly ({e})") from None
+        except (UnicodeDecodeError, ValueError, KeyError, TypeError, RecursionError) as e:
+            raise Error(f"state part 'blobs': blob {k} is described wrongly ({str(e)[:200]})") from None
         payload = np.frombuffer(r.take(), np.uint8)
         expected = int(np.prod(shape, dtype=np.int64)) * dtype.itemsize
         if payload.size != expected or (base >= 0 and raws[base].size != expected):

@@ -13,6 +13,7 @@ Reading a state makes only these kinds of objects: no class the state names is i
 from __future__ import annotations
 
 import base64
+import binascii
 import json
 import math
 import random
@@ -49,12 +50,13 @@ def _encode(value: Any, where: str, depth: int = 0) -> Any:
                          for k, v in value.items()]}
     if isinstance(value, np.ndarray):
         if value.dtype.hasobject:
-            raise SchemaError(f"{where}: a numpy array of Python objects cannot be kept; define save_state and load_state")
+            raise SchemaError(f"{where}: a numpy array of Python objects cannot be kept; define save_state and "
+                              "load_state")
         data = np.ascontiguousarray(value)
         return {"ndarray": {"dtype": data.dtype.str, "shape": list(data.shape),
                             "base64": base64.b64encode(data.tobytes()).decode("ascii")}}
-    if isinstance(value, np.random.Generator):
-        return {"numpy_rng": value.bit_generator.state}
+    if isinstance(value, np.random.Generator):  # its bit generator's state: numbers and arrays
+        return {"numpy_rng": _encode(value.bit_generator.state, where, depth + 1)}
     if isinstance(value, random.Random):
         version, internal, gauss = value.getstate()
         return {"random": [version, list(internal), gauss]}
@@ -62,20 +64,22 @@ def _encode(value: Any, where: str, depth: int = 0) -> Any:
                       "run; define save_state(self) -> bytes and load_state(self, data) on its class")
 
 
-def _decode(value: Any, where: str) -> Any:
+def _decode(value: Any, where: str, depth: int = 0) -> Any:
+    if depth > MAX_DEPTH:  # capture() nests no deeper
+        raise SchemaError(f"{where}: a saved value nested more than {MAX_DEPTH} deep")
     if value is None or isinstance(value, (bool, int, float, str)):
         return value
     if isinstance(value, list):
-        return [_decode(v, where) for v in value]
+        return [_decode(v, where, depth + 1) for v in value]
     if not (isinstance(value, dict) and len(value) == 1):
         raise SchemaError(f"{where}: a saved value of unknown form")
     (kind, body), = value.items()
     if kind == "float" and body in ("nan", "inf", "-inf"):
         return float(body)
     if kind == "tuple" and isinstance(body, list):
-        return tuple(_decode(v, where) for v in body)
+        return tuple(_decode(v, where, depth + 1) for v in body)
     if kind == "dict" and isinstance(body, list) and all(isinstance(p, list) and len(p) == 2 for p in body):
-        return {_freeze(_decode(k, where)): _decode(v, where) for k, v in body}
+        return {_freeze(_decode(k, where, depth + 1)): _decode(v, where, depth + 1) for k, v in body}
     if kind == "ndarray" and isinstance(body, dict):
         dtype = np.dtype(str(body.get("dtype")))
         if dtype.hasobject:
@@ -85,12 +89,13 @@ def _decode(value: Any, where: str) -> Any:
         if math.prod(shape) * dtype.itemsize != len(data):
             raise SchemaError(f"{where}: a saved array whose bytes are not its shape")
         return np.frombuffer(data, dtype=dtype).reshape(shape).copy()
-    if kind == "numpy_rng" and isinstance(body, dict):
-        name = body.get("bit_generator")
-        if name not in _BIT_GENERATORS:
-            raise SchemaError(f"{where}: a random generator of unknown kind {name!r}")
+    if kind == "numpy_rng":
+        state = _decode(body, where, depth + 1)
+        name = state.get("bit_generator") if isinstance(state, dict) else None
+        if not isinstance(name, str) or name not in _BIT_GENERATORS:
+            raise SchemaError(f"{where}: a random generator of unknown kind {str(name)[:40]!r}")
         bits = getattr(np.random, name)()
-        bits.state = body
+        bits.state = state
         return np.random.Generator(bits)
     if kind == "random" and isinstance(body, list) and len(body) == 3:
         rng = random.Random()
@@ -114,8 +119,8 @@ def restore(obj: Any, data: bytes, what: str) -> None:
     """Set the attributes capture() kept back on `obj` (of the same class, made the same way)."""
     try:
         saved = json.loads(data.decode("utf-8"))
-    except (UnicodeDecodeError, json.JSONDecodeError) as e:
-        raise SchemaError(f"{what}: its saved state is not what capture() writes: {e}") from None
+    except (UnicodeDecodeError, ValueError, RecursionError) as e:  # JSONDecodeError is a ValueError
+        raise SchemaError(f"{what}: its saved state is not what capture() writes: {str(e)[:200]}") from None
     attributes = saved.get("attributes") if isinstance(saved, dict) else None
     if not isinstance(attributes, dict):
         raise SchemaError(f"{what}: its saved state has no attributes")
@@ -125,6 +130,15 @@ def restore(obj: Any, data: bytes, what: str) -> None:
         raise SchemaError(f"{what}: the saved state is of another kind of object (attributes "
                           f"{'missing: ' + ', '.join(missing) if missing else ''}"
                           f"{'; ' if missing and extra else ''}{'unknown: ' + ', '.join(extra) if extra else ''})")
-    values = {name: _decode(value, f"{what}.{name}") for name, value in attributes.items()}
+    values = {}
+    for name, value in attributes.items():
+        try:
+            values[name] = _decode(value, f"{what}.{name}")
+        except SchemaError:
+            raise
+        except (TypeError, KeyError, IndexError, ValueError, OverflowError, RecursionError, binascii.Error) as e:
+            # numpy and random check what they are given: their refusal, said as a vwg error
+            raise SchemaError(f"{what}.{name}: a saved value that cannot be restored "
+                              f"({type(e).__name__}: {str(e)[:200]})") from None
     for name, value in values.items():
         setattr(obj, name, value)

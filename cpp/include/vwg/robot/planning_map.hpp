@@ -42,8 +42,9 @@ class PlanningMap {
   /// For a saved run (vwg/state.hpp): the radius and the obstacles it last followed (the inflated
   /// grid and the counts follow from them). What update() reports next depends on those alone.
   void save(StateWriter& out) const;
-  /// Back to what save() wrote: the grids are made from the saved obstacles at the next update(),
-  /// which then compares the map with them cell by cell.
+  /// Back to what save() wrote: the grids are made from the saved obstacles at the next update() (if
+  /// its radius and map size are the saved ones, else from the map), which then compares the map
+  /// with them cell by cell.
   void load(StateReader& in);
 
  private:
