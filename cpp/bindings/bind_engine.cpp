@@ -124,16 +124,21 @@ type's behaviour's state, as bytes. vwg.resume writes and reads them in a state 
         s.blobs = std::move(table);
       }, "The blobs the text names, by name.")
       .def_property("generators", [](const EngineState& s) {
-        py::list out;
-        for (const std::string& b : s.generators) out.append(py::bytes(b));
+        std::vector<py::bytes> out;
+        for (const std::string& b : s.generators) out.emplace_back(b);
         return out;
-      }, [](EngineState& s, const std::vector<std::string>& v) { s.generators = v; },
-      "Each generator's saved state, in priority order.")
+      }, [](EngineState& s, const std::vector<py::bytes>& v) {
+        s.generators.clear();
+        for (const py::bytes& b : v) s.generators.emplace_back(b);
+      }, "Each generator's saved state, in priority order.")
       .def_property("actors", [](const EngineState& s) {
-        py::list out;
-        for (const auto& [name, b] : s.actors) out.append(py::make_tuple(name, py::bytes(b)));
+        std::vector<std::pair<std::string, py::bytes>> out;
+        for (const auto& [name, b] : s.actors) out.emplace_back(name, py::bytes(b));
         return out;
-      }, [](EngineState& s, const std::vector<std::pair<std::string, std::string>>& v) { s.actors = v; },
+      }, [](EngineState& s, const std::vector<std::pair<std::string, py::bytes>>& v) {
+        s.actors.clear();
+        for (const auto& [name, b] : v) s.actors.emplace_back(name, std::string(b));
+      },
       "(actor type, its behaviour's saved state) for each actor type that has a behaviour.");
 
   py::class_<PyEngine>(m, "Engine", R"doc(

@@ -8,7 +8,7 @@ import numpy
 import numpy.typing
 import os
 import typing
-__all__: list[str] = ['ARobotConfig', 'ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'ArrivalCondition', 'Backend', 'BackendGroup', 'Blob', 'CameraGenerator', 'CameraRenderer', 'CameraSpec', 'Collision', 'CollisionGenerator', 'DStarLite', 'Decider', 'DecisionInput', 'DepthCameraSpec', 'Engine', 'EngineOptions', 'Event', 'EventColumns', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'FrameSink', 'Generator', 'GridDecider', 'GridRaycaster', 'ImageFiles', 'ImageSequence', 'ImageSource', 'KinectGenerator', 'LaserGenerator', 'LaserSpec', 'MAX_DT', 'MIN_DT', 'MotionBackend', 'MotionFollower', 'MovingAiScenario', 'Node', 'NoiseModel', 'NullBackend', 'OBSTACLE_THRESHOLD', 'OccupancyGrid', 'OdometryGenerator', 'OmplDecider', 'OmplPlan', 'OmplPlanner', 'OrderGenerator', 'OverviewCamera', 'OverviewView', 'PhysicsSettings', 'PhysicsWorld', 'PythonActor', 'RandomDecider', 'RangeScanner', 'ReceivedImages', 'RenderStyle', 'RobotPlatform', 'RobotSettings', 'RobotState', 'SimView', 'SimulatedCamera', 'StopCondition', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoSource', 'add_arobot', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'arobot_event_types', 'astar', 'backend_names', 'beam_angles', 'beam_layout', 'build_string', 'check_dt', 'create_backend', 'create_decider', 'create_platform', 'create_sensor', 'decider_names', 'default_threads', 'detect_apriltags', 'display', 'encode_image', 'estimate_tag_pose', 'evolve', 'grid_clearance', 'grid_inflate', 'jps', 'laser_events', 'log_message', 'movingai_grid', 'movingai_scenarios', 'overview_camera', 'plan_ompl', 'platform_names', 'python_budget', 'quantize_pose', 'ranging_sensors', 'read_image', 'render_overview', 'robot_map', 'sensor_names', 'set_log_sink', 'set_python_budget', 'struct_defaults', 'visualize', 'walker_behavior', 'write_image']
+__all__: list[str] = ['ARobotConfig', 'ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'ArrivalCondition', 'Backend', 'BackendGroup', 'Blob', 'CameraGenerator', 'CameraRenderer', 'CameraSpec', 'Collision', 'CollisionGenerator', 'DStarLite', 'Decider', 'DecisionInput', 'DepthCameraSpec', 'Engine', 'EngineOptions', 'EngineState', 'Event', 'EventColumns', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'FrameSink', 'Generator', 'GridDecider', 'GridRaycaster', 'ImageFiles', 'ImageSequence', 'ImageSource', 'KinectGenerator', 'LaserGenerator', 'LaserSpec', 'MAX_DT', 'MIN_DT', 'MotionBackend', 'MotionFollower', 'MovingAiScenario', 'Node', 'NoiseModel', 'NullBackend', 'OBSTACLE_THRESHOLD', 'OccupancyGrid', 'OdometryGenerator', 'OmplDecider', 'OmplPlan', 'OmplPlanner', 'OrderGenerator', 'OverviewCamera', 'OverviewView', 'PhysicsSettings', 'PhysicsWorld', 'PythonActor', 'RandomDecider', 'RangeScanner', 'ReceivedImages', 'RenderStyle', 'RobotPlatform', 'RobotSettings', 'RobotState', 'SimView', 'SimulatedCamera', 'StopCondition', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoSource', 'add_arobot', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'arobot_event_types', 'astar', 'backend_names', 'beam_angles', 'beam_layout', 'build_string', 'check_dt', 'create_backend', 'create_decider', 'create_platform', 'create_sensor', 'decider_names', 'default_threads', 'detect_apriltags', 'display', 'encode_image', 'estimate_tag_pose', 'evolve', 'grid_clearance', 'grid_inflate', 'jps', 'laser_events', 'log_message', 'movingai_grid', 'movingai_scenarios', 'overview_camera', 'plan_ompl', 'platform_names', 'python_budget', 'quantize_pose', 'ranging_sensors', 'read_image', 'render_overview', 'robot_map', 'sensor_names', 'set_log_sink', 'set_python_budget', 'struct_defaults', 'visualize', 'walker_behavior', 'write_image']
 class Blob:
     """
     A large attribute value held by reference from world strings (an occupancy grid, an image, a path).
@@ -317,8 +317,16 @@ class Generator:
         ...
     def generate(self, frame: typing.Any) -> typing.Any:
         ...
+    def load_state(self, data: bytes) -> None:
+        """
+        Back to what save_state() returned.
+        """
     def reset(self, seed: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
+    def save_state(self) -> bytes:
+        """
+        What decides its future events, as bytes (a saved run). A Python subclass may define save_state(self) -> bytes and load_state(self, data); without them its attributes are kept (numbers, text, lists, dicts, numpy arrays and random generators; others are refused by name).
+        """
     @property
     def name(self) -> str:
         """
@@ -1467,6 +1475,10 @@ class RobotPlatform:
         """
         Replace the robot's command: a list of ('turn', radians) and ('drive', metres) steps.
         """
+    def load_state(self, data: bytes, seconds: typing.SupportsFloat | typing.SupportsIndex | None = None) -> None:
+        """
+        Back to what save_state() returned, on a platform made as the saved one was. `seconds`: the saved run's simulated time, which nothing in the state may exceed (a state from someone else cannot ask for years).
+        """
     def name(self) -> str:
         ...
     def remove_robot(self, id: typing.SupportsInt | typing.SupportsIndex) -> None:
@@ -1476,6 +1488,10 @@ class RobotPlatform:
     def robots(self) -> list[RobotState]:
         """
         Every robot's state.
+        """
+    def save_state(self) -> bytes:
+        """
+        Everything that decides what the platform does next, as bytes (a saved run); a real robot's platform refuses. A Python platform may define save_state(self) -> bytes and load_state(self, data).
         """
     def take_collisions(self) -> list[Collision]:
         """
@@ -1557,6 +1573,52 @@ class FrameRecord:
     @property
     def time(self) -> float:
         ...
+class EngineState:
+    """
+    What a run keeps in its engine, between frames (Engine.save_state): the frame number, the string
+    w as text with the blobs it names (by name, without '@'), each generator's state and each actor
+    type's behaviour's state, as bytes. vwg.resume writes and reads them in a state file.
+    """
+    def __init__(self) -> None:
+        ...
+    @property
+    def actors(self) -> list:
+        """
+        (actor type, its behaviour's saved state) for each actor type that has a behaviour.
+        """
+    @actors.setter
+    def actors(self, arg1: collections.abc.Sequence[tuple[str, str]]) -> None:
+        ...
+    @property
+    def blobs(self) -> dict:
+        """
+        The blobs the text names, by name.
+        """
+    @blobs.setter
+    def blobs(self, arg1: dict) -> None:
+        ...
+    @property
+    def frame(self) -> int:
+        ...
+    @frame.setter
+    def frame(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def generators(self) -> list:
+        """
+        Each generator's saved state, in priority order.
+        """
+    @generators.setter
+    def generators(self, arg1: collections.abc.Sequence[str]) -> None:
+        ...
+    @property
+    def string(self) -> str:
+        """
+        The text form of w.
+        """
+    @string.setter
+    def string(self, arg0: str) -> None:
+        ...
 class Engine:
     """
     The system algorithm (paper §II.D). Each frame: S = the generators' events in priority order,
@@ -1578,6 +1640,10 @@ class Engine:
         """
         After each frame, give the platform a robot (of `radius`, at its believed pose) for each robot actor a λ spawned, and take it away from those that left the string (in C++, no call into Python).
         """
+    def load_state(self, state: EngineState) -> None:
+        """
+        Go on from a saved state (an engine made as the saved one was).
+        """
     def request_stop(self) -> None:
         """
         Stop run() after the current frame.
@@ -1585,6 +1651,10 @@ class Engine:
     def run(self, frames: typing.SupportsInt | typing.SupportsIndex) -> str:
         """
         Run until w = ε ('empty'), `frames` more frames ran ('frames'), request_stop() ('stopped'), or the stop condition holds ('done').
+        """
+    def save_state(self, generators: bool = True) -> EngineState:
+        """
+        The run's state between frames (vwg.EngineState); the platform keeps its own. generators=False leaves the generators' states out (a real robot's run: its string and its robots' maps and planners are kept).
         """
     def set_string(self, w: String) -> None:
         ...
@@ -1650,6 +1720,11 @@ class PhysicsWorld(RobotPlatform):
     def drive(self, robot: typing.SupportsInt | typing.SupportsIndex, speed: typing.SupportsFloat | typing.SupportsIndex, turn_rate: typing.SupportsFloat | typing.SupportsIndex) -> None:
         """
         Hold the robot at these velocities (m/s, rad/s) from now on, as a base driven by velocity commands (a fake robot behind a link); its plan is dropped, and the next command() ends it.
+        """
+    @property
+    def journal_bytes(self) -> int:
+        """
+        Bytes of its journal: every call made to it, which its saved state holds.
         """
     @property
     def wall_shapes(self) -> int:
@@ -2659,6 +2734,14 @@ class Decider:
     """
     def __init__(self) -> None:
         ...
+    def load_state(self, data: bytes) -> None:
+        """
+        Back to what save_state() returned, before the next decision.
+        """
+    def save_state(self) -> bytes:
+        """
+        What it keeps between decisions, as bytes (a saved run). A Python subclass may define save_state(self) -> bytes and load_state(self, data); without them its attributes are kept (numbers, text, lists, dicts, numpy arrays and random generators; others are refused by name).
+        """
     @property
     def name(self) -> str:
         ...

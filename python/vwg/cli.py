@@ -183,7 +183,7 @@ def _cmd_resume(args: argparse.Namespace) -> int:
         raise Error("--snapshot-every keeps the states beside the record: give --record too")
     run = resume(args.state, options)
     try:
-        world = run.world if hasattr(run, "world") else run.spec
+        world = getattr(run, "world", None) or getattr(run, "spec", None)
         _check_state_outputs(world, args, {"the state being resumed": args.state})
         first = run.engine.frame
         outcome, interrupted = _execute(run, args, options.progress)

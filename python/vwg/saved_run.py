@@ -67,6 +67,11 @@ def _platform_of(run: Any) -> _core.RobotPlatform | None:
     return case.sim.platform if case is not None else None
 
 
+def _platform_name(run: Any) -> str | None:
+    platform = _platform_of(run)
+    return platform.name() if platform is not None else None
+
+
 def _frames_left(run: Any) -> int:
     case = getattr(run, "case", None)
     return int(case.frames if case is not None else run.frames_to_run)
@@ -81,7 +86,7 @@ def save_state(run: Run, path: str | Path | None = None, *, platform: bool = Tru
     keep (their deciders' searches): what a real robot's run can give. Resumed, it goes on on the simulator
     with each robot where it believed it was; the generators start afresh."""
 
-    world = getattr(run, "world", None) or getattr(run, "spec", None)
+    world: Any = getattr(run, "world", None) or getattr(run, "spec", None)
     engine = run.engine
     if platform:
         parts, frame = state_parts(engine, _platform_of(run))
@@ -101,7 +106,7 @@ def save_state(run: Run, path: str | Path | None = None, *, platform: bool = Tru
         "frame": frame,
         "time": float(engine.time),
         "frames_left": max(0, _frames_left(run) - (frame - int(getattr(run, "first_frame", 0)))),
-        "platform": _platform_of(run).name() if platform and _platform_of(run) is not None else None,
+        "platform": _platform_name(run) if platform else None,
         "partial": not platform,
         "run": run.record_data if run.kind == "robot" else {},
     }
@@ -191,10 +196,10 @@ def _check_manifest(m: dict[str, Any], source: str) -> None:
     for field, hi in (("frame", 2**64 - 1), ("seed", 2**64 - 1), ("frames_left", 2**64 - 1)):
         if not whole(m.get(field), hi):
             raise bad(field, f"an integer from 0 to {hi}")
-    for field, lo, hi in (("dt", 1e-6, 3600.0), ("time", 0.0, 1e300)):
+    for field, low, high in (("dt", 1e-6, 3600.0), ("time", 0.0, 1e300)):  # seconds
         v = m.get(field)
-        if not (isinstance(v, (int, float)) and not isinstance(v, bool) and lo <= v <= hi):
-            raise bad(field, f"a number of seconds from {lo:g} to {hi:g}")
+        if not (isinstance(v, (int, float)) and not isinstance(v, bool) and low <= v <= high):
+            raise bad(field, f"a number of seconds from {low:g} to {high:g}")
     for field in ("world_file", "world_kind"):
         if not isinstance(m.get(field), str):
             raise bad(field, "text")
