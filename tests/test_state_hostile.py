@@ -159,9 +159,9 @@ class GridState:
     def u64(self, name: str) -> int:
         return U64.unpack(self.take(name, 8))[0]
 
-    def grid(self, name: str) -> None:  # BlockedGrid::save: rows, cols, a byte a cell
+    def grid(self, name: str) -> None:  # BlockedGrid::save: rows, cols, a bit a cell, rows in whole bytes
         rows, cols = I64.unpack(self.take(name + ".rows", 8))[0], I64.unpack(self.take(name + ".cols", 8))[0]
-        self.take(name + ".cells", rows * cols)
+        self.take(name + ".cells", rows * ((cols + 7) // 8))
 
     def robot(self, p: str) -> None:
         self.take(p + "id", 8)

@@ -1582,12 +1582,12 @@ class EngineState:
     def __init__(self) -> None:
         ...
     @property
-    def actors(self) -> list:
+    def actors(self) -> list[tuple[str, bytes]]:
         """
         (actor type, its behaviour's saved state) for each actor type that has a behaviour.
         """
     @actors.setter
-    def actors(self, arg1: collections.abc.Sequence[tuple[str, str]]) -> None:
+    def actors(self, arg1: collections.abc.Sequence[tuple[str, bytes]]) -> None:
         ...
     @property
     def blobs(self) -> dict:
@@ -1604,12 +1604,12 @@ class EngineState:
     def frame(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
     @property
-    def generators(self) -> list:
+    def generators(self) -> list[bytes]:
         """
         Each generator's saved state, in priority order.
         """
     @generators.setter
-    def generators(self, arg1: collections.abc.Sequence[str]) -> None:
+    def generators(self, arg1: collections.abc.Sequence[bytes]) -> None:
         ...
     @property
     def string(self) -> str:

@@ -25,6 +25,7 @@ from __future__ import annotations
 import hashlib
 import io
 import json
+import math
 import struct
 import zlib
 from dataclasses import dataclass
@@ -213,24 +214,33 @@ def _unpack_list(data: bytes, part: str) -> list[tuple[str, bytes]]:
 
 
 def _pack_blobs(blobs: dict[str, _core.Blob]) -> bytes:
-    """Every blob once; one of the dtype and shape of an earlier one as its XOR with that one."""
+    """Every blob once. One of the dtype and shape of an earlier one (its base) is kept as the elements
+    that differ from it (their indices, then their values) when that is smaller, else as its XOR with it:
+    a robot's map costs what it changed of the known map."""
     out = io.BytesIO()
     out.write(_U64.pack(len(blobs)))
     bases: dict[tuple[str, tuple[int, ...]], tuple[int, np.ndarray]] = {}
     for k, (name, blob) in enumerate(sorted(blobs.items())):
-        array = np.asarray(blob)
-        key = (blob.dtype, tuple(int(n) for n in array.shape))
-        raw = np.ascontiguousarray(array).view(np.uint8).reshape(-1)
+        array = np.ascontiguousarray(np.asarray(blob)).reshape(-1)
+        key = (blob.dtype, tuple(int(n) for n in np.asarray(blob).shape))
         base = bases.get(key)
+        form, payload = "whole", array.view(np.uint8)
+        if base is not None:
+            changed = np.flatnonzero(array != base[1])
+            index = np.uint32 if array.size < 2**32 else np.uint64
+            if changed.size * (np.dtype(index).itemsize + array.itemsize) < array.nbytes // 2:
+                form = "sparse"
+                payload = np.concatenate([changed.astype(index).view(np.uint8), array[changed].view(np.uint8)])
+            else:
+                form, payload = "xor", array.view(np.uint8) ^ base[1].view(np.uint8)
         meta = json.dumps({"name": name, "dtype": blob.dtype, "shape": list(key[1]),
-                           "base": base[0] if base else -1}).encode("utf-8")
+                           "base": base[0] if base else -1, "form": form}).encode("utf-8")
         out.write(_U64.pack(len(meta)))
         out.write(meta)
-        payload = raw ^ base[1] if base else raw
         out.write(_U64.pack(payload.size))
         out.write(payload.tobytes())
         if base is None:
-            bases[key] = (k, raw)
+            bases[key] = (k, array)
     return out.getvalue()
 
 
@@ -239,24 +249,41 @@ def _unpack_blobs(data: bytes) -> dict[str, _core.Blob]:
     count = r.u64()
     if count > len(data) // 16:
         raise Error(f"state part 'blobs': a count of {count} is more than it can hold")
-    raws: list[np.ndarray] = []
+    raws: list[np.ndarray] = []  # each blob's elements, flat: the bases of later ones
     blobs: dict[str, _core.Blob] = {}
     for k in range(count):
         try:
             meta = json.loads(r.take().decode("utf-8"))
-            name, dtype, shape, base = meta["name"], np.dtype(meta["dtype"]), tuple(meta["shape"]), meta["base"]
-            if not (isinstance(name, str) and all(isinstance(n, int) and n >= 0 for n in shape)
-                    and isinstance(base, int) and -1 <= base < k and not dtype.hasobject):
+            name, dtype, shape, base, form = (meta["name"], np.dtype(meta["dtype"]), tuple(meta["shape"]),
+                                              meta["base"], meta["form"])
+            if not (isinstance(name, str) and all(isinstance(n, int) and 0 <= n < 2**40 for n in shape)
+                    and isinstance(base, int) and -1 <= base < k and not dtype.hasobject
+                    and form in (("whole",) if base < 0 else ("xor", "sparse"))):
                 raise ValueError("malformed")
         except (UnicodeDecodeError, ValueError, KeyError, TypeError, RecursionError) as e:
             raise Error(f"state part 'blobs': blob {k} is described wrongly ({str(e)[:200]})") from None
         payload = np.frombuffer(r.take(), np.uint8)
-        expected = int(np.prod(shape, dtype=np.int64)) * dtype.itemsize
-        if payload.size != expected or (base >= 0 and raws[base].size != expected):
-            raise Error(f"state part 'blobs': blob {name} holds {payload.size} bytes, not the {expected} of its shape")
-        raw = payload ^ raws[base] if base >= 0 else payload
-        raws.append(raw)
-        blobs[name] = _core.Blob(raw.view(dtype).reshape(shape).copy())
+        count = math.prod(shape)
+        if base >= 0 and (raws[base].dtype != dtype or raws[base].size != count):
+            raise Error(f"state part 'blobs': blob {name} is not of its base's dtype and shape")
+        if form == "sparse":
+            index = np.uint32 if count < 2**32 else np.uint64
+            per = np.dtype(index).itemsize + dtype.itemsize
+            if payload.size % per:
+                raise Error(f"state part 'blobs': blob {name}'s changes are cut short")
+            n = payload.size // per
+            at = payload[:n * np.dtype(index).itemsize].view(index)
+            if n and int(at.max()) >= count:
+                raise Error(f"state part 'blobs': blob {name} changes an element past its end")
+            elements = raws[base].copy()
+            elements[at] = payload[n * np.dtype(index).itemsize:].view(dtype)
+        else:
+            if payload.size != count * dtype.itemsize:
+                raise Error(f"state part 'blobs': blob {name} holds {payload.size} bytes, not the "
+                            f"{count * dtype.itemsize} of its shape")
+            elements = payload.view(dtype) if form == "whole" else (payload ^ raws[base].view(np.uint8)).view(dtype)
+        raws.append(elements)
+        blobs[name] = _core.Blob(elements.reshape(shape).copy())
     r.end()
     return blobs
 

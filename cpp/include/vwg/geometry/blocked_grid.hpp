@@ -79,7 +79,7 @@ class BlockedGrid {
   /// (rows + 2) * (cols + 2) flags, 1 = blocked, the border included.
   std::span<const std::uint8_t> padded() const { return cells_.span(); }
   /// Let copies share the memory pages neither writes (SharedPages): a grid many robots start from.
-  /// For a saved run (vwg/state.hpp): the size and a byte a cell (0 free, 1 blocked).
+  /// For a saved run (vwg/state.hpp): the size and a bit a cell (1 blocked), each row in whole bytes.
   void save(StateWriter& out) const;
   /// A grid as save() wrote it; SchemaError (StateReader::fail) for a size or cell it cannot be.
   static BlockedGrid load(StateReader& in);
