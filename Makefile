@@ -164,7 +164,13 @@ tsan: install
 ASAN_LIB = $(shell gcc -print-file-name=libasan.so) $(shell gcc -print-file-name=libstdc++.so)
 ASAN_TESTS ?= tests/test_text.py tests/test_engine.py tests/test_engine_contracts.py tests/test_semantics.py \
 	tests/test_record.py tests/test_hostile_input.py tests/test_fuzz.py tests/test_sim.py tests/test_plan.py \
-	tests/test_arobot.py tests/test_sensors.py tests/test_actors.py tests/test_record_hostile.py
+	tests/test_arobot.py tests/test_sensors.py tests/test_actors.py tests/test_record_hostile.py \
+	$(addprefix tests/test_state_hostile.py::,$(ASAN_STATE_TESTS))
+# The saved states' C++ readers fed cut, random, forged and mutated parts.
+ASAN_STATE_TESTS := test_every_cpp_state_cut_short_or_longer_is_refused_naming_it \
+	test_every_cpp_state_replaced_by_random_bytes_is_refused_or_read test_a_dstar_state_cut_inside_its_search_is_refused \
+	test_a_dstar_queue_whose_positions_disagree_is_refused test_a_journal_with_a_forged_entry_is_refused \
+	test_a_state_with_a_mutated_cpp_part_resumes_or_is_refused
 asan-python: install asan-configure
 	@echo "The Python tests against the core built with ASan/UBSan ($(ASAN_BUILD)/pkg)"
 	cmake --build $(ASAN_BUILD) -j $(JOBS) --target _core

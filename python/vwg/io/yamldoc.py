@@ -2,10 +2,11 @@
 
 from __future__ import annotations
 
+import copy
 import math
 import re
 from pathlib import Path
-from typing import Any
+from typing import Any, ClassVar
 
 import yaml
 
@@ -113,12 +114,30 @@ def field_text(path: Path_) -> str:
 class YamlDoc:
     """A parsed YAML document and the line of each key path (``("alphabet", "events", 0)``)."""
 
+    #: The last documents parsed, by path and text: loading a world reads its file more than once (its
+    #: kind, then its content), and a world of a hundred robots took 0.1 s a parse.
+    _parsed: ClassVar[dict[tuple[str, str], tuple[dict[Path_, int], yaml.Node | None, Any]]] = {}
+    _KEEP = 4
+
     def __init__(self, path: str | Path, text: str | None = None) -> None:
         self.path = Path(path)
         if text is None:
 
             text = read_text(self.path)
         self.text = text
+        key = (str(self.path), text)
+        seen = YamlDoc._parsed.get(key)
+        if seen is not None:  # the same text: its parse again, the values a copy of their own
+            lines, self.node, data = seen
+            self.lines, self.data = dict(lines), copy.deepcopy(data)
+            return
+        self._parse()
+        YamlDoc._parsed[key] = (dict(self.lines), self.node, copy.deepcopy(self.data))  # kept as parsed
+        while len(YamlDoc._parsed) > YamlDoc._KEEP:
+            YamlDoc._parsed.pop(next(iter(YamlDoc._parsed)))
+
+    def _parse(self) -> None:
+        text = self.text
         try:
             loader = _Loader(text)  # PyYAML's reader refuses a control character here, before parsing
         except yaml.reader.ReaderError as e:
