@@ -68,22 +68,11 @@ reproducible. Generators run in the order given to the engine: their priority.)d
         throw Error("generate() is not defined by this generator");
       }, py::arg("frame"))
       .def("reset", [](Generator&, std::uint64_t) {}, py::arg("seed"))
-      .def("save_state", [](const Generator& g) {
-        StateWriter out;
-        {
-          py::gil_scoped_release release;
-          g.save_state(out);
-        }
-        return py::bytes(out.bytes());
-      }, "What decides its future events, as bytes (a saved run). A Python subclass may define "
+      .def("save_state", &saved_state<Generator>, "What decides its future events, as bytes (a saved run). A Python subclass may define "
          "save_state(self) -> bytes and load_state(self, data); without them its attributes are kept "
          "(numbers, text, lists, dicts, numpy arrays and random generators; others are refused by name).")
-      .def("load_state", [](Generator& g, const py::bytes& data) {
-        const std::string bytes = data;
-        StateReader in(bytes, "generator " + g.name());
-        py::gil_scoped_release release;
-        g.load_state(in);
-      }, py::arg("data"), "Back to what save_state() returned.")
+      .def("load_state", [](Generator& g, const py::bytes& data) { load_saved_state(g, data, "generator " + g.name()); },
+           py::arg("data"), "Back to what save_state() returned.")
       .def_property_readonly("name", &Generator::name, "A short name for messages (a subclass may set `name`).");
 
   py::class_<EveryFrameGenerator, Generator, std::shared_ptr<EveryFrameGenerator>>(m, "EveryFrame",

@@ -235,21 +235,10 @@ robots() -> list of RobotState, take_collisions() -> list of Collision, time() a
       .def("take_collisions", &RobotPlatform::take_collisions, "The collisions since the last call.")
       .def("time", &RobotPlatform::time, "The platform's clock, seconds.")
       .def("name", &RobotPlatform::name)
-      .def("save_state", [](const RobotPlatform& p) {
-        StateWriter out;
-        {
-          py::gil_scoped_release release;
-          p.save_state(out);
-        }
-        return py::bytes(out.bytes());
-      }, "Everything that decides what the platform does next, as bytes (a saved run); a real robot's "
+      .def("save_state", &saved_state<RobotPlatform>, "Everything that decides what the platform does next, as bytes (a saved run); a real robot's "
          "platform refuses. A Python platform may define save_state(self) -> bytes and load_state(self, data).")
       .def("load_state", [](RobotPlatform& p, const py::bytes& data, std::optional<double> seconds) {
-        const std::string bytes = data;
-        StateReader in(bytes, "platform " + p.name());
-        if (seconds) in.limit_seconds(*seconds);
-        py::gil_scoped_release release;
-        p.load_state(in);
+        load_saved_state(p, data, "platform " + p.name(), seconds);
       }, py::arg("data"), py::arg("seconds") = py::none(),
       "Back to what save_state() returned, on a platform made as the saved one was. `seconds`: the saved run's "
       "simulated time, which nothing in the state may exceed (a state from someone else cannot ask for years).");

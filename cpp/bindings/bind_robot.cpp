@@ -145,22 +145,11 @@ optionally with a path (N×2 points) to show, or None when there is no way. Buil
 RandomDecider, AStarDecider, DStarLiteDecider, OmplDecider.)doc")
       .def(py::init<>())
       .def_property_readonly("name", &robot::Decider::name)
-      .def("save_state", [](const robot::Decider& d) {
-        StateWriter out;
-        {
-          py::gil_scoped_release release;
-          d.save_state(out);
-        }
-        return py::bytes(out.bytes());
-      }, "What it keeps between decisions, as bytes (a saved run). A Python subclass may define "
+      .def("save_state", &saved_state<robot::Decider>, "What it keeps between decisions, as bytes (a saved run). A Python subclass may define "
          "save_state(self) -> bytes and load_state(self, data); without them its attributes are kept "
          "(numbers, text, lists, dicts, numpy arrays and random generators; others are refused by name).")
-      .def("load_state", [](robot::Decider& d, const py::bytes& data) {
-        const std::string bytes = data;
-        StateReader in(bytes, "decider " + d.name());
-        py::gil_scoped_release release;
-        d.load_state(in);
-      }, py::arg("data"), "Back to what save_state() returned, before the next decision.");
+      .def("load_state", [](robot::Decider& d, const py::bytes& data) { load_saved_state(d, data, "decider " + d.name()); },
+           py::arg("data"), "Back to what save_state() returned, before the next decision.");
   py::class_<robot::RandomDecider, robot::Decider, std::shared_ptr<robot::RandomDecider>>(m, "RandomDecider",
       "The paper's first algorithm: random clear moves until the goal happens to be reached.")
       .def(py::init<>());

@@ -59,6 +59,30 @@ void save_python_state(py::handle self, StateWriter& out, const std::string& wha
 /// Back: its load_state(data) if its class defines one, else vwg.model.state.restore().
 void load_python_state(py::handle self, StateReader& in, const std::string& what);
 
+/// save_state() of a part (a generator, decider or platform) as Python bytes; the GIL is released
+/// while it runs (a Python part's own methods take it again).
+template <class Part>
+py::bytes saved_state(const Part& part) {
+  StateWriter out;
+  {
+    py::gil_scoped_release release;
+    part.save_state(out);
+  }
+  return py::bytes(out.bytes());
+}
+
+/// load_state() of a part from Python bytes, errors naming `what`; `seconds`: the saved run's time,
+/// which nothing the state holds may exceed (StateReader::limit_seconds).
+template <class Part>
+void load_saved_state(Part& part, const py::bytes& data, const std::string& what,
+                      std::optional<double> seconds = std::nullopt) {
+  const std::string bytes = data;
+  StateReader in(bytes, what);
+  if (seconds) in.limit_seconds(*seconds);
+  py::gil_scoped_release release;
+  part.load_state(in);
+}
+
 // --- values ---
 /// A Python value as a Datum of the kind `spec` declares (or inferred when `spec` is null).
 /// Raises vwg::SchemaError naming `field` when it does not fit.
