@@ -45,7 +45,8 @@ deps:
 
 # The build requirements live in the venv and the build is not isolated, so the CMake cache in
 # build/ keeps stable paths and a rebuild compiles only what changed.
-BUILD_REQUIREMENTS := "scikit-build-core>=0.10" "pybind11>=2.12"
+# Ninja from PyPI: the C++ build inside pip install runs on every core (CMake's Makefiles would use one).
+BUILD_REQUIREMENTS := "scikit-build-core>=0.10" "pybind11>=2.12" "ninja>=1.11"
 
 $(VENV)/bin/python:
 	@echo "Creating the virtual environment $(VENV)/"
@@ -67,7 +68,7 @@ $(STAMP)/install: $(PACKAGE_SOURCES) | $(STAMP)
 	@$(PIP) install -q $(BUILD_REQUIREMENTS)
 	@# The compiler's progress lines are shown; the whole output is in build/pip.log.
 	@$(PIP) install -v --no-build-isolation ".[test]" 2>&1 | tee $(BUILD)/pip.log \
-	  | sed -u -n -E 's/^ *(\[ *[0-9]+(%|\/[0-9]+)\]) (Building|Linking) CXX [a-z ]*(\S+).*$$/  \1 \4/p' \
+	  | sed -u -n -E 's/^ *(\[ *[0-9]+(%|\/[0-9]+)\]) (Building|Linking) CXX (object|static library|shared module|shared library|executable) (\S+).*$$/  \1 \5/p' \
 	  || { tail -n 40 $(BUILD)/pip.log; echo "the build failed: see $(BUILD)/pip.log"; exit 1; }
 	@$(PY) -c "import vwg; print('vwg', vwg.__version__, 'installed in $(VENV)/')"
 	@touch $@

@@ -109,7 +109,7 @@ def test_the_command_line(sweep, tmp_path):
     done = subprocess.run([sys.executable, "-m", "vwg.cli", "sweep", str(folder / "spec.yaml"), "-o", str(out)],
                           capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr
-    assert "16 cells, 16 already in" in done.stdout and "0 run now" in done.stdout
+    assert "16 cells; 16 were already in the CSV, 0 ran now" in done.stdout
     done = subprocess.run([sys.executable, "-m", "vwg.cli", "sweep", str(folder / "spec.yaml"), "-o", str(out),
                            "--workers", "2", "--scheduler", "tcp://127.0.0.1:1"], capture_output=True, text=True,
                           timeout=120)
@@ -172,7 +172,7 @@ def test_a_header_cut_short_is_written_again(tmp_path):
                            "--workers", "1"], capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr
     assert f"{out}: its header was cut short: started again" in done.stderr
-    assert "1 cells, 0 already in" in done.stdout and "1 run now" in done.stdout
+    assert "1 cells; 0 were already in the CSV, 1 ran now" in done.stdout
     assert out.read_bytes().split(b"\r\n")[0] == ",".join(COLUMNS).encode()
     rows = read_rows(out)
     assert [(r["world"], r["planner"], r["seed"], r["frames_limit"]) for r in rows] == [("office", "astar", "1", "5")]
@@ -355,7 +355,7 @@ def test_a_sweep_on_a_running_scheduler(tmp_path):
                                str(tmp_path / "r.csv"), "--scheduler", cluster.scheduler_address],
                               capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr
-    assert "2 cells, 0 already in" in done.stdout and "2 run now" in done.stdout
+    assert "2 cells; 0 were already in the CSV, 2 ran now" in done.stdout
     rows = read_rows(tmp_path / "r.csv")
     again = {tuple(as_csv_row(run_trial(Trial("office", "jps", s, 30, {"task": "random"})))[c]
                    for c in ("seed", "frames", "path_length_m")) for s in (2, 3)}

@@ -30,7 +30,10 @@ void BackendGroup::end_frame(const FrameInfo& frame) {
 }
 std::string BackendGroup::name() const {
   std::string n;
-  for (const auto& b : backends_) n += (n.empty() ? "" : "+") + b->name();
+  for (const auto& b : backends_) {
+    if (!n.empty()) n += '+';  // (a ?: on char arrays + a string here made GCC 12 warn -Wrestrict wrongly)
+    n += b->name();
+  }
   return n;
 }
 

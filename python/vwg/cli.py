@@ -354,8 +354,9 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     result = run_sweep(spec, args.output, scheduler=args.scheduler, workers=args.workers, progress=args.progress)
     if result.repaired:
         print(f"vwg sweep: {result.repaired}", file=sys.stderr)
-    print(f"vwg sweep {args.spec}: {result.cells} cells, {result.done_before} already in {result.out}, "
-          f"{result.ran} run now" + (f" ({result.failed} with a failed frame)" if result.failed else ""))
+    print(f"vwg sweep {args.spec}: {result.cells} cells; {result.done_before} were already in the CSV, {result.ran} "
+          f"ran now ({result.reached} reached their rooms, {result.failed} with an error)")
+    print(f"  rows in {result.out}")
     return 0
 
 
@@ -526,7 +527,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"vwg {_core.__version__}")
     parser.add_argument("--verbose", "-v", action="count", default=0,
                         help="print vwg's and its libraries' messages (-v: warnings and info, -vv: debug)")
-    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
 
     run = sub.add_parser("run", help="run a world file", description="Run a world file and print a summary.")
     run.add_argument("world", type=Path, help="a world file (YAML), or the name of a shipped world (vwg worlds)")
@@ -706,6 +707,9 @@ def _state_arguments(p: argparse.ArgumentParser) -> None:
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
+    if args.command is None:  # bare `vwg`: what it can do, not only that a command is missing
+        parser.print_help(sys.stderr)
+        return 2
     import logging
 
     if argv is None and hasattr(signal, "SIGUSR1"):  # the program, not a call from Python code

@@ -255,7 +255,7 @@ class GenericRun:
         if isinstance(self.spec.backend, _core.TraceBackend):
             rows.append(("backend calls", f"{len(self.spec.backend.calls)} (trace)"))
         summary = {"world": self.spec.name, "kind": "generic", "frames": self.engine.frame, "end": reason,
-                   "simulated_time_s": self.engine.time, "wall_time_s": wall, "seed": self.spec.seed,
+                   "simulated_time_s": round(self.engine.time, 9), "wall_time_s": wall, "seed": self.spec.seed,
                    "symbols": len(w), "actors": w.actor_count}
         return Outcome(self.spec.name, rows, summary)
 

@@ -226,6 +226,7 @@ class SweepResult:
     failed: int     # of those, rows with an error
     out: Path
     repaired: str = ""  # what was mended in the results file before the sweep (a torn last row or header)
+    reached: int = 0  # of those run now, rows whose every robot reached its room
 
 
 def run_sweep(spec: SweepSpec, out: str | Path, *, scheduler: str | None = None, workers: int | None = None,
@@ -256,6 +257,7 @@ def run_sweep(spec: SweepSpec, out: str | Path, *, scheduler: str | None = None,
             f.flush()  # a stop loses no finished cell
             result.ran += 1
             result.failed += bool(row["error"])
+            result.reached += int(str(row.get("reached")).lower() in ("true", "1"))
             if on_row is not None:
                 on_row(row)
     return result

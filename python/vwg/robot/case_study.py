@@ -339,7 +339,8 @@ class CaseStudy:
         outputs = {"video": self.video} if self.video else {}
         return RunSummary(
             world=self.world.name, planner=self.planner, reached=all(r.reached for r in ordered),
-            frames=self.engine.frame, simulated_time_s=self.engine.time, wall_time_s=self.wall_time,
+            # frames × dt to what dt's digits hold: 30.7 s, not 30.700000000000003
+            frames=self.engine.frame, simulated_time_s=round(self.engine.time, 9), wall_time_s=self.wall_time,
             path_length_m=sum(r.path_length_m for r in robots), collisions=sum(r.collisions for r in robots),
             replans=sum(r.replans for r in robots), seed=self.seed, robots=robots, outputs=outputs,
             faults=[f.to_json() for f in getattr(self.sim.platform, "faults", [])])
