@@ -32,7 +32,7 @@ TEST_APT_PACKAGES := chromium
 BUILD := build
 STAMP := $(BUILD)/stamps
 
-.PHONY: help deps test-deps venv install wheel sdist demo test check pytest fuzz asan-configure asan-python stress lint stubs cpp-test cpp-package tsan bench bench-scale irsim-env clean
+.PHONY: help deps test-deps venv install wheel wheel-check sdist demo test check pytest fuzz asan-configure asan-python stress lint stubs cpp-test cpp-package tsan bench bench-scale irsim-env clean
 
 help:
 	@sed -n '1,6p' Makefile | sed 's/^# \{0,1\}//'
@@ -88,6 +88,13 @@ wheel: install
 	PATH=$(CURDIR)/$(VENV)/bin:$$PATH $(VENV)/bin/auditwheel repair --plat $(WHEEL_PLAT) --strip \
 	  -w dist $(BUILD)/wheel-raw/vwg-*.whl
 	@ls -l dist/*.whl
+
+## The wheel on a Debian 12 root with no compiler and none of vwg's libraries (debootstrap minbase +
+## python3, python3-venv; made once in build/debian12-root, a few minutes): installed with pip, the
+## office run to the kitchen exits 0 with the source build's frames. Needs root (chroot).
+wheel-check: wheel
+	@tools/apt_install.sh $(BUILD)/apt-debootstrap.log "debootstrap" debootstrap
+	tools/wheel_check.sh
 
 ## The source distribution in dist/ (pip install dist/vwg-*.tar.gz builds it on a machine with the
 ## Debian packages of `make deps`).
