@@ -142,5 +142,6 @@ def test_no_sdk_in_a_source_tree_is_said():
     # This checkout's vwg (PYTHONPATH=python) has no SDK folder: said, with what to do.
     if (ROOT / "python" / "vwg" / "sdk").exists():
         pytest.skip("a source tree with an SDK folder (built in place)")
-    done = subprocess.run([sys.executable, "-m", "vwg", "--cmake-dir"], capture_output=True, text=True, timeout=120)
+    done = subprocess.run([sys.executable, "-m", "vwg", "--cmake-dir"], capture_output=True, text=True, timeout=120,
+                          env={**clean_env(), "PYTHONPATH": str(ROOT / "python")})
     assert done.returncode == 2 and "has no C++ SDK" in done.stderr
