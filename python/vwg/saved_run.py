@@ -31,10 +31,12 @@ import vwg._core as _core
 from vwg.errors import Error
 from vwg.io.state_file import MAX_BYTES, SavedState, engine_parts, engine_state, read_state, write_state
 from vwg.launch import RecordedRun, Run, RunOptions, check_outputs, load, run_inputs, start
+from vwg.model.limits import MAX_DT, MAX_FRAMES, MAX_SEED, MIN_DT
 
 __all__ = [
     "RESUME_OPTIONS",
     "check_saved_by_this_vwg",
+    "input_hashes",
     "keep_snapshots",
     "load_parts",
     "nearest_snapshot",
@@ -60,6 +62,13 @@ def _sha256(path: Path) -> str:
         for chunk in iter(lambda: f.read(1 << 20), b""):
             h.update(chunk)
     return h.hexdigest()
+
+
+def input_hashes(world: Any) -> dict[str, dict[str, str]]:
+    """Each file a run of `world` reads (launch.run_inputs), by role: its path and SHA-256, as a state's
+    manifest keeps them for check_saved_by_this_vwg."""
+    return {role: {"path": str(Path(p).resolve()), "sha256": _sha256(Path(p))}
+            for role, p in run_inputs(world).items() if Path(p).is_file()}
 
 
 def _platform_of(run: Any) -> _core.RobotPlatform | None:
@@ -94,13 +103,11 @@ def save_state(run: Run, path: str | Path | None = None, *, platform: bool = Tru
         state = engine.save_state(generators=False)
         parts, frame = engine_parts(state), int(state.frame)
         del parts["generators"]
-    inputs = {role: {"path": str(Path(p).resolve()), "sha256": _sha256(Path(p))}
-              for role, p in run_inputs(world).items() if Path(p).is_file()}
     manifest: dict[str, Any] = {
         "vwg": _core.__version__,
         "world_kind": run.kind,
         "world_file": str(Path(world.path).resolve()),
-        "inputs": inputs,
+        "inputs": input_hashes(world),
         "seed": int(engine.seed),
         "dt": float(engine.dt),
         "frame": frame,
@@ -193,10 +200,10 @@ def _check_manifest(m: dict[str, Any], source: str) -> None:
     def whole(v: Any, hi: int) -> bool:
         return isinstance(v, int) and not isinstance(v, bool) and 0 <= v <= hi
 
-    for field, hi in (("frame", 2**64 - 1), ("seed", 2**64 - 1), ("frames_left", 2**64 - 1)):
+    for field, hi in (("frame", MAX_FRAMES), ("seed", MAX_SEED), ("frames_left", MAX_FRAMES)):
         if not whole(m.get(field), hi):
             raise bad(field, f"an integer from 0 to {hi}")
-    for field, low, high in (("dt", 1e-6, 3600.0), ("time", 0.0, 1e300)):  # seconds
+    for field, low, high in (("dt", MIN_DT, MAX_DT), ("time", 0.0, 1e300)):  # seconds
         v = m.get(field)
         if not (isinstance(v, (int, float)) and not isinstance(v, bool) and low <= v <= high):
             raise bad(field, f"a number of seconds from {low:g} to {high:g}")

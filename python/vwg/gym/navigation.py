@@ -13,7 +13,6 @@ where it is (a zero move).
 from __future__ import annotations
 
 import dataclasses
-import hashlib
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -25,11 +24,10 @@ import numpy as np
 import vwg._core as _core
 from vwg.errors import Error, SchemaError
 from vwg.io.state_file import write_state
-from vwg.launch import run_inputs
 from vwg.robot.case_study import CaseStudy
 from vwg.robot.shortest import DistanceField
 from vwg.robot.world_file import RobotWorld
-from vwg.saved_run import check_saved_by_this_vwg, load_parts, read_state_file, state_parts
+from vwg.saved_run import check_saved_by_this_vwg, input_hashes, load_parts, read_state_file, state_parts
 from vwg.trial import cached_world, random_task, replace_robot
 
 __all__ = ["REWARD", "AgentDecider", "Navigation", "Reward"]
@@ -122,14 +120,12 @@ class Navigation:
         if self.case is None:
             raise Error("save_state: no episode yet (reset() first)")
         parts, frame = state_parts(self.case.engine, self.case.sim.platform)
-        inputs = {role: {"path": str(p.resolve()), "sha256": hashlib.sha256(p.read_bytes()).hexdigest()}
-                  for role, p in run_inputs(self.base).items() if p.is_file()}
         episode = {"robots": self.n_robots, "beams": self.laser.beams, "frames_per_step": self.frames_per_step,
                    "last_way": list(self._last_way.items()), "last_collisions": list(self._last_collisions.items()),
                    "arrived": list(self._arrived.items()), "frames_run": self.frames_run}
         manifest = {"vwg": _core.__version__, "world_kind": "gym-navigation",
-                    "world_file": str(Path(self.base.path).resolve()), "inputs": inputs, "seed": self.seed,
-                    "dt": self.world.dt, "frame": frame,
+                    "world_file": str(Path(self.base.path).resolve()), "inputs": input_hashes(self.base),
+                    "seed": self.seed, "dt": self.world.dt, "frame": frame,
                     "time": float(self.case.engine.time), "frames_left": 0, "episode": episode}
         return write_state(manifest, parts)
 
