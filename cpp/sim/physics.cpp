@@ -5,7 +5,9 @@
 #include <deque>
 #include <limits>
 #include <string>
+#include <type_traits>
 #include <utility>
+#include <vector>
 
 #include <box2d/box2d.h>
 
@@ -25,27 +27,45 @@ constexpr std::uintptr_t kWallTag = 0;  // fixture user data of walls; robots st
 enum Op : std::uint8_t { kAddRobot = 1, kRemoveRobot, kCommand, kDrive, kAdvance, kTakeCollisions };
 constexpr std::uint64_t kJournalFormat = 1;
 
+// A robot's settings field by field, in visit_settings' order: a field added there is kept here too.
 void write_robot(StateWriter& out, const RobotSettings& rs) {
-  out.i64(rs.id);
-  for (double v : {rs.start.x, rs.start.y, rs.start.theta, rs.radius, rs.limits.max_speed, rs.limits.max_turn_rate,
-                   rs.limits.max_accel, rs.limits.max_turn_accel}) {
-    out.f64(v);
-  }
-  out.u64(rs.sensors.size());
-  for (const std::string& sensor : rs.sensors) out.text(sensor);
+  visit_settings(rs, [&](const char*, const auto& v, const char*) {
+    using T = std::decay_t<decltype(v)>;
+    if constexpr (std::is_same_v<T, int>) {
+      out.i64(v);
+    } else if constexpr (std::is_same_v<T, double>) {
+      out.f64(v);
+    } else if constexpr (std::is_same_v<T, platform::Pose2>) {
+      for (double c : {v.x, v.y, v.theta}) out.f64(c);
+    } else {
+      static_assert(std::is_same_v<T, std::vector<std::string>>);
+      out.u64(v.size());
+      for (const std::string& text : v) out.text(text);
+    }
+  });
 }
 
 RobotSettings read_robot(StateReader& in) {
   RobotSettings rs;
-  const std::int64_t id = in.i64();
-  if (id < 1 || id > std::numeric_limits<int>::max()) in.fail("a robot id out of range: " + std::to_string(id));
-  rs.id = static_cast<int>(id);
-  for (double* v : {&rs.start.x, &rs.start.y, &rs.start.theta, &rs.radius, &rs.limits.max_speed, &rs.limits.max_turn_rate,
-                    &rs.limits.max_accel, &rs.limits.max_turn_accel}) {
-    *v = in.f64();
-  }
-  rs.sensors.resize(in.count(8, "sensors"));
-  for (std::string& sensor : rs.sensors) sensor = in.text();
+  visit_settings(rs, [&](const char* field, auto& v, const char*) {
+    using T = std::decay_t<decltype(v)>;
+    if constexpr (std::is_same_v<T, int>) {
+      const std::int64_t x = in.i64();
+      if (x < std::numeric_limits<int>::min() || x > std::numeric_limits<int>::max()) {
+        in.fail(std::string("a robot's ") + field + " out of range: " + std::to_string(x));
+      }
+      v = static_cast<int>(x);
+    } else if constexpr (std::is_same_v<T, double>) {
+      v = in.f64();
+    } else if constexpr (std::is_same_v<T, platform::Pose2>) {
+      for (double* c : {&v.x, &v.y, &v.theta}) *c = in.f64();
+    } else {
+      static_assert(std::is_same_v<T, std::vector<std::string>>);
+      v.resize(in.count(8, field));
+      for (std::string& text : v) text = in.text();
+    }
+  });
+  if (rs.id < 1) in.fail("a robot id out of range: " + std::to_string(rs.id));
   return rs;
 }
 
