@@ -138,10 +138,17 @@ def test_the_sdk_refuses_a_component_it_does_not_carry(installed, tmp_path):
     assert "build vwg from source" in done.stdout + done.stderr
 
 
-def test_no_sdk_in_a_source_tree_is_said():
-    # This checkout's vwg (PYTHONPATH=python) has no SDK folder: said, with what to do.
-    if (ROOT / "python" / "vwg" / "sdk").exists():
-        pytest.skip("a source tree with an SDK folder (built in place)")
+def test_no_sdk_in_a_source_tree_is_said(tmp_path):
+    # The source tree's vwg (no SDK folder), with the compiled module of the vwg this test runs: said, with
+    # what to do. A copy, so that a checkout with or without a built-in-place module gives the same case.
+    import shutil
+
+    import vwg._core
+
+    package = tmp_path / "vwg"
+    shutil.copytree(ROOT / "python" / "vwg", package, ignore=shutil.ignore_patterns("sdk", "__pycache__", "_core*.so"))
+    compiled = Path(vwg._core.__file__).resolve()
+    (package / compiled.name).symlink_to(compiled)
     done = subprocess.run([sys.executable, "-m", "vwg", "--cmake-dir"], capture_output=True, text=True, timeout=120,
-                          env={**clean_env(), "PYTHONPATH": str(ROOT / "python")})
-    assert done.returncode == 2 and "has no C++ SDK" in done.stderr
+                          env={**clean_env(), "PYTHONPATH": str(tmp_path)}, cwd=tmp_path)
+    assert done.returncode == 2 and "has no C++ SDK" in done.stderr, done.stderr
