@@ -32,7 +32,7 @@ TEST_APT_PACKAGES := chromium
 BUILD := build
 STAMP := $(BUILD)/stamps
 
-.PHONY: help deps test-deps venv install wheel wheel-check sdist demo test check pytest fuzz asan-configure asan-python stress lint stubs cpp-test cpp-package tsan bench bench-scale irsim-env clean
+.PHONY: help deps test-deps venv install wheel wheel-check sdist docs demo test check pytest fuzz asan-configure asan-python stress lint stubs cpp-test cpp-package tsan bench bench-scale irsim-env clean
 
 help:
 	@sed -n '1,6p' Makefile | sed 's/^# \{0,1\}//'
@@ -96,6 +96,14 @@ wheel-check: wheel
 	@tools/apt_install.sh $(BUILD)/apt-debootstrap.log "debootstrap" debootstrap
 	tools/wheel_check.sh
 
+## The documentation site in site/ (open site/index.html): MkDocs with the Material theme and mkdocstrings,
+## the `docs` extra (make install installs it with the test tools). --strict: a broken link, reference or
+## marker fails the build; tools/docs/hooks.py fills in the CLI, exit codes, registries, C++ headers and
+## benchmark tables from the installed vwg and the tree.
+docs: install
+	NO_MKDOCS_2_WARNING=1 $(VENV)/bin/mkdocs build --strict -q -d site
+	@echo "the documentation site is in site/ (open site/index.html)"
+
 ## The source distribution in dist/ (pip install dist/vwg-*.tar.gz builds it on a machine with the
 ## Debian packages of `make deps`).
 sdist: venv
@@ -127,7 +135,7 @@ demo: install
 test-deps:
 	@tools/apt_install.sh $(BUILD)/apt-test.log "Debian packages for the tests (1-2 min)" $(TEST_APT_PACKAGES)
 
-test: install test-deps lint wheel pytest cpp-test asan-python cpp-package
+test: install test-deps lint docs wheel pytest cpp-test asan-python cpp-package
 	@echo "make test: all passed"
 
 pytest: test-deps

@@ -35,6 +35,7 @@ from vwg.io.shipped import resolve_world, shipped_worlds
 from vwg.io.state_file import engine_state
 from vwg.io.yamldoc import YamlDoc
 from vwg.launch import (
+    EXIT_LINK_FAULT,
     EXIT_UNREACHED,
     RunOptions,
     check_outputs,
@@ -51,7 +52,20 @@ from vwg.plugins import GROUPS, backends, deciders, platforms
 from vwg.robot.world_file import load_robot_world
 from vwg.saved_run import keep_snapshots, nearest_snapshot, read_state_file, resume
 
-__all__ = ["EXIT_UNREACHED", "main", "strict_json"]
+__all__ = ["EXIT_CODES", "EXIT_UNREACHED", "main", "strict_json"]
+
+#: What each exit status of `vwg` means (`vwg --help` and the docs show this table).
+EXIT_CODES = {
+    0: "done: the run ended, every robot sent to a room reached it; a replay matched its record",
+    1: "a frame failed (a part raised: the error names the frame, stage, actor and event); `vwg plugins`: an "
+       "entry point did not load",
+    2: "bad input (a world file, record, state, option or output path), named with its file, line and field; "
+       "a record that does not replay (the first differing frame is shown)",
+    EXIT_UNREACHED: "a robot did not reach the room it was sent to (`--allow-unreached` makes this 0)",
+    EXIT_LINK_FAULT: "a real robot's link was lost or flapped: the robot was stopped, the faults are in the "
+                     "summary and the record",
+    130: "interrupted (Ctrl-C): the robot stopped, the record and --save-state kept up to the last whole frame",
+}
 
 
 def _print_summary(rows: list[tuple[str, str]]) -> None:
@@ -523,7 +537,10 @@ def _platform_arguments(group: Any) -> None:
 
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
-        prog="vwg", description="vwg, the Virtual Worlds Generator: run worlds written as strings of a grammar.")
+        prog="vwg", description="vwg, the Virtual Worlds Generator: run worlds written as strings of a grammar.",
+        epilog="exit status: " + "; ".join(f"{status} {meaning.split(':')[0].split(' (')[0]}"
+                                           for status, meaning in sorted(EXIT_CODES.items())),
+    )
     parser.add_argument("--version", action="version", version=f"vwg {_core.__version__}")
     parser.add_argument("--verbose", "-v", action="count", default=0,
                         help="print vwg's and its libraries' messages (-v: warnings and info, -vv: debug)")
@@ -534,8 +551,8 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--frames", type=int, help="number of frames, 0 to 2**64 - 1 (default: the file's, else 100)")
     run.add_argument("--seed", type=int, help="random seed, 0 to 2**64 - 1 (default: the file's, else 0)")
     run.add_argument("--dt", type=float, help="seconds per frame, 1e-6 to 3600 (default: the file's, else 0.1)")
-    run.add_argument("--backend", help="a registered backend by name (trace, null, ...): instead of the file's in a "
-                                       "generic world, beside the simulator and its view in a robot world")
+    run.add_argument("--backend", help=f"a registered backend ({_registered(backends)}): instead of the file's in "
+                                       "a generic world, beside the simulator and its view in a robot world")
     run.add_argument("--max-symbols", type=int, default=10_000_000,
                      help="fail if the string grows past this many symbols (default 10 000 000; 0: no limit)")
     run.add_argument("--python-budget", type=float, default=1.0, metavar="SECONDS",
