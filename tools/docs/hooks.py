@@ -121,7 +121,7 @@ def _declaration(lines: list[str], i: int) -> str:
     text = ""
     for line in lines[i:i + 6]:
         text += " " + line.strip()
-        if re.search(r"[;{]\s*(//.*)?$", line) or line.rstrip().endswith(")"):
+        if re.search(r"[;{}]\s*(//.*)?$", line) or line.rstrip().endswith(")"):
             break
     text = re.sub(r"\s*//.*$", "", text)
     text = re.sub(r"(\)|const|override|noexcept|final)\s*\{.*\}\s*;?$", r"\1", text)  # an inline body
@@ -129,11 +129,11 @@ def _declaration(lines: list[str], i: int) -> str:
     return re.sub(r"\s+", " ", text)
 
 
-def header_markdown(path: Path) -> str:
+def header_markdown(path: Path, include_root: Path = ROOT / "cpp" / "include") -> str:
     """A header's reference: its opening comment, then each namespace-level declaration with the comment
     above it, and the commented public members of its classes."""
     lines = path.read_text(encoding="utf-8").splitlines()
-    rel = path.relative_to(ROOT / "cpp" / "include").as_posix()
+    rel = path.relative_to(include_root).as_posix()
     opening = []
     for line in lines:
         if not line.startswith("//"):
