@@ -2,7 +2,7 @@
 queries — the MovingAI benchmark maps and their scenarios — each called as a user calls it (a numpy
 map in, a path out), in the same process.
 
-    python benchmarks/bench_astar_peer.py [--quick]     prints a table, writes benchmarks/results/bench_astar_peer.json
+    python benchmarks/bench_astar_peer.py [--quick]  writes benchmarks/results/<machine>/bench_astar_peer.json
 
 pyastar2d is not a vwg dependency: `pip install pyastar2d` first (make bench does).
 D* Lite is timed on its first plan (made and searched per query; its strength, the repairs, is

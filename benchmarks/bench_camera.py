@@ -1,18 +1,19 @@
 """Speed of the robot camera: render a 640×480 first-person image of the office and detect its
 AprilTags (tag36h11, quad_decimate 2), one core. Rendering and detection are also timed alone.
 
-    python benchmarks/bench_camera.py [--quick]      prints a table, writes benchmarks/results/bench_camera.json
+    python benchmarks/bench_camera.py [--quick]  prints a table, writes benchmarks/results/<machine>/bench_camera.json
 """
 
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import platform
 import sys
 import time
 from pathlib import Path
+
+from machine import write_results
 
 import vwg
 from vwg import _core
@@ -71,9 +72,7 @@ def main() -> int:
     print(f"  {'render':<16} {results['render_fps']:8.0f} frames/s")
     print(f"  {'detect':<16} {results['detect_fps']:8.0f} frames/s")
     print(f"  {'render + detect':<16} {results['render_detect_fps']:8.0f} frames/s")
-    RESULTS.parent.mkdir(parents=True, exist_ok=True)
-    RESULTS.write_text(json.dumps(results, indent=2) + "\n")
-    print(f"  wrote {RESULTS}")
+    write_results(RESULTS, **results)
     return 0
 
 

@@ -10,17 +10,18 @@ explicitly (vwg.evolve, vwg.visualize, vwg.display on a NullBackend), so the eng
 strings without actors does not flatter (a). In the same run, vwg.testing.reference (plain Python) evolves
 the same strings and the ratio is printed. Times are the best of several repeats on one thread.
 
-    python benchmarks/bench_core.py [--quick]      prints a table, writes benchmarks/results/bench_core.json
+    python benchmarks/bench_core.py [--quick]  prints a table, writes benchmarks/results/<machine>/bench_core.json
 """
 
 from __future__ import annotations
 
 import argparse
-import json
 import platform
 import sys
 import time
 from pathlib import Path
+
+from machine import write_results
 
 import vwg
 from vwg.testing.reference import Reference
@@ -183,9 +184,7 @@ def main() -> int:
         mark = "ok" if value >= aim else "below"
         print(f"  {key:<34} {value:>14,.1f} {aim:>10,.0f}  {mark}")
     print(f"  {'python_actor_events_per_s':<34} {results['python_actor_events_per_s']:>14,.1f} {'-':>10}")
-    RESULTS.parent.mkdir(parents=True, exist_ok=True)
-    RESULTS.write_text(json.dumps(results, indent=2) + "\n")
-    print(f"\n  wrote {RESULTS}")
+    write_results(RESULTS, **results)
     return 0
 
 

@@ -2,7 +2,7 @@
 frame, event by event against by columns (vwg.EventColumns) and by runs (on_<event>_run). The
 reference is the plain way in the same process: 180 vwg.Event objects a scan, one λ call a beam.
 
-    python benchmarks/bench_events.py [--quick]     # writes benchmarks/results/bench_events.json
+    python benchmarks/bench_events.py [--quick]     # writes benchmarks/results/<machine>/bench_events.json
 
 Every way must end in the same string (checked): the runs only change how the events travel.
 """

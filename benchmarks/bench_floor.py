@@ -10,7 +10,7 @@ maps, no decisions and no engine. The smallest frame two cores could then make i
 
     python benchmarks/bench_floor.py [--quick]   (--quick: 1,000 robots only)
 
-Prints a table and writes benchmarks/results/bench_floor.json: rows with n_robots, the CPU time
+Prints a table and writes benchmarks/results/<machine>/bench_floor.json: rows with n_robots, the CPU time
 per robot-step of the advance and of the scans (µs, the best of three), the scans' rays/s and
 which code ran them, floor_ms_per_frame on two cores and floor_realtime_factor (100 ms over it).
 """

@@ -7,7 +7,7 @@ string and no decisions — for each robot a laser scan (GridRaycaster.scan) and
 (PhysicsWorld.advance). The ratio says what the model's frame (η, π, φ, events, the robot's map and
 decision) costs on top of sensing and physics.
 
-    python benchmarks/bench_frame.py [--quick]    prints a table, writes benchmarks/results/bench_frame.json
+    python benchmarks/bench_frame.py [--quick]  prints a table, writes benchmarks/results/<machine>/bench_frame.json
 """
 
 from __future__ import annotations

@@ -2,7 +2,7 @@
 Gymnasium's SyncVectorEnv), and the same number with a process each (Gymnasium's AsyncVectorEnv, the
 usual way to run many simulators), with random actions, as ratios to the single environment.
 
-    python benchmarks/bench_gym.py [--quick]     # writes benchmarks/results/bench_gym.json
+    python benchmarks/bench_gym.py [--quick]     # writes benchmarks/results/<machine>/bench_gym.json
 
 A step is one move of the robot (about 16 frames of 0.1 s: turn, drive 0.5 m at most), with a
 36-beam laser on the office map.

@@ -6,7 +6,7 @@ process's memory (machine.rss_mb: the proportional set size, a page shared by ma
 once) is read before the run, after 20 frames, then every 25 frames to the end. Each robot holds
 its own map (the paper's grid attribute), sharing the pages it has not written with the known map.
 
-    python benchmarks/bench_memory.py [--quick]     prints a table, writes benchmarks/results/bench_memory.json
+    python benchmarks/bench_memory.py [--quick]  prints a table, writes benchmarks/results/<machine>/bench_memory.json
 """
 
 from __future__ import annotations

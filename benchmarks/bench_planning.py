@@ -7,13 +7,12 @@ the robot's path — and grid A* itself, on the MovingAI benchmark maps.
     astar    time of one A* search and one Jump Point Search per scenario of the benchmark files
              (octile and Euclidean), and A*'s time over JPS's
 
-    python benchmarks/bench_planning.py [--quick]     prints tables, writes benchmarks/results/bench_planning.json
+    python benchmarks/bench_planning.py [--quick]  writes benchmarks/results/<machine>/bench_planning.json
 """
 
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import platform
 import sys
@@ -21,6 +20,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+from machine import write_results
 
 import vwg
 
@@ -125,9 +125,7 @@ def main() -> int:
         "machine": {"python": sys.version.split()[0], "platform": platform.platform()},
         "vwg": vwg.__version__,
     }
-    RESULTS.parent.mkdir(parents=True, exist_ok=True)
-    RESULTS.write_text(json.dumps(results, indent=2) + "\n")
-    print(f"\n  wrote {RESULTS}")
+    write_results(RESULTS, **results)
     return 0
 
 

@@ -4,7 +4,7 @@ run's size in record format 1 (event texts, whole blobs) is worked out from the 
 Then a crowd: the warehouse with 100 robots (A* to rooms, 2 threads, as bench_frame), the frame's
 time recorded against the same frame unrecorded in the same process.
 
-    python benchmarks/bench_record.py      prints a table, writes benchmarks/results/bench_record.json
+    python benchmarks/bench_record.py  prints a table, writes benchmarks/results/<machine>/bench_record.json
 """
 
 from __future__ import annotations
@@ -29,6 +29,7 @@ from vwg.robot.world_file import load_robot_world
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from bench_frame import crowd, room_goals
+from machine import write_results
 
 ROOT = Path(__file__).resolve().parents[1]
 WORLD = ROOT / "maps" / "office.yaml"
@@ -150,8 +151,7 @@ def main() -> None:
     print(f"warehouse, {CROWD} robots, A*, 2 threads, 20 frames")
     print(f"  frame            {plain_ms:.1f} ms; recorded {recorded_ms:.1f} ms ({recorded_ms / plain_ms:.1f}x), "
           f"{crowd_bytes / 20 / 1e3:.0f} kB/frame")
-    RESULTS.parent.mkdir(parents=True, exist_ok=True)
-    RESULTS.write_text(json.dumps(results, indent=2) + "\n")
+    write_results(RESULTS, **results)
 
 
 if __name__ == "__main__":

@@ -10,7 +10,7 @@ first plans, before the timed frames, take minutes).
 
     python benchmarks/bench_scale.py [--quick]   (make bench-scale installs IR-SIM in its own venv)
 
-Prints a table and writes benchmarks/results/bench_scale.json: rows with engine ("vwg" or "irsim"),
+Prints a table and writes benchmarks/results/<machine>/bench_scale.json: rows with engine ("vwg" or "irsim"),
 planner (vwg: "astar" on one thread and every core, "astar-octile" and "jps" on every core; IR-SIM:
 "dash"), map, n_robots, threads, robot_steps_per_s, rays_per_s, ms_per_frame, realtime_factor,
 rss_mb (the process's resident memory after the run, pages shared between robots counted once:

@@ -7,13 +7,12 @@
             default is the faster on this CPU (AVX2 on AMD's Zen 4, which has AVX-512 too)
     box2d   one physics step (Box2D, 0.01 s) with 1 to 1,000 robots driving about and colliding
 
-    python benchmarks/bench_sensors.py [--quick]      prints tables, writes benchmarks/results/bench_sensors.json
+    python benchmarks/bench_sensors.py [--quick]  prints tables, writes benchmarks/results/<machine>/bench_sensors.json
 """
 
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import os
 import platform
@@ -23,6 +22,7 @@ from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
+from machine import write_results
 
 import vwg
 from vwg import _core
@@ -157,9 +157,7 @@ def main() -> int:
         "vwg": vwg.__version__,
     }
     print(f"\n  laser_rays_per_s (the slower map): {results['laser_rays_per_s'] / 1e6:.1f} M  (aim: >= 20 M)")
-    RESULTS.parent.mkdir(parents=True, exist_ok=True)
-    RESULTS.write_text(json.dumps(results, indent=2) + "\n")
-    print(f"  wrote {RESULTS}")
+    write_results(RESULTS, **results)
     return 0
 
 

@@ -22,7 +22,7 @@ beside the record.
     python benchmarks/bench_state.py [--quick]   (--quick: N in 50, 150; a 600-frame record, --from 500,
                                                  states every 200)
 
-Prints a table and writes benchmarks/results/bench_state.json: rows (one per N) with frames,
+Prints a table and writes benchmarks/results/<machine>/bench_state.json: rows (one per N) with frames,
 run_to_n_s, save_s, size_mb, ten_frames_s, restore_s, restore_over_ten_frames, restore_over_run_to_n;
 and replay with record_frames, from_frame, snapshot_every, state_frame, before_s, after_s, after_over_before.
 """

@@ -5,7 +5,7 @@ rate are sampled every 500 frames.
 
     python benchmarks/bench_stress.py [--frames N] [--robots N]    (make stress)
 
-It prints a table, writes benchmarks/results/bench_stress.json and exits 1 when the memory grew by more
+It prints a table, writes benchmarks/results/<machine>/bench_stress.json and exits 1 when the memory grew by more
 than 10 % from the middle of the run to its end, or the last stretch ran slower than 0.7× the middle
 one. Every robot works from the start, so its planning grids (made at its first decision) are there
 from the first stretch: growth after that is not the workload. The rate falls over the first few
