@@ -1,7 +1,9 @@
 """Planning on grids and in continuous space: A*, Jump Point Search and D* Lite on occupancy grids,
 the OMPL planners (bounded by iterations, so runs are reproducible). Maps come from vwg.io.maps.
 
-    path = vwg.plan.astar(grid.inflate(0.2), (row0, col0), (row1, col1))
+    grid = vwg.io.maps.load_map("maps/office/map.yaml")
+    path, length = vwg.plan.astar(grid.blocked(), grid.world_to_cell(1.5, 9.0), grid.world_to_cell(5.5, 16.8))
+    # path: the (row, col) cells from start to goal, or None when there is no way; length in cells
 """
 
 from __future__ import annotations
