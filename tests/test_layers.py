@@ -85,26 +85,20 @@ def test_import_linter_contracts_hold() -> None:
     assert "2 kept, 0 broken" in out.stdout
 
 
-def test_the_old_module_names_warn_and_give_the_new_modules() -> None:
+def test_the_module_names_before_the_layout_by_concept_are_gone() -> None:
+    # The redesign by concept replaced vwg.casestudy, vwg.sim, vwg.fake_robot, ...: the old names no longer
+    # import (no alias beside the new layout), and the new modules are where the old ones went.
     import importlib
 
     import vwg
-    import vwg.robot.case_study
-    import vwg.robot.platforms.sim
 
-    for name in ("vwg.casestudy", "vwg.fake_robot"):
-        sys.modules.pop(name, None)
-    with pytest.warns(DeprecationWarning, match=r"vwg\.casestudy is deprecated: import vwg\.robot\.case_study"):
-        old = importlib.import_module("vwg.casestudy")
-    assert old is vwg.robot.case_study and old.__name__ == "vwg.robot.case_study"
-    with pytest.warns(DeprecationWarning, match=r"vwg\.fake_robot is deprecated: import vwg\.testing\.fake_robot"):
-        from vwg.fake_robot import FakeRosbridgeRobot  # noqa: F401
-    sys.modules.pop("vwg.sim", None)
-    vars(vwg).pop("sim", None)
-    with pytest.warns(DeprecationWarning, match=r"vwg\.sim is deprecated: import vwg\.robot\.platforms\.sim"):
-        assert vwg.sim.Simulation is vwg.robot.platforms.sim.Simulation  # type: ignore[attr-defined]
-    with pytest.raises(ImportError):
-        importlib.import_module("vwg.nosuchmodule")
+    for old in ("casestudy", "sim", "fake_robot", "maps", "registry", "worldfile"):
+        sys.modules.pop(f"vwg.{old}", None)
+        with pytest.raises(ImportError):
+            importlib.import_module(f"vwg.{old}")
+    assert not hasattr(vwg, "sim") and not hasattr(vwg, "casestudy")
+    assert importlib.import_module("vwg.robot.case_study").CaseStudy is vwg.robot.CaseStudy
+    assert importlib.import_module("vwg.testing.fake_robot").FakeRosbridgeRobot
 
 
 def test_no_import_cycle_between_any_two_modules() -> None:

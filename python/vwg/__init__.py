@@ -22,7 +22,7 @@ the Modeling of an Autonomous Robot").
 
 from __future__ import annotations
 
-from vwg import _moved, io, model, perception, plan, plugins, robot
+from vwg import io, model, perception, plan, plugins, robot
 from vwg import logs as _logs  # noqa: F401  (routes the libraries' messages into `logging`)
 from vwg._core import (
     ActorBatch,
@@ -119,14 +119,3 @@ __all__ = [
     "start",
     "visualize",
 ]
-
-_moved.install()  # vwg.OLD module names, for one release, with a DeprecationWarning
-
-
-def __getattr__(name: str) -> object:
-    """``vwg.sim`` and the other old names without an import: the module they became, with the warning."""
-    if name in _moved.MOVED:
-        import importlib
-
-        return importlib.import_module(f"vwg.{name}")
-    raise AttributeError(f"module 'vwg' has no attribute {name!r}")

@@ -15,7 +15,7 @@ feedback generators, and the sensors it can carry.
 The sensors a robot lists are made by the sensors (vwg.robot.sensor.Sensor.make): each says how it
 is made on the platforms that can carry it, and a platform that cannot carry one leaves it out with a
 warning, so a world file written for the simulator runs on a real robot unchanged. What a sensor looks
-for on a platform: ``scanner`` (a vwg.sim RangeScanner: the simulator's lasers), ``scan_generator(robot)``
+for on a platform: ``scanner`` (a vwg::sim::RangeScanner: the simulator's lasers), ``scan_generator(robot)``
 (a real robot's LaserScan messages), ``raycaster`` (a GridRaycaster on the world's map: any platform
 that knows where its robots are carries the laser that way), ``physics`` (the simulator's cameras).
 

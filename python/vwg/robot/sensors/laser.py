@@ -1,7 +1,7 @@
 """gLaser: a planar laser scanner. Each scan gives ``eLaser<to=robot, dist, angle>`` for each beam
 that met an obstacle (paper Table II: "if obstacle").
 
-On the simulator the beams are cast on the map and the other robots (C++, vwg.sim.LaserGenerator);
+On the simulator the beams are cast on the map and the other robots (C++, vwg::sim::LaserGenerator);
 on a real robot they are the beams of its sensor_msgs/LaserScan; on any other platform with the
 world's map (a kinematic one), they are cast on the map's walls from the pose the platform reports.
 Every one turns its ranges into events by the same rule, REP 117's (vwg._core.laser_events)."""
