@@ -48,7 +48,7 @@ from vwg.launch import (
     start,
     strict_json,
 )
-from vwg.plugins import GROUPS, backends, deciders, platforms
+from vwg.plugins import GROUPS, backends, deciders, platforms, world_kinds
 from vwg.robot.world_file import load_robot_world
 from vwg.saved_run import keep_snapshots, nearest_snapshot, read_state_file, resume
 
@@ -631,7 +631,7 @@ def build_parser() -> argparse.ArgumentParser:
                           "only for a record you trust")
     rep.add_argument("--record-key", type=Path, metavar="FILE",
                      help="the key the record was made with (vwg run --record-key): its chain is checked with it")
-    rep.add_argument("--backend", help="show the replay on this backend (e.g. trace)")
+    rep.add_argument("--backend", help=f"show the replay on this registered backend ({_registered(backends)})")
     rep.add_argument("--from", dest="resume_from", type=int, metavar="FRAME",
                      help="replay up to FRAME, then go on live from there with the world's generators (a robot "
                           "world: with the run's --goal orders, kept in the record)")
@@ -689,13 +689,14 @@ def build_parser() -> argparse.ArgumentParser:
                          description="Draw a robot world in 3D: walls extruded, markers, robots at their starts.")
     ovw.add_argument("world", type=Path, help="a robot world file (one that names a map), or a shipped world's name")
     ovw.add_argument("-o", "--output", type=Path, help="the PNG to write (default: NAME_3d.png)")
-    ovw.add_argument("--width", type=int, default=1000)
-    ovw.add_argument("--height", type=int, default=700)
+    ovw.add_argument("--width", type=int, default=1000, help="the picture's width in pixels (default 1000)")
+    ovw.add_argument("--height", type=int, default=700, help="the picture's height in pixels (default 700)")
     ovw.set_defaults(func=_cmd_overview)
 
     chk = sub.add_parser("check", help="load a world file, check it and report what it declares",
-                         description="Check a robot world (map, rooms, robots, sensors, orders) or a generic world "
-                                     "(alphabet, generators, initial string) and describe it.")
+                         description=f"Check a world file of a registered kind ({_registered(world_kinds)}) and "
+                                     "describe it: a robot world's map, rooms, robots, sensors, orders and platform; a "
+                                     "generic world's alphabet, generators and initial string.")
     chk.add_argument("world", type=Path, help="a world file, or the name of a shipped world")
     chk.set_defaults(func=_cmd_check)
 
