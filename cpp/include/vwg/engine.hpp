@@ -103,8 +103,8 @@ class StopCondition {
 /// backend or observer) or while another thread is in one of them throw vwg::Error saying so,
 /// instead of corrupting the string they read.
 ///
-/// Reading is safe from any thread: string_copy(), last_events_copy(), frame(), time(),
-/// add_observer() and stop_when() called from another thread wait for the frame under way to end
+/// Reading is safe from any thread: string_copy(), last_events_copy(), add_observer() and
+/// stop_when() called from another thread wait for the frame under way to end
 /// (a frame holds the engine's state lock, a run takes it frame by frame, and a waiting reader gets
 /// it before the next frame starts), so they never see a frame half done. From inside a frame they
 /// act at once: the caller is the frame (Python's λ, θ and generators run on that thread). A
@@ -146,6 +146,8 @@ class Engine {
   /// and behaviours' states. Throws SchemaError naming the part that does not fit (and then
   /// changes nothing of w or the frame; generators already loaded keep their new state).
   void load_state(const EngineState& state);
+  /// The number of frames completed, from any thread at once (an atomic read, no waiting): it counts
+  /// a frame before that frame's observers run.
   std::uint64_t frame() const { return frame_.load(std::memory_order_acquire); }
   double time() const { return static_cast<double>(frame()) * options_.dt; }
   const EngineOptions& options() const { return options_; }
