@@ -130,7 +130,7 @@ def test_python_examples_run_and_print_what_their_comments_say(page, tmp_path_fa
         where = f"{page_name(page)}:{line}"
         out = io.StringIO()
         with contextlib.redirect_stdout(out):
-            exec(compile("\n" * line + code, str(page), "exec"), namespace)
+            exec(compile("\n" * line + code, str(page), "exec", dont_inherit=True), namespace)
         printed, expected = out.getvalue().splitlines(), expected_prints(code)
         assert len(printed) == len(expected), f"{where}: printed {printed}, the comments say {expected}"
         for got, want in zip(printed, expected, strict=True):

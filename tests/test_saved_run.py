@@ -214,6 +214,25 @@ def test_replay_from_starts_at_the_nearest_kept_state(tmp_path):
     assert done.returncode == 2 and "was not kept by the run of this record" in done.stderr
 
 
+def test_replay_from_in_a_resumed_run_s_record_goes_on_to_that_run_s_end(tmp_path):
+    # A record written by `vwg resume` starts at the saved frame (30) and plans 30 frames: replayed --from 55,
+    # it goes live to frame 60, as the resumed run did; without kept states it cannot be started and says why.
+    assert cli("run", "warehouse", "--frames", "30", "--save-state", "s.vwgstate", "-q", "--allow-unreached",
+               cwd=tmp_path).returncode == 0
+    done = cli("resume", "s.vwgstate", "--frames", "30", "--record", "rest.jsonl", "--snapshot-every", "10",
+               "--allow-unreached", cwd=tmp_path)
+    assert done.returncode == 0, done.stderr
+    done = cli("replay", "rest.jsonl", "--from", "55", "--record", "again.jsonl", "--allow-unreached", cwd=tmp_path)
+    assert done.returncode == 0, done.stderr
+    assert "the state kept at frame 50, frames 50 to 54 as recorded, then live to frame 60" in done.stdout
+    again, rest = frames(tmp_path / "again.jsonl"), frames(tmp_path / "rest.jsonl")
+    assert sorted(again) == list(range(55, 60)) and all(again[t] == rest[t] for t in again)
+    assert cli("resume", "s.vwgstate", "--frames", "30", "--record", "bare.jsonl", "--allow-unreached",
+               cwd=tmp_path).returncode == 0
+    done = cli("replay", "bare.jsonl", "--from", "55", cwd=tmp_path)
+    assert done.returncode == 2 and "bare.jsonl starts at frame 30: its run went on from a saved state" in done.stderr
+
+
 def test_snapshot_every_needs_a_record_and_resume_keeps_the_saved_run_s_settings(tmp_path):
     done = cli("run", "office", "--frames", "5", "--snapshot-every", "2", cwd=tmp_path)
     assert done.returncode == 2 and "give --record too" in done.stderr

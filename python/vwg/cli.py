@@ -283,6 +283,11 @@ def _resume(args: argparse.Namespace, record: Any, key: bytes | None) -> int:
     # The new record overwrites neither the record read nor the world's files, nor is it a named pipe.
     check_outputs(loaded, RunOptions(record=args.new_record), {"the record being replayed": Path(args.record)})
     snapshot = nearest_snapshot(args.record, args.resume_from)
+    start_frame = int(header.get("frame") or 0)  # a resumed run's record starts at the frame it resumed at
+    if not snapshot and start_frame:
+        raise Error(f"--from: {args.record} starts at frame {start_frame}: its run went on from a saved state, and "
+                    f"no state at or before frame {args.resume_from} is kept beside it (vwg resume --snapshot-every "
+                    "keeps them); replay it without --from, or replay the record of the run that was saved")
     first = snapshot[1] if snapshot else 0
     if snapshot:
         _check_snapshot(snapshot[0], header, record, first, path)
@@ -310,7 +315,7 @@ def _resume(args: argparse.Namespace, record: Any, key: bytes | None) -> int:
                             world_kind=run.kind, frames_planned=header.get("frames_planned"), key=key) \
             if args.new_record else None
         try:
-            left = max(0, int(header.get("frames_planned") or 0) - args.resume_from)
+            left = max(0, start_frame + int(header.get("frames_planned") or 0) - args.resume_from)
             if robot:
                 run.case.frames = left
             else:
