@@ -8,8 +8,8 @@ feedback generators, and the sensors it can carry.
         options = {"slip": Option(float, 0.0, minimum=0.0, help="fraction of each step lost")}
 
         def __init__(self, world, seed, options):
-            super().__init__(world, seed, options)     # self.options: checked, with defaults
-            self.platform = MyRobotPlatform(world.robots, self.options["slip"])
+            super().__init__(world, seed, options)     # self.settings: the options checked, with defaults
+            self.platform = MyRobotPlatform(world.robots, self.settings["slip"])
             self.backend = vwg.robot.MotionBackend(self.platform)
 
 The sensors a robot lists are made by the sensors (vwg.robot.sensor.Sensor.make): each says how it
