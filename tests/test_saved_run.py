@@ -325,12 +325,14 @@ def test_gym_reset_from_a_saved_state_goes_on_as_the_episode_did():
     env.reset(seed=4)
     actions = [env.action_space.sample() for _ in range(6)]
     for a in actions[:3]:
-        env.step(a)
+        seen = env.step(a)[0]
     data = env.unwrapped.save_state()
     then = [env.step(a) for a in actions[3:]]
     env.close()
     other = gym.make("vwg/Navigate-v0", world="office")
-    other.reset(seed=99, options={"state": data})
+    first, _ = other.reset(seed=99, options={"state": data})
+    # The episode's observation where it was saved: the last scan too, not a laser that saw nothing yet.
+    assert all(np.array_equal(first[k], seen[k]) for k in seen) and first["laser"].min() < 8.0
     again = [other.step(a) for a in actions[3:]]
     other.close()
     for (o1, r1, t1, u1, i1), (o2, r2, t2, u2, i2) in zip(then, again, strict=True):

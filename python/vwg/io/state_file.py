@@ -16,8 +16,8 @@ no code: reading one runs none.
 
 The engine's state (vwg.EngineState) is kept as the parts ``string`` (w's text), ``blobs`` (every
 blob once, by name; one of the dtype and shape of an earlier blob is stored as the elements that differ
-from it, or as its XOR with it when that is smaller, so a robot's map costs what it changed of the known map), ``generators`` and ``actors``; a robot run adds
-``platform``.
+from it, or as its XOR with it when that is smaller, so a robot's map costs what it changed of the
+known map), ``generators`` and ``actors``; a robot run adds ``platform``.
 """
 
 from __future__ import annotations

@@ -1,5 +1,5 @@
 """A differential-drive base on a serial line, speaking the ros_arduino_bridge commands (pyserial):
-the platform ``serial`` of world files and ``vwg run --platform serial --port /dev/ttyUSB0`` (or
+the platform ``serial`` of world files and ``vwg run --platform serial --serial-port /dev/ttyUSB0`` (or
 any pyserial URL: ``socket://127.0.0.1:PORT``, ``loop://``).
 
     platform:
