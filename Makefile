@@ -138,13 +138,17 @@ test-deps:
 test: install test-deps lint docs wheel pytest cpp-test asan-python cpp-package
 	@echo "make test: all passed"
 
+# The tests run on every core (pytest-xdist), a test file per worker: a file's tests keep their order and
+# its module fixtures (the wheel's venv) are made once.
+PYTEST_PARALLEL := -n $(JOBS) --dist loadfile
+
 pytest: test-deps
-	$(PY) -m pytest -q
+	$(PY) -m pytest -q $(PYTEST_PARALLEL)
 
 ## The fast tier: what make test runs of Python, less the tests marked slow (@pytest.mark.slow: each over
 ## about 2 s, ~45 of ~850, about three quarters of pytest's time); no C++ builds beyond the package's.
 check: install test-deps lint
-	$(PY) -m pytest -q -m "not slow" -p no:cacheprovider
+	$(PY) -m pytest -q -m "not slow" -p no:cacheprovider $(PYTEST_PARALLEL)
 
 ## Lint: ruff, and the layers of the Python face (import-linter's contracts in pyproject.toml: a layer
 ## imports only those below it, imports inside functions included).
@@ -220,7 +224,7 @@ asan-python: install asan-configure
 	PYTHONPATH=$(ASAN_BUILD)/pkg LD_PRELOAD="$(ASAN_LIB)" \
 	  ASAN_OPTIONS=detect_leaks=0:halt_on_error=1:exitcode=66:log_path=$(CURDIR)/$(ASAN_BUILD)/report \
 	  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1:log_path=$(CURDIR)/$(ASAN_BUILD)/report \
-	  $(PY) -m pytest -q -p no:cacheprovider $(ASAN_TESTS) \
+	  $(PY) -m pytest -q -p no:cacheprovider $(PYTEST_PARALLEL) $(ASAN_TESTS) \
 	  || { cat $(ASAN_BUILD)/report.* 2>/dev/null | head -60; echo "reports in $(ASAN_BUILD)/report.*"; exit 1; }
 	@if ls $(ASAN_BUILD)/report.* > /dev/null 2>&1; then cat $(ASAN_BUILD)/report.* | head -60; \
 	  echo "sanitizer reports in $(ASAN_BUILD)/report.*"; exit 1; fi
