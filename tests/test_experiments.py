@@ -81,7 +81,7 @@ def test_every_table_parses_and_matches_its_csv(report):
     out, text = report
     tables = tables_of(text)
     assert set(tables) == {"evolution", "evolution_by_map", "devices", "simulation_same_frames",
-                           "simulation_odometry_noise", "extensibility", "environment"}
+                           "simulation_odometry_noise", "simulation_localization", "extensibility", "environment"}
     for name, (header, rows) in tables.items():
         assert read_csv(out / f"{name}.csv") == [header, *rows], name
 
@@ -138,6 +138,12 @@ def test_the_simulation_tables_hold_the_records(report):
     _, noisy = tables_of(text)["simulation_odometry_noise"]
     errors = {float(r[0]): float(r[4]) for r in noisy}
     assert errors[0.0] == 0.0 and errors[0.05] > 0.0  # no drift without noise; some with it
+    _, located = tables_of(text)["simulation_localization"]
+    assert [(float(r[0]), r[1]) for r in located] == [(level, kind) for level in config.noise_levels
+                                                      for kind in ("odometry", "particles")]
+    final = {(float(r[0]), r[1]): float(r[6]) for r in located}
+    assert final[(0.0, "odometry")] == 0.0  # odometry without noise is the truth
+    assert final[(0.05, "particles")] < final[(0.05, "odometry")]  # the filter corrects the drift
 
 
 @pytest.mark.slow

@@ -2,6 +2,7 @@
 #include "settings.hpp"
 #include "vwg/engine.hpp"
 #include "vwg/robot/arobot.hpp"
+#include "vwg/robot/localization.hpp"
 #include "vwg/sim/registries.hpp"
 #include "vwg/sim/overview3d.hpp"
 #include "vwg/sim/render2d.hpp"
@@ -29,6 +30,8 @@ void init_settings(py::module_& m) {
   settings::bind<EngineOptions>(m, "EngineOptions", "A run of the engine: seconds per frame, seed, limits, threads.");
   settings::bind<robot::ARobotConfig>(m, "ARobotConfig",
                                       "The case study's robot actor ARobot: size, clearance, when it has arrived, how far it moves.");
+  settings::bind<robot::LocalizationSettings>(m, "LocalizationSettings",
+                                              "Monte Carlo localization: particles, the laser's likelihood field, the motion noise.");
   settings::bind<sim::OverviewView>(m, "OverviewView", "How the 3D overview is seen: image size, angles, robots, labels.");
 
   // The one range of seconds per frame, and its check: world files, the command line, records and the

@@ -42,6 +42,7 @@ void init_camera(py::module_& m);
 void init_camera_generator(py::module_& m);
 void init_log(py::module_& m);
 void init_registries(py::module_& m);
+void init_localization(py::module_& m);
 
 /// A class declared earlier in the module, to add methods to it.
 template <class... Options>

@@ -36,4 +36,5 @@ PYBIND11_MODULE(_core, m) {
   init_camera(m);
   init_camera_generator(m);
   init_registries(m);
+  init_localization(m);
 }

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "geometry/clearance.hpp"
+#include "geometry/distance_transform.hpp"
 #include "geometry/inflate.hpp"
 
 namespace vwg::geometry {
@@ -12,38 +13,6 @@ namespace vwg::geometry {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-/// One pass of the exact squared Euclidean distance transform of Felzenszwalb & Huttenlocher
-/// (2012): d[q] = min over p of (q - p)² + f[p], through the lower envelope of the parabolas
-/// rooted at the finite f[p]. `v` and `z` are scratch of n and n + 1 entries.
-void distance_transform_1d(const double* f, double* d, int n, std::vector<int>& v, std::vector<double>& z) {
-  int k = -1;
-  for (int q = 0; q < n; ++q) {
-    if (f[q] == kInf) continue;  // no parabola: keeps ∞ out of the intersection arithmetic
-    const double fq = f[q] + static_cast<double>(q) * q;
-    double s = -kInf;
-    while (k >= 0) {
-      const int p = v[k];
-      s = (fq - (f[p] + static_cast<double>(p) * p)) / (2.0 * (q - p));
-      if (s > z[k]) break;
-      --k;
-    }
-    ++k;
-    v[k] = q;
-    z[k] = k == 0 ? -kInf : s;
-    z[k + 1] = kInf;
-  }
-  if (k < 0) {
-    std::fill(d, d + n, kInf);
-    return;
-  }
-  int j = 0;
-  for (int q = 0; q < n; ++q) {
-    while (z[j + 1] < q) ++j;
-    const double dq = q - v[j];
-    d[q] = dq * dq + f[v[j]];
-  }
-}
 
 }  // namespace
 
@@ -54,30 +23,18 @@ ClearanceField::ClearanceField(BlockedGrid grid, bool outside_blocked)
   // The distance between two cells' squares is the distance between their centres less one cell
   // on each axis (never below 0). Growing the obstacles by their 8 neighbours subtracts exactly
   // that, so the centre-to-centre transform of the grown mask is the square-to-square distance.
-  std::vector<double> f(static_cast<std::size_t>(rows) * cols, kInf);
+  std::vector<std::uint8_t> grown(static_cast<std::size_t>(rows) * cols, 0);
   for (int r = 0; r < rows; ++r) {
     for (int c = 0; c < cols; ++c) {
       bool near = false;
       for (int dr = -1; dr <= 1 && !near; ++dr) {
         for (int dc = -1; dc <= 1 && !near; ++dc) near = grid_.inside({r + dr, c + dc}) && grid_.blocked({r + dr, c + dc});
       }
-      if (near) f[at(r, c)] = 0.0;
+      grown[at(r, c)] = near ? 1 : 0;
     }
   }
-  const int longest = std::max(rows, cols);
-  std::vector<double> line(static_cast<std::size_t>(longest)), out(static_cast<std::size_t>(longest));
-  std::vector<int> v(static_cast<std::size_t>(longest));
-  std::vector<double> z(static_cast<std::size_t>(longest) + 1);
-  for (int c = 0; c < cols; ++c) {  // along columns first, then along rows
-    for (int r = 0; r < rows; ++r) line[r] = f[at(r, c)];
-    distance_transform_1d(line.data(), out.data(), rows, v, z);
-    for (int r = 0; r < rows; ++r) f[at(r, c)] = out[r];
-  }
-  cell_clearance_.resize(f.size());
-  for (int r = 0; r < rows; ++r) {
-    distance_transform_1d(&f[at(r, 0)], out.data(), cols, v, z);
-    for (int c = 0; c < cols; ++c) cell_clearance_[at(r, c)] = std::sqrt(out[c]);
-  }
+  cell_clearance_ = squared_distance_transform(grown, rows, cols);
+  for (double& d : cell_clearance_) d = std::sqrt(d);
 }
 
 double ClearanceField::edge_distance(double u, double v) const {

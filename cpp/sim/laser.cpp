@@ -186,6 +186,24 @@ LaserGenerator::LaserGenerator(std::shared_ptr<const RangeScanner> scanner, int 
   (void)scanner_->world().robot(robot_);  // throws if there is no such robot
 }
 
+void LaserGenerator::save_state(StateWriter& out) const {
+  rng_.save(out);
+  out.pods(ranges_);
+}
+
+void LaserGenerator::load_state(StateReader& in) {
+  rng_.load(in);
+  std::vector<float> ranges = in.pods<float>();
+  if (ranges.size() != angles_.size()) {
+    in.fail("expected the last scan's " + std::to_string(angles_.size()) + " ranges, found " + std::to_string(ranges.size()));
+  }
+  for (const float r : ranges) {
+    if (!(r >= 0.0f && r <= static_cast<float>(spec_.max_range))) in.fail("a range outside [0, max_range] in the last scan");
+  }
+  in.end();
+  ranges_ = std::move(ranges);
+}
+
 void LaserGenerator::generate(const FrameInfo&, EventList& out) {
   const Pose2 pose = scanner_->world().robot(robot_).pose;
   scanner_->scan(robot_, pose, angles_, spec_.max_range, ranges_);

@@ -8,7 +8,7 @@ import numpy
 import numpy.typing
 import os
 import typing
-__all__: list[str] = ['ARobotConfig', 'ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'ArrivalCondition', 'Backend', 'BackendGroup', 'Blob', 'CameraGenerator', 'CameraRenderer', 'CameraSpec', 'Collision', 'CollisionGenerator', 'DStarLite', 'Decider', 'DecisionInput', 'DepthCameraSpec', 'Engine', 'EngineOptions', 'EngineState', 'Event', 'EventColumns', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'FrameSink', 'Generator', 'GridDecider', 'GridRaycaster', 'ImageFiles', 'ImageSequence', 'ImageSource', 'KinectGenerator', 'LaserGenerator', 'LaserSpec', 'MAX_DT', 'MIN_DT', 'MotionBackend', 'MotionFollower', 'MovingAiScenario', 'Node', 'NoiseModel', 'NullBackend', 'OBSTACLE_THRESHOLD', 'OccupancyGrid', 'OdometryGenerator', 'OmplDecider', 'OmplPlan', 'OmplPlanner', 'OrderGenerator', 'OverviewCamera', 'OverviewView', 'PhysicsSettings', 'PhysicsWorld', 'PythonActor', 'RandomDecider', 'RangeScanner', 'ReceivedImages', 'RenderStyle', 'RobotPlatform', 'RobotSettings', 'RobotState', 'SimView', 'SimulatedCamera', 'StopCondition', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoSource', 'add_arobot', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'arobot_event_types', 'astar', 'backend_names', 'beam_angles', 'beam_layout', 'build_string', 'check_dt', 'create_backend', 'create_decider', 'create_platform', 'create_sensor', 'decider_names', 'default_threads', 'detect_apriltags', 'display', 'encode_image', 'estimate_tag_pose', 'evolve', 'grid_clearance', 'grid_inflate', 'jps', 'laser_events', 'log_message', 'movingai_grid', 'movingai_scenarios', 'overview_camera', 'plan_ompl', 'platform_names', 'python_budget', 'quantize_pose', 'ranging_sensors', 'read_image', 'render_overview', 'robot_map', 'sensor_names', 'set_log_sink', 'set_python_budget', 'struct_defaults', 'visualize', 'walker_behavior', 'write_image']
+__all__: list[str] = ['ARobotConfig', 'ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'ArrivalCondition', 'Backend', 'BackendGroup', 'Blob', 'CameraGenerator', 'CameraRenderer', 'CameraSpec', 'Collision', 'CollisionGenerator', 'DStarLite', 'Decider', 'DecisionInput', 'DepthCameraSpec', 'Engine', 'EngineOptions', 'EngineState', 'Event', 'EventColumns', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'FrameSink', 'Generator', 'GridDecider', 'GridRaycaster', 'ImageFiles', 'ImageSequence', 'ImageSource', 'KinectGenerator', 'LaserGenerator', 'LaserSpec', 'LikelihoodField', 'LocalizationGenerator', 'LocalizationSettings', 'MAX_DT', 'MIN_DT', 'MotionBackend', 'MotionFollower', 'MovingAiScenario', 'Node', 'NoiseModel', 'NullBackend', 'OBSTACLE_THRESHOLD', 'OccupancyGrid', 'OdometryGenerator', 'OmplDecider', 'OmplPlan', 'OmplPlanner', 'OrderGenerator', 'OverviewCamera', 'OverviewView', 'ParticleFilter', 'PhysicsSettings', 'PhysicsWorld', 'PythonActor', 'RandomDecider', 'RangeScanner', 'ReceivedImages', 'RenderStyle', 'RobotPlatform', 'RobotSettings', 'RobotState', 'SimView', 'SimulatedCamera', 'StopCondition', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoSource', 'add_arobot', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'arobot_event_types', 'astar', 'backend_names', 'beam_angles', 'beam_layout', 'build_string', 'check_dt', 'create_backend', 'create_decider', 'create_platform', 'create_sensor', 'decider_names', 'default_threads', 'detect_apriltags', 'display', 'encode_image', 'estimate_tag_pose', 'evolve', 'grid_clearance', 'grid_inflate', 'jps', 'laser_events', 'log_message', 'movingai_grid', 'movingai_scenarios', 'overview_camera', 'plan_ompl', 'platform_names', 'python_budget', 'quantize_pose', 'ranging_sensors', 'read_image', 'render_overview', 'robot_map', 'sensor_names', 'set_log_sink', 'set_python_budget', 'struct_defaults', 'visualize', 'walker_behavior', 'write_image']
 class Blob:
     """
     A large attribute value held by reference from world strings (an occupancy grid, an image, a path).
@@ -1236,6 +1236,183 @@ class ARobotConfig:
         """
     @step_length.setter
     def step_length(self, arg1: float) -> None:
+        ...
+class LocalizationSettings:
+    """
+    Monte Carlo localization: particles, the laser's likelihood field, the motion noise.
+    
+    Fields (defaults from the C++ struct):
+      particles = 300: particles per robot
+      beams = 60: beams of each scan weighed, evenly spread over it
+      sigma_hit = 0.2: metres: the spread of a return around the nearest obstacle
+      z_hit = 0.95: weight of a return near an obstacle
+      z_rand = 0.05: weight of a return anywhere (divided by the laser's range)
+      max_dist = 2.0: metres: distances to the nearest obstacle are capped here
+      alpha_rot_rot = 0.2: rotation noise from rotation (alpha1)
+      alpha_rot_trans = 0.2: rotation noise from translation (alpha2)
+      alpha_trans_trans = 0.2: translation noise from translation (alpha3)
+      alpha_trans_rot = 0.2: translation noise from rotation (alpha4)
+      update_min_d = 0.1: metres driven before the filter is updated again
+      update_min_a = 0.2: radians turned before the filter is updated again
+      start_xy = 0.1: metres: the spread of the particles around the start
+      start_angle = 0.05: radians: the spread of the particles' headings around the start
+      resample_below = 0.5: resample when the effective number of particles falls below this share
+    """
+    __hash__: typing.ClassVar[None] = None
+    @staticmethod
+    def fields() -> list[tuple[str, str, typing.Any, str]]:
+        """
+        [(name, type, default, meaning)] of every field, in order.
+        """
+    def __copy__(self) -> LocalizationSettings:
+        ...
+    def __deepcopy__(self, memo: typing.Any) -> LocalizationSettings:
+        ...
+    def __eq__(self, arg0: typing.Any) -> bool:
+        ...
+    def __getstate__(self) -> dict:
+        ...
+    def __init__(self, *, particles: int = 300, beams: int = 60, sigma_hit: float = 0.2, z_hit: float = 0.95, z_rand: float = 0.05, max_dist: float = 2.0, alpha_rot_rot: float = 0.2, alpha_rot_trans: float = 0.2, alpha_trans_trans: float = 0.2, alpha_trans_rot: float = 0.2, update_min_d: float = 0.1, update_min_a: float = 0.2, start_xy: float = 0.1, start_angle: float = 0.05, resample_below: float = 0.5) -> None:
+        """
+        The settings, each keyword replacing its default.
+        """
+    def __ne__(self, arg0: typing.Any) -> bool:
+        ...
+    def __repr__(self) -> str:
+        ...
+    def __setstate__(self, arg0: dict) -> None:
+        ...
+    def check(self, owner: str) -> None:
+        """
+        Raise vwg.SchemaError naming `owner.field` for a value out of range (what the C++ side would refuse).
+        """
+    def replace(self, **kwargs) -> LocalizationSettings:
+        """
+        A copy with these fields changed: spec.replace(beams=180).
+        """
+    def to_dict(self) -> dict:
+        """
+        {field: value}, as a world file writes them.
+        """
+    @property
+    def alpha_rot_rot(self) -> float:
+        """
+        rotation noise from rotation (alpha1) (float)
+        """
+    @alpha_rot_rot.setter
+    def alpha_rot_rot(self, arg1: float) -> None:
+        ...
+    @property
+    def alpha_rot_trans(self) -> float:
+        """
+        rotation noise from translation (alpha2) (float)
+        """
+    @alpha_rot_trans.setter
+    def alpha_rot_trans(self, arg1: float) -> None:
+        ...
+    @property
+    def alpha_trans_rot(self) -> float:
+        """
+        translation noise from rotation (alpha4) (float)
+        """
+    @alpha_trans_rot.setter
+    def alpha_trans_rot(self, arg1: float) -> None:
+        ...
+    @property
+    def alpha_trans_trans(self) -> float:
+        """
+        translation noise from translation (alpha3) (float)
+        """
+    @alpha_trans_trans.setter
+    def alpha_trans_trans(self, arg1: float) -> None:
+        ...
+    @property
+    def beams(self) -> int:
+        """
+        beams of each scan weighed, evenly spread over it (int)
+        """
+    @beams.setter
+    def beams(self, arg1: int) -> None:
+        ...
+    @property
+    def max_dist(self) -> float:
+        """
+        metres: distances to the nearest obstacle are capped here (float)
+        """
+    @max_dist.setter
+    def max_dist(self, arg1: float) -> None:
+        ...
+    @property
+    def particles(self) -> int:
+        """
+        particles per robot (int)
+        """
+    @particles.setter
+    def particles(self, arg1: int) -> None:
+        ...
+    @property
+    def resample_below(self) -> float:
+        """
+        resample when the effective number of particles falls below this share (float)
+        """
+    @resample_below.setter
+    def resample_below(self, arg1: float) -> None:
+        ...
+    @property
+    def sigma_hit(self) -> float:
+        """
+        metres: the spread of a return around the nearest obstacle (float)
+        """
+    @sigma_hit.setter
+    def sigma_hit(self, arg1: float) -> None:
+        ...
+    @property
+    def start_angle(self) -> float:
+        """
+        radians: the spread of the particles' headings around the start (float)
+        """
+    @start_angle.setter
+    def start_angle(self, arg1: float) -> None:
+        ...
+    @property
+    def start_xy(self) -> float:
+        """
+        metres: the spread of the particles around the start (float)
+        """
+    @start_xy.setter
+    def start_xy(self, arg1: float) -> None:
+        ...
+    @property
+    def update_min_a(self) -> float:
+        """
+        radians turned before the filter is updated again (float)
+        """
+    @update_min_a.setter
+    def update_min_a(self, arg1: float) -> None:
+        ...
+    @property
+    def update_min_d(self) -> float:
+        """
+        metres driven before the filter is updated again (float)
+        """
+    @update_min_d.setter
+    def update_min_d(self, arg1: float) -> None:
+        ...
+    @property
+    def z_hit(self) -> float:
+        """
+        weight of a return near an obstacle (float)
+        """
+    @z_hit.setter
+    def z_hit(self, arg1: float) -> None:
+        ...
+    @property
+    def z_rand(self) -> float:
+        """
+        weight of a return anywhere (divided by the laser's range) (float)
+        """
+    @z_rand.setter
+    def z_rand(self, arg1: float) -> None:
         ...
 class OverviewView:
     """
@@ -3014,6 +3191,70 @@ class CameraGenerator(Generator):
     @property
     def robot(self) -> int:
         ...
+class LikelihoodField:
+    """
+    The likelihood field of a map for a laser of range ``max_range``: ``pz(x, y)`` = z_hit·exp(−d²/(2σ²)) +
+    z_rand/max_range, d the distance from the point to the centre of the nearest occupied cell (value >= 50),
+    capped at max_dist (off the map: max_dist).
+    """
+    def __init__(self, map: OccupancyGrid, settings: LocalizationSettings, max_range: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    def distance(self, x: typing.SupportsFloat | typing.SupportsIndex, y: typing.SupportsFloat | typing.SupportsIndex) -> float:
+        """
+        d (metres, capped) for the point, as the field holds it.
+        """
+    def pz(self, x: typing.SupportsFloat | typing.SupportsIndex, y: typing.SupportsFloat | typing.SupportsIndex) -> float:
+        ...
+class ParticleFilter:
+    """
+    A particle filter of one robot's pose (Probabilistic Robotics, ch. 8): ``start`` around a pose, ``predict``
+    by an odometry motion, ``weigh`` on a scan against a LikelihoodField (amcl's 1 + Σ pz³), ``resample``
+    (low variance) and ``estimate``. The random streams are vwg.Rng-like seeds: the same seed, the same particles.
+    """
+    def __init__(self, settings: LocalizationSettings) -> None:
+        ...
+    def effective_size(self) -> float:
+        ...
+    def estimate(self) -> tuple:
+        """
+        (x, y, angle): the weighted mean position and circular mean heading.
+        """
+    def predict(self, odometry_from: tuple[typing.SupportsFloat | typing.SupportsIndex, typing.SupportsFloat | typing.SupportsIndex, typing.SupportsFloat | typing.SupportsIndex], odometry_to: tuple[typing.SupportsFloat | typing.SupportsIndex, typing.SupportsFloat | typing.SupportsIndex, typing.SupportsFloat | typing.SupportsIndex], seed: typing.SupportsInt | typing.SupportsIndex) -> None:
+        """
+        Move the particles by this odometry motion.
+        """
+    def resample(self, seed: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    def start(self, pose: tuple[typing.SupportsFloat | typing.SupportsIndex, typing.SupportsFloat | typing.SupportsIndex, typing.SupportsFloat | typing.SupportsIndex], seed: typing.SupportsInt | typing.SupportsIndex) -> None:
+        """
+        Particles around pose (x, y, angle), drawn from `seed`.
+        """
+    def weigh(self, ranges: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], angles: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], max_range: typing.SupportsFloat | typing.SupportsIndex, field: LikelihoodField) -> None:
+        ...
+    @property
+    def particles(self) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        N × 4 float64 (x, y, angle, weight), a copy; assignable (tests, a chosen belief).
+        """
+    @particles.setter
+    def particles(self, arg1: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> None:
+        ...
+class LocalizationGenerator(Generator):
+    """
+    Monte Carlo localization as the robots' odometry: each frame, for each robot of the platform,
+    eOdometry<to=id, x, y, angle, busy, commands> with its pose estimated by a particle filter weighed on its
+    laser's scan against the known map (vwg/robot/localization.hpp). Takes the place of OdometryGenerator.
+    """
+    def __init__(self, platform: RobotPlatform, lasers: collections.abc.Sequence[LaserGenerator], field: LikelihoodField, settings: LocalizationSettings, alphabet: Alphabet, event: str = 'eOdometry') -> None:
+        ...
+    def estimate(self, robot: typing.SupportsInt | typing.SupportsIndex) -> typing.Any:
+        """
+        The pose last sent to the robot (x, y, angle), or None before its first frame.
+        """
+    def particles(self, robot: typing.SupportsInt | typing.SupportsIndex) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        The robot's particles: N × 4 float64 (x, y, angle, weight), a copy.
+        """
 def add_arobot(alphabet: Alphabet, decider: Decider, grid: OccupancyGrid, rooms: dict, radius: typing.SupportsFloat | typing.SupportsIndex = 0.18, margin: typing.SupportsFloat | typing.SupportsIndex = 0.07, goal_tolerance: typing.SupportsFloat | typing.SupportsIndex = 0.25, step_length: typing.SupportsFloat | typing.SupportsIndex = 1.0, carve: bool = True, name: str = 'ARobot') -> None:
     """
     Register the actor type ARobot (paper eq. 11) with its decider. `grid` gives the map geometry,

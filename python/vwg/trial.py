@@ -16,13 +16,16 @@ Parameters (``params``; all optional):
 - ``knows_map``: false starts the robots with empty maps (they learn the walls with their sensors).
 - ``obstacles``: boxes (0.5 m) put on the first robot's shortest way after the map was drawn: the
   robots start with the map without them and find them with their sensors (the world changed).
+- ``localization``: ``odometry`` (the world file's default) or ``particles`` (Monte Carlo localization on
+  the laser and the known map: vwg.robot.LocalizationSettings).
 
 The row: ``world, planner, seed, frames_limit, params`` (the cell), then ``reached`` (every ordered robot
 reached its room), ``frames``, ``path_length_m`` (driven, all robots), ``optimal_m`` (the sum of the
 ordered robots' shortest ways from start to room, by vwg.robot.shortest; empty when a robot has several
 orders), ``collisions``, ``replans``, ``robots``, ``reached_robots``, ``planning_s`` (the decider's
 search time, where it counts it), ``map_precision`` and ``map_recall`` (with ``knows_map: false``: how
-the maps the robots made agree with the true one, vwg.robot.map_quality), ``run_s`` (the frames' time),
+the maps the robots made agree with the true one, vwg.robot.map_quality), ``pose_error_m`` (the robots' mean
+distance from where they believe they are to where they are, at the end), ``run_s`` (the frames' time),
 ``wall_s`` (the whole cell's, set-up included) and ``error`` (a failed frame's message; empty if none).
 """
 
@@ -47,15 +50,15 @@ from vwg.plugins import sensors
 from vwg.robot.case_study import CaseStudy
 from vwg.robot.map_quality import map_quality
 from vwg.robot.shortest import DistanceField, grid_graph
-from vwg.robot.world_file import load_robot_world
+from vwg.robot.world_file import LOCALIZATIONS, load_robot_world
 
 __all__ = ["COLUMNS", "KNOWN_PARAMS", "Trial", "cached_world", "random_task", "replace_robot", "run_trial",
            "shortest_m", "trial_world"]
 
 #: The columns of a trial's row, in order (the first five name the cell).
 COLUMNS = ("world", "planner", "seed", "frames_limit", "params", "reached", "frames", "path_length_m", "optimal_m",
-           "collisions", "replans", "robots", "reached_robots", "planning_s", "map_precision", "map_recall", "run_s",
-           "wall_s", "error")
+           "collisions", "replans", "robots", "reached_robots", "planning_s", "map_precision", "map_recall",
+           "pose_error_m", "run_s", "wall_s", "error")
 
 #: Parameter -> (accepted types, meaning).
 KNOWN_PARAMS: dict[str, tuple[tuple[type, ...], str]] = {
@@ -66,6 +69,7 @@ KNOWN_PARAMS: dict[str, tuple[tuple[type, ...], str]] = {
     "motor_noise": ((int, float), "relative noise of each commanded motion"),
     "knows_map": ((bool,), "whether the robots start with the map"),
     "obstacles": ((int,), "boxes added on the first robot's way, not on its map"),
+    "localization": ((str,), "where the robots believe they are: odometry or particles"),
 }
 
 FLOAT_PARAMS = ("odometry_noise", "motor_noise")
@@ -119,6 +123,9 @@ def check_params(params: dict[str, Any], where: str) -> None:
     task = params.get("task", "world")
     if task not in ("world", "random"):
         raise SchemaError(f"{where}.task: expected world or random, got {task!r}")
+    if params.get("localization", "odometry") not in LOCALIZATIONS:
+        raise SchemaError(f"{where}.localization: expected one of {', '.join(LOCALIZATIONS)}, got "
+                          f"{params['localization']!r}")
     for name in ("robots", "obstacles"):
         if name in params and not 0 <= params[name] <= 100_000:
             raise SchemaError(f"{where}.{name}: expected 0 to 100000, got {params[name]!r}")
@@ -323,7 +330,8 @@ def _run(trial: Trial) -> dict[str, Any]:
 
     world, goals, known = trial_world(trial)
     case = CaseStudy(world, trial.planner, goals=goals or None, seed=trial.seed, frames=trial.frames,
-                     threads=1, knows_map=trial.params.get("knows_map", True), known_map=known)
+                     threads=1, knows_map=trial.params.get("knows_map", True), known_map=known,
+                     localization=trial.params.get("localization"))
     error = ""
     try:
         try:
@@ -344,7 +352,9 @@ def _run(trial: Trial) -> dict[str, Any]:
         optimal_m=_optimal(world, goals), collisions=summary.collisions, replans=summary.replans,
         robots=len(summary.robots), reached_robots=sum(r.reached for r in ordered),
         planning_s=round(float(getattr(case.decider, "search_seconds", math.nan)), 6),
-        map_precision=round(quality[0], 4), map_recall=round(quality[1], 4), run_s=round(case.wall_time, 6),
+        map_precision=round(quality[0], 4), map_recall=round(quality[1], 4),
+        pose_error_m=math.nan if summary.pose_error_m is None else round(summary.pose_error_m, 4),
+        run_s=round(case.wall_time, 6),
         error=error)
 
 

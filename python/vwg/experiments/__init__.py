@@ -122,16 +122,16 @@ def run_experiments(out_dir: str | Path, config: str | Config = "full", *, worke
                     kept.append(row)
             rows[name] = sorted(kept, key=lambda r: keys[(r["world"], r["planner"], r["seed"], r["frames_limit"],
                                                           r["params"])])  # the spec's order, not the finishing one
-    _say(progress, f"test simulation: {config.simulation.runs} runs through rosbridge on 127.0.0.1")
-    same: list[dict[str, Any]] = []
-    noise: list[dict[str, Any]] = []
+    _say(progress, f"test simulation: {config.simulation.runs} runs, through rosbridge on 127.0.0.1 and on the "
+                   "simulator")
+    found: dict[str, list[dict[str, Any]]] = {"same": [], "noise": [], "localization": []}
     steps = simulation.runs(config.simulation, out / "records")
-    for kind, row in _progress(steps, config.simulation.pairs + config.simulation.noisy, progress):
-        (same if kind == "same" else noise).append(row)
+    for kind, row in _progress(steps, config.simulation.runs, progress):
+        found[kind].append(row)
     sections = [
         evolution.section(rows["evolution"], out),
         devices.section(rows["devices"], out),
-        simulation.section(same, noise, out),
+        simulation.section(found["same"], found["noise"], out, found["localization"]),
         extensibility.section(rows["extensibility"], out),
         environment.section(rows["environment"], out),
     ]

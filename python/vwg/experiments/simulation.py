@@ -22,7 +22,7 @@ from vwg.experiments import plots
 from vwg.experiments.section import Section
 from vwg.experiments.tables import Table, fmt, group, mean, median, share
 from vwg.robot.case_study import CaseStudy
-from vwg.robot.world_file import PlatformSpec
+from vwg.robot.world_file import LOCALIZATIONS, Localization, PlatformSpec
 from vwg.testing.fake_robot import FakeRosbridgeRobot
 from vwg.trial import Trial, trial_world
 
@@ -41,6 +41,10 @@ and per radian, the level below): vwg knows the robot only by its odometry, so w
 robot is parts from where the robot is. **trajectory error**: the distance between the two, sampled
 every 5 frames (mean over the run, and at the end); **truly there**: the share of runs in which the
 robot, believing it had arrived, really stood within the goal tolerance of its room.
+
+**Localization.** The same tasks and noise levels on the simulator platform (whose truth vwg can read),
+with the belief from odometry alone and from Monte Carlo localization (`localization: particles`: a
+particle filter per robot weighed on its laser against the known map); the same measures.
 """
 
 
@@ -63,8 +67,13 @@ class SimulationConfig:
         return len(self.noise_levels) * len(self.noise_seeds)
 
     @property
+    def localized(self) -> int:
+        """Runs on the simulator with and without localization."""
+        return 2 * self.noisy
+
+    @property
     def runs(self) -> int:
-        return 2 * self.pairs + self.noisy
+        return 2 * self.pairs + self.noisy + self.localized
 
 
 def _task(seed: int, frames: int) -> tuple[Any, dict[int, str]]:
@@ -121,17 +130,43 @@ def drift(level: float, seed: int, frames: int) -> dict[str, Any]:
             "truly_there": summary.reached and math.hypot(truth[0] - gx, truth[1] - gy) <= world.goal_tolerance}
 
 
+def localized(level: float, seed: int, frames: int, kind: str) -> dict[str, Any]:
+    """Run one task on the simulator with odometry noise, the belief from odometry or from particles; the
+    belief against the simulator's true pose."""
+
+    world, goals = _task(seed, frames)
+    world = dataclasses.replace(world, noise=NoiseModel(odometry=level), localization=Localization.of(kind))
+    errors: list[float] = []
+    with CaseStudy(world, "astar", goals=goals, seed=seed, threads=1) as case:
+        rid = world.robots[0].id
+        while case.engine.frame < frames:
+            summary = case.run(frames=min(5, frames - case.engine.frame))
+            errors.append(float(summary.robots[0].pose_error_m))
+            if summary.reached:
+                break
+        gx, gy = world.rooms[goals[rid]].goal
+        truth = case.sim.robot(rid).pose
+    return {"level": level, "seed": seed, "localization": kind, "reached": summary.reached, "frames": summary.frames,
+            "mean_error": sum(errors) / len(errors), "final_error": errors[-1],
+            "truly_there": summary.reached and math.hypot(truth[0] - gx, truth[1] - gy) <= world.goal_tolerance}
+
+
 def runs(config: SimulationConfig, records: Path) -> Iterator[tuple[str, dict[str, Any]]]:
-    """Every run of the test, as ("same", row) or ("noise", row), as each finishes."""
+    """Every run of the test, as ("same", row), ("noise", row) or ("localization", row), as each finishes."""
     records.mkdir(parents=True, exist_ok=True)
     for seed in config.seeds:
         yield "same", same_frames(seed, config.frames, records)
     for level in config.noise_levels:
         for seed in config.noise_seeds:
             yield "noise", drift(level, seed, config.noise_frames)
+    for level in config.noise_levels:
+        for seed in config.noise_seeds:
+            for kind in LOCALIZATIONS:
+                yield "localization", localized(level, seed, config.noise_frames, kind)
 
 
-def section(same: list[dict[str, Any]], noise: list[dict[str, Any]], folder: Path) -> Section:
+def section(same: list[dict[str, Any]], noise: list[dict[str, Any]], folder: Path,
+            localization: list[dict[str, Any]] | None = None) -> Section:
     out = Section(3, "Test to validate the simulation", METHOD)
     table = Table("simulation_same_frames", "The simulator and the robot through rosbridge, noise off",
                   ["seed", "room", "frames (simulator)", "frames (rosbridge)", "reached (simulator)",
@@ -153,6 +188,16 @@ def section(same: list[dict[str, Any]], noise: list[dict[str, Any]], folder: Pat
         px += [level] * len(rows)
         py += [r["mean_error"] for r in rows]
     out.tables.append(noisy)
+    if localization:
+        located = Table("simulation_localization",
+                        "On the simulator with odometry noise: odometry alone and Monte Carlo localization",
+                        ["odometry noise", "belief from", "runs", "believed arrived", "truly there",
+                         "trajectory error m (mean)", "final error m (median)"])
+        for (level, kind), rows in group(localization, lambda r: (r["level"], r["localization"])).items():
+            located.add(f"{level:g}", kind, str(len(rows)), fmt(share(r["reached"] for r in rows), 2),
+                        fmt(share(r["truly_there"] for r in rows), 2), fmt(mean(r["mean_error"] for r in rows), 3),
+                        fmt(median(r["final_error"] for r in rows), 3))
+        out.tables.append(located)
     out.plots.append(plots.lines(folder / "simulation_odometry_noise.png", "Where vwg believes the robot is, against "
                                  "where it is", "odometry noise (per metre and radian)", "trajectory error (m)",
                                  {"mean over runs": (xs, ys)}, points={"one run": (px, py)}))

@@ -107,7 +107,6 @@ class Navigation:
         self.decider = AgentDecider()
         self.case = CaseStudy(world, self.decider, goals=goals, seed=seed, threads=1, world_orders=False)
         self.lasers = {g.robot: g for g in self.case.sim.made if isinstance(g, _core.LaserGenerator)}
-        self._scans: dict[int, np.ndarray] = {}  # a restored episode's last scans, until the lasers scan again
         self.actors = self.case.robot_actors()
         self._fields = {rid: self._field(world.rooms[room].goal) for rid, room in goals.items()}
         self._last_way = {rid: self.way_left(rid) for rid in goals}
@@ -123,10 +122,7 @@ class Navigation:
         parts, frame = state_parts(self.case.engine, self.case.sim.platform)
         episode = {"robots": self.n_robots, "beams": self.laser.beams, "frames_per_step": self.frames_per_step,
                    "last_way": list(self._last_way.items()), "last_collisions": list(self._last_collisions.items()),
-                   "arrived": list(self._arrived.items()), "frames_run": self.frames_run,
-                   # The last scans, which the observation shows: a laser's state is its noise stream, and the
-                   # ranges it last read are not made again until its next scan.
-                   "scans": [[rid, [float(r) for r in g.ranges]] for rid, g in sorted(self.lasers.items())]}
+                   "arrived": list(self._arrived.items()), "frames_run": self.frames_run}
         manifest = {"vwg": _core.__version__, "world_kind": "gym-navigation",
                     "world_file": str(Path(self.base.path).resolve()), "inputs": input_hashes(self.base),
                     "seed": self.seed, "dt": self.world.dt, "frame": frame,
@@ -155,10 +151,6 @@ class Navigation:
         self._last_collisions = {int(k): int(v) for k, v in episode["last_collisions"]}
         self._arrived = {int(k): bool(v) for k, v in episode["arrived"]}
         self.frames_run = int(episode["frames_run"])
-        scans = episode.get("scans")
-        if not isinstance(scans, list) or sorted(rid for rid, _ in scans) != sorted(self.lasers):
-            raise Error(f"{source}: the episode's last scans are not those of its robots ({sorted(self.lasers)})")
-        self._scans = {int(rid): np.asarray(ranges, dtype=np.float32) for rid, ranges in scans}
 
     def _field(self, goal: tuple[float, float]) -> Any:
 
@@ -173,7 +165,6 @@ class Navigation:
     def step(self, moves: Mapping[int, tuple[float, float]]) -> dict[int, float]:
         """Give these robots a move each, run frames until they have done them; each robot's reward."""
         assert self.case is not None, "reset() first"
-        self._scans = {}
         moving = [rid for rid in moves if not self.reached(rid)]
         for rid in moving:
             self.decider.moves[rid] = moves[rid]
@@ -232,8 +223,7 @@ class Navigation:
         bearing = math.atan2(gy - y, gx - x) - angle
         bearing = math.atan2(math.sin(bearing), math.cos(bearing))
         distance = min(math.hypot(gx - x, gy - y), self.max_distance)  # a belief off the map is clipped
-        ranges = self._scans[rid] if rid in self._scans else self.lasers[rid].ranges
-        return {"laser": np.minimum(ranges, np.float32(self.laser.max_range)),
+        return {"laser": np.minimum(self.lasers[rid].ranges, np.float32(self.laser.max_range)),
                 "goal": np.array([distance, bearing], dtype=np.float32)}
 
     def info(self, rid: int) -> dict[str, Any]:

@@ -18,11 +18,15 @@ from vwg._core import (
     DepthCameraSpec,
     GridDecider,
     LaserSpec,
+    LikelihoodField,
+    LocalizationGenerator,
+    LocalizationSettings,
     MotionBackend,
     MotionFollower,
     NoiseModel,
     OdometryGenerator,
     OmplDecider,
+    ParticleFilter,
     RandomDecider,
     RobotPlatform,
     RobotSettings,
@@ -35,7 +39,7 @@ from vwg.robot.platforms.real_robot import Fault, RealRobotPlatform
 from vwg.robot.platforms.rosbridge import RosbridgePlatform
 from vwg.robot.platforms.serial_base import SerialPlatform
 from vwg.robot.sensor import Sensor
-from vwg.robot.world_file import Order, RobotWorld, Room, load_robot_world
+from vwg.robot.world_file import Localization, Order, RobotWorld, Room, load_robot_world
 
 __all__ = [
     "CameraSpec",
@@ -47,6 +51,10 @@ __all__ = [
     "Fault",
     "GridDecider",
     "LaserSpec",
+    "LikelihoodField",
+    "Localization",
+    "LocalizationGenerator",
+    "LocalizationSettings",
     "MotionBackend",
     "MotionFollower",
     "NoiseModel",
@@ -54,6 +62,7 @@ __all__ = [
     "OmplDecider",
     "Option",
     "Order",
+    "ParticleFilter",
     "Platform",
     "RandomDecider",
     "RealRobotPlatform",

@@ -4,7 +4,8 @@
   Table II (eLaser, eCamera, eObjective, eDecide, eExecute — the visual one) and the simulator's
   feedback (eOdometry, eCollision); the actor ARobot (eq. 11) with the decider chosen by name;
 - the initial string (eq. 13): one ARobot per robot, its grid the known map, no objective, no action;
-- the generators, in priority order: odometry and collisions (the robot's own state first), then
+- the generators, in priority order: odometry (or the pose Monte Carlo localization estimates from it and
+  the laser: the world's ``localization``) and collisions (the robot's own state first), then
   gLaser / gKinect, gCamera, gObjective (the users' orders), gDecide, gExecute;
 - the backend: the simulator, and a view when asked for video or images.
 
@@ -39,7 +40,7 @@ from vwg.plugins import deciders, platforms
 from vwg.plugins import sensors as sensor_registry
 from vwg.robot.links.rosbridge_client import LinkError
 from vwg.robot.platforms.sim import MOTION_SYMBOLS, Simulation
-from vwg.robot.world_file import PlatformSpec, RobotWorld, load_robot_world
+from vwg.robot.world_file import Localization, PlatformSpec, RobotWorld, load_robot_world
 from vwg.saved_run import save_state
 
 __all__ = ["CaseStudy", "Orders", "RobotSummary", "RunSummary", "case_study_world", "make_decider"]
@@ -150,6 +151,7 @@ class RobotSummary:
     replans: int
     commands: int
     status: str            # the robot's last status, rooms by name ("arrived at kitchen", "no path to lab")
+    pose_error_m: float | None = None  # how far its believed pose is from the truth (None: no truth, a real robot)
 
 
 @dataclass
@@ -167,6 +169,7 @@ class RunSummary:
     robots: list[RobotSummary] = field(default_factory=list)
     outputs: dict[str, str] = field(default_factory=dict)
     faults: list[dict[str, Any]] = field(default_factory=list)  # a real robot's: watchdog stops, a lost link
+    pose_error_m: float | None = None  # the robots' mean distance from belief to truth (None: no truth)
 
     def to_json(self) -> dict[str, Any]:
         import dataclasses
@@ -195,7 +198,7 @@ class CaseStudy:
                  images: str | Path | None = None, view_width: int = 800, max_symbols: int = 0, threads: int = 0,
                  world_orders: bool | None = None, knows_map: bool = True, known_map: OccupancyGrid | None = None,
                  backends: Iterable[_core.Backend | Callable[[Simulation], _core.Backend]] = (),
-                 platform: str | PlatformSpec | None = None) -> None:
+                 platform: str | PlatformSpec | None = None, localization: str | Localization | None = None) -> None:
 
         # A world made in Python (or changed with dataclasses.replace) is checked as a world file is: a
         # frame time of 5e-324 s would make an order's frame number (time / dt) overflow.
@@ -209,6 +212,7 @@ class CaseStudy:
             raise SchemaError(f"known_map: expected a map of the world's size {world.grid.data.shape}, "
                               f"got {known_map.data.shape}")
         self.known_map = world.grid if known_map is None else known_map
+        self.localization = world.localization if localization is None else Localization.of(localization)
         self.seed = world.seed if seed is None else seed
         self.frames = world.frames if frames is None else frames
         self.decider = make_decider(planner)
@@ -228,8 +232,10 @@ class CaseStudy:
             for robot, room in (goals or {}).items():
                 self.orders.schedule(0, robot, room)
             kinds = None if sensors is None else tuple(sensors)
-            generators: list[Any] = [*self.sim.feedback(alphabet), *self.sim.make_sensors(alphabet, kinds),
-                                     self.orders.generator, every_frame("eDecide"), every_frame("eExecute")]
+            sensing = self.sim.make_sensors(alphabet, kinds)  # first: the localization reads the lasers
+            feedback = self.sim.feedback(alphabet, self.localization, self.known_map if knows_map else None)
+            generators: list[Any] = [*feedback, *sensing, self.orders.generator, every_frame("eDecide"),
+                                     every_frame("eExecute")]
             # The view draws what θ shows of the robots (their actions, paths and status lines) through π
             # and φ, and keeps the trajectories; without video or images it draws nothing.
             self.view: _core.SimView = self.sim.view(width=view_width, video=str(video) if video else None,
@@ -328,14 +334,17 @@ class CaseStudy:
                 gx, gy = self.world.rooms[room].goal
                 dist = math.hypot(state.pose[0] - gx, state.pose[1] - gy)
             actor = actors.get(spec.id)
+            error = (math.hypot(float(actor["x"]) - state.pose[0], float(actor["y"]) - state.pose[1])
+                     if actor is not None and self.sim.ground_truth else None)
             # One definition of "reached": the robot's own (ARobot, the world's goal_tolerance).
             reached = room is not None and actor is not None and bool(actor["reached"])
             robots.append(RobotSummary(
                 id=spec.id, room=room, reached=reached,
                 distance_to_goal_m=dist, path_length_m=state.travelled, collisions=int(state.collisions),
                 replans=int(actor["replans"]) if actor is not None else 0, commands=int(state.commands),
-                status=self.status_of(spec.id, actor, last) if actor is not None else "gone"))
+                status=self.status_of(spec.id, actor, last) if actor is not None else "gone", pose_error_m=error))
         ordered = [r for r in robots if r.room is not None]
+        errors = [r.pose_error_m for r in robots if r.pose_error_m is not None]
         outputs = {"video": self.video} if self.video else {}
         return RunSummary(
             world=self.world.name, planner=self.planner, reached=all(r.reached for r in ordered),
@@ -343,7 +352,8 @@ class CaseStudy:
             frames=self.engine.frame, simulated_time_s=round(self.engine.time, 9), wall_time_s=self.wall_time,
             path_length_m=sum(r.path_length_m for r in robots), collisions=sum(r.collisions for r in robots),
             replans=sum(r.replans for r in robots), seed=self.seed, robots=robots, outputs=outputs,
-            faults=[f.to_json() for f in getattr(self.sim.platform, "faults", [])])
+            faults=[f.to_json() for f in getattr(self.sim.platform, "faults", [])],
+            pose_error_m=sum(errors) / len(errors) if errors else None)
 
     def save_trajectory(self, path: str | Path) -> None:
         """A PNG of the map with every robot's trajectory (full strength, no fading), its start
@@ -554,5 +564,9 @@ class RobotKind:
             ("frames", f"{w.frames} (dt {w.dt:g} s, seed {w.seed})"),
             ("platform", w.platform.kind + "".join(f", {k} {v}" for k, v in w.platform.options.items())),
         ]
+        if w.localization.kind != "odometry":
+            s = w.localization.settings
+            rows.append(("localization", f"{w.localization.kind}: {s.particles} particles a robot, {s.beams} beams "
+                                         f"of its laser weighed on the known map"))
         title = f"a robot world ({w.name})" + (f"\n  {w.description}" if w.description else "")
         return title, rows

@@ -39,7 +39,7 @@ from vwg.errors import SchemaError
 from vwg.io.video import VideoWriter
 from vwg.io.yamldoc import KIND_NAMES
 from vwg.plugins import sensors as sensor_registry
-from vwg.robot.world_file import RobotWorld
+from vwg.robot.world_file import Localization, RobotWorld
 
 __all__ = ["Option", "Platform", "world_view"]
 
@@ -101,6 +101,9 @@ class Platform:
     sensors: ClassVar[tuple[str, ...]] = ()
     #: What the platform is, in a line (``vwg plugins``).
     summary: ClassVar[str] = ""
+    #: Whether its robots' ``pose`` is the truth (a simulator), so that a run can say how far each robot's
+    #: belief is from it; a real robot's pose is its own odometry.
+    ground_truth: ClassVar[bool] = False
 
     world: RobotWorld
     platform: _core.RobotPlatform
@@ -154,9 +157,22 @@ class Platform:
                 (ranging if cls.ranging else others).append(gen)
         return ranging + others
 
-    def feedback(self, alphabet: _core.Alphabet) -> list[_core.Generator]:
-        """Odometry and collisions of every robot, as events (from the platform)."""
-        return [_core.OdometryGenerator(self.platform, alphabet), _core.CollisionGenerator(self.platform, alphabet)]
+    def feedback(self, alphabet: _core.Alphabet, localization: Localization | None = None,
+                 known_map: _core.OccupancyGrid | None = None) -> list[_core.Generator]:
+        """Each robot's believed pose and its collisions, as events (from the platform). The pose is its
+        odometry, or with ``localization`` of kind ``particles`` the estimate of Monte Carlo localization on
+        its laser's scans against `known_map` (make_sensors first: it reads the lasers made there)."""
+        collisions = _core.CollisionGenerator(self.platform, alphabet)
+        if localization is None or localization.kind == "odometry":
+            return [_core.OdometryGenerator(self.platform, alphabet), collisions]
+        lasers = [g for g in self.made if isinstance(g, _core.LaserGenerator)]
+        if not lasers:
+            raise SchemaError(f"localization: particles weigh the simulator's laser scans, and the platform "
+                              f"{self.name} made none (it carries {', '.join(self.sensors) or 'no sensor'} of vwg's)")
+        if known_map is None:
+            raise SchemaError("localization: particles need the map the robots know (knows_map=False gives none)")
+        field = _core.LikelihoodField(known_map, localization.settings, max(g.max_range for g in lasers))
+        return [_core.LocalizationGenerator(self.platform, lasers, field, localization.settings, alphabet), collisions]
 
     def view(self, *, width: int = 800, video: str | os.PathLike[str] | None = None, fps: float | None = None,
              images: str | None = None) -> _core.SimView:

@@ -33,6 +33,9 @@ their sensors, noise, and a timed script of user orders.
     goal_tolerance: 0.25               # [0.25] m: a robot whose pose is this near its room's goal has reached it
     seed: 0                            # [0]
     planner: astar                     # [astar] the decision inside eDecide: a registered decider (--planner)
+    localization: odometry             # [odometry] where the robots believe they are: odometry, or particles
+                                       # (Monte Carlo localization on the laser and the known map), or
+                                       # {kind: particles, ...the fields of vwg.robot.LocalizationSettings}
     platform: sim                      # [sim] where the robots run: a registered platform's name, or
                                        # {kind: NAME, ...its options} (vwg plugins lists them)
     orders:                            # [[]] the user's orders (gObjective), sorted by time when loaded
@@ -84,11 +87,11 @@ from vwg.model.limits import MAX_DT, MAX_FRAMES, MAX_SEED, MAX_TIME, MIN_DT
 from vwg.plugins import deciders, platforms
 from vwg.plugins import sensors as sensor_registry
 
-__all__ = ["Order", "PlatformSpec", "RobotWorld", "Room", "load_robot_world"]
+__all__ = ["LOCALIZATIONS", "Localization", "Order", "PlatformSpec", "RobotWorld", "Room", "load_robot_world"]
 
 MAX_MARKER = 586  # tag36h11 has 587 codes
 _TOP_KEYS = ("name", "description", "map", "wall_height", "rooms", "robots", "sensors", "noise", "frames", "dt", "seed",
-             "orders", "platform", "planner", "goal_tolerance")
+             "orders", "platform", "planner", "goal_tolerance", "localization")
 #: Sensor sections older files give at the top, read as ``sensors.NAME``.
 _LEGACY_SENSOR_KEYS = ("laser", "kinect", "camera")
 _ROOM_KEYS = ("marker", "at", "facing", "size", "height", "goal")
@@ -139,6 +142,29 @@ class PlatformSpec:
         return PlatformSpec(spec.kind, {**spec.options, **extra}) if extra else spec
 
 
+#: Where a robot's believed pose comes from: its odometry alone (the paper's robot), or Monte Carlo
+#: localization weighing particles on its laser against the known map (vwg.robot.LocalizationSettings).
+LOCALIZATIONS = ("odometry", "particles")
+
+
+@dataclass(frozen=True)
+class Localization:
+    """How the robots localize: ``kind`` one of LOCALIZATIONS, with the particle filter's settings."""
+
+    kind: str = "odometry"
+    settings: Any = field(default_factory=_core.LocalizationSettings)
+
+    @staticmethod
+    def of(value: str | Localization) -> Localization:
+        """A kind by name (``--localization``, a sweep's parameter) with the default settings; SchemaError
+        naming the known kinds otherwise."""
+        if isinstance(value, Localization):
+            return value
+        if value not in LOCALIZATIONS:
+            raise SchemaError(f"localization: expected one of {', '.join(LOCALIZATIONS)}, got {value!r}")
+        return Localization(value)
+
+
 @dataclass(eq=False)
 class RobotWorld:
     """A loaded robot world file."""
@@ -161,6 +187,7 @@ class RobotWorld:
     goal_tolerance: float = _core.ARobotConfig().goal_tolerance  # the one definition of "reached" (robots, summary)
     platform: PlatformSpec = field(default_factory=PlatformSpec)
     planner: str = "astar"  # the decider a run takes unless told another (--planner)
+    localization: Localization = field(default_factory=Localization)
     data: dict[str, Any] = field(default_factory=dict)  # the YAML as read
 
     def sensor_settings(self, name: str) -> Any:
@@ -480,6 +507,19 @@ def _platform(doc: YamlDoc) -> PlatformSpec:
     return PlatformSpec(kind, options)
 
 
+def _localization(doc: YamlDoc) -> Localization:
+    """``localization: KIND`` or ``{kind: KIND, ...settings}``, the settings checked by the C++ struct."""
+    entry = doc.get(("localization",), (str, dict), default="odometry")
+    kind = entry if isinstance(entry, str) else doc.get(("localization", "kind"), str, default="particles")
+    if kind not in LOCALIZATIONS:
+        where = ("localization",) if isinstance(entry, str) else ("localization", "kind")
+        raise doc.error(where, f"expected one of {', '.join(LOCALIZATIONS)}, got {kind!r}")
+    settings = _core.LocalizationSettings()
+    if isinstance(entry, dict):
+        settings = _settings(doc, ("localization",), settings, skip=("kind",))
+    return Localization(kind, settings)
+
+
 #: The highest wall a world may have, metres.
 MAX_WALL_HEIGHT = 100.0
 
@@ -515,7 +555,9 @@ def load_robot_world(path: str | Path) -> RobotWorld:
         raise doc.error(("planner",), f"unknown planner {planner!r} (registered: {', '.join(deciders)})")
     tolerance = float(doc.number(("goal_tolerance",), _core.ARobotConfig().goal_tolerance, minimum=0.0,
                                  exclusive_minimum=True))
+    localization = _localization(doc)
     return RobotWorld(path=path, platform=platform, planner=planner, goal_tolerance=tolerance, name=name,
+                      localization=localization,
                       description=description, map_path=map_path, grid=grid,
                       wall_height=wall_height, rooms=rooms, robots=robots, sensors=sensors,
                       noise=noise, frames=frames, dt=dt, seed=seed, orders=orders, data=doc.data)

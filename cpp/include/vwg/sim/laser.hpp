@@ -15,6 +15,7 @@
 #include "vwg/alphabet.hpp"
 #include "vwg/generator.hpp"
 #include "vwg/platform/laser_scan.hpp"
+#include "vwg/platform/scan_source.hpp"
 #include "vwg/random.hpp"
 #include "vwg/sim/physics.hpp"
 #include "vwg/sim/raycast.hpp"
@@ -84,7 +85,7 @@ using platform::ScanEvents;
 /// (platform::laser_events): one for each beam that hit something nearer than max_range. A beam
 /// that hit nothing reads max_range (no return, as many drivers report it). A hit's noisy reading is
 /// float32 (as sensor_msgs/LaserScan's ranges), clamped to [min_range, max_range): a hit stays a hit.
-class LaserGenerator final : public Generator {
+class LaserGenerator final : public Generator, public platform::ScanSource {
  public:
   LaserGenerator(std::shared_ptr<const RangeScanner> scanner, int robot, LaserSpec spec, const Alphabet& alphabet,
                  const std::string& event = "eLaser");
@@ -93,18 +94,18 @@ class LaserGenerator final : public Generator {
   /// Reads the physics world (unchanged while events are collected); writes its own scan and rng.
   bool concurrent() const override { return true; }
   std::string name() const override { return "gLaser(" + std::to_string(robot_) + ")"; }
-  /// Its noise's random stream (the scanner reads the platform as it is).
-  void save_state(StateWriter& out) const override { rng_.save(out); }
-  void load_state(StateReader& in) override {
-    rng_.load(in);
-    in.end();
-  }
+  /// Its noise's random stream (the scanner reads the platform as it is) and its last scan's ranges, which
+  /// the parts that read it (the localization, a learning environment's observation) see until it scans again.
+  void save_state(StateWriter& out) const override;
+  void load_state(StateReader& in) override;
 
   /// The last scan: ranges (max_range where nothing was hit), and the beam angles.
   std::span<const float> ranges() const { return ranges_; }
   std::span<const double> angles() const { return angles_; }
   int robot() const { return robot_; }
   const LaserSpec& spec() const { return spec_; }
+  int scan_robot() const override { return robot_; }
+  platform::ScanView last_scan() const override { return {ranges_, angles_, spec_.max_range}; }
 
  private:
   std::shared_ptr<const RangeScanner> scanner_;

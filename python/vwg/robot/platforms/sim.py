@@ -87,6 +87,7 @@ class Simulation(Platform):
     name = "sim"
     sensors = ("laser", "kinect", "camera")
     summary = "the Box2D simulator: bodies, motors, odometry and contacts, with noise models"
+    ground_truth = True
 
     def __init__(self, world: RobotWorld, seed: int | None = None, options: Mapping[str, Any] | None = None, *,
                  step: float | None = None) -> None:
