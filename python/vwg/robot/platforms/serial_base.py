@@ -99,7 +99,7 @@ class SerialBase:
         try:
             line.reset_input_buffer()
         except Exception:
-            line.close()
+            _close_line(line)
             raise
         with self._lock:
             self._serial = line
@@ -131,14 +131,18 @@ class SerialBase:
         with self._lock:
             if self._serial is not None:
                 try:
-                    # pyserial's socket:// close() skips closing its socket when shutdown() fails (the
-                    # peer already gone): close that socket here first, or it leaks.
-                    sock = getattr(self._serial, "_socket", None)
-                    if sock is not None:
-                        sock.close()
-                    self._serial.close()
+                    _close_line(self._serial)
                 finally:
                     self._serial = None
+
+
+def _close_line(line: Any) -> None:
+    """Close a pyserial line. Its socket:// close() skips closing its socket when shutdown() fails (the peer
+    already gone), and the socket is then left to the garbage collector: close that socket here first."""
+    sock = getattr(line, "_socket", None)
+    if sock is not None:
+        sock.close()
+    line.close()
 
 
 class SerialPlatform(RealRobotPlatform):
