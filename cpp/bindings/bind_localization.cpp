@@ -2,7 +2,6 @@
 // sends each robot its estimated pose as eOdometry (vwg/robot/localization.hpp).
 #include <memory>
 #include <string>
-#include <vector>
 
 #include "common.hpp"
 #include "vwg/robot/localization.hpp"
@@ -85,24 +84,24 @@ by an odometry motion, ``weigh`` on a scan against a LikelihoodField (amcl's 1 +
 
   py::class_<robot::LocalizationGenerator, Generator, std::shared_ptr<robot::LocalizationGenerator>>(
       m, "LocalizationGenerator", R"doc(
-Monte Carlo localization as the robots' odometry: each frame, for each robot of the platform,
-eOdometry<to=id, x, y, angle, busy, commands> with its pose estimated by a particle filter weighed on its
-laser's scan against the known map (vwg/robot/localization.hpp). Takes the place of OdometryGenerator.)doc")
-      .def(py::init([](std::shared_ptr<platform::RobotPlatform> platform, std::vector<std::shared_ptr<sim::LaserGenerator>> lasers,
+Monte Carlo localization as a robot's odometry: each frame eOdometry<to=robot, x, y, angle, busy, commands>
+with its pose estimated by a particle filter weighed on its laser's scan against the known map
+(vwg/robot/localization.hpp). One a robot, in place of OdometryGenerator's event for that robot.)doc")
+      .def(py::init([](std::shared_ptr<platform::RobotPlatform> platform, std::shared_ptr<sim::LaserGenerator> laser,
                        std::shared_ptr<const robot::LikelihoodField> field, const robot::LocalizationSettings& settings,
                        const Alphabet& alphabet, const std::string& event) {
-             std::vector<std::shared_ptr<const platform::ScanSource>> scans(lasers.begin(), lasers.end());
-             return std::make_shared<robot::LocalizationGenerator>(std::move(platform), std::move(scans), std::move(field),
+             return std::make_shared<robot::LocalizationGenerator>(std::move(platform), std::move(laser), std::move(field),
                                                                    settings, alphabet, event);
            }),
-           py::arg("platform"), py::arg("lasers"), py::arg("field"), py::arg("settings"), py::arg("alphabet"),
+           py::arg("platform"), py::arg("laser"), py::arg("field"), py::arg("settings"), py::arg("alphabet"),
            py::arg("event") = "eOdometry")
-      .def("estimate", [](const robot::LocalizationGenerator& g, int id) -> py::object {
-        const auto e = g.estimate(id);
+      .def_property_readonly("robot", &robot::LocalizationGenerator::robot)
+      .def("estimate", [](const robot::LocalizationGenerator& g) -> py::object {
+        const auto e = g.estimate();
         return e ? py::object(pose_tuple(*e)) : py::object(py::none());
-      }, py::arg("robot"), "The pose last sent to the robot (x, y, angle), or None before its first frame.")
-      .def("particles", [](const robot::LocalizationGenerator& g, int id) { return particles_array(g.filter(id)); },
-           py::arg("robot"), "The robot's particles: N × 4 float64 (x, y, angle, weight), a copy.");
+      }, "The pose last sent to the robot (x, y, angle), or None before its first frame.")
+      .def_property_readonly("particles", [](const robot::LocalizationGenerator& g) { return particles_array(g.filter()); },
+                             "The robot's particles: N × 4 float64 (x, y, angle, weight), a copy.");
 }
 
 }  // namespace vwg::bindings

@@ -66,9 +66,13 @@ LikelihoodField::LikelihoodField(const geometry::OccupancyGrid& map, const Local
   for (std::size_t i = 0; i < occupied.size(); ++i) occupied[i] = map.data[i] >= geometry::kObstacleThreshold ? 1 : 0;
   const std::vector<double> d2 = geometry::squared_distance_transform(occupied, map.height, map.width);
   distance_.resize(d2.size());
+  pz_.resize(d2.size());
   for (std::size_t i = 0; i < d2.size(); ++i) {
-    distance_[i] = static_cast<float>(std::min(std::sqrt(d2[i]) * map.resolution, max_dist_));
+    const double d = std::min(std::sqrt(d2[i]) * map.resolution, max_dist_);
+    distance_[i] = static_cast<float>(d);
+    pz_[i] = static_cast<float>(z_hit_ * std::exp(-d * d / two_sigma2_) + rand_);  // once a cell: a beam is a lookup
   }
+  off_map_ = z_hit_ * std::exp(-max_dist_ * max_dist_ / two_sigma2_) + rand_;
 }
 
 double LikelihoodField::distance(double x, double y) const {
@@ -78,8 +82,9 @@ double LikelihoodField::distance(double x, double y) const {
 }
 
 double LikelihoodField::pz(double x, double y) const {
-  const double d = distance(x, y);
-  return z_hit_ * std::exp(-d * d / two_sigma2_) + rand_;
+  int row, col;
+  if (!geometry_.cell_of(x, y, row, col)) return off_map_;
+  return pz_[static_cast<std::size_t>(row) * geometry_.width + col];
 }
 
 // ---- the particle filter -----------------------------------------------------------------------------
@@ -124,7 +129,7 @@ void ParticleFilter::predict(const Pose2& from, const Pose2& to, Rng& rng) {
 
 void ParticleFilter::weigh(const platform::ScanView& scan, const LikelihoodField& field) {
   // The beams weighed: evenly spread, returns only (a beam that met nothing says little: amcl skips it).
-  thread_local std::vector<double> angles, ranges, turned, du, dv;
+  thread_local std::vector<double> angles, ranges, beam_cos, beam_sin, headings, cos_h, sin_h;
   angles.clear(), ranges.clear();
   const std::size_t n = scan.ranges.size(), step = std::max<std::size_t>(1, n / static_cast<std::size_t>(settings_.beams));
   for (std::size_t i = 0; i < n; i += step) {
@@ -135,14 +140,21 @@ void ParticleFilter::weigh(const platform::ScanView& scan, const LikelihoodField
     }
   }
   if (angles.empty() || particles_.empty()) return;
-  turned.resize(angles.size()), du.resize(angles.size()), dv.resize(angles.size());
+  // A beam's end from a particle: its heading's direction turned by the beam's angle. The sines and cosines
+  // are vwg's own (the same bits everywhere): the beams' once a scan, the particles' headings once each.
+  beam_cos.resize(angles.size()), beam_sin.resize(angles.size());
+  geometry::beam_directions(angles, "avx2", beam_cos, beam_sin);
+  headings.resize(particles_.size()), cos_h.resize(particles_.size()), sin_h.resize(particles_.size());
+  for (std::size_t i = 0; i < particles_.size(); ++i) headings[i] = particles_[i].theta;
+  geometry::beam_directions(headings, "avx2", cos_h, sin_h);
   double total = 0.0;
-  for (Particle& p : particles_) {
-    for (std::size_t k = 0; k < angles.size(); ++k) turned[k] = p.theta + angles[k];
-    geometry::beam_directions(turned, "avx2", du, dv);  // vwg's own sine and cosine: the same bits everywhere
+  for (std::size_t i = 0; i < particles_.size(); ++i) {
+    Particle& p = particles_[i];
+    const double c = cos_h[i], s = sin_h[i];
     double sum = 1.0;  // amcl's 1 + Σ pz³ ("works well in practice"): a few stray returns do not zero a weight
     for (std::size_t k = 0; k < angles.size(); ++k) {
-      const double pz = field.pz(p.x + ranges[k] * du[k], p.y + ranges[k] * dv[k]);
+      const double du = c * beam_cos[k] - s * beam_sin[k], dv = s * beam_cos[k] + c * beam_sin[k];
+      const double pz = field.pz(p.x + ranges[k] * du, p.y + ranges[k] * dv);
       sum += pz * pz * pz;
     }
     p.weight *= sum;
@@ -196,7 +208,7 @@ void ParticleFilter::save(StateWriter& out) const { out.pods(particles_); }
 
 void ParticleFilter::load(StateReader& in) {
   std::vector<Particle> particles = in.pods<Particle>();
-  if (particles.size() != static_cast<std::size_t>(settings_.particles)) {
+  if (!particles.empty() && particles.size() != static_cast<std::size_t>(settings_.particles)) {
     in.fail("expected " + std::to_string(settings_.particles) + " particles, found " + std::to_string(particles.size()));
   }
   for (const Particle& p : particles) {
@@ -209,116 +221,78 @@ void ParticleFilter::load(StateReader& in) {
 
 // ---- the generator ---------------------------------------------------------------------------------
 LocalizationGenerator::LocalizationGenerator(std::shared_ptr<platform::RobotPlatform> platform,
-                                             std::vector<std::shared_ptr<const platform::ScanSource>> scans,
+                                             std::shared_ptr<const platform::ScanSource> scan,
                                              std::shared_ptr<const LikelihoodField> field, LocalizationSettings settings,
                                              const Alphabet& alphabet, const std::string& event)
-    : platform_(std::move(platform)), field_(std::move(field)), settings_(settings), event_(alphabet.event_type_id(event)) {
+    : platform_(std::move(platform)), scan_(std::move(scan)), field_(std::move(field)), settings_(settings),
+      event_(alphabet.event_type_id(event)), robot_(scan_ ? scan_->scan_robot() : 0), filter_(settings) {
   if (!platform_) throw Error("LocalizationGenerator: no platform");
+  if (!scan_) throw Error("LocalizationGenerator: no laser");
   if (!field_) throw Error("LocalizationGenerator: no likelihood field");
-  check_settings(settings_, "localization");
   require_fields(alphabet, event_, {{"x", ValueKind::Real}, {"y", ValueKind::Real}, {"angle", ValueKind::Real},
                                     {"busy", ValueKind::Bool}, {"commands", ValueKind::Int}});
-  for (auto& scan : scans) {
-    if (!scan) throw Error("LocalizationGenerator: a null scan source");
-    const int id = scan->scan_robot();
-    if (!scans_.emplace(id, std::move(scan)).second) {
-      throw SchemaError("localization", "robot " + std::to_string(id) + " has two lasers: give one");
-    }
-  }
-  for (const platform::RobotState& s : platform_->robots()) {
-    if (!scans_.contains(s.id)) {
-      throw SchemaError("localization", "robot " + std::to_string(s.id) + " carries no laser: particles weigh the laser's scan");
-    }
-  }
-}
-
-LocalizationGenerator::Track& LocalizationGenerator::track(int id) {
-  auto it = tracks_.find(id);
-  if (it == tracks_.end()) {
-    it = tracks_.emplace(id, Track{ParticleFilter(settings_), Rng(derive_seed(seed_, 0x6D636CULL, static_cast<std::uint64_t>(id)))})
-             .first;
-  }
-  return it->second;
+  (void)platform_->robot(robot_);  // throws if the platform has no such robot
 }
 
 void LocalizationGenerator::reset(std::uint64_t seed) {
-  seed_ = seed;
-  tracks_.clear();
+  rng_.reseed(derive_seed(seed, 0x6D636CULL, static_cast<std::uint64_t>(robot_)));
+  started_ = false;
 }
 
 void LocalizationGenerator::generate(const FrameInfo&, EventList& out) {
-  for (const platform::RobotState& s : platform_->robots()) {
-    Track& t = track(s.id);
-    const Pose2 odometry = s.odometry;
-    if (!t.started) {
-      // The robot starts where its world file puts it (where its odometry starts).
-      t.filter.start(odometry, t.rng);
-      t.started = true;
-      t.odometry_update = odometry;
-      t.estimate_update = t.filter.estimate();
-    } else {
-      const Pose2 moved = relative(t.odometry_update, t.odometry_last);
-      if (std::hypot(moved.x, moved.y) >= settings_.update_min_d || std::abs(moved.theta) >= settings_.update_min_a) {
-        const auto scan = scans_.find(s.id);
-        t.filter.predict(t.odometry_update, t.odometry_last, t.rng);
-        if (scan != scans_.end()) t.filter.weigh(scan->second->last_scan(), *field_);
-        if (t.filter.effective_size() < settings_.resample_below * settings_.particles) t.filter.resample(t.rng);
-        t.odometry_update = t.odometry_last;
-        t.estimate_update = t.filter.estimate();
-      }
+  const platform::RobotState& s = platform_->robot(robot_);
+  const Pose2 odometry = s.odometry;
+  if (!started_) {
+    // The robot starts where its world file puts it (where its odometry starts).
+    filter_.start(odometry, rng_);
+    started_ = true;
+    odometry_update_ = odometry;
+    estimate_update_ = filter_.estimate();
+  } else {
+    const Pose2 moved = relative(odometry_update_, odometry_last_);
+    if (std::hypot(moved.x, moved.y) >= settings_.update_min_d || std::abs(moved.theta) >= settings_.update_min_a) {
+      filter_.predict(odometry_update_, odometry_last_, rng_);
+      filter_.weigh(scan_->last_scan(), *field_);
+      if (filter_.effective_size() < settings_.resample_below * settings_.particles) filter_.resample(rng_);
+      odometry_update_ = odometry_last_;
+      estimate_update_ = filter_.estimate();
     }
-    t.odometry_last = odometry;
-    t.sent = compose(t.estimate_update, relative(t.odometry_update, odometry));
-    const Datum fields[] = {t.sent.x, t.sent.y, t.sent.theta, s.busy, static_cast<std::int64_t>(s.commands)};
-    out.emit(event_, fields, s.id);
   }
+  odometry_last_ = odometry;
+  sent_ = compose(estimate_update_, relative(odometry_update_, odometry));
+  const Datum fields[] = {sent_.x, sent_.y, sent_.theta, s.busy, static_cast<std::int64_t>(s.commands)};
+  out.emit(event_, fields, robot_);
 }
 
-std::optional<Pose2> LocalizationGenerator::estimate(int id) const {
-  const auto it = tracks_.find(id);
-  if (it == tracks_.end() || !it->second.started) return std::nullopt;
-  return it->second.sent;
-}
-
-const ParticleFilter& LocalizationGenerator::filter(int id) const {
-  const auto it = tracks_.find(id);
-  if (it == tracks_.end()) throw Error("localization: no filter for robot " + std::to_string(id) + " yet");
-  return it->second.filter;
+std::optional<Pose2> LocalizationGenerator::estimate() const {
+  if (!started_) return std::nullopt;
+  return sent_;
 }
 
 void LocalizationGenerator::save_state(StateWriter& out) const {
-  out.u64(tracks_.size());
-  for (const auto& [id, t] : tracks_) {
-    out.i64(id);
-    t.rng.save(out);
-    out.boolean(t.started);
-    for (const Pose2& p : {t.odometry_last, t.odometry_update, t.estimate_update, t.sent}) {
-      out.f64(p.x), out.f64(p.y), out.f64(p.theta);
-    }
-    t.filter.save(out);
-  }
+  rng_.save(out);
+  out.boolean(started_);
+  for (const Pose2& p : {odometry_last_, odometry_update_, estimate_update_, sent_}) out.f64(p.x), out.f64(p.y), out.f64(p.theta);
+  filter_.save(out);
 }
 
 void LocalizationGenerator::load_state(StateReader& in) {
-  std::map<int, Track> tracks;
-  const std::size_t n = in.count(8, "robots");
-  for (std::size_t k = 0; k < n; ++k) {
-    const std::int64_t id = in.i64();
-    if (!scans_.contains(static_cast<int>(id)) || tracks.contains(static_cast<int>(id))) {
-      in.fail("a filter of robot " + std::to_string(id) + ", which this run does not localize (or twice)");
-    }
-    Track t{ParticleFilter(settings_), Rng()};
-    t.rng.load(in);
-    t.started = in.boolean();
-    for (Pose2* p : {&t.odometry_last, &t.odometry_update, &t.estimate_update, &t.sent}) {
-      p->x = in.f64(), p->y = in.f64(), p->theta = in.f64();
-      if (!std::isfinite(p->x) || !std::isfinite(p->y) || !std::isfinite(p->theta)) in.fail("a pose that is not finite");
-    }
-    t.filter.load(in);
-    tracks.emplace(static_cast<int>(id), std::move(t));
+  Rng rng;
+  rng.load(in);
+  const bool started = in.boolean();
+  Pose2 poses[4];
+  for (Pose2& p : poses) {
+    p.x = in.f64(), p.y = in.f64(), p.theta = in.f64();
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.theta)) in.fail("a pose that is not finite");
   }
+  ParticleFilter filter(settings_);
+  filter.load(in);
+  if (started && filter.particles().empty()) in.fail("a started filter without particles");
   in.end();
-  tracks_ = std::move(tracks);
+  rng_ = rng;
+  started_ = started;
+  odometry_last_ = poses[0], odometry_update_ = poses[1], estimate_update_ = poses[2], sent_ = poses[3];
+  filter_ = std::move(filter);
 }
 
 }  // namespace vwg::robot

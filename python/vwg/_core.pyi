@@ -3241,20 +3241,24 @@ class ParticleFilter:
         ...
 class LocalizationGenerator(Generator):
     """
-    Monte Carlo localization as the robots' odometry: each frame, for each robot of the platform,
-    eOdometry<to=id, x, y, angle, busy, commands> with its pose estimated by a particle filter weighed on its
-    laser's scan against the known map (vwg/robot/localization.hpp). Takes the place of OdometryGenerator.
+    Monte Carlo localization as a robot's odometry: each frame eOdometry<to=robot, x, y, angle, busy, commands>
+    with its pose estimated by a particle filter weighed on its laser's scan against the known map
+    (vwg/robot/localization.hpp). One a robot, in place of OdometryGenerator's event for that robot.
     """
-    def __init__(self, platform: RobotPlatform, lasers: collections.abc.Sequence[LaserGenerator], field: LikelihoodField, settings: LocalizationSettings, alphabet: Alphabet, event: str = 'eOdometry') -> None:
+    def __init__(self, platform: RobotPlatform, laser: LaserGenerator, field: LikelihoodField, settings: LocalizationSettings, alphabet: Alphabet, event: str = 'eOdometry') -> None:
         ...
-    def estimate(self, robot: typing.SupportsInt | typing.SupportsIndex) -> typing.Any:
+    def estimate(self) -> typing.Any:
         """
         The pose last sent to the robot (x, y, angle), or None before its first frame.
         """
-    def particles(self, robot: typing.SupportsInt | typing.SupportsIndex) -> numpy.typing.NDArray[numpy.float64]:
+    @property
+    def particles(self) -> numpy.typing.NDArray[numpy.float64]:
         """
         The robot's particles: N × 4 float64 (x, y, angle, weight), a copy.
         """
+    @property
+    def robot(self) -> int:
+        ...
 def add_arobot(alphabet: Alphabet, decider: Decider, grid: OccupancyGrid, rooms: dict, radius: typing.SupportsFloat | typing.SupportsIndex = 0.18, margin: typing.SupportsFloat | typing.SupportsIndex = 0.07, goal_tolerance: typing.SupportsFloat | typing.SupportsIndex = 0.25, step_length: typing.SupportsFloat | typing.SupportsIndex = 1.0, carve: bool = True, name: str = 'ARobot') -> None:
     """
     Register the actor type ARobot (paper eq. 11) with its decider. `grid` gives the map geometry,

@@ -165,14 +165,18 @@ class Platform:
         collisions = _core.CollisionGenerator(self.platform, alphabet)
         if localization is None or localization.kind == "odometry":
             return [_core.OdometryGenerator(self.platform, alphabet), collisions]
-        lasers = [g for g in self.made if isinstance(g, _core.LaserGenerator)]
-        if not lasers:
-            raise SchemaError(f"localization: particles weigh the simulator's laser scans, and the platform "
-                              f"{self.name} made none (it carries {', '.join(self.sensors) or 'no sensor'} of vwg's)")
         if known_map is None:
             raise SchemaError("localization: particles need the map the robots know (knows_map=False gives none)")
-        field = _core.LikelihoodField(known_map, localization.settings, max(g.max_range for g in lasers))
-        return [_core.LocalizationGenerator(self.platform, lasers, field, localization.settings, alphabet), collisions]
+        lasers = {g.robot: g for g in self.made if isinstance(g, _core.LaserGenerator)}
+        for robot in self.world.robots:
+            if robot.id not in lasers:
+                raise SchemaError(f"localization: particles weigh a robot's laser scans, and robot {robot.id} has no "
+                                  f"laser of the simulator's on the platform {self.name} (it carries "
+                                  f"{', '.join(robot.sensors) or 'no sensor'})")
+        field = _core.LikelihoodField(known_map, localization.settings, max(g.max_range for g in lasers.values()))
+        # One a robot, as the lasers are: the robots' filters run side by side (the same frames on any threads).
+        return [*(_core.LocalizationGenerator(self.platform, lasers[r.id], field, localization.settings, alphabet)
+                  for r in self.world.robots), collisions]
 
     def view(self, *, width: int = 800, video: str | os.PathLike[str] | None = None, fps: float | None = None,
              images: str | None = None) -> _core.SimView:

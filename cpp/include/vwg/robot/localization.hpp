@@ -12,7 +12,6 @@
 
 #include <concepts>
 #include <cstdint>
-#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -75,7 +74,7 @@ void check_settings(const LocalizationSettings& s, const std::string& owner);
 
 /// The likelihood field of a map: for a beam ending at (x, y), pz = z_hit·exp(−d²/(2σ²)) + z_rand/max_range,
 /// d the distance from the point to the centre of the nearest occupied cell (capped at max_dist; off the map:
-/// max_dist). Made once per map: a beam costs one lookup.
+/// max_dist), per cell: made once per map, a beam costs one lookup.
 class LikelihoodField {
  public:
   /// Occupied: the map's cells of value >= 50 (its unknown cells are not obstacles).
@@ -87,7 +86,8 @@ class LikelihoodField {
  private:
   geometry::MapGeometry geometry_;
   std::vector<float> distance_;  ///< per cell, metres, capped
-  double max_dist_, z_hit_, two_sigma2_, rand_;
+  std::vector<float> pz_;        ///< per cell, the pz of a beam ending in it
+  double max_dist_, z_hit_, two_sigma2_, rand_, off_map_ = 0.0;
 };
 
 struct Particle {
@@ -121,45 +121,42 @@ class ParticleFilter {
   std::vector<Particle> particles_;
 };
 
-/// eOdometry<x, y, angle, busy, commands> for each robot with its pose estimate (see the top of this file);
-/// `scans` are the robots' lasers (one per robot it localizes; a robot without one is refused).
+/// eOdometry<to=robot, x, y, angle, busy, commands> with the robot's pose estimate (see the top of this file),
+/// weighed on `scan`, the robot's laser: one generator a robot, as gLaser is, and the robots' run side by side.
 class LocalizationGenerator final : public Generator {
  public:
   LocalizationGenerator(std::shared_ptr<platform::RobotPlatform> platform,
-                        std::vector<std::shared_ptr<const platform::ScanSource>> scans,
-                        std::shared_ptr<const LikelihoodField> field, LocalizationSettings settings,
-                        const Alphabet& alphabet, const std::string& event = "eOdometry");
+                        std::shared_ptr<const platform::ScanSource> scan, std::shared_ptr<const LikelihoodField> field,
+                        LocalizationSettings settings, const Alphabet& alphabet, const std::string& event = "eOdometry");
   void reset(std::uint64_t seed) override;
   void generate(const FrameInfo& frame, EventList& out) override;
-  std::string name() const override { return "localization"; }
-  /// Each robot's particles, random stream and odometry marks.
+  /// Reads the platform and its robot's laser (neither changes while events are collected: the lasers scan
+  /// later in the priority order, and not in the same run of generators); writes its own filter.
+  bool concurrent() const override { return true; }
+  std::string name() const override { return "localization(" + std::to_string(robot_) + ")"; }
+  /// The particles, the random stream and the odometry marks.
   void save_state(StateWriter& out) const override;
   void load_state(StateReader& in) override;
 
-  /// The pose robot `id` was last sent (none before the first frame).
-  std::optional<geometry::Pose2> estimate(int id) const;
-  /// Robot `id`'s filter (its particles), for tests and views.
-  const ParticleFilter& filter(int id) const;
+  int robot() const { return robot_; }
+  /// The pose last sent (none before the first frame).
+  std::optional<geometry::Pose2> estimate() const;
+  const ParticleFilter& filter() const { return filter_; }
 
  private:
-  struct Track {
-    ParticleFilter filter;
-    Rng rng;
-    bool started = false;
-    geometry::Pose2 odometry_last{};    ///< the odometry of the last frame (where its scan was taken)
-    geometry::Pose2 odometry_update{};  ///< the odometry at the filter's last update
-    geometry::Pose2 estimate_update{};  ///< the filter's estimate then
-    geometry::Pose2 sent{};             ///< the pose last sent
-  };
-  Track& track(int id);
-
   std::shared_ptr<platform::RobotPlatform> platform_;
-  std::map<int, std::shared_ptr<const platform::ScanSource>> scans_;
+  std::shared_ptr<const platform::ScanSource> scan_;
   std::shared_ptr<const LikelihoodField> field_;
   LocalizationSettings settings_;
   EventTypeId event_;
-  std::uint64_t seed_ = 0;
-  std::map<int, Track> tracks_;
+  int robot_;
+  ParticleFilter filter_;
+  Rng rng_;
+  bool started_ = false;
+  geometry::Pose2 odometry_last_{};    ///< the odometry of the last frame (where its scan was taken)
+  geometry::Pose2 odometry_update_{};  ///< the odometry at the filter's last update
+  geometry::Pose2 estimate_update_{};  ///< the filter's estimate then
+  geometry::Pose2 sent_{};             ///< the pose last sent
 };
 
 }  // namespace vwg::robot
