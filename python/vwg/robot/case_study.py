@@ -233,8 +233,9 @@ class CaseStudy:
                 self.orders.schedule(0, robot, room)
             kinds = None if sensors is None else tuple(sensors)
             sensing = self.sim.make_sensors(alphabet, kinds)  # first: the localization reads the lasers
-            feedback = self.sim.feedback(alphabet, self.localization, self.known_map if knows_map else None)
-            generators: list[Any] = [*feedback, *sensing, self.orders.generator, every_frame("eDecide"),
+            #: The generators of the robots' poses (odometry, or localization) and collisions.
+            self.feedback = self.sim.feedback(alphabet, self.localization, self.known_map if knows_map else None)
+            generators: list[Any] = [*self.feedback, *sensing, self.orders.generator, every_frame("eDecide"),
                                      every_frame("eExecute")]
             # The view draws what θ shows of the robots (their actions, paths and status lines) through π
             # and φ, and keeps the trajectories; without video or images it draws nothing.
@@ -277,6 +278,16 @@ class CaseStudy:
             parts.append(Sym("ARobot", id=robot.id, grid=grid, row=row, column=col, angle=float(yaw), x=float(x),
                              y=float(y)))
         return self.vworld.string(*parts)
+
+    def sensed_pose(self, robot: int) -> tuple[float, float, float]:
+        """The pose robot `robot` was last told it has (its eOdometry): its localization's estimate, or its
+        odometry. Its belief in the string is this moved on by the step it decided, while it drives."""
+        for g in self.feedback:
+            if isinstance(g, _core.LocalizationGenerator) and g.robot == robot:
+                estimate = g.estimate()
+                if estimate is not None:
+                    return estimate
+        return self.sim.robot(robot).odometry
 
     def robot_actors(self, w: _core.String | None = None) -> dict[int, _core.Node]:
         w = self.engine.string if w is None else w
