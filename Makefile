@@ -1,10 +1,10 @@
 # vwg — the two entry points on a fresh Debian 12 machine (as root, or a user with sudo):
 #   make demo    install what is missing, build, and run the main example
-#   make test    install what is missing, build, and run every test (Python, C++ with sanitizers,
+#   make test    install what is missing, build, and run every test (Python, C++ with sanitizers, the docs,
 #                Python against the core built with sanitizers, the installed C++ package through a
 #                downstream project)
 #   make check   the fast tier for iterating: lint and the Python tests not marked slow (2-3 min once built)
-# Other targets: install, wheel, sdist, bench, stubs, lint, cpp-test, asan-python, cpp-package, fuzz, stress,
+# Other targets: install, docs, wheel, sdist, bench, stubs, lint, cpp-test, asan-python, cpp-package, fuzz, stress,
 # tsan, clean.
 
 SHELL := /bin/bash
