@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -105,29 +105,34 @@ def same_frames(seed: int, frames: int, records: Path) -> dict[str, Any]:
             "identical": sim.read_bytes() == ros.read_bytes()}
 
 
+def _follow(case: CaseStudy, world: Any, goals: dict[int, str], frames: int,
+            truth: Callable[[int], tuple[float, float, float]]) -> dict[str, Any]:
+    """Run `case` 5 frames at a time, to `frames` or until its robot has arrived; after each stretch, the distance
+    from the pose the robot was told (its odometry, or its localization's estimate) to its true pose `truth(id)`.
+    The row's measures: reached, frames, the mean and last distance, and whether it truly stood at its room."""
+    rid = world.robots[0].id
+    errors: list[float] = []
+    while case.engine.frame < frames:
+        summary = case.run(frames=min(5, frames - case.engine.frame))
+        (bx, by, _), (tx, ty, _) = case.sensed_pose(rid), truth(rid)
+        errors.append(math.hypot(bx - tx, by - ty))
+        if summary.reached:
+            break
+    gx, gy = world.rooms[goals[rid]].goal
+    tx, ty, _ = truth(rid)
+    return {"reached": summary.reached, "frames": summary.frames, "mean_error": sum(errors) / len(errors),
+            "final_error": errors[-1],
+            "truly_there": summary.reached and math.hypot(tx - gx, ty - gy) <= world.goal_tolerance}
+
+
 def drift(level: float, seed: int, frames: int) -> dict[str, Any]:
     """Run one task through rosbridge with odometry noise; vwg's belief against the robot's true pose."""
 
     world, goals = _task(seed, frames)
     physics = _core.PhysicsSettings(noise=_core.NoiseModel(odometry=level), seed=seed)
-    errors: list[float] = []
-    with FakeRosbridgeRobot(world, lockstep=True, physics=physics) as fake:
-        case = CaseStudy(_on_ros(world, fake.url), "astar", goals=goals, seed=seed, threads=1)
-        try:
-            rid = world.robots[0].id
-            while case.engine.frame < frames:
-                summary = case.run(frames=min(5, frames - case.engine.frame))
-                believed, truth = case.sim.robot(rid).pose, fake.pose(rid)
-                errors.append(math.hypot(believed[0] - truth[0], believed[1] - truth[1]))
-                if summary.reached:
-                    break
-        finally:
-            case.close()
-        gx, gy = world.rooms[goals[rid]].goal
-        truth = fake.pose(rid)
-    return {"level": level, "seed": seed, "reached": summary.reached, "frames": summary.frames,
-            "mean_error": sum(errors) / len(errors), "final_error": errors[-1],
-            "truly_there": summary.reached and math.hypot(truth[0] - gx, truth[1] - gy) <= world.goal_tolerance}
+    with FakeRosbridgeRobot(world, lockstep=True, physics=physics) as fake, \
+            CaseStudy(_on_ros(world, fake.url), "astar", goals=goals, seed=seed, threads=1) as case:
+        return {"level": level, "seed": seed, **_follow(case, world, goals, frames, fake.pose)}
 
 
 def localized(level: float, seed: int, frames: int, kind: str) -> dict[str, Any]:
@@ -136,21 +141,9 @@ def localized(level: float, seed: int, frames: int, kind: str) -> dict[str, Any]
 
     world, goals = _task(seed, frames)
     world = dataclasses.replace(world, noise=NoiseModel(odometry=level), localization=Localization.of(kind))
-    errors: list[float] = []
     with CaseStudy(world, "astar", goals=goals, seed=seed, threads=1) as case:
-        rid = world.robots[0].id
-        while case.engine.frame < frames:
-            summary = case.run(frames=min(5, frames - case.engine.frame))
-            # The pose the robot was told (as the rosbridge rows measure it), not its belief moved on by a step.
-            (bx, by, _), (tx, ty, _) = case.sensed_pose(rid), case.sim.robot(rid).pose
-            errors.append(math.hypot(bx - tx, by - ty))
-            if summary.reached:
-                break
-        gx, gy = world.rooms[goals[rid]].goal
-        truth = case.sim.robot(rid).pose
-    return {"level": level, "seed": seed, "localization": kind, "reached": summary.reached, "frames": summary.frames,
-            "mean_error": sum(errors) / len(errors), "final_error": errors[-1],
-            "truly_there": summary.reached and math.hypot(truth[0] - gx, truth[1] - gy) <= world.goal_tolerance}
+        return {"level": level, "seed": seed, "localization": kind,
+                **_follow(case, world, goals, frames, lambda rid: case.sim.robot(rid).pose)}
 
 
 def runs(config: SimulationConfig, records: Path) -> Iterator[tuple[str, dict[str, Any]]]:
