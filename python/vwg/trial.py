@@ -50,7 +50,7 @@ from vwg.plugins import sensors
 from vwg.robot.case_study import CaseStudy
 from vwg.robot.map_quality import map_quality
 from vwg.robot.shortest import DistanceField, grid_graph
-from vwg.robot.world_file import LOCALIZATIONS, load_robot_world
+from vwg.robot.world_file import Localization, load_robot_world
 
 __all__ = ["COLUMNS", "KNOWN_PARAMS", "Trial", "cached_world", "random_task", "replace_robot", "run_trial",
            "shortest_m", "trial_world"]
@@ -123,9 +123,11 @@ def check_params(params: dict[str, Any], where: str) -> None:
     task = params.get("task", "world")
     if task not in ("world", "random"):
         raise SchemaError(f"{where}.task: expected world or random, got {task!r}")
-    if params.get("localization", "odometry") not in LOCALIZATIONS:
-        raise SchemaError(f"{where}.localization: expected one of {', '.join(LOCALIZATIONS)}, got "
-                          f"{params['localization']!r}")
+    if "localization" in params:
+        try:
+            Localization.of(params["localization"])
+        except SchemaError as e:
+            raise SchemaError(f"{where}.{e}") from None
     for name in ("robots", "obstacles"):
         if name in params and not 0 <= params[name] <= 100_000:
             raise SchemaError(f"{where}.{name}: expected 0 to 100000, got {params[name]!r}")

@@ -511,13 +511,14 @@ def _localization(doc: YamlDoc) -> Localization:
     """``localization: KIND`` or ``{kind: KIND, ...settings}``, the settings checked by the C++ struct."""
     entry = doc.get(("localization",), (str, dict), default="odometry")
     kind = entry if isinstance(entry, str) else doc.get(("localization", "kind"), str, default="particles")
-    if kind not in LOCALIZATIONS:
+    try:
+        chosen = Localization.of(kind)
+    except SchemaError as e:
         where = ("localization",) if isinstance(entry, str) else ("localization", "kind")
-        raise doc.error(where, f"expected one of {', '.join(LOCALIZATIONS)}, got {kind!r}")
-    settings = _core.LocalizationSettings()
+        raise doc.error(where, str(e).removeprefix("localization: ")) from None
     if isinstance(entry, dict):
-        settings = _settings(doc, ("localization",), settings, skip=("kind",))
-    return Localization(kind, settings)
+        return Localization(chosen.kind, _settings(doc, ("localization",), chosen.settings, skip=("kind",)))
+    return chosen
 
 
 #: The highest wall a world may have, metres.
