@@ -419,6 +419,7 @@ def test_a_live_run_on_a_robot_through_rosbridge():
         assert len(snapshot.robots[0]["scan"]) > 20  # the LaserScan's points that met a wall
         live.stop()
         assert live.case is None  # closed by the run's own thread
+        fake.read_to_close()  # every Twist the run sent before it closed the link
         commands = fake.commands[1]
         assert commands and commands[-1][1:] == (0.0, 0.0)  # the last Twist stops the robot
 

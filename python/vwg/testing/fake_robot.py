@@ -142,6 +142,16 @@ class FakeRosbridgeRobot:
             if not self._thread.is_alive():
                 self._loop.close()
 
+    def read_to_close(self, timeout: float = 10.0) -> None:
+        """Wait until the server has read every connection to its close: it reads on its own thread, which a
+        loaded machine keeps behind the client, and the Twists a client sent before it closed are then all in
+        ``commands``. TimeoutError after `timeout` seconds."""
+        end = time.monotonic() + timeout
+        while any(c.closed is None for c in self.connections):
+            if time.monotonic() > end:
+                raise TimeoutError(f"fake robot: a connection still open after {timeout:g} s")
+            time.sleep(0.01)
+
     def __enter__(self) -> FakeRosbridgeRobot:
         return self.start()
 
