@@ -51,7 +51,13 @@ constexpr const char* kRangesDoc = "metres, float32; NaN where nothing is known"
 
 py::list steps_to_python(const std::vector<MotionStep>& steps) {
   py::list out;
-  for (const MotionStep& s : steps) out.append(py::make_tuple(s.kind == MotionStep::Turn ? "turn" : "drive", s.amount));
+  for (const MotionStep& s : steps) {
+    if (s.kind == MotionStep::Steer) {
+      out.append(py::make_tuple("steer", s.amount, s.rate));
+    } else {
+      out.append(py::make_tuple(s.kind == MotionStep::Turn ? "turn" : "drive", s.amount));
+    }
+  }
   return out;
 }
 
@@ -107,8 +113,14 @@ std::vector<MotionStep> steps_from_python(py::handle steps) {
   std::vector<MotionStep> out;
   for (auto item : steps) {
     py::tuple t = item.cast<py::tuple>();
-    const std::string kind = t.size() == 2 ? t[0].cast<std::string>() : "";
-    if (kind != "turn" && kind != "drive") throw SchemaError("steps", "steps are ('turn', radians) or ('drive', metres)");
+    const std::string kind = t.size() >= 1 ? t[0].cast<std::string>() : "";
+    if (kind == "steer" && t.size() == 3) {
+      out.push_back(MotionStep{MotionStep::Steer, t[1].cast<double>(), t[2].cast<double>()});
+      continue;
+    }
+    if ((kind != "turn" && kind != "drive") || t.size() != 2) {
+      throw SchemaError("steps", "steps are ('turn', radians), ('drive', metres) or ('steer', m/s, rad/s)");
+    }
     out.push_back(MotionStep{kind == "turn" ? MotionStep::Turn : MotionStep::Drive, t[1].cast<double>()});
   }
   return out;

@@ -1,4 +1,6 @@
 // The case-study actor ARobot and its deciders in Python; deciders may be written in Python.
+#include <algorithm>
+#include <vector>
 #include <string>
 
 #include "python_budget.hpp"
@@ -202,7 +204,8 @@ while running (order, from any thread: they go out at the next frame).)doc")
 
   m.def("add_arobot", [](Alphabet& alphabet, std::shared_ptr<robot::Decider> decider, MapArg grid, py::dict rooms,
                          double radius, double margin, double goal_tolerance, double step_length, bool carve,
-                         const std::string& name) {
+                         const std::string& name, const std::vector<platform::RobotSettings>& robots,
+                         const robot::AvoidanceSettings& avoidance) {
          robot::ARobotConfig config;
          config.map = geometry_of(grid);
          config.radius = radius;
@@ -210,6 +213,15 @@ while running (order, from any thread: they go out at the next frame).)doc")
          config.goal_tolerance = goal_tolerance;
          config.step_length = step_length;
          config.carve_free_space = carve;
+         // Avoiding robots keep to the slowest robot's limits (one ARobot serves them all).
+         for (std::size_t i = 0; i < robots.size(); ++i) {
+           const platform::RobotLimits& l = robots[i].limits;
+           platform::RobotLimits& c = config.limits;
+           if (i == 0) c = l;
+           c.max_speed = std::min(c.max_speed, l.max_speed), c.max_turn_rate = std::min(c.max_turn_rate, l.max_turn_rate);
+           c.max_accel = std::min(c.max_accel, l.max_accel), c.max_turn_accel = std::min(c.max_turn_accel, l.max_turn_accel);
+         }
+         config.avoidance = avoidance;
          for (auto item : rooms) {
            py::sequence xy = item.second.cast<py::sequence>();
            config.rooms[item.first.cast<int>()] = {xy[0].cast<double>(), xy[1].cast<double>()};
@@ -220,12 +232,15 @@ while running (order, from any thread: they go out at the next frame).)doc")
        py::arg("alphabet"), py::arg("decider"), py::arg("grid"), py::arg("rooms"), py::arg("radius") = robot::ARobotConfig{}.radius,
        py::arg("margin") = robot::ARobotConfig{}.margin, py::arg("goal_tolerance") = robot::ARobotConfig{}.goal_tolerance,
        py::arg("step_length") = robot::ARobotConfig{}.step_length, py::arg("carve") = robot::ARobotConfig{}.carve_free_space,
-       py::arg("name") = "ARobot",
+       py::arg("name") = "ARobot", py::arg("robots") = std::vector<platform::RobotSettings>{},
+       py::arg("avoidance") = robot::AvoidanceSettings{},
        // The alphabet keeps a decider written in Python alive: its C++ part alone cannot call decide().
        py::keep_alive<1, 2>(),
        R"doc(Register the actor type ARobot (paper eq. 11) with its decider. `grid` gives the map geometry,
-`rooms` the known rooms as {marker id: (x, y) goal}. The alphabet must already have the symbols
-Robot, Move, Rotate and the events of arobot_event_types().)doc");
+`rooms` the known rooms as {marker id: (x, y) goal}; `robots` the world's robots (avoiding robots keep to the
+slowest one's limits) and `avoidance` the settings of those that avoid (attribute ``avoid``). The alphabet must
+already have the symbols Robot, Move, Rotate (and Velocity, for robots that avoid) and the events of
+arobot_event_types().)doc");
   m.def("arobot_event_types", []() {
     py::dict out;
     for (const auto& [name, schema] : robot::arobot_event_types()) out[py::str(name)] = schema_to_python(schema);

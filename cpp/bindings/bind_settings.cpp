@@ -2,6 +2,7 @@
 #include "settings.hpp"
 #include "vwg/engine.hpp"
 #include "vwg/robot/arobot.hpp"
+#include "vwg/robot/avoidance.hpp"
 #include "vwg/robot/localization.hpp"
 #include "vwg/sim/registries.hpp"
 #include "vwg/sim/overview3d.hpp"
@@ -32,6 +33,10 @@ void init_settings(py::module_& m) {
                                       "The case study's robot actor ARobot: size, clearance, when it has arrived, how far it moves.");
   settings::bind<robot::LocalizationSettings>(m, "LocalizationSettings",
                                               "Monte Carlo localization: particles, the laser's likelihood field, the motion noise.");
+  settings::bind<robot::AvoidanceSettings>(m, "AvoidanceSettings",
+                                           "Reciprocal avoidance (ORCA) in the robots: horizon, margin, steering.");
+  settings::bind<platform::NeighbourSettings>(m, "NeighbourSettings",
+                                              "What a robot's laser sees of its neighbours: pieces of a scan, tracked.");
   settings::bind<sim::OverviewView>(m, "OverviewView", "How the 3D overview is seen: image size, angles, robots, labels.");
 
   // The one range of seconds per frame, and its check: world files, the command line, records and the

@@ -37,4 +37,5 @@ PYBIND11_MODULE(_core, m) {
   init_camera_generator(m);
   init_registries(m);
   init_localization(m);
+  init_avoidance(m);
 }

@@ -8,7 +8,10 @@ namespace vwg::platform {
 
 void MotionInterpreter::open(const NodeView& t) {
   const std::string& name = t.info().name;
-  if (name == symbols_.move || name == symbols_.rotate) {
+  if (name == symbols_.velocity) {
+    if (t.value_count() < 2) throw SchemaError(name, "needs a speed and a turn rate as its parameters");
+    stack_.push_back(MotionStep{MotionStep::Steer, t.number(0), t.number(1)});
+  } else if (name == symbols_.move || name == symbols_.rotate) {
     if (t.value_count() < 1) throw SchemaError(name, "needs its amount as first parameter");
     const double amount = t.number(0);
     stack_.push_back(MotionStep{name == symbols_.move ? MotionStep::Drive : MotionStep::Turn, amount});

@@ -42,10 +42,12 @@ MotionFollower::MotionFollower(RobotLimits limits, double tolerance) : limits_(l
 void MotionFollower::command(const std::vector<MotionStep>& steps) {
   for (const MotionStep& s : steps) {
     if (!std::isfinite(s.amount)) throw SchemaError("command", "non-finite amount " + format_real(s.amount));
+    if (!std::isfinite(s.rate)) throw SchemaError("command", "non-finite turn rate " + format_real(s.rate));
   }
   plan_.assign(steps.begin(), steps.end());
   active_ = false;
   lands_ = false;
+  hold_ = {};
 }
 
 double MotionFollower::remaining(const geometry::Pose2& pose) {
@@ -70,14 +72,20 @@ Velocity MotionFollower::tick(const geometry::Pose2& pose, double dt) {
   while (!active_ && !plan_.empty()) {
     current_ = plan_.front();
     plan_.pop_front();
+    if (current_.kind == MotionStep::Steer) {
+      hold_ = {std::clamp(current_.amount, -limits_.max_speed, limits_.max_speed),
+               std::clamp(current_.rate, -limits_.max_turn_rate, limits_.max_turn_rate)};
+      continue;
+    }
+    hold_ = {};
     origin_ = pose;
     turned_ = 0.0;
     last_theta_ = pose.theta;
     active_ = std::abs(current_.amount) >= 1e-12;  // nothing to do
   }
-  if (!active_) {  // idle: come to rest within the acceleration limits
-    velocity_.speed = approach(velocity_.speed, 0.0, limits_.max_accel * dt);
-    velocity_.turn_rate = approach(velocity_.turn_rate, 0.0, limits_.max_turn_accel * dt);
+  if (!active_) {  // idle: come to rest (or to the held velocity) within the acceleration limits
+    velocity_.speed = approach(velocity_.speed, hold_.speed, limits_.max_accel * dt);
+    velocity_.turn_rate = approach(velocity_.turn_rate, hold_.turn_rate, limits_.max_turn_accel * dt);
     return velocity_;
   }
   // The other velocity is brought to rest within its limit (a drive that ends a little fast, then a turn).
@@ -96,6 +104,7 @@ void MotionFollower::stop() {
   plan_.clear();
   active_ = false;
   lands_ = false;
+  hold_ = {};
   velocity_ = {};
 }
 

@@ -1,9 +1,13 @@
 #include "vwg/platform/neighbours.hpp"
 
+#include "vwg/error.hpp"
+#include "vwg/text.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <utility>
 
 namespace vwg::platform {
 
@@ -14,6 +18,19 @@ struct Piece {
 };
 
 }  // namespace
+
+void check_settings(const NeighbourSettings& s, const std::string& owner) {
+  const std::pair<const char*, double> positive[] = {{"jump", s.jump},           {"max_width", s.max_width},
+                                                     {"min_radius", s.min_radius}, {"max_radius", s.max_radius},
+                                                     {"gate", s.gate},           {"forget", s.forget}};
+  for (const auto& [name, v] : positive) {
+    if (!std::isfinite(v) || v <= 0) throw SchemaError(owner + "." + name, "expected a finite number > 0, got " + format_real(v));
+  }
+  if (!(s.smoothing > 0 && s.smoothing <= 1)) {
+    throw SchemaError(owner + ".smoothing", "expected a weight in (0, 1], got " + format_real(s.smoothing));
+  }
+  if (s.min_radius > s.max_radius) throw SchemaError(owner + ".min_radius", "expected at most max_radius");
+}
 
 NeighbourTracker::NeighbourTracker(NeighbourSettings settings) : settings_(settings) {}
 
@@ -39,24 +56,27 @@ void NeighbourTracker::update(const ScanView& scan, const geometry::Pose2& pose,
     std::size_t j = i;  // the piece is beams i..j
     double px, py;
     point(i, px, py);
-    double sx = px, sy = py, fx = px, fy = py, lx = px, ly = py, far = scan.ranges[i];
+    double fx = px, fy = py, lx = px, ly = py, far = scan.ranges[i];
+    std::size_t nearest = i;
     while (j + 1 < n && hit(j + 1)) {
       double qx, qy;
       point(j + 1, qx, qy);
       if (std::hypot(qx - lx, qy - ly) > settings_.jump) break;
       ++j;
-      sx += qx, sy += qy, lx = qx, ly = qy;
+      lx = qx, ly = qy;
       far = std::max(far, static_cast<double>(scan.ranges[j]));
+      if (scan.ranges[j] < scan.ranges[nearest]) nearest = j;
     }
     const std::size_t count = j - i + 1;
-    const double width = std::hypot(lx - fx, ly - fy);
+    // The ends of a piece are within half a beam's spacing of its edges, on each side: add one spacing.
+    const double spacing = count >= 2 ? std::abs(scan.angles[j] - scan.angles[i]) / static_cast<double>(count - 1) : 0.0;
+    const double width = std::hypot(lx - fx, ly - fy) + spacing * scan.ranges[nearest];
     const bool left = i == 0 || in_front(i - 1, far), right = j + 1 >= n || in_front(j + 1, far);
     if (count >= 2 && width <= settings_.max_width && left && right) {
-      const double mx = sx / static_cast<double>(count), my = sy / static_cast<double>(count);
+      // A disc's nearest point to the laser is on the line to its centre: the centre is one radius beyond it.
       const double radius = std::clamp(0.5 * width, settings_.min_radius, settings_.max_radius);
-      const double d = std::hypot(mx - pose.x, my - pose.y);
-      const double ux = d > 0 ? (mx - pose.x) / d : 0.0, uy = d > 0 ? (my - pose.y) / d : 0.0;
-      pieces.push_back({mx + radius * ux, my + radius * uy, radius});
+      const double a = pose.theta + scan.angles[nearest], r = scan.ranges[nearest] + radius;
+      pieces.push_back({pose.x + r * std::cos(a), pose.y + r * std::sin(a), radius});
     }
     i = j + 1;
   }
@@ -86,6 +106,32 @@ void NeighbourTracker::update(const ScanView& scan, const geometry::Pose2& pose,
     t.x = p.x, t.y = p.y, t.radius = p.radius, t.seen = time;
   }
   tracks_.insert(tracks_.end(), started.begin(), started.end());
+}
+
+void NeighbourTracker::save(StateWriter& out) const {
+  out.i64(next_id_);
+  out.u64(tracks_.size());
+  for (const Neighbour& t : tracks_) {
+    out.i64(t.id);
+    for (const double v : {t.x, t.y, t.vx, t.vy, t.radius, t.seen}) out.f64(v);
+  }
+}
+
+void NeighbourTracker::load(StateReader& in) {
+  const std::int64_t next = in.i64();
+  if (next < 1 || next > std::numeric_limits<int>::max()) in.fail("a track number out of range");
+  std::vector<Neighbour> tracks(in.count(56, "tracks"));
+  for (Neighbour& t : tracks) {
+    const std::int64_t id = in.i64();
+    if (id < 1 || id >= next) in.fail("a track number out of range");
+    t.id = static_cast<int>(id);
+    for (double* v : {&t.x, &t.y, &t.vx, &t.vy, &t.radius, &t.seen}) {
+      *v = in.f64();
+      if (!std::isfinite(*v)) in.fail("a track that is not finite");
+    }
+  }
+  tracks_ = std::move(tracks);
+  next_id_ = static_cast<int>(next);
 }
 
 }  // namespace vwg::platform

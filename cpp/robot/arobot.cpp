@@ -20,6 +20,10 @@ ParamSpec spec(const char* name, ValueKind kind, std::optional<Datum> def = std:
 
 std::shared_ptr<const Blob> empty_path() { return std::make_shared<const Blob>(DType::Float64, std::vector<std::int64_t>{0, 2}); }
 
+std::shared_ptr<const Blob> no_neighbours() {
+  return std::make_shared<const Blob>(DType::Float64, std::vector<std::int64_t>{0, 5});
+}
+
 std::shared_ptr<const Blob> path_blob(const std::vector<double>& xy) {
   const auto n = static_cast<std::int64_t>(xy.size() / 2);
   return std::make_shared<const Blob>(DType::Float64, std::vector<std::int64_t>{n, 2}, xy.data(), xy.size() * sizeof(double));
@@ -52,12 +56,19 @@ Schema arobot_attributes() {
       spec("collisions", ValueKind::Int, Datum(0)),
       spec("status", ValueKind::Text, Datum("idle")),
       spec("wait", ValueKind::Int, Datum(0)),
+      // Reciprocal avoidance: whether it avoids, the neighbours of frame `sensed` (N×5: x, y, vx, vy, radius
+      // in its own frame), and the velocity it was last given (shown as Velocity<speed, turn_rate>).
+      spec("avoid", ValueKind::Bool, Datum(false)),
+      spec("neighbours", ValueKind::Blob, Datum(no_neighbours())),
+      spec("sensed", ValueKind::Int, Datum(-1)),
+      spec("speed", ValueKind::Real, Datum(0.0)),
+      spec("turn_rate", ValueKind::Real, Datum(0.0)),
   };
   return s;
 }
 
 std::vector<std::string> arobot_events() {
-  return {"eLaser", "eCamera", "eDecide", "eExecute", "eObjective", "eOdometry", "eCollision"};
+  return {"eLaser", "eCamera", "eDecide", "eExecute", "eObjective", "eOdometry", "eCollision", "eNeighbour"};
 }
 
 std::vector<std::pair<std::string, Schema>> arobot_event_types() {
@@ -73,6 +84,9 @@ std::vector<std::pair<std::string, Schema>> arobot_event_types() {
                             spec("angle", ValueKind::Real, Datum(0.0)), spec("busy", ValueKind::Bool, Datum(false)),
                             spec("commands", ValueKind::Int, Datum(0))})},
       {"eCollision", fields({spec("other", ValueKind::Int, Datum(0))})},
+      {"eNeighbour", fields({spec("x", ValueKind::Real, Datum(0.0)), spec("y", ValueKind::Real, Datum(0.0)),
+                             spec("vx", ValueKind::Real, Datum(0.0)), spec("vy", ValueKind::Real, Datum(0.0)),
+                             spec("radius", ValueKind::Real, Datum(0.0))})},
   };
 }
 
@@ -96,16 +110,20 @@ ARobot::ARobot(const Alphabet& alphabet, ARobotConfig config, std::shared_ptr<De
     throw SchemaError("ARobot.map", "expected the world map's geometry");
   }
   check_settings(config_, "ARobot");
+  check_settings(config_.avoidance, "ARobot.avoidance");
   ev_ = Events{alphabet.event_type_id("eLaser"),   alphabet.event_type_id("eCamera"),
                alphabet.event_type_id("eDecide"),  alphabet.event_type_id("eExecute"),
                alphabet.event_type_id("eObjective"), alphabet.event_type_id("eOdometry"),
-               alphabet.event_type_id("eCollision")};
+               alphabet.event_type_id("eCollision"), alphabet.event_type_id("eNeighbour")};
   sym_ = Symbols{alphabet.symbol_id("Robot", SymbolKind::Primitive), alphabet.symbol_id("Move", SymbolKind::Transformation),
-                 alphabet.symbol_id("Rotate", SymbolKind::Transformation), std::nullopt, std::nullopt};
+                 alphabet.symbol_id("Rotate", SymbolKind::Transformation), std::nullopt, std::nullopt, std::nullopt};
   // Path<robot, points> and Status<robot, text>: what a view shows of the robot comes through π and
   // φ like its action, when the alphabet declares them (MOTION_SYMBOLS does).
   if (const auto p = alphabet.find_symbol("Path"); p && alphabet.symbol(*p).kind == SymbolKind::Primitive) sym_.path = p;
   if (const auto t = alphabet.find_symbol("Status"); t && alphabet.symbol(*t).kind == SymbolKind::Primitive) sym_.status = t;
+  if (const auto v = alphabet.find_symbol("Velocity"); v && alphabet.symbol(*v).kind == SymbolKind::Transformation) {
+    sym_.velocity = v;
+  }
 }
 
 ObstacleBits& ARobot::bits_of(std::int64_t robot) {
@@ -170,8 +188,24 @@ void ARobot::evolve(ActorState& self, const EventView& e, const EvolutionContext
         mark_obstacle(map, g, self.get_real(kX) + d * std::cos(a), self.get_real(kY) + d * std::sin(a), &bits);
       });
     }
+  } else if (type == ev_.neighbour) {
+    // The first of a frame replaces the last frame's; the others of the frame join it.
+    std::vector<double> rows;
+    if (self.get_int(kSensed) == static_cast<std::int64_t>(ctx.frame)) {
+      const auto old = self.get_blob(kNeighbours)->view<double>();
+      rows.assign(old.begin(), old.end());
+    }
+    for (std::size_t i = 0; i < 5; ++i) rows.push_back(e.number(i));
+    const auto n = static_cast<std::int64_t>(rows.size() / 5);
+    self.set_blob(kNeighbours, std::make_shared<const Blob>(DType::Float64, std::vector<std::int64_t>{n, 5}, rows.data(),
+                                                            rows.size() * sizeof(double)));
+    self.set_int(kSensed, static_cast<std::int64_t>(ctx.frame));
   } else if (type == ev_.decide) {
-    decide(self, ctx);
+    if (self.get_bool(kAvoid)) {
+      decide_avoiding(self, ctx);
+    } else {
+      decide(self, ctx);
+    }
   }
   // eExecute: nothing changes; θ shows the action (DESIGN.md choice 3).
 }
@@ -292,6 +326,98 @@ void ARobot::decide(ActorState& self, const EvolutionContext& ctx) {
   self.set_text(kStatus, "to marker " + std::to_string(objective));
 }
 
+void ARobot::set_velocity(ActorState& self, double speed, double turn_rate) {
+  // A robot at rest that stays at rest shows no action (and sends no command).
+  if (speed == 0.0 && turn_rate == 0.0 && self.get_real(kSpeed) == 0.0 && self.get_real(kTurnRate) == 0.0) return;
+  self.set_bool(kActing, true);
+  self.set_real(kSpeed, speed);
+  self.set_real(kTurnRate, turn_rate);
+  self.set_int(kSent, self.get_int(kSent) + 1);
+}
+
+void ARobot::decide_avoiding(ActorState& self, const EvolutionContext& ctx) {
+  if (self.get_bool(kActing)) self.set_bool(kActing, false);
+  const std::int64_t objective = self.get_int(kObjective);
+  const double x = self.get_real(kX), y = self.get_real(kY), theta = self.get_real(kAngle);
+  if (objective < 0) return avoid(self, ctx, theta, 0.0);
+  if (const std::int64_t wait = self.get_int(kWait); wait > 0) {
+    self.set_int(kWait, wait - 1);
+    return avoid(self, ctx, theta, 0.0);
+  }
+  double gx, gy;
+  if (!goal_of(self, static_cast<int>(objective), gx, gy)) {
+    self.set_text(kStatus, "marker " + std::to_string(objective) + " unknown");
+    return avoid(self, ctx, theta, 0.0);
+  }
+  const double to_goal = std::hypot(gx - x, gy - y);
+  // Once there it stays, but gives way: a robot sent to the same room takes its place, as ORCA's shares have it.
+  if (self.get_bool(kReached)) return avoid(self, ctx, theta, 0.0);
+  if (to_goal <= config_.goal_tolerance) {
+    self.set_bool(kReached, true);
+    self.set_text(kStatus, "arrived at marker " + std::to_string(objective));
+    self.set_blob(kPath, empty_path());
+    return avoid(self, ctx, theta, 0.0);
+  }
+  DecisionInput in;
+  in.robot = self.get_int(kId);
+  in.map = self.get_blob(kGrid);
+  in.geometry = &config_.map;
+  in.pose = geometry::Pose2{x, y, theta};
+  in.goal_x = gx;
+  in.goal_y = gy;
+  in.radius = config_.radius + config_.margin;
+  in.step_length = config_.step_length;
+  in.path_owner = self.get_blob(kPath);
+  in.path = in.path_owner->view<double>();
+  in.seed = ctx.seed;
+  const Decision d = decider_->decide(in);
+  if (d.replanned) self.set_int(kReplans, self.get_int(kReplans) + 1);
+  if (d.kind == Decision::Kind::NoPath) {
+    self.set_text(kStatus, "no path to marker " + std::to_string(objective));
+    self.set_blob(kPath, empty_path());
+    self.set_int(kWait, config_.retry_frames);
+    return avoid(self, ctx, theta, 0.0);
+  }
+  if (!d.keep_path) self.set_blob(kPath, path_blob(d.path));
+  self.set_text(kStatus, "to marker " + std::to_string(objective));
+  // As fast as still stops at the goal within the acceleration limit.
+  avoid(self, ctx, theta + d.turn, std::min(config_.limits.max_speed, std::sqrt(2.0 * config_.limits.max_accel * to_goal)));
+}
+
+void ARobot::avoid(ActorState& self, const EvolutionContext& ctx, double heading, double speed) {
+  const double x = self.get_real(kX), y = self.get_real(kY), theta = self.get_real(kAngle);
+  // The neighbours of this frame, from the robot's frame into the world's.
+  thread_local std::vector<orca::Neighbour> neighbours;
+  neighbours.clear();
+  if (self.get_int(kSensed) == static_cast<std::int64_t>(ctx.frame)) {
+    const auto rows = self.get_blob(kNeighbours)->view<double>();
+    const double c = std::cos(theta), s = std::sin(theta);
+    for (std::size_t i = 0; i + 5 <= rows.size(); i += 5) {
+      const double* r = &rows[i];
+      neighbours.push_back(orca::Neighbour{{x + c * r[0] - s * r[1], y + s * r[0] + c * r[1]},
+                                           {c * r[2] - s * r[3], s * r[2] + c * r[3]}, r[4], 0.5});
+    }
+  }
+  SteerInput steering;
+  steering.pose = geometry::Pose2{x, y, theta};
+  steering.speed = self.get_real(kSpeed);
+  steering.radius = config_.radius;
+  steering.limits = config_.limits;
+  steering.preferred_heading = heading;
+  steering.preferred_speed = speed;
+  steering.neighbours = neighbours;
+  platform::Velocity v = steer(steering, config_.avoidance);
+  // Never into what the robot's own map holds (ORCA knows only the neighbours); a robot already nearer a wall
+  // than its radius may drive as long as it gets no nearer.
+  const double ahead = v.speed * config_.avoidance.wall_lookahead;
+  if (ahead > 0.0) {
+    const Blob& map = *self.get_blob(kGrid);
+    const double radius = std::min(config_.radius, std::max(0.0, clearance(map, config_.map, x, y, config_.radius) - 1e-3));
+    if (!segment_clear(map, config_.map, x, y, x + ahead * std::cos(theta), y + ahead * std::sin(theta), radius)) v.speed = 0.0;
+  }
+  set_velocity(self, v.speed, v.turn_rate);
+}
+
 void ARobot::visualize(const ActorState& self, const EventView& e, const EvolutionContext&, StringBuilder& out) {
   if (e.type() != ev_.execute) return;
   const Datum robot_id(self.get_int(kId));
@@ -303,9 +429,17 @@ void ARobot::visualize(const ActorState& self, const EventView& e, const Evoluti
     const Datum params[] = {robot_id, Datum(std::string(self.get_text(kStatus)))};
     out.primitive(*sym_.status, params);
   }
-  // Rotate<turn>(Move<move>(Robot<id>)) while acting; otherwise the robot primitive alone (Table I:
-  // drawn by a renderer, no motion on a robot).
+  // Rotate<turn>(Move<move>(Robot<id>)) while acting (Velocity<speed, turn_rate>(Robot<id>) when avoiding);
+  // otherwise the robot primitive alone (Table I: drawn by a renderer, no motion on a robot).
   const bool acting = self.get_bool(kActing);
+  if (acting && self.get_bool(kAvoid)) {
+    if (!sym_.velocity) throw SchemaError("ARobot", "a robot that avoids needs the transformation Velocity<speed, turn_rate>");
+    const Datum velocity[] = {Datum(self.get_real(kSpeed)), Datum(self.get_real(kTurnRate))};
+    out.open(*sym_.velocity, velocity);
+    out.primitive(sym_.robot, std::span<const Datum>(&robot_id, 1));
+    out.close();
+    return;
+  }
   if (acting) {
     const Datum turn(self.get_real(kTurn)), move(self.get_real(kMove));
     out.open(sym_.rotate, std::span<const Datum>(&turn, 1));

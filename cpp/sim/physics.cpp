@@ -322,7 +322,9 @@ const RobotState& PhysicsWorld::robot(int id) const { return states_[index_of(id
 void PhysicsWorld::command(int robot, std::vector<MotionStep> plan) {
   Robot& r = find(robot);
   for (const MotionStep& s : plan) {
-    if (!std::isfinite(s.amount)) throw SchemaError("robot " + std::to_string(robot) + " command", "non-finite amount");
+    if (!std::isfinite(s.amount) || !std::isfinite(s.rate)) {
+      throw SchemaError("robot " + std::to_string(robot) + " command", "non-finite amount");
+    }
   }
   journal_.u8(kCommand);
   journal_.i64(robot);
@@ -330,11 +332,16 @@ void PhysicsWorld::command(int robot, std::vector<MotionStep> plan) {
   for (const MotionStep& s : plan) {
     journal_.u8(s.kind);
     journal_.f64(s.amount);
+    if (s.kind == MotionStep::Steer) journal_.f64(s.rate);
   }
   // The motors' error: each step is executed as amount·(1 + N(0, motors²)) (the follower, closed
-  // on the true pose, then carries out the wrong amount faithfully).
+  // on the true pose, then carries out the wrong amount faithfully); a steer's turn rate by the same factor.
   if (settings_.noise.motors > 0.0) {
-    for (MotionStep& s : plan) s.amount *= 1.0 + r.rng.normal(0.0, settings_.noise.motors);
+    for (MotionStep& s : plan) {
+      const double factor = 1.0 + r.rng.normal(0.0, settings_.noise.motors);
+      s.amount *= factor;
+      s.rate *= factor;
+    }
   }
   r.follower.command(plan);
   r.driven = false;
@@ -490,8 +497,9 @@ void PhysicsWorld::load_state(StateReader& in) {
         c.plan.resize(ops.count(9, "motion steps"));
         for (MotionStep& step : c.plan) {
           const std::uint8_t kind = ops.u8();
-          if (kind > MotionStep::Drive) ops.fail("a motion step of unknown kind " + std::to_string(kind));
+          if (kind > MotionStep::Steer) ops.fail("a motion step of unknown kind " + std::to_string(kind));
           step = MotionStep{static_cast<MotionStep::Kind>(kind), ops.f64()};
+          if (kind == MotionStep::Steer) step.rate = ops.f64();
         }
         break;
       }

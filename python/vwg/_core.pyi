@@ -8,7 +8,7 @@ import numpy
 import numpy.typing
 import os
 import typing
-__all__: list[str] = ['ARobotConfig', 'ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'ArrivalCondition', 'Backend', 'BackendGroup', 'Blob', 'CameraGenerator', 'CameraRenderer', 'CameraSpec', 'Collision', 'CollisionGenerator', 'DStarLite', 'Decider', 'DecisionInput', 'DepthCameraSpec', 'Engine', 'EngineOptions', 'EngineState', 'Event', 'EventColumns', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'FrameSink', 'Generator', 'GridDecider', 'GridRaycaster', 'ImageFiles', 'ImageSequence', 'ImageSource', 'KinectGenerator', 'LaserGenerator', 'LaserSpec', 'LikelihoodField', 'LocalizationGenerator', 'LocalizationSettings', 'MAX_DT', 'MIN_DT', 'MotionBackend', 'MotionFollower', 'MovingAiScenario', 'Node', 'NoiseModel', 'NullBackend', 'OBSTACLE_THRESHOLD', 'OccupancyGrid', 'OdometryGenerator', 'OmplDecider', 'OmplPlan', 'OmplPlanner', 'OrderGenerator', 'OverviewCamera', 'OverviewView', 'ParticleFilter', 'PhysicsSettings', 'PhysicsWorld', 'PythonActor', 'RandomDecider', 'RangeScanner', 'ReceivedImages', 'RenderStyle', 'RobotPlatform', 'RobotSettings', 'RobotState', 'SimView', 'SimulatedCamera', 'StopCondition', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoSource', 'add_arobot', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'arobot_event_types', 'astar', 'backend_names', 'beam_angles', 'beam_layout', 'build_string', 'check_dt', 'create_backend', 'create_decider', 'create_platform', 'create_sensor', 'decider_names', 'default_threads', 'detect_apriltags', 'display', 'encode_image', 'estimate_tag_pose', 'evolve', 'grid_clearance', 'grid_inflate', 'jps', 'laser_events', 'log_message', 'movingai_grid', 'movingai_scenarios', 'overview_camera', 'plan_ompl', 'platform_names', 'python_budget', 'quantize_pose', 'ranging_sensors', 'read_image', 'render_overview', 'robot_map', 'sensor_names', 'set_log_sink', 'set_python_budget', 'struct_defaults', 'visualize', 'walker_behavior', 'write_image']
+__all__: list[str] = ['ARobotConfig', 'ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'ArrivalCondition', 'AvoidanceSettings', 'Backend', 'BackendGroup', 'Blob', 'CameraGenerator', 'CameraRenderer', 'CameraSpec', 'Collision', 'CollisionGenerator', 'DStarLite', 'Decider', 'DecisionInput', 'DepthCameraSpec', 'Engine', 'EngineOptions', 'EngineState', 'Event', 'EventColumns', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'FrameSink', 'Generator', 'GridDecider', 'GridRaycaster', 'ImageFiles', 'ImageSequence', 'ImageSource', 'KinectGenerator', 'LaserGenerator', 'LaserSpec', 'LikelihoodField', 'LocalizationGenerator', 'LocalizationSettings', 'MAX_DT', 'MIN_DT', 'MotionBackend', 'MotionFollower', 'MovingAiScenario', 'NeighbourGenerator', 'NeighbourSettings', 'Node', 'NoiseModel', 'NullBackend', 'OBSTACLE_THRESHOLD', 'OccupancyGrid', 'OdometryGenerator', 'OmplDecider', 'OmplPlan', 'OmplPlanner', 'OrderGenerator', 'OverviewCamera', 'OverviewView', 'ParticleFilter', 'PhysicsSettings', 'PhysicsWorld', 'PythonActor', 'RandomDecider', 'RangeScanner', 'ReceivedImages', 'RenderStyle', 'RobotPlatform', 'RobotSettings', 'RobotState', 'SimView', 'SimulatedCamera', 'StopCondition', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoSource', 'add_arobot', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'arobot_event_types', 'astar', 'backend_names', 'beam_angles', 'beam_layout', 'build_string', 'check_dt', 'create_backend', 'create_decider', 'create_platform', 'create_sensor', 'decider_names', 'default_threads', 'detect_apriltags', 'display', 'encode_image', 'estimate_tag_pose', 'evolve', 'grid_clearance', 'grid_inflate', 'jps', 'laser_events', 'log_message', 'movingai_grid', 'movingai_scenarios', 'overview_camera', 'plan_ompl', 'platform_names', 'python_budget', 'quantize_pose', 'ranging_sensors', 'read_image', 'render_overview', 'robot_map', 'sensor_names', 'set_log_sink', 'set_python_budget', 'steer', 'struct_defaults', 'visualize', 'walker_behavior', 'write_image']
 class Blob:
     """
     A large attribute value held by reference from world strings (an occupancy grid, an image, a path).
@@ -1413,6 +1413,198 @@ class LocalizationSettings:
         """
     @z_rand.setter
     def z_rand(self, arg1: float) -> None:
+        ...
+class AvoidanceSettings:
+    """
+    Reciprocal avoidance (ORCA) in the robots: horizon, margin, steering.
+    
+    Fields (defaults from the C++ struct):
+      horizon = 2.0: seconds: the velocity keeps the robot clear of its neighbours this long
+      margin = 0.1: metres added to the robot's radius (a differential drive follows a velocity late)
+      heading_time = 0.4: seconds: the turn rate is the heading error over this, within the limit
+      step = 0.1: seconds within which robots that already overlap part
+      wall_lookahead = 0.6: seconds of driving at the new speed checked clear on the robot's map
+    """
+    __hash__: typing.ClassVar[None] = None
+    @staticmethod
+    def fields() -> list[tuple[str, str, typing.Any, str]]:
+        """
+        [(name, type, default, meaning)] of every field, in order.
+        """
+    def __copy__(self) -> AvoidanceSettings:
+        ...
+    def __deepcopy__(self, memo: typing.Any) -> AvoidanceSettings:
+        ...
+    def __eq__(self, arg0: typing.Any) -> bool:
+        ...
+    def __getstate__(self) -> dict:
+        ...
+    def __init__(self, *, horizon: float = 2.0, margin: float = 0.1, heading_time: float = 0.4, step: float = 0.1, wall_lookahead: float = 0.6) -> None:
+        """
+        The settings, each keyword replacing its default.
+        """
+    def __ne__(self, arg0: typing.Any) -> bool:
+        ...
+    def __repr__(self) -> str:
+        ...
+    def __setstate__(self, arg0: dict) -> None:
+        ...
+    def check(self, owner: str) -> None:
+        """
+        Raise vwg.SchemaError naming `owner.field` for a value out of range (what the C++ side would refuse).
+        """
+    def replace(self, **kwargs) -> AvoidanceSettings:
+        """
+        A copy with these fields changed: spec.replace(beams=180).
+        """
+    def to_dict(self) -> dict:
+        """
+        {field: value}, as a world file writes them.
+        """
+    @property
+    def heading_time(self) -> float:
+        """
+        seconds: the turn rate is the heading error over this, within the limit (float)
+        """
+    @heading_time.setter
+    def heading_time(self, arg1: float) -> None:
+        ...
+    @property
+    def horizon(self) -> float:
+        """
+        seconds: the velocity keeps the robot clear of its neighbours this long (float)
+        """
+    @horizon.setter
+    def horizon(self, arg1: float) -> None:
+        ...
+    @property
+    def margin(self) -> float:
+        """
+        metres added to the robot's radius (a differential drive follows a velocity late) (float)
+        """
+    @margin.setter
+    def margin(self, arg1: float) -> None:
+        ...
+    @property
+    def step(self) -> float:
+        """
+        seconds within which robots that already overlap part (float)
+        """
+    @step.setter
+    def step(self, arg1: float) -> None:
+        ...
+    @property
+    def wall_lookahead(self) -> float:
+        """
+        seconds of driving at the new speed checked clear on the robot's map (float)
+        """
+    @wall_lookahead.setter
+    def wall_lookahead(self, arg1: float) -> None:
+        ...
+class NeighbourSettings:
+    """
+    What a robot's laser sees of its neighbours: pieces of a scan, tracked.
+    
+    Fields (defaults from the C++ struct):
+      jump = 0.25: metres between consecutive returns of one piece, and in front of its sides
+      max_width = 0.9: metres: wider pieces are walls
+      min_radius = 0.1: metres
+      max_radius = 0.4: metres
+      gate = 0.4: metres a piece may be from the track it continues
+      smoothing = 0.5: weight of the newest displacement in a track's velocity
+      forget = 0.5: seconds a track lives unseen
+    """
+    __hash__: typing.ClassVar[None] = None
+    @staticmethod
+    def fields() -> list[tuple[str, str, typing.Any, str]]:
+        """
+        [(name, type, default, meaning)] of every field, in order.
+        """
+    def __copy__(self) -> NeighbourSettings:
+        ...
+    def __deepcopy__(self, memo: typing.Any) -> NeighbourSettings:
+        ...
+    def __eq__(self, arg0: typing.Any) -> bool:
+        ...
+    def __getstate__(self) -> dict:
+        ...
+    def __init__(self, *, jump: float = 0.25, max_width: float = 0.9, min_radius: float = 0.1, max_radius: float = 0.4, gate: float = 0.4, smoothing: float = 0.5, forget: float = 0.5) -> None:
+        """
+        The settings, each keyword replacing its default.
+        """
+    def __ne__(self, arg0: typing.Any) -> bool:
+        ...
+    def __repr__(self) -> str:
+        ...
+    def __setstate__(self, arg0: dict) -> None:
+        ...
+    def check(self, owner: str) -> None:
+        """
+        Raise vwg.SchemaError naming `owner.field` for a value out of range (what the C++ side would refuse).
+        """
+    def replace(self, **kwargs) -> NeighbourSettings:
+        """
+        A copy with these fields changed: spec.replace(beams=180).
+        """
+    def to_dict(self) -> dict:
+        """
+        {field: value}, as a world file writes them.
+        """
+    @property
+    def forget(self) -> float:
+        """
+        seconds a track lives unseen (float)
+        """
+    @forget.setter
+    def forget(self, arg1: float) -> None:
+        ...
+    @property
+    def gate(self) -> float:
+        """
+        metres a piece may be from the track it continues (float)
+        """
+    @gate.setter
+    def gate(self, arg1: float) -> None:
+        ...
+    @property
+    def jump(self) -> float:
+        """
+        metres between consecutive returns of one piece, and in front of its sides (float)
+        """
+    @jump.setter
+    def jump(self, arg1: float) -> None:
+        ...
+    @property
+    def max_radius(self) -> float:
+        """
+        metres (float)
+        """
+    @max_radius.setter
+    def max_radius(self, arg1: float) -> None:
+        ...
+    @property
+    def max_width(self) -> float:
+        """
+        metres: wider pieces are walls (float)
+        """
+    @max_width.setter
+    def max_width(self, arg1: float) -> None:
+        ...
+    @property
+    def min_radius(self) -> float:
+        """
+        metres (float)
+        """
+    @min_radius.setter
+    def min_radius(self, arg1: float) -> None:
+        ...
+    @property
+    def smoothing(self) -> float:
+        """
+        weight of the newest displacement in a track's velocity (float)
+        """
+    @smoothing.setter
+    def smoothing(self, arg1: float) -> None:
         ...
 class OverviewView:
     """
@@ -3259,11 +3451,29 @@ class LocalizationGenerator(Generator):
     @property
     def robot(self) -> int:
         ...
-def add_arobot(alphabet: Alphabet, decider: Decider, grid: OccupancyGrid, rooms: dict, radius: typing.SupportsFloat | typing.SupportsIndex = 0.18, margin: typing.SupportsFloat | typing.SupportsIndex = 0.07, goal_tolerance: typing.SupportsFloat | typing.SupportsIndex = 0.25, step_length: typing.SupportsFloat | typing.SupportsIndex = 1.0, carve: bool = True, name: str = 'ARobot') -> None:
+class NeighbourGenerator(Generator):
+    """
+    gNeighbours for one robot: each frame eNeighbour<to=robot, x, y, vx, vy, radius> for each robot or person its
+    laser's scans show (compact pieces in front of what is behind them, tracked from scan to scan), in the robot's
+    own frame (x ahead, y to the left), moved on to the frame's time (vwg/robot/avoidance.hpp).
+    """
+    def __init__(self, platform: RobotPlatform, laser: LaserGenerator, settings: NeighbourSettings, alphabet: Alphabet, event: str = 'eNeighbour') -> None:
+        ...
+    @property
+    def neighbours(self) -> list:
+        """
+        The tracks, in the odometry's world frame: [{id, x, y, vx, vy, radius, seen}].
+        """
+    @property
+    def robot(self) -> int:
+        ...
+def add_arobot(alphabet: Alphabet, decider: Decider, grid: OccupancyGrid, rooms: dict, radius: typing.SupportsFloat | typing.SupportsIndex = 0.18, margin: typing.SupportsFloat | typing.SupportsIndex = 0.07, goal_tolerance: typing.SupportsFloat | typing.SupportsIndex = 0.25, step_length: typing.SupportsFloat | typing.SupportsIndex = 1.0, carve: bool = True, name: str = 'ARobot', robots: collections.abc.Sequence[RobotSettings] = [], avoidance: AvoidanceSettings = ...) -> None:
     """
     Register the actor type ARobot (paper eq. 11) with its decider. `grid` gives the map geometry,
-    `rooms` the known rooms as {marker id: (x, y) goal}. The alphabet must already have the symbols
-    Robot, Move, Rotate and the events of arobot_event_types().
+    `rooms` the known rooms as {marker id: (x, y) goal}; `robots` the world's robots (avoiding robots keep to the
+    slowest one's limits) and `avoidance` the settings of those that avoid (attribute ``avoid``). The alphabet must
+    already have the symbols Robot, Move, Rotate (and Velocity, for robots that avoid) and the events of
+    arobot_event_types().
     """
 def apriltag_families() -> list[str]:
     """
@@ -3463,6 +3673,12 @@ def set_log_sink(sink: typing.Any) -> None:
 def set_python_budget(seconds: typing.SupportsFloat | typing.SupportsIndex) -> None:
     """
     The time one call of a Python part (an actor's λ or θ, a generator, a backend, a decider) may take before a warning names it and its time (logger `vwg`); 0 turns the reports off; default 1 s. Only reported: the frames never depend on a clock.
+    """
+def steer(pose: tuple[typing.SupportsFloat | typing.SupportsIndex, typing.SupportsFloat | typing.SupportsIndex, typing.SupportsFloat | typing.SupportsIndex], speed: typing.SupportsFloat | typing.SupportsIndex, radius: typing.SupportsFloat | typing.SupportsIndex, robot: RobotSettings, preferred_heading: typing.SupportsFloat | typing.SupportsIndex, preferred_speed: typing.SupportsFloat | typing.SupportsIndex, neighbours: collections.abc.Sequence[tuple[typing.SupportsFloat | typing.SupportsIndex, typing.SupportsFloat | typing.SupportsIndex, typing.SupportsFloat | typing.SupportsIndex, typing.SupportsFloat | typing.SupportsIndex, typing.SupportsFloat | typing.SupportsIndex]], settings: AvoidanceSettings) -> tuple[float, float]:
+    """
+    (speed, turn_rate) of an avoiding robot at `pose` driving at `speed`, of `radius` and `robot`'s limits,
+    that would go `preferred_speed` toward `preferred_heading`, with neighbours (x, y, vx, vy, radius) in the world
+    frame, each avoiding too.
     """
 def struct_defaults() -> dict:
     """

@@ -49,7 +49,7 @@ from vwg.launch import (
     strict_json,
 )
 from vwg.plugins import GROUPS, backends, deciders, platforms, world_kinds
-from vwg.robot.world_file import load_robot_world
+from vwg.robot.world_file import AVOIDANCES, Avoidance, load_robot_world
 from vwg.saved_run import keep_snapshots, nearest_snapshot, read_state_file, resume
 
 __all__ = ["EXIT_CODES", "EXIT_UNREACHED", "main", "strict_json"]
@@ -91,7 +91,7 @@ def _options(args: argparse.Namespace) -> Any:
                       threads=args.threads, backend=args.backend, record=args.record, record_key=args.record_key,
                       summary_json=args.summary_json,
                       progress=args.progress, platform=args.platform, platform_options=_platform_options(args),
-                      planner=args.planner, goals=args.goal,
+                      planner=args.planner, avoidance=args.avoidance, goals=args.goal,
                       no_world_orders=args.no_world_orders, stdin_orders=args.stdin_orders, video=args.video,
                       images=args.images, trajectory=args.trajectory, allow_unreached=args.allow_unreached)
 
@@ -417,6 +417,8 @@ def _cmd_serve(args: argparse.Namespace) -> int:
 
         _core.check_dt(args.dt, "--dt")  # the range vwg run and world files take
         world = dataclasses.replace(world, dt=args.dt)
+    if args.avoidance is not None:
+        world = dataclasses.replace(world, avoidance=Avoidance.of(args.avoidance))
     spec = world.platform.given(args.platform, **_platform_options(args))
     live = LiveRun(world, planner=args.planner or world.planner, platform=spec, speed=args.speed, seed=args.seed,
                    threads=args.threads,
@@ -573,6 +575,9 @@ def build_parser() -> argparse.ArgumentParser:
     robot.add_argument("--planner", type=_planner_name,
                        help=f"the decision inside eDecide, a registered decider ({_registered(deciders)}; "
                             "default: the world file's planner:, else astar)")
+    robot.add_argument("--avoidance", choices=AVOIDANCES,
+                       help="how every robot passes the others: none, or orca (reciprocal avoidance of the robots "
+                            "and people its laser sees; default: the world file's avoidance:, else none)")
     robot.add_argument("--goal", action="append", metavar="[ROBOT:]ROOM", type=_goal,
                        help="send a robot (default the first) to a room at the start; repeatable; replaces "
                             "the world file's orders")
@@ -679,6 +684,8 @@ def build_parser() -> argparse.ArgumentParser:
     srv.add_argument("--planner", type=_planner_name,
                      help=f"the decision inside eDecide, a registered decider ({_registered(deciders)}; default: the "
                           "world file's planner:, else astar)")
+    srv.add_argument("--avoidance", choices=AVOIDANCES,
+                     help="how every robot passes the others: none or orca (default: the world file's, else none)")
     srv.add_argument("--platform", help=f"a registered platform ({_registered(platforms)}; default: the file's "
                                          "platform:, else sim)")
     _platform_arguments(srv)

@@ -58,6 +58,7 @@ class RunOptions:
     platform: str | None = None       # a registered platform (vwg plugins), instead of the file's
     platform_options: dict[str, Any] = field(default_factory=dict)  # over the file's (--platform-opt KEY=VALUE)
     planner: str | None = None
+    avoidance: str | None = None      # none or orca, for every robot, instead of the file's avoidance:
     goals: list[str] | None = None    # "ROOM" (the first robot) or "ROBOT:ROOM"; replace the file's orders
     no_world_orders: bool = False
     stdin_orders: bool = False

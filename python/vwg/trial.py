@@ -18,6 +18,8 @@ Parameters (``params``; all optional):
   robots start with the map without them and find them with their sensors (the world changed).
 - ``localization``: ``odometry`` (the world file's default) or ``particles`` (Monte Carlo localization on
   the laser and the known map: vwg.robot.LocalizationSettings).
+- ``avoidance``: ``none`` (the world file's default) or ``orca`` (every robot avoids the robots and people its
+  laser sees: vwg.robot.AvoidanceSettings).
 
 The row: ``world, planner, seed, frames_limit, params`` (the cell), then ``reached`` (every ordered robot
 reached its room), ``frames``, ``path_length_m`` (driven, all robots), ``optimal_m`` (the sum of the
@@ -50,7 +52,7 @@ from vwg.plugins import sensors
 from vwg.robot.case_study import CaseStudy
 from vwg.robot.map_quality import map_quality
 from vwg.robot.shortest import DistanceField, grid_graph
-from vwg.robot.world_file import Localization, load_robot_world
+from vwg.robot.world_file import Avoidance, Localization, load_robot_world
 
 __all__ = ["COLUMNS", "KNOWN_PARAMS", "Trial", "cached_world", "random_task", "replace_robot", "run_trial",
            "shortest_m", "trial_world"]
@@ -70,6 +72,7 @@ KNOWN_PARAMS: dict[str, tuple[tuple[type, ...], str]] = {
     "knows_map": ((bool,), "whether the robots start with the map"),
     "obstacles": ((int,), "boxes added on the first robot's way, not on its map"),
     "localization": ((str,), "where the robots believe they are: odometry or particles"),
+    "avoidance": ((str,), "how the robots pass each other: none or orca"),
 }
 
 FLOAT_PARAMS = ("odometry_noise", "motor_noise")
@@ -123,11 +126,12 @@ def check_params(params: dict[str, Any], where: str) -> None:
     task = params.get("task", "world")
     if task not in ("world", "random"):
         raise SchemaError(f"{where}.task: expected world or random, got {task!r}")
-    if "localization" in params:
-        try:
-            Localization.of(params["localization"])
-        except SchemaError as e:
-            raise SchemaError(f"{where}.{e}") from None
+    for name, kind in (("localization", Localization), ("avoidance", Avoidance)):
+        if name in params:
+            try:
+                kind.of(params[name])
+            except SchemaError as e:
+                raise SchemaError(f"{where}.{e}") from None
     for name in ("robots", "obstacles"):
         if name in params and not 0 <= params[name] <= 100_000:
             raise SchemaError(f"{where}.{name}: expected 0 to 100000, got {params[name]!r}")
@@ -333,7 +337,7 @@ def _run(trial: Trial) -> dict[str, Any]:
     world, goals, known = trial_world(trial)
     case = CaseStudy(world, trial.planner, goals=goals or None, seed=trial.seed, frames=trial.frames,
                      threads=1, knows_map=trial.params.get("knows_map", True), known_map=known,
-                     localization=trial.params.get("localization"))
+                     localization=trial.params.get("localization"), avoidance=trial.params.get("avoidance"))
     error = ""
     try:
         try:

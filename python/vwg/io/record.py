@@ -960,8 +960,8 @@ def read_record(path: str | Path, key: bytes | None = None) -> Record:
 def robot_data(header: dict[str, Any], path: Path) -> dict[str, Any]:
     """What a robot world's record keeps of its run (line 1's ``world``), each field checked:
     robot_world (the world file) and planner (a registered one), and optionally world_orders (default
-    true) and goals (the run's --goal orders, [ROBOT:]ROOM, default none; their rooms are checked
-    against the world by check_goals)."""
+    true), goals (the run's --goal orders, [ROBOT:]ROOM, default none; their rooms are checked
+    against the world by check_goals) and avoidance (the run's --avoidance, none or orca; default the file's)."""
 
     def bad(field: str, message: str) -> WorldFileError:
         return WorldFileError(str(path), f"world.{field}", message, line=1)
@@ -970,7 +970,7 @@ def robot_data(header: dict[str, Any], path: Path) -> dict[str, Any]:
     if not isinstance(data, dict):
         raise WorldFileError(str(path), "world", "a robot world's record keeps its world file and planner here",
                              line=1)
-    data = {"world_orders": True, "goals": [], **data}
+    data = {"world_orders": True, "goals": [], "avoidance": None, **data}
     for key, kind, what in (("robot_world", str, "the world file's path"), ("planner", str, "a planner's name"),
                             ("world_orders", bool, "true or false"), ("goals", list, "a list of [ROBOT:]ROOM")):
         if not isinstance(data.get(key), kind) or (key == "goals" and not all(isinstance(g, str) for g in data[key])):
@@ -980,6 +980,8 @@ def robot_data(header: dict[str, Any], path: Path) -> dict[str, Any]:
     for i, goal in enumerate(data["goals"]):
         if _goal_robot(goal) is None:
             raise bad(f"goals[{i}]", f"expected ROOM or ROBOT:ROOM, got {_clip(goal)}")
+    if data["avoidance"] not in (None, "none", "orca"):
+        raise bad("avoidance", f"expected none or orca (the run's --avoidance), got {_clip(data['avoidance'])}")
     return data
 
 

@@ -11,6 +11,7 @@ CaseStudy, which assembles a run.
 from __future__ import annotations
 
 from vwg._core import (
+    AvoidanceSettings,
     CameraSpec,
     Collision,
     CollisionGenerator,
@@ -23,6 +24,8 @@ from vwg._core import (
     LocalizationSettings,
     MotionBackend,
     MotionFollower,
+    NeighbourGenerator,
+    NeighbourSettings,
     NoiseModel,
     OdometryGenerator,
     OmplDecider,
@@ -39,9 +42,11 @@ from vwg.robot.platforms.real_robot import Fault, RealRobotPlatform
 from vwg.robot.platforms.rosbridge import RosbridgePlatform
 from vwg.robot.platforms.serial_base import SerialPlatform
 from vwg.robot.sensor import Sensor
-from vwg.robot.world_file import Localization, Order, RobotWorld, Room, load_robot_world
+from vwg.robot.world_file import Avoidance, Localization, Order, RobotWorld, Room, load_robot_world
 
 __all__ = [
+    "Avoidance",
+    "AvoidanceSettings",
     "CameraSpec",
     "CaseStudy",
     "Collision",
@@ -57,6 +62,8 @@ __all__ = [
     "LocalizationSettings",
     "MotionBackend",
     "MotionFollower",
+    "NeighbourGenerator",
+    "NeighbourSettings",
     "NoiseModel",
     "OdometryGenerator",
     "OmplDecider",

@@ -40,7 +40,7 @@ from vwg.plugins import deciders, platforms
 from vwg.plugins import sensors as sensor_registry
 from vwg.robot.links.rosbridge_client import LinkError
 from vwg.robot.platforms.sim import MOTION_SYMBOLS, Simulation
-from vwg.robot.world_file import Localization, PlatformSpec, RobotWorld, load_robot_world
+from vwg.robot.world_file import Avoidance, Localization, PlatformSpec, RobotWorld, load_robot_world
 from vwg.saved_run import save_state
 
 __all__ = ["CaseStudy", "Orders", "RobotSummary", "RunSummary", "case_study_world", "make_decider"]
@@ -62,8 +62,10 @@ _DEFAULT_RADIUS: float = _core.RobotSettings().radius
 
 
 def case_study_world(world: RobotWorld, decider: _core.Decider, *,
-                     step_length: float = _core.ARobotConfig().step_length) -> World:
-    """The alphabet of the case study with ARobot deciding by `decider`, for this robot world."""
+                     step_length: float = _core.ARobotConfig().step_length,
+                     avoidance: Avoidance | None = None) -> World:
+    """The alphabet of the case study with ARobot deciding by `decider`, for this robot world (its robots avoiding
+    as `avoidance`, by default the world's, says)."""
     events = {name: {f: spec[1] for f, spec in fields.items()} for name, fields in _core.arobot_event_types().items()}
     # The events of the sensors the robots carry (a plugin's sensor may emit its own kinds).
     for name in sorted({s for r in world.robots for s in r.sensors}):
@@ -73,7 +75,8 @@ def case_study_world(world: RobotWorld, decider: _core.Decider, *,
     rooms = {room.marker: room.goal for room in world.rooms.values()}
     radius = max((r.radius for r in world.robots), default=_DEFAULT_RADIUS)
     _core.add_arobot(alphabet, decider, world.grid, rooms, radius=radius, goal_tolerance=world.goal_tolerance,
-                     step_length=step_length)
+                     step_length=step_length, robots=list(world.robots),
+                     avoidance=(world.avoidance if avoidance is None else avoidance).settings)
     return World(alphabet)
 
 
@@ -198,7 +201,8 @@ class CaseStudy:
                  images: str | Path | None = None, view_width: int = 800, max_symbols: int = 0, threads: int = 0,
                  world_orders: bool | None = None, knows_map: bool = True, known_map: OccupancyGrid | None = None,
                  backends: Iterable[_core.Backend | Callable[[Simulation], _core.Backend]] = (),
-                 platform: str | PlatformSpec | None = None, localization: str | Localization | None = None) -> None:
+                 platform: str | PlatformSpec | None = None, localization: str | Localization | None = None,
+                 avoidance: str | Avoidance | None = None) -> None:
 
         # A world made in Python (or changed with dataclasses.replace) is checked as a world file is: a
         # frame time of 5e-324 s would make an order's frame number (time / dt) overflow.
@@ -213,11 +217,12 @@ class CaseStudy:
                               f"got {known_map.data.shape}")
         self.known_map = world.grid if known_map is None else known_map
         self.localization = world.localization if localization is None else Localization.of(localization)
+        self.avoidance = world.avoidance if avoidance is None else Avoidance.of(avoidance)
         self.seed = world.seed if seed is None else seed
         self.frames = world.frames if frames is None else frames
         self.decider = make_decider(planner)
         self.planner = planner if isinstance(planner, str) else self.decider.name
-        self.vworld = case_study_world(world, self.decider)
+        self.vworld = case_study_world(world, self.decider, avoidance=self.avoidance)
         alphabet = self.vworld.alphabet
         # The platform by name (the world file's, or `platform`): the simulator unless said otherwise.
         spec = world.platform if platform is None else PlatformSpec(platform) if isinstance(platform, str) else platform
@@ -234,7 +239,8 @@ class CaseStudy:
             kinds = None if sensors is None else tuple(sensors)
             sensing = self.sim.make_sensors(alphabet, kinds)  # first: the localization reads the lasers
             #: The generators of the robots' poses (odometry, or localization) and collisions.
-            self.feedback = self.sim.feedback(alphabet, self.localization, self.known_map if knows_map else None)
+            self.feedback = self.sim.feedback(alphabet, self.localization, self.known_map if knows_map else None,
+                                              self.avoidance)
             generators: list[Any] = [*self.feedback, *sensing, self.orders.generator, every_frame("eDecide"),
                                      every_frame("eExecute")]
             # The view draws what θ shows of the robots (their actions, paths and status lines) through π
@@ -276,7 +282,7 @@ class CaseStudy:
             x, y, yaw = robot.start
             row, col = self.world.grid.world_to_cell(x, y)
             parts.append(Sym("ARobot", id=robot.id, grid=grid, row=row, column=col, angle=float(yaw), x=float(x),
-                             y=float(y)))
+                             y=float(y), avoid=self.avoidance.avoids(robot.id)))
         return self.vworld.string(*parts)
 
     def sensed_pose(self, robot: int) -> tuple[float, float, float]:
@@ -449,7 +455,7 @@ class RobotRun:
         self.case = CaseStudy(world, options.planner or world.planner, goals=goals,
                               platform=spec, seed=options.seed, frames=options.frames, video=options.video,
                               images=options.images, max_symbols=options.max_symbols, threads=options.threads,
-                              backends=shown,
+                              backends=shown, avoidance=options.avoidance,
                               world_orders=False if options.no_world_orders else None)
         self.engine = self.case.engine
         # What a record needs to run this again (vwg replay, and --from, which re-runs it live). Not
@@ -458,6 +464,8 @@ class RobotRun:
                                             "planner": self.case.planner,
                                             "world_orders": not (options.no_world_orders or goals),
                                             "goals": list(options.goals or [])}  # vwg replay --from gives them again
+        if options.avoidance is not None:
+            self.record_data["avoidance"] = options.avoidance
         if options.stdin_orders:
             self.case.orders.read_lines(sys.stdin, _stderr)
 
@@ -530,8 +538,8 @@ class RobotKind:
 
     name = "robot"
     shape = "a mapping with map:, rooms: and robots:"
-    options = frozenset({"platform", "platform_options", "planner", "goals", "no_world_orders", "stdin_orders", "video",
-                         "images", "trajectory", "allow_unreached"})
+    options = frozenset({"platform", "platform_options", "planner", "avoidance", "goals", "no_world_orders",
+                         "stdin_orders", "video", "images", "trajectory", "allow_unreached"})
 
     def matches(self, data: dict[str, Any]) -> bool:
         return "map" in data
@@ -552,7 +560,8 @@ class RobotKind:
         data = robot_data(header, record_path)
         loaded = load_robot_world(path or data["robot_world"])
         _check_record_map(header, loaded, record_path)
-        return case_study_world(loaded, make_decider(data["planner"]))
+        avoidance = Avoidance.of(data["avoidance"]) if data["avoidance"] is not None else None
+        return case_study_world(loaded, make_decider(data["planner"]), avoidance=avoidance)
 
     def describe(self, w: RobotWorld) -> tuple[str, list[tuple[str, str]]]:
         g = w.grid
@@ -575,6 +584,9 @@ class RobotKind:
             ("frames", f"{w.frames} (dt {w.dt:g} s, seed {w.seed})"),
             ("platform", w.platform.kind + "".join(f", {k} {v}" for k, v in w.platform.options.items())),
         ]
+        if w.avoidance.kind != "none" or w.avoidance.robots:
+            own = "".join(f", robot {r} {k}" for r, k in w.avoidance.robots)
+            rows.append(("avoidance", f"{w.avoidance.kind}{own} (horizon {w.avoidance.settings.horizon:g} s)"))
         if w.localization.kind != "odometry":
             s = w.localization.settings
             rows.append(("localization", f"{w.localization.kind}: {s.particles} particles a robot, {s.beams} beams "

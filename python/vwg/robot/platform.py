@@ -39,7 +39,7 @@ from vwg.errors import SchemaError
 from vwg.io.video import VideoWriter
 from vwg.io.yamldoc import KIND_NAMES
 from vwg.plugins import sensors as sensor_registry
-from vwg.robot.world_file import Localization, RobotWorld
+from vwg.robot.world_file import Avoidance, Localization, RobotWorld
 
 __all__ = ["Option", "Platform", "world_view"]
 
@@ -158,25 +158,37 @@ class Platform:
         return ranging + others
 
     def feedback(self, alphabet: _core.Alphabet, localization: Localization | None = None,
-                 known_map: _core.OccupancyGrid | None = None) -> list[_core.Generator]:
-        """Each robot's believed pose and its collisions, as events (from the platform). The pose is its
-        odometry, or with ``localization`` of kind ``particles`` the estimate of Monte Carlo localization on
-        its laser's scans against `known_map` (make_sensors first: it reads the lasers made there)."""
+                 known_map: _core.OccupancyGrid | None = None,
+                 avoidance: Avoidance | None = None) -> list[_core.Generator]:
+        """Each robot's believed pose, what it sees of its neighbours, and its collisions, as events (from the
+        platform). The pose is its odometry, or with ``localization`` of kind ``particles`` the estimate of
+        Monte Carlo localization on its laser's scans against `known_map`; the robots that ``avoidance`` has
+        avoid get gNeighbours on their laser's scans (make_sensors first: both read the lasers made there)."""
         collisions = _core.CollisionGenerator(self.platform, alphabet)
+        avoiding = [r for r in self.world.robots if avoidance is not None and avoidance.avoids(r.id)]
+        neighbours = [_core.NeighbourGenerator(self.platform, self._laser(r, "avoidance: orca sees the neighbours "
+                                                                             "in a robot's laser scans"),
+                                               _core.NeighbourSettings(), alphabet) for r in avoiding]
+        # Before the collisions: the lasers, which scan later in the frame, never run beside what reads them.
         if localization is None or localization.kind == "odometry":
-            return [_core.OdometryGenerator(self.platform, alphabet), collisions]
+            return [_core.OdometryGenerator(self.platform, alphabet), *neighbours, collisions]
         if known_map is None:
             raise SchemaError("localization: particles need the map the robots know (knows_map=False gives none)")
-        lasers = {g.robot: g for g in self.made if isinstance(g, _core.LaserGenerator)}
-        for robot in self.world.robots:
-            if robot.id not in lasers:
-                raise SchemaError(f"localization: particles weigh a robot's laser scans, and robot {robot.id} has no "
-                                  f"laser of the simulator's on the platform {self.name} (it carries "
-                                  f"{', '.join(robot.sensors) or 'no sensor'})")
+        why = "localization: particles weigh a robot's laser scans"
+        lasers = {r.id: self._laser(r, why) for r in self.world.robots}
         field = _core.LikelihoodField(known_map, localization.settings, max(g.max_range for g in lasers.values()))
         # One a robot, as the lasers are: the robots' filters run side by side (the same frames on any threads).
         return [*(_core.LocalizationGenerator(self.platform, lasers[r.id], field, localization.settings, alphabet)
-                  for r in self.world.robots), collisions]
+                  for r in self.world.robots), *neighbours, collisions]
+
+    def _laser(self, robot: _core.RobotSettings, why: str) -> _core.LaserGenerator:
+        """Robot `robot`'s laser as made by make_sensors; SchemaError saying `why` it is needed when it has none
+        of the simulator's (a real robot's scans come from Python generators)."""
+        for g in self.made:
+            if isinstance(g, _core.LaserGenerator) and g.robot == robot.id:
+                return g
+        raise SchemaError(f"{why}, and robot {robot.id} has no laser of the simulator's on the platform "
+                          f"{self.name} (it carries {', '.join(robot.sensors) or 'no sensor'})")
 
     def view(self, *, width: int = 800, video: str | os.PathLike[str] | None = None, fps: float | None = None,
              images: str | None = None) -> _core.SimView:

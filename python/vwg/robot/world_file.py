@@ -36,6 +36,10 @@ their sensors, noise, and a timed script of user orders.
     localization: odometry             # [odometry] where the robots believe they are: odometry, or particles
                                        # (Monte Carlo localization on the laser and the known map), or
                                        # {kind: particles, ...the fields of vwg.robot.LocalizationSettings}
+    avoidance: none                    # [none] how robots pass each other: none, or orca (reciprocal avoidance
+                                       # of the robots and people their lasers see), or
+                                       # {kind: orca, ...the fields of vwg.robot.AvoidanceSettings}; a robot
+                                       # entry's own ``avoidance: none|orca`` is that robot's
     platform: sim                      # [sim] where the robots run: a registered platform's name, or
                                        # {kind: NAME, ...its options} (vwg plugins lists them)
     orders:                            # [[]] the user's orders (gObjective), sorted by time when loaded
@@ -87,11 +91,12 @@ from vwg.model.limits import MAX_DT, MAX_FRAMES, MAX_SEED, MAX_TIME, MIN_DT
 from vwg.plugins import deciders, platforms
 from vwg.plugins import sensors as sensor_registry
 
-__all__ = ["LOCALIZATIONS", "Localization", "Order", "PlatformSpec", "RobotWorld", "Room", "load_robot_world"]
+__all__ = ["AVOIDANCES", "LOCALIZATIONS", "Avoidance", "Localization", "Order", "PlatformSpec", "RobotWorld", "Room",
+           "load_robot_world"]
 
 MAX_MARKER = 586  # tag36h11 has 587 codes
 _TOP_KEYS = ("name", "description", "map", "wall_height", "rooms", "robots", "sensors", "noise", "frames", "dt", "seed",
-             "orders", "platform", "planner", "goal_tolerance", "localization")
+             "orders", "platform", "planner", "goal_tolerance", "localization", "avoidance")
 #: Sensor sections older files give at the top, read as ``sensors.NAME``.
 _LEGACY_SENSOR_KEYS = ("laser", "kinect", "camera")
 _ROOM_KEYS = ("marker", "at", "facing", "size", "height", "goal")
@@ -165,6 +170,35 @@ class Localization:
         return Localization(value)
 
 
+#: How a robot moves among others: straight along its decider's steps (the paper's robot), or with optimal
+#: reciprocal collision avoidance on what its laser sees of the robots and people around it (ORCA).
+AVOIDANCES = ("none", "orca")
+
+
+@dataclass(frozen=True)
+class Avoidance:
+    """Which robots avoid their neighbours: ``kind`` one of AVOIDANCES for every robot, ``robots`` the kind of
+    those whose own entry says otherwise (by id), and ORCA's settings (vwg.robot.AvoidanceSettings)."""
+
+    kind: str = "none"
+    settings: Any = field(default_factory=_core.AvoidanceSettings)
+    robots: tuple[tuple[int, str], ...] = ()
+
+    @staticmethod
+    def of(value: str | Avoidance) -> Avoidance:
+        """A kind by name (``--avoidance``, a sweep's parameter) for every robot, with the default settings;
+        SchemaError naming the known kinds otherwise."""
+        if isinstance(value, Avoidance):
+            return value
+        if value not in AVOIDANCES:
+            raise SchemaError(f"avoidance: expected one of {', '.join(AVOIDANCES)}, got {value!r}")
+        return Avoidance(value)
+
+    def avoids(self, robot: int) -> bool:
+        """Whether robot `robot` avoids: its own entry's kind, or the world's."""
+        return dict(self.robots).get(robot, self.kind) == "orca"
+
+
 @dataclass(eq=False)
 class RobotWorld:
     """A loaded robot world file."""
@@ -188,6 +222,7 @@ class RobotWorld:
     platform: PlatformSpec = field(default_factory=PlatformSpec)
     planner: str = "astar"  # the decider a run takes unless told another (--planner)
     localization: Localization = field(default_factory=Localization)
+    avoidance: Avoidance = field(default_factory=Avoidance)
     data: dict[str, Any] = field(default_factory=dict)  # the YAML as read
 
     def sensor_settings(self, name: str) -> Any:
@@ -335,7 +370,7 @@ def _robots(doc: YamlDoc, grid: OccupancyGrid) -> list[RobotSettings]:
             raise doc.error(path, f"expected a mapping with id and start, got {entry!r}")
         doc.get((*path, "id"))  # required: "missing" names the robot's line
         doc.get((*path, "start"))
-        robot = _settings(doc, path, RobotSettings())
+        robot = _settings(doc, path, RobotSettings(), skip=("avoidance",))
         if robot.id in seen:
             raise doc.error((*path, "id"), f"robot id {robot.id} is already used by robots[{seen[robot.id]}]")
         seen[robot.id] = i
@@ -507,6 +542,29 @@ def _platform(doc: YamlDoc) -> PlatformSpec:
     return PlatformSpec(kind, options)
 
 
+def _avoidance(doc: YamlDoc, robots: list[RobotSettings]) -> Avoidance:
+    """``avoidance: KIND`` or ``{kind: KIND, ...settings}`` for all robots, and ``robots[i].avoidance: KIND`` for
+    one; the settings checked by the C++ struct."""
+    entry = doc.get(("avoidance",), (str, dict), default="none")
+    kind = entry if isinstance(entry, str) else doc.get(("avoidance", "kind"), str, default="orca")
+    try:
+        chosen = Avoidance.of(kind)
+    except SchemaError as e:
+        where = ("avoidance",) if isinstance(entry, str) else ("avoidance", "kind")
+        raise doc.error(where, str(e).removeprefix("avoidance: ")) from None
+    settings = (_settings(doc, ("avoidance",), chosen.settings, skip=("kind",)) if isinstance(entry, dict)
+                else chosen.settings)
+    own: list[tuple[int, str]] = []
+    for i, robot in enumerate(robots):
+        mine = doc.get(("robots", i, "avoidance"), str, default=None)
+        if mine is None:
+            continue
+        if mine not in AVOIDANCES:
+            raise doc.error(("robots", i, "avoidance"), f"expected one of {', '.join(AVOIDANCES)}, got {mine!r}")
+        own.append((robot.id, mine))
+    return Avoidance(chosen.kind, settings, tuple(own))
+
+
 def _localization(doc: YamlDoc) -> Localization:
     """``localization: KIND`` or ``{kind: KIND, ...settings}``, the settings checked by the C++ struct."""
     entry = doc.get(("localization",), (str, dict), default="odometry")
@@ -557,8 +615,9 @@ def load_robot_world(path: str | Path) -> RobotWorld:
     tolerance = float(doc.number(("goal_tolerance",), _core.ARobotConfig().goal_tolerance, minimum=0.0,
                                  exclusive_minimum=True))
     localization = _localization(doc)
+    avoidance = _avoidance(doc, robots)
     return RobotWorld(path=path, platform=platform, planner=planner, goal_tolerance=tolerance, name=name,
-                      localization=localization,
+                      localization=localization, avoidance=avoidance,
                       description=description, map_path=map_path, grid=grid,
                       wall_height=wall_height, rooms=rooms, robots=robots, sensors=sensors,
                       noise=noise, frames=frames, dt=dt, seed=seed, orders=orders, data=doc.data)

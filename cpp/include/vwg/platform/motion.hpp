@@ -1,6 +1,7 @@
 // The motion vocabulary of the case study (paper Table I) on any platform: the transformations
 // Move<d> and Rotate<a> around a Robot<id> primitive are a motion command, Rotate<a>(Move<d>(Robot<1>))
-// turning robot 1 by a, then driving d. MotionBackend is the geometric system G of the robots: φ
+// turning robot 1 by a, then driving d; Velocity<v, w>(Robot<1>) holds speed v and turn rate w until
+// the next command (a local planner's velocity, given every frame). MotionBackend is the geometric system G of the robots: φ
 // sends the commands to the platform, and the end of the frame lets the frame's dt pass on it.
 #pragma once
 
@@ -19,6 +20,7 @@ struct MotionSymbols {
   std::string robot = "Robot";    ///< primitive; its first parameter is the robot id
   std::string move = "Move";      ///< transformation; its first parameter is a distance (m)
   std::string rotate = "Rotate";  ///< transformation; its first parameter is an angle (rad)
+  std::string velocity = "Velocity";  ///< transformation; its parameters are a speed (m/s) and a turn rate (rad/s)
 };
 
 /// Turns α/β/δ calls into motion commands: the transformations around a Robot primitive, from the

@@ -28,8 +28,9 @@ class MotionFollower {
   explicit MotionFollower(RobotLimits limits, double tolerance = kDefaultTolerance);
   static constexpr double kDefaultTolerance = 0.01;  ///< m or rad
 
-  /// Replace the plan (the latest command wins; an empty one brings the robot to rest). Throws
-  /// vwg::SchemaError for a non-finite amount.
+  /// Replace the plan (the latest command wins; an empty one brings the robot to rest). A Steer step holds its
+  /// velocity, clamped to the limits, from when it is reached until the next command. Throws vwg::SchemaError
+  /// for a non-finite amount or rate.
   void command(const std::vector<MotionStep>& steps);
   /// The velocity to hold for the next `dt` seconds, the robot being at `pose` now.
   Velocity tick(const geometry::Pose2& pose, double dt);
@@ -43,8 +44,8 @@ class MotionFollower {
   void halt() { velocity_ = {}; lands_ = false; }
 
   bool busy() const { return active_ || !plan_.empty(); }
-  /// The step under way is a drive (false when idle or turning).
-  bool driving() const { return active_ && current_.kind == MotionStep::Drive; }
+  /// The step under way is a drive, or a held speed is not zero (false when idle or turning).
+  bool driving() const { return active_ ? current_.kind == MotionStep::Drive : hold_.speed != 0.0; }
   Velocity velocity() const { return velocity_; }
   const RobotLimits& limits() const { return limits_; }
 
@@ -60,6 +61,7 @@ class MotionFollower {
   double turned_ = 0.0;       // the current turn's progress, unwrapped (a turn may pass ±π)
   double last_theta_ = 0.0;
   bool lands_ = false;  // the last tick's velocity reaches the step's end within its dt
+  Velocity hold_{};     // what a Steer step asked for: approached when no step is under way (else rest)
   Velocity velocity_{};
 };
 

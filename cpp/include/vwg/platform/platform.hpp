@@ -64,10 +64,13 @@ inline constexpr double kMaxAngle = 1e3;
 /// bound, or a sensor named twice or empty.
 void check_settings(const RobotSettings& robot, const std::string& owner);
 
-/// One step of a motion command, in the robot's own frame.
+/// One step of a motion command, in the robot's own frame: turn by an angle, drive a distance, or steer (hold a
+/// speed and a turn rate, reached within the acceleration limits, until the next command: a local planner's
+/// velocity, such as reciprocal avoidance's, given every frame).
 struct MotionStep {
-  enum Kind : std::uint8_t { Turn, Drive } kind;
-  double amount;  ///< radians (counter-clockwise) or metres (forward; negative backwards)
+  enum Kind : std::uint8_t { Turn, Drive, Steer } kind;
+  double amount;      ///< radians (counter-clockwise), metres (forward; negative backwards), or m/s for Steer
+  double rate = 0.0;  ///< Steer: rad/s, counter-clockwise
 };
 
 /// What a platform knows of one robot after its last step.

@@ -15,7 +15,11 @@
 //   λ(eObjective<marker>)    sets the objective
 //   λ(eOdometry<x, y, angle, busy, commands>)  updates the pose belief and what the motors did
 //   λ(eDecide)               when the last command is done: the Decider's next motion (turn a,
-//                            move d); the belief moves on
+//                            move d); the belief moves on. A robot with `avoid` set decides every
+//                            frame: the Decider's next step as a preferred velocity, made safe for
+//                            the neighbours of the frame by ORCA (vwg/robot/avoidance.hpp), shown as
+//                            Velocity<speed, turn_rate>(Robot<id>)
+//   λ(eNeighbour<x, y, vx, vy, radius>)  the robots and people its laser sees this frame (its frame)
 //   θ(eExecute)              Rotate<a>(Move<d>(Robot<id>)) (or Robot<id>, drawn and not moved),
 //                            with Path<id, points> and Status<id, text> when the alphabet has them
 #pragma once
@@ -32,6 +36,7 @@
 
 #include "vwg/actor.hpp"
 #include "vwg/alphabet.hpp"
+#include "vwg/robot/avoidance.hpp"
 #include "vwg/robot/decider.hpp"
 #include "vwg/robot/robot_map.hpp"
 
@@ -49,6 +54,10 @@ struct ARobotConfig {
   std::map<int, std::pair<double, double>> rooms;
   bool carve_free_space = true;  ///< clear reported obstacles along laser beams
   int retry_frames = 10;         ///< after finding no way (another robot in it?), decisions to skip before trying again
+  /// Avoiding robots (attribute `avoid`): the speed and turn limits ORCA keeps to (the slowest robot's), and
+  /// its settings.
+  platform::RobotLimits limits;
+  AvoidanceSettings avoidance;
 };
 
 /// The settings among ARobotConfig's fields (vwg._core.ARobotConfig through the settings binder:
@@ -72,7 +81,7 @@ void check_settings(const ARobotConfig& config, const std::string& owner);
 /// The attribute schema of ARobot (register the actor type with it).
 Schema arobot_attributes();
 /// The event types ARobot responds to, in the paper's order (eLaser, eCamera, eDecide, eExecute,
-/// eObjective) and then eOdometry, eCollision.
+/// eObjective) and then eOdometry, eCollision, eNeighbour.
 std::vector<std::string> arobot_events();
 /// The events' fields, as the alphabet must declare them.
 std::vector<std::pair<std::string, Schema>> arobot_event_types();
@@ -80,7 +89,7 @@ std::vector<std::pair<std::string, Schema>> arobot_event_types();
 /// Attribute indices of ARobot (the order of arobot_attributes()).
 enum ARobotAttr : std::size_t {
   kId, kGrid, kRow, kColumn, kAngle, kObjective, kActing, kTurn, kMove, kX, kY, kPath, kSent, kAcked, kBusy, kReached, kReplans,
-  kCollisions, kStatus, kWait
+  kCollisions, kStatus, kWait, kAvoid, kNeighbours, kSensed, kSpeed, kTurnRate
 };
 
 class ARobot final : public ActorBehavior {
@@ -107,6 +116,12 @@ class ARobot final : public ActorBehavior {
 
  private:
   void decide(ActorState& self, const EvolutionContext& ctx);
+  /// decide() for a robot that avoids: every frame, the velocity of steer().
+  void decide_avoiding(ActorState& self, const EvolutionContext& ctx);
+  /// The velocity of steer() toward `heading` at `speed` (0: stay, giving way to neighbours), shown.
+  void avoid(ActorState& self, const EvolutionContext& ctx, double heading, double speed);
+  /// Show Velocity<speed, turn_rate> from the next frame (stopping: zeros).
+  void set_velocity(ActorState& self, double speed, double turn_rate);
   /// Where beam eLaser<dist, angle> stopped, and the point whose cell it marks (eq. 12); cos_a
   /// and sin_a are of the beam's direction in the world (its angle plus the robot's heading), from
   /// vwg's own sine and cosine (geometry::beam_directions: the same bits on every machine, for one
@@ -142,11 +157,12 @@ class ARobot final : public ActorBehavior {
   std::unordered_map<std::int64_t, ObstacleBits> bits_;  // node-based: entries stay where they are
   std::uint64_t serial_;  // this ARobot among all made in the process (bits_of's per-thread cache)
   struct Events {
-    EventTypeId laser, camera, decide, execute, objective, odometry, collision;
+    EventTypeId laser, camera, decide, execute, objective, odometry, collision, neighbour;
   } ev_{};
   struct Symbols {
     SymbolId robot, move, rotate;
     std::optional<SymbolId> path, status;  // shown with the action when the alphabet has them
+    std::optional<SymbolId> velocity;      // an avoiding robot's action
   } sym_{};
 };
 

@@ -241,7 +241,7 @@ class RealRobotPlatform(_core.RobotPlatform):
         if self._control_thread.ident is None and not self._stop_control.is_set() and not self.lockstep:
             self._control_thread.start()
 
-    def command(self, robot: int, steps: list[tuple[str, float]]) -> None:
+    def command(self, robot: int, steps: list[tuple[str, float] | tuple[str, float, float]]) -> None:
         self._ensure_control()
         with self._lock:
             r = self._robots[robot]

@@ -72,10 +72,12 @@ SIM_EVENTS: dict[str, dict[str, Any]] = {
 }
 
 #: The primitives and transformations of the case study (paper Table I), and what a view shows of a
-#: robot beside its action: its planned path (N×2 points) and its status line.
+#: robot beside its action: its planned path (N×2 points) and its status line. Velocity<speed, turn_rate> is
+#: the action of a robot that avoids (held by the platform until the next frame's).
 MOTION_SYMBOLS: dict[str, dict[str, dict[str, Any]]] = {
     "primitives": {"Robot": {"id": 0}, "Path": {"robot": 0, "points": _core.Blob}, "Status": {"robot": 0, "text": ""}},
-    "transformations": {"Move": {"dist": 0.0}, "Rotate": {"angle": 0.0}},
+    "transformations": {"Move": {"dist": 0.0}, "Rotate": {"angle": 0.0},
+                        "Velocity": {"speed": 0.0, "turn_rate": 0.0}},
 }
 
 
