@@ -69,7 +69,7 @@ def test_one_section_per_test_in_order_with_its_pictures(report):
     places = [text.index(h) for h in HEADINGS]
     assert places == sorted(places)
     for name in ("evolution_path_ratio", "evolution_frames", "devices_map", "simulation_odometry_noise",
-                 "extensibility_rate", "environment_success"):
+                 "extensibility_rate", "extensibility_collisions", "environment_success"):
         assert f"]({name}.png)" in text
         png = (out / f"{name}.png").read_bytes()
         assert png[:8] == b"\x89PNG\r\n\x1a\n" and len(png) > 5000
@@ -151,12 +151,14 @@ def test_the_extensibility_and_environment_tables_hold_the_sweeps_numbers(report
     out, text = report
     _, rows = tables_of(text)["extensibility"]
     cells = sweep_rows(out, "extensibility")
-    assert [int(r[0]) for r in rows] == [1, 2]
+    assert [(int(r[0]), r[1]) for r in rows] == [(1, "none"), (1, "orca"), (2, "none"), (2, "orca")]
     for row in rows:
-        mine = [c for c in cells if json.loads(c["params"])["robots"] == int(row[0])]
-        assert all(int(c["robots"]) == int(row[0]) for c in mine)
+        mine = [c for c in cells if json.loads(c["params"])["robots"] == int(row[0])
+                and json.loads(c["params"])["avoidance"] == row[1]]
+        assert len(mine) == int(row[2]) and all(int(c["robots"]) == int(row[0]) for c in mine)
         rate = statistics.median(int(c["frames"]) / float(c["run_s"]) for c in mine)
-        assert row[5] == printed(rate, 0)
+        assert row[6] == printed(rate, 0)
+        assert row[5] == printed(statistics.fmean(int(c["collisions"]) for c in mine), 1)
     _, rows = tables_of(text)["environment"]
     cells = sweep_rows(out, "environment")
     assert [(r[0], r[1]) for r in rows] == [("office", "0"), ("office", "1"), ("maze", "0"), ("maze", "1")]

@@ -62,7 +62,7 @@ def _config(name: str, maps: list[str], planners: list[str], seeds: int, frames:
                           {**random, "knows_map": [False], "sensors": SENSOR_SETS}),
         simulation=sim,
         extensibility=SweepSpec(["warehouse"], ["astar"], list(range(max(2, seeds // 2))), frames,
-                                {**random, "robots": robots}),
+                                {**random, "robots": robots, "avoidance": ["none", "orca"]}),
         environment=SweepSpec(ALL_MAPS, ["astar"], list(range(max(2, seeds // 2))), frames + 1500,
                               {**random, "obstacles": boxes}),
     )
@@ -82,7 +82,8 @@ CONFIGS: dict[str, Config] = {
         devices=SweepSpec(["office"], ["astar"], [1], 400, {"task": ["random"], "knows_map": [False],
                                                             "sensors": [["laser"], ["kinect"]]}),
         simulation=SimulationConfig([1], 200, [0.0, 0.05], [1], 150),
-        extensibility=SweepSpec(["office"], ["astar"], [0], 200, {"task": ["random"], "robots": [1, 2]}),
+        extensibility=SweepSpec(["office"], ["astar"], [0], 200, {"task": ["random"], "robots": [1, 2],
+                                                                  "avoidance": ["none", "orca"]}),
         environment=SweepSpec(["office", "maze"], ["astar"], [1], 600, {"task": ["random"], "obstacles": [0, 1]}),
     ),
 }

@@ -15,9 +15,13 @@ __all__ = ["section"]
 METHOD = """
 The same world with 1 to N robots: the initial string gets one more ARobot symbol per robot, and
 nothing else changes. Each robot starts at a free place drawn from the seed and is sent to a room
-drawn from the seed. **success**: every robot of the run reached its room; **robots reached**: the
-share of robots that did; **collisions** per run (robots meet in doors and corridors); **frames/s** and
-**robot-steps/s**: the run's frames over the time the frames took, on one thread.
+drawn from the seed (several robots may share a room). Every size runs twice: the robots as the paper has
+them (**avoidance none**: each drives its decider's steps, and avoids others only once they are on its map),
+and with **avoidance orca** (reciprocal collision avoidance on what each robot's laser sees of the others,
+`avoidance: orca`; a robot that has arrived stays but gives way). **success**: every robot of the run reached
+its room; **robots reached**: the share of robots that did; **collisions** per run (contacts between bodies,
+robots or walls); **frames/s** and **robot-steps/s**: the run's frames over the time the frames took, on one
+thread.
 """
 
 
@@ -25,23 +29,40 @@ def _robots(row: dict[str, Any]) -> int:
     return int(json.loads(row["params"])["robots"])
 
 
+def _avoidance(row: dict[str, Any]) -> str:
+    return str(json.loads(row["params"]).get("avoidance", "none"))
+
+
 def section(rows: list[dict[str, Any]], folder: Path) -> Section:
     out = Section(4, "Test of the system extensibility", METHOD)
-    table = Table("extensibility", "From one robot to many",
-                  ["robots", "runs", "success", "robots reached", "collisions per run (mean)", "frames/s (median)",
-                   "robot-steps/s (median)"])
-    xs, fps, steps = [], [], []
-    for n, runs in sorted(group(rows, _robots).items()):
+    table = Table("extensibility", "From one robot to many, without and with reciprocal avoidance",
+                  ["robots", "avoidance", "runs", "success", "robots reached", "collisions per run (mean)",
+                   "frames/s (median)", "robot-steps/s (median)"])
+    rates: dict[str, tuple[list[float], list[float]]] = {}
+    collisions: dict[str, tuple[list[float], list[float]]] = {}
+    for (n, kind), runs in sorted(group(rows, lambda r: (_robots(r), _avoidance(r))).items()):
         rate = median(number(r["frames"]) / number(r["run_s"]) for r in runs)
         reached = sum(number(r["reached_robots"]) for r in runs) / sum(number(r["robots"]) for r in runs)
-        table.add(str(n), str(len(runs)), fmt(share(r["reached"] == "True" for r in runs), 2), fmt(reached, 2),
-                  fmt(mean(number(r["collisions"]) for r in runs), 1), fmt(rate, 0), fmt(rate * n, 0))
-        xs.append(n)
-        fps.append(rate)
-        steps.append(rate * n)
+        hits = mean(number(r["collisions"]) for r in runs)
+        table.add(str(n), kind, str(len(runs)), fmt(share(r["reached"] == "True" for r in runs), 2), fmt(reached, 2),
+                  fmt(hits, 1), fmt(rate, 0), fmt(rate * n, 0))
+        for series, value in ((rates, rate * n), (collisions, hits)):
+            xs, ys = series.setdefault(kind, ([], []))
+            xs.append(n)
+            ys.append(value)
     out.tables.append(table)
-    out.plots.append(plots.lines(folder / "extensibility_rate.png", "Frames and robot-steps per second", "robots",
-                                 "per second (one thread)", {"frames/s": (xs, fps), "robot-steps/s": (xs, steps)},
+    out.plots.append(plots.lines(folder / "extensibility_rate.png", "Robot-steps per second", "robots",
+                                 "robot-steps per second (one thread)",
+                                 {f"avoidance {k}": v for k, v in rates.items()}, logx=True))
+    out.plots.append(plots.lines(folder / "extensibility_collisions.png", "Collisions per run", "robots",
+                                 "collisions per run (mean)", {f"avoidance {k}": v for k, v in collisions.items()},
                                  logx=True))
-    out.findings.append(f"With {xs[-1]} robots the run made {fmt(steps[-1], 0)} robot-steps per second on one thread.")
+    most = max(n for n, _ in group(rows, lambda r: (_robots(r), _avoidance(r))))
+    for kind, (xs, ys) in rates.items():
+        if xs and xs[-1] == most:
+            out.findings.append(f"With {most} robots and avoidance {kind} the run made {fmt(ys[-1], 0)} robot-steps "
+                                f"per second on one thread.")
+    if "none" in collisions and "orca" in collisions and collisions["none"][0][-1] == collisions["orca"][0][-1] == most:
+        out.findings.append(f"With {most} robots: {fmt(collisions['none'][1][-1], 1)} collisions a run without "
+                            f"avoidance, {fmt(collisions['orca'][1][-1], 1)} with ORCA.")
     return out
