@@ -231,7 +231,9 @@ def replace_robot(robot: Any, **changes: Any) -> Any:
 
 
 def random_task(world: Any, n: int, rng: np.random.Generator) -> tuple[Any, dict[int, str]]:
-    """`n` robots at seeded free places SPACING_M apart, each sent to a seeded room it can reach."""
+    """`n` robots at seeded free places SPACING_M apart, each sent to a seeded room it can reach: among those, one
+    that the fewest robots are sent to already (rooms are dealt out evenly, as a dispatcher would; the seed
+    orders the rooms, ties keep its order)."""
     grid = world.grid
     template = world.robots[0]
     radius = template.radius
@@ -239,12 +241,13 @@ def random_task(world: Any, n: int, rng: np.random.Generator) -> tuple[Any, dict
     rooms = list(world.rooms.values())
     robots: list[Any] = []
     goals: dict[int, str] = {}
+    sent = {room.name: 0 for room in rooms}
     for k in rng.permutation(len(free)):
         x, y = grid.cell_to_world(*free[k])
         if any(math.hypot(x - r.start[0], y - r.start[1]) < SPACING_M for r in robots):
             continue
         # A room it can reach and is not in already (drawn in a seeded order).
-        for j in rng.permutation(len(rooms)):
+        for j in sorted(rng.permutation(len(rooms)), key=lambda j: sent[rooms[j].name]):
             room = rooms[j]
             far = math.hypot(room.goal[0] - x, room.goal[1] - y) > 2 * world.goal_tolerance
             if far and math.isfinite(shortest_m(grid, radius, (x, y), room.goal)):
@@ -252,6 +255,7 @@ def random_task(world: Any, n: int, rng: np.random.Generator) -> tuple[Any, dict
                 start = (float(x), float(y), float(rng.uniform(-math.pi, math.pi)))
                 robots.append(replace_robot(template, id=rid, start=start))
                 goals[rid] = room.name
+                sent[room.name] += 1
                 break
         if len(robots) == n:
             break
