@@ -245,3 +245,43 @@ def test_the_filters_give_the_same_frames_on_one_and_two_threads():
             run.run(80)
             strings.append(str(run.engine.string))
     assert strings[0] == strings[1]
+
+
+@pytest.mark.parametrize(("bins", "needed"), [(1, 1), (2, 330), (10, 1085)])
+def test_the_kld_bound_at_hand_computed_counts(bins, needed):
+    # Fox 2003, eq. 12, with ε = 0.01 and z = 2.326, worked out by hand: k = 2 gives 50·(1 − 2/9 + √(2/9)·2.326)³
+    # = 50 · 1.874266³ = 329.2; k = 10 gives 450 · 1.340805³ = 1084.7; one bin needs no more than one particle.
+    assert _core.kld_bound(bins, 0.01, 2.326) == needed
+
+
+def test_kld_sampling_draws_few_particles_where_they_agree_and_many_where_they_spread():
+    settings = SETTINGS.replace(kld=True, particles=2000, min_particles=50)
+    together = _core.ParticleFilter(settings)
+    together.particles = np.tile([1.2, 3.4, 0.1, 1 / 2000], (2000, 1))  # one pose: one histogram bin
+    together.resample(7)
+    assert len(together.particles) == 50  # the least count
+    spread = _core.ParticleFilter(settings)
+    rng = np.random.default_rng(0)
+    spread.particles = np.column_stack([rng.uniform(0, 20, 2000), rng.uniform(0, 20, 2000),
+                                        rng.uniform(-3, 3, 2000), np.full(2000, 1 / 2000)])
+    spread.resample(7)
+    assert len(spread.particles) == 2000  # 1,600 xy bins × 35 heading bins: the bound passes the most
+    assert np.allclose(spread.particles[:, 3], 1 / 2000)
+    with pytest.raises(vwg.SchemaError, match=r"min_particles: expected 1 to particles \(2000\), got 0"):
+        settings.replace(min_particles=0).check("localization")
+    with pytest.raises(vwg.SchemaError, match=r"min_particles: expected 1 to particles \(2000\), got 3000"):
+        settings.replace(min_particles=3000).check("localization")
+    SETTINGS.replace(particles=50).check("localization")  # a fixed count needs no least one
+
+
+def test_with_kld_sampling_the_filter_shrinks_once_it_has_converged():
+    office = vwg.robot.load_robot_world("office")
+    # amcl's bounds (100 to 5,000): the converged filter's particles fill a few dozen bins, which need ~2,000-3,000.
+    settings = _core.LocalizationSettings(kld=True, particles=5000, min_particles=100)
+    world = dataclasses.replace(office, noise=_core.NoiseModel(odometry=0.05),
+                                localization=Localization("particles", settings))
+    with CaseStudy(world, "astar", goals={1: "meeting"}, seed=3, threads=1) as run:
+        summary = run.run(600)
+        (robot1,) = [g for g in run.feedback if isinstance(g, _core.LocalizationGenerator) and g.robot == 1]
+        assert 100 <= len(robot1.particles) < 4000
+    assert summary.pose_error_m is not None and summary.pose_error_m < 0.15

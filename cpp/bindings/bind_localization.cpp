@@ -27,6 +27,8 @@ py::tuple pose_tuple(const geometry::Pose2& p) { return py::make_tuple(p.x, p.y,
 }  // namespace
 
 void init_localization(py::module_& m) {
+  m.def("kld_bound", &robot::kld_bound, py::arg("bins"), py::arg("err"), py::arg("z"),
+        "KLD-sampling's bound (Fox 2003): the particles needed for `bins` occupied histogram bins.");
   py::class_<robot::LikelihoodField, std::shared_ptr<robot::LikelihoodField>>(m, "LikelihoodField", R"doc(
 The likelihood field of a map for a laser of range ``max_range``: ``pz(x, y)`` = z_hit·exp(−d²/(2σ²)) +
 z_rand/max_range, d the distance from the point to the centre of the nearest occupied cell (value >= 50),

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 #include <string>
+#include <unordered_set>
 #include <utility>
 
 #include "geometry/distance_transform.hpp"
@@ -53,6 +54,14 @@ void check_settings(const LocalizationSettings& s, const std::string& owner) {
   if (!(s.z_hit + s.z_rand > 0)) fail("z_hit", "expected z_hit + z_rand > 0");
   if (!(s.resample_below >= 0 && s.resample_below <= 1)) {
     fail("resample_below", "expected a share from 0 to 1, got " + format_real(s.resample_below));
+  }
+  if (s.min_particles < 1 || (s.kld && s.min_particles > s.particles)) {
+    fail("min_particles", "expected 1 to particles (" + std::to_string(s.particles) + "), got " + std::to_string(s.min_particles));
+  }
+  const std::pair<const char*, double> kld_positive[] = {{"kld_err", s.kld_err}, {"kld_z", s.kld_z},
+                                                         {"kld_bin_xy", s.kld_bin_xy}, {"kld_bin_angle", s.kld_bin_angle}};
+  for (const auto& [name, v] : kld_positive) {
+    if (!std::isfinite(v) || v <= 0) fail(name, "expected a finite number > 0, got " + format_real(v));
   }
 }
 
@@ -173,9 +182,18 @@ double ParticleFilter::effective_size() const {
   return sum2 > 0 ? 1.0 / sum2 : 0.0;
 }
 
+int kld_bound(int bins, double err, double z) {
+  if (bins <= 1) return 1;
+  const double k = bins - 1.0, b = 2.0 / (9.0 * k);
+  const double x = 1.0 - b + std::sqrt(b) * z;
+  const double n = std::ceil(k / (2.0 * err) * x * x * x);
+  return n >= 1e9 ? 1000000000 : static_cast<int>(n);
+}
+
 void ParticleFilter::resample(Rng& rng) {
   const std::size_t n = particles_.size();
   if (n == 0) return;
+  if (settings_.kld) return resample_kld(rng);
   std::vector<Particle> drawn;
   drawn.reserve(n);
   const double share = 1.0 / static_cast<double>(n);
@@ -206,9 +224,41 @@ Pose2 ParticleFilter::estimate() const {
 
 void ParticleFilter::save(StateWriter& out) const { out.pods(particles_); }
 
+void ParticleFilter::resample_kld(Rng& rng) {
+  // The cumulative weights, drawn from by bisection: one uniform number a particle, in order.
+  std::vector<double> cumulative(particles_.size());
+  double total = 0.0;
+  for (std::size_t i = 0; i < particles_.size(); ++i) cumulative[i] = total += particles_[i].weight;
+  const auto max = static_cast<std::size_t>(settings_.particles);
+  const auto least = static_cast<std::size_t>(settings_.min_particles);
+  std::vector<Particle> drawn;
+  drawn.reserve(max);
+  std::unordered_set<std::uint64_t> bins;
+  std::size_t needed = least;
+  while (drawn.size() < max && (drawn.size() < least || drawn.size() < needed)) {
+    const double u = rng.uniform() * total;
+    const auto at = static_cast<std::size_t>(std::upper_bound(cumulative.begin(), cumulative.end(), u) - cumulative.begin());
+    const Particle& p = particles_[std::min(at, particles_.size() - 1)];
+    drawn.push_back(p);
+    // A bin is its three indices, 21 bits each (maps of up to a million bins a side).
+    const auto cell = [](double v, double size) {
+      return static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(v / size))) & 0x1FFFFF;
+    };
+    const std::uint64_t bin = cell(p.x, settings_.kld_bin_xy) << 42 | cell(p.y, settings_.kld_bin_xy) << 21 |
+                              cell(wrap_angle(p.theta), settings_.kld_bin_angle);
+    if (bins.insert(bin).second) {
+      needed = static_cast<std::size_t>(kld_bound(static_cast<int>(bins.size()), settings_.kld_err, settings_.kld_z));
+    }
+  }
+  const double share = 1.0 / static_cast<double>(drawn.size());
+  for (Particle& p : drawn) p.weight = share;
+  particles_ = std::move(drawn);
+}
+
 void ParticleFilter::load(StateReader& in) {
   std::vector<Particle> particles = in.pods<Particle>();
-  if (!particles.empty() && particles.size() != static_cast<std::size_t>(settings_.particles)) {
+  const bool kld_count = settings_.kld && particles.size() <= static_cast<std::size_t>(settings_.particles);
+  if (!particles.empty() && !kld_count && particles.size() != static_cast<std::size_t>(settings_.particles)) {
     in.fail("expected " + std::to_string(settings_.particles) + " particles, found " + std::to_string(particles.size()));
   }
   for (const Particle& p : particles) {
@@ -253,7 +303,8 @@ void LocalizationGenerator::generate(const FrameInfo&, EventList& out) {
     if (std::hypot(moved.x, moved.y) >= settings_.update_min_d || std::abs(moved.theta) >= settings_.update_min_a) {
       filter_.predict(odometry_update_, odometry_last_, rng_);
       filter_.weigh(scan_->last_scan(), *field_);
-      if (filter_.effective_size() < settings_.resample_below * settings_.particles) filter_.resample(rng_);
+      const auto count = static_cast<double>(filter_.particles().size());
+      if (filter_.effective_size() < settings_.resample_below * count) filter_.resample(rng_);
       odometry_update_ = odometry_last_;
       estimate_update_ = filter_.estimate();
     }

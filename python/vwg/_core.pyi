@@ -8,7 +8,7 @@ import numpy
 import numpy.typing
 import os
 import typing
-__all__: list[str] = ['ARobotConfig', 'ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'ArrivalCondition', 'AvoidanceSettings', 'Backend', 'BackendGroup', 'Blob', 'CameraGenerator', 'CameraRenderer', 'CameraSpec', 'Collision', 'CollisionGenerator', 'DStarLite', 'Decider', 'DecisionInput', 'DepthCameraSpec', 'Engine', 'EngineOptions', 'EngineState', 'Event', 'EventColumns', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'FrameSink', 'Generator', 'GridDecider', 'GridRaycaster', 'ImageFiles', 'ImageSequence', 'ImageSource', 'KinectGenerator', 'LaserGenerator', 'LaserSpec', 'LikelihoodField', 'LocalizationGenerator', 'LocalizationSettings', 'MAX_DT', 'MIN_DT', 'MotionBackend', 'MotionFollower', 'MovingAiScenario', 'NeighbourGenerator', 'NeighbourSettings', 'Node', 'NoiseModel', 'NullBackend', 'OBSTACLE_THRESHOLD', 'OccupancyGrid', 'OdometryGenerator', 'OmplDecider', 'OmplPlan', 'OmplPlanner', 'OrderGenerator', 'OverviewCamera', 'OverviewView', 'ParticleFilter', 'PhysicsSettings', 'PhysicsWorld', 'PythonActor', 'RandomDecider', 'RangeScanner', 'ReceivedImages', 'RenderStyle', 'RobotPlatform', 'RobotSettings', 'RobotState', 'SimView', 'SimulatedCamera', 'StopCondition', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoSource', 'add_arobot', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'arobot_event_types', 'astar', 'backend_names', 'beam_angles', 'beam_layout', 'build_string', 'check_dt', 'create_backend', 'create_decider', 'create_platform', 'create_sensor', 'decider_names', 'default_threads', 'detect_apriltags', 'display', 'encode_image', 'estimate_tag_pose', 'evolve', 'grid_clearance', 'grid_inflate', 'jps', 'laser_events', 'log_message', 'movingai_grid', 'movingai_scenarios', 'overview_camera', 'plan_ompl', 'platform_names', 'python_budget', 'quantize_pose', 'ranging_sensors', 'read_image', 'render_overview', 'robot_map', 'sensor_names', 'set_log_sink', 'set_python_budget', 'steer', 'struct_defaults', 'visualize', 'walker_behavior', 'write_image']
+__all__: list[str] = ['ARobotConfig', 'ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'ArrivalCondition', 'AvoidanceSettings', 'Backend', 'BackendGroup', 'Blob', 'CameraGenerator', 'CameraRenderer', 'CameraSpec', 'Collision', 'CollisionGenerator', 'DStarLite', 'Decider', 'DecisionInput', 'DepthCameraSpec', 'Engine', 'EngineOptions', 'EngineState', 'Event', 'EventColumns', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'FrameSink', 'Generator', 'GridDecider', 'GridRaycaster', 'ImageFiles', 'ImageSequence', 'ImageSource', 'KinectGenerator', 'LaserGenerator', 'LaserSpec', 'LikelihoodField', 'LocalizationGenerator', 'LocalizationSettings', 'MAX_DT', 'MIN_DT', 'MotionBackend', 'MotionFollower', 'MovingAiScenario', 'NeighbourGenerator', 'NeighbourSettings', 'Node', 'NoiseModel', 'NullBackend', 'OBSTACLE_THRESHOLD', 'OccupancyGrid', 'OdometryGenerator', 'OmplDecider', 'OmplPlan', 'OmplPlanner', 'OrderGenerator', 'OverviewCamera', 'OverviewView', 'ParticleFilter', 'PhysicsSettings', 'PhysicsWorld', 'PythonActor', 'RandomDecider', 'RangeScanner', 'ReceivedImages', 'RenderStyle', 'RobotPlatform', 'RobotSettings', 'RobotState', 'SimView', 'SimulatedCamera', 'StopCondition', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoSource', 'add_arobot', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'arobot_event_types', 'astar', 'backend_names', 'beam_angles', 'beam_layout', 'build_string', 'check_dt', 'create_backend', 'create_decider', 'create_platform', 'create_sensor', 'decider_names', 'default_threads', 'detect_apriltags', 'display', 'encode_image', 'estimate_tag_pose', 'evolve', 'grid_clearance', 'grid_inflate', 'jps', 'kld_bound', 'laser_events', 'log_message', 'movingai_grid', 'movingai_scenarios', 'overview_camera', 'plan_ompl', 'platform_names', 'python_budget', 'quantize_pose', 'ranging_sensors', 'read_image', 'render_overview', 'robot_map', 'sensor_names', 'set_log_sink', 'set_python_budget', 'steer', 'struct_defaults', 'visualize', 'walker_behavior', 'write_image']
 class Blob:
     """
     A large attribute value held by reference from world strings (an occupancy grid, an image, a path).
@@ -1257,6 +1257,12 @@ class LocalizationSettings:
       start_xy = 0.1: metres: the spread of the particles around the start
       start_angle = 0.05: radians: the spread of the particles' headings around the start
       resample_below = 0.5: resample when the effective number of particles falls below this share
+      kld = False: KLD-sampling: draw as many particles as the histogram bins they occupy need (else a fixed count)
+      min_particles = 100: KLD-sampling's least count of particles
+      kld_err = 0.01: KLD-sampling: the KL distance bounded (epsilon)
+      kld_z = 2.326: KLD-sampling: the normal's upper quantile (2.326: probability 0.99)
+      kld_bin_xy = 0.5: KLD-sampling: metres, the histogram's bins in x and y
+      kld_bin_angle = 0.1745: KLD-sampling: radians, the histogram's bins in heading
     """
     __hash__: typing.ClassVar[None] = None
     @staticmethod
@@ -1272,7 +1278,7 @@ class LocalizationSettings:
         ...
     def __getstate__(self) -> dict:
         ...
-    def __init__(self, *, particles: int = 300, beams: int = 60, sigma_hit: float = 0.2, z_hit: float = 0.95, z_rand: float = 0.05, max_dist: float = 2.0, alpha_rot_rot: float = 0.2, alpha_rot_trans: float = 0.2, alpha_trans_trans: float = 0.2, alpha_trans_rot: float = 0.2, update_min_d: float = 0.1, update_min_a: float = 0.2, start_xy: float = 0.1, start_angle: float = 0.05, resample_below: float = 0.5) -> None:
+    def __init__(self, *, particles: int = 300, beams: int = 60, sigma_hit: float = 0.2, z_hit: float = 0.95, z_rand: float = 0.05, max_dist: float = 2.0, alpha_rot_rot: float = 0.2, alpha_rot_trans: float = 0.2, alpha_trans_trans: float = 0.2, alpha_trans_rot: float = 0.2, update_min_d: float = 0.1, update_min_a: float = 0.2, start_xy: float = 0.1, start_angle: float = 0.05, resample_below: float = 0.5, kld: bool = False, min_particles: int = 100, kld_err: float = 0.01, kld_z: float = 2.326, kld_bin_xy: float = 0.5, kld_bin_angle: float = 0.1745) -> None:
         """
         The settings, each keyword replacing its default.
         """
@@ -1335,12 +1341,60 @@ class LocalizationSettings:
     def beams(self, arg1: int) -> None:
         ...
     @property
+    def kld(self) -> bool:
+        """
+        KLD-sampling: draw as many particles as the histogram bins they occupy need (else a fixed count) (bool)
+        """
+    @kld.setter
+    def kld(self, arg1: bool) -> None:
+        ...
+    @property
+    def kld_bin_angle(self) -> float:
+        """
+        KLD-sampling: radians, the histogram's bins in heading (float)
+        """
+    @kld_bin_angle.setter
+    def kld_bin_angle(self, arg1: float) -> None:
+        ...
+    @property
+    def kld_bin_xy(self) -> float:
+        """
+        KLD-sampling: metres, the histogram's bins in x and y (float)
+        """
+    @kld_bin_xy.setter
+    def kld_bin_xy(self, arg1: float) -> None:
+        ...
+    @property
+    def kld_err(self) -> float:
+        """
+        KLD-sampling: the KL distance bounded (epsilon) (float)
+        """
+    @kld_err.setter
+    def kld_err(self, arg1: float) -> None:
+        ...
+    @property
+    def kld_z(self) -> float:
+        """
+        KLD-sampling: the normal's upper quantile (2.326: probability 0.99) (float)
+        """
+    @kld_z.setter
+    def kld_z(self, arg1: float) -> None:
+        ...
+    @property
     def max_dist(self) -> float:
         """
         metres: distances to the nearest obstacle are capped here (float)
         """
     @max_dist.setter
     def max_dist(self, arg1: float) -> None:
+        ...
+    @property
+    def min_particles(self) -> int:
+        """
+        KLD-sampling's least count of particles (int)
+        """
+    @min_particles.setter
+    def min_particles(self, arg1: int) -> None:
         ...
     @property
     def particles(self) -> int:
@@ -3584,6 +3638,10 @@ def jps(blocked: numpy.typing.NDArray[numpy.bool_], start: tuple[int, int], goal
     (straight moves cost 1, diagonal √2), found by expanding only the cells where a shortest path may
     turn: on open maps far fewer than A*. Returns (path, length) like astar, every cell of the path
     listed; (None, inf) when there is none.
+    """
+def kld_bound(bins: typing.SupportsInt | typing.SupportsIndex, err: typing.SupportsFloat | typing.SupportsIndex, z: typing.SupportsFloat | typing.SupportsIndex) -> int:
+    """
+    KLD-sampling's bound (Fox 2003): the particles needed for `bins` occupied histogram bins.
     """
 @typing.overload
 def laser_events(ranges: typing.Any, angle_min: typing.SupportsFloat | typing.SupportsIndex, angle_increment: typing.SupportsFloat | typing.SupportsIndex, range_min: typing.SupportsFloat | typing.SupportsIndex, range_max: typing.SupportsFloat | typing.SupportsIndex) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64]]:

@@ -45,6 +45,15 @@ struct LocalizationSettings {
   double start_xy = 0.1;         ///< metres: the spread of the particles around the start
   double start_angle = 0.05;     ///< radians: the same for the heading
   double resample_below = 0.5;   ///< resample when the effective number of particles falls below this share
+  /// KLD-sampling (Fox 2003): each resampling draws as many particles as bound the error of the estimate
+  /// (KL distance kld_err with probability given by the normal quantile kld_z) over the histogram bins the
+  /// drawn particles occupy, from min_particles up to `particles`. Off: always `particles`.
+  bool kld = false;
+  int min_particles = 100;       ///< KLD-sampling's least count
+  double kld_err = 0.01;         ///< ε: the KL distance bounded
+  double kld_z = 2.326;          ///< z_{1−δ}: the normal's upper quantile for δ = 0.01
+  double kld_bin_xy = 0.5;       ///< metres: the histogram's bins in x and y
+  double kld_bin_angle = 0.1745; ///< radians: its bins in heading (10°)
 };
 
 template <class S, class F>
@@ -65,7 +74,17 @@ void visit_settings(S& s, F&& field) {
   field("start_xy", s.start_xy, "metres: the spread of the particles around the start");
   field("start_angle", s.start_angle, "radians: the spread of the particles' headings around the start");
   field("resample_below", s.resample_below, "resample when the effective number of particles falls below this share");
+  field("kld", s.kld, "KLD-sampling: draw as many particles as the histogram bins they occupy need (else a fixed count)");
+  field("min_particles", s.min_particles, "KLD-sampling's least count of particles");
+  field("kld_err", s.kld_err, "KLD-sampling: the KL distance bounded (epsilon)");
+  field("kld_z", s.kld_z, "KLD-sampling: the normal's upper quantile (2.326: probability 0.99)");
+  field("kld_bin_xy", s.kld_bin_xy, "KLD-sampling: metres, the histogram's bins in x and y");
+  field("kld_bin_angle", s.kld_bin_angle, "KLD-sampling: radians, the histogram's bins in heading");
 }
+
+/// KLD-sampling's bound (Fox 2003, eq. 12): the particles needed for `bins` occupied histogram bins,
+/// ⌈(k − 1)/(2ε) · (1 − 2/(9(k − 1)) + √(2/(9(k − 1)))·z)³⌉; 1 for k ≤ 1.
+int kld_bound(int bins, double err, double z);
 
 /// Throws SchemaError naming `owner.field`: particles from 1 to 100000, beams from 1 to 100000, a sigma,
 /// max_dist or z_hit + z_rand that is not > 0, a negative or non-finite weight, alpha, spread or threshold, a
@@ -105,7 +124,9 @@ class ParticleFilter {
   void weigh(const platform::ScanView& scan, const LikelihoodField& field);
   /// 1 / Σ w² of the normalised weights.
   double effective_size() const;
-  /// Low-variance resampling (Table 4.4): equal weights after.
+  /// Low-variance resampling (Table 4.4): equal weights after. With kld set, KLD-sampling instead: particles
+  /// drawn by weight one at a time until their count reaches kld_bound of the bins they occupy (at least
+  /// min_particles, at most particles).
   void resample(Rng& rng);
   /// The weighted mean position and the weighted circular mean heading.
   geometry::Pose2 estimate() const;
@@ -117,6 +138,8 @@ class ParticleFilter {
   void load(StateReader& in);
 
  private:
+  void resample_kld(Rng& rng);
+
   LocalizationSettings settings_;
   std::vector<Particle> particles_;
 };
