@@ -62,6 +62,17 @@ limits, stepped at the fixed time step of `settings`.)doc")
       .def("drive", &sim::PhysicsWorld::drive, py::arg("robot"), py::arg("speed"), py::arg("turn_rate"),
            "Hold the robot at these velocities (m/s, rad/s) from now on, as a base driven by velocity commands "
            "(a fake robot behind a link); its plan is dropped, and the next command() ends it.")
+      .def("set_person", &sim::PhysicsWorld::set_person, py::arg("id"), py::arg("x"), py::arg("y"), py::arg("vx"),
+           py::arg("vy"), py::arg("radius"),
+           "Put person `id` (a kinematic disc, made at its first call) at (x, y), moving at (vx, vy).")
+      .def_property_readonly("people", [](const sim::PhysicsWorld& w) {
+        py::list out;
+        for (const sim::PhysicsWorld::Person& p : w.people()) {
+          out.append(py::dict(py::arg("id") = p.id, py::arg("x") = p.x, py::arg("y") = p.y, py::arg("vx") = p.vx,
+                              py::arg("vy") = p.vy, py::arg("radius") = p.radius));
+        }
+        return out;
+      }, "The people, in the order they were first set: [{id, x, y, vx, vy, radius}].")
       .def_property_readonly("wall_shapes", &sim::PhysicsWorld::wall_shapes, "Rectangles the walls were merged into.")
       .def_property_readonly("journal_bytes", &sim::PhysicsWorld::journal_bytes,
                              "Bytes of its journal: every call made to it, which its saved state holds.");

@@ -11,6 +11,7 @@
 #include "vwg/sim/camera.hpp"
 #include "vwg/sim/depth_camera.hpp"
 #include "vwg/sim/laser.hpp"
+#include "vwg/sim/people.hpp"
 #include "vwg/sim/physics.hpp"
 
 namespace vwg::bindings {
@@ -37,6 +38,8 @@ void init_settings(py::module_& m) {
                                            "Reciprocal avoidance (ORCA) in the robots: horizon, margin, steering.");
   settings::bind<platform::NeighbourSettings>(m, "NeighbourSettings",
                                               "What a robot's laser sees of its neighbours: pieces of a scan, tracked.");
+  settings::bind<sim::SocialForceSettings>(m, "SocialForceSettings",
+                                           "People who walk: the social force model's strengths, ranges and speeds.");
   settings::bind<sim::OverviewView>(m, "OverviewView", "How the 3D overview is seen: image size, angles, robots, labels.");
 
   // The one range of seconds per frame, and its check: world files, the command line, records and the

@@ -44,6 +44,7 @@ void init_log(py::module_& m);
 void init_registries(py::module_& m);
 void init_localization(py::module_& m);
 void init_avoidance(py::module_& m);
+void init_people(py::module_& m);
 
 /// A class declared earlier in the module, to add methods to it.
 template <class... Options>

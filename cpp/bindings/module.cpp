@@ -38,4 +38,5 @@ PYBIND11_MODULE(_core, m) {
   init_registries(m);
   init_localization(m);
   init_avoidance(m);
+  init_people(m);
 }

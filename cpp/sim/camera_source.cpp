@@ -15,6 +15,8 @@ bool SimulatedCamera::grab(const FrameInfo&, cv::Mat& grey) {
   for (const RobotState& s : world_->robots()) {
     if (s.id != robot_) others_.push_back(RobotShape{s.pose, s.radius, s.id});
   }
+  // People are seen as robots are: upright cylinders (their heading does not show).
+  for (const PhysicsWorld::Person& p : world_->people()) others_.push_back(RobotShape{{p.x, p.y, 0.0}, p.radius, -p.id});
   renderer_->render(world_->robot(robot_).pose, others_, grey, PixelFormat::Grey);
   return true;
 }

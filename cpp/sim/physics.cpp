@@ -22,9 +22,10 @@ namespace vwg::sim {
 namespace {
 
 constexpr std::uintptr_t kWallTag = 0;  // fixture user data of walls; robots store their id (>= 1)
+constexpr std::uintptr_t kPersonTag = std::uintptr_t{1} << 40;  // people store their id with this bit
 
 // The journal's entries (save_state): one byte saying which call, then its arguments.
-enum Op : std::uint8_t { kAddRobot = 1, kRemoveRobot, kCommand, kDrive, kAdvance, kTakeCollisions };
+enum Op : std::uint8_t { kAddRobot = 1, kRemoveRobot, kCommand, kDrive, kAdvance, kTakeCollisions, kSetPerson };
 constexpr std::uint64_t kJournalFormat = 1;
 
 // A robot's settings field by field, in visit_settings' order: a field added there is kept here too.
@@ -143,14 +144,16 @@ class PhysicsWorld::Contacts : public b2ContactListener {
     const std::uintptr_t a = contact->GetFixtureA()->GetUserData().pointer;
     const std::uintptr_t b = contact->GetFixtureB()->GetUserData().pointer;
     for (auto [self, other] : {std::pair{a, b}, std::pair{b, a}}) {
-      if (self == kWallTag) continue;
+      if (self == kWallTag || (self & kPersonTag) != 0) continue;
       const std::size_t i = world_.index_of(static_cast<int>(self));
       Robot& r = world_.robots_[i];
       r.contacts += delta;
       if (delta > 0) {
         RobotState& s = world_.states_[i];
         ++s.collisions;
-        const int other_id = other == kWallTag ? 0 : static_cast<int>(other);
+        const int other_id = other == kWallTag          ? 0
+                             : (other & kPersonTag) != 0 ? -static_cast<int>(other & ~kPersonTag)
+                                                         : static_cast<int>(other);
         r.last_other = other_id;
         world_.collisions_.push_back(Collision{r.settings.id, other_id, s.pose, world_.time_});
       }
@@ -286,7 +289,8 @@ void PhysicsWorld::add_body(const RobotSettings& rs) {
   st.radius = rs.radius;
   st.pose = st.odometry = platform::quantize_pose({bd.position.x, bd.position.y, bd.angle});
   states_.push_back(st);
-  discs_.push_back({st.pose.x, st.pose.y, st.radius, st.id});
+  // Robots' discs first, in their order, then the people's.
+  discs_.insert(discs_.begin() + static_cast<std::ptrdiff_t>(states_.size() - 1), Disc{st.pose.x, st.pose.y, st.radius, st.id});
   index_[rs.id] = states_.size() - 1;
 }
 
@@ -398,6 +402,12 @@ void PhysicsWorld::advance(double seconds) {
     }
     box2d_->world.Step(static_cast<float>(dt), settings_.velocity_iterations, settings_.position_iterations);
     time_ += dt;
+    for (std::size_t k = 0; k < people_.size(); ++k) {
+      const b2Vec2 p = person_bodies_[k]->GetPosition();
+      people_[k].x = p.x, people_[k].y = p.y;
+      Disc& d = discs_[robots_.size() + k];
+      d.x = p.x, d.y = p.y;
+    }
     for (std::size_t i = 0; i < robots_.size(); ++i) {
       Robot& r = robots_[i];
       RobotState& s = states_[i];
@@ -440,6 +450,43 @@ void PhysicsWorld::advance(double seconds) {
   }
 }
 
+void PhysicsWorld::set_person(int id, double x, double y, double vx, double vy, double radius) {
+  const std::string who = "person " + std::to_string(id);
+  if (id < 1) throw SchemaError(who, "expected an id >= 1");
+  for (const double v : {x, y, vx, vy}) {
+    if (!std::isfinite(v) || std::abs(v) > platform::kMaxCoordinate) throw SchemaError(who, "expected finite positions and velocities");
+  }
+  if (!(radius > 0.0 && radius <= 10.0)) throw SchemaError(who + ".radius", "expected 0 to 10 metres");
+  journal_.u8(kSetPerson);
+  journal_.i64(id);
+  for (const double v : {x, y, vx, vy, radius}) journal_.f64(v);
+  std::size_t k = 0;
+  while (k < people_.size() && people_[k].id != id) ++k;
+  if (k == people_.size()) {
+    b2BodyDef bd;
+    bd.type = b2_kinematicBody;
+    bd.allowSleep = false;
+    b2Body* body = box2d_->world.CreateBody(&bd);
+    b2CircleShape circle;
+    circle.m_radius = static_cast<float>(radius);
+    b2FixtureDef fd;
+    fd.shape = &circle;
+    fd.userData.pointer = kPersonTag | static_cast<std::uintptr_t>(id);
+    body->CreateFixture(&fd);
+    people_.push_back(Person{id, x, y, vx, vy, radius});
+    person_bodies_.push_back(body);
+    discs_.push_back(Disc{x, y, radius, -id});
+  }
+  b2Body* body = person_bodies_[k];
+  body->SetTransform(b2Vec2(static_cast<float>(x), static_cast<float>(y)), 0.0f);
+  body->SetLinearVelocity(b2Vec2(static_cast<float>(vx), static_cast<float>(vy)));
+  const b2Vec2 p = body->GetPosition();
+  people_[k] = Person{id, p.x, p.y, vx, vy, people_[k].radius};
+  Disc& d = discs_[robots_.size() + k];
+  d.x = p.x, d.y = p.y;
+  disc_index_.rebuild(discs_);
+}
+
 std::vector<Collision> PhysicsWorld::take_collisions() {
   journal_.u8(kTakeCollisions);
   return std::exchange(collisions_, {});
@@ -470,7 +517,7 @@ void PhysicsWorld::load_state(StateReader& in) {
   struct Call {
     Op op;
     int robot = 0;
-    double a = 0.0, b = 0.0;
+    double a = 0.0, b = 0.0, x = 0.0, y = 0.0, radius = 0.0;  // kDrive: a, b; kSetPerson: all five
     RobotSettings settings;
     std::vector<MotionStep> plan;
   };
@@ -519,6 +566,13 @@ void PhysicsWorld::load_state(StateReader& in) {
         break;
       case kTakeCollisions:
         break;
+      case kSetPerson: {
+        const std::int64_t id = ops.i64();
+        if (id < 1 || id > std::numeric_limits<int>::max()) ops.fail("a person id out of range: " + std::to_string(id));
+        c.robot = static_cast<int>(id);
+        for (double* v : {&c.a, &c.b, &c.x, &c.y, &c.radius}) *v = ops.f64();
+        break;
+      }
       default:
         ops.fail("an entry of unknown kind");
     }
@@ -532,6 +586,7 @@ void PhysicsWorld::load_state(StateReader& in) {
       case kDrive: drive(c.robot, c.a, c.b); break;
       case kAdvance: advance(c.a); break;
       case kTakeCollisions: take_collisions(); break;
+      case kSetPerson: set_person(c.robot, c.a, c.b, c.x, c.y, c.radius); break;
     }
   }
 }

@@ -214,6 +214,16 @@ void TopDownRenderer::draw_robot(const Pose2& pose, double radius, int id, std::
   put_label(text, c + cv::Point2d(0.7071, -0.7071) * r, {1, -1});
 }
 
+void TopDownRenderer::draw_person(double x, double y, double radius) {
+  const cv::Point2d c = world_to_pixel(x, y);
+  if (!finite(c)) return;
+  const double r = std::max(std::isfinite(radius) ? radius * pixels_per_metre() : 0.0, style_.min_robot_px);
+  const int lt = style_.antialias ? cv::LINE_AA : cv::LINE_8;
+  constexpr Rgb kSand{222, 184, 135};
+  cv::circle(canvas_, fixed(c), fixed_len(r), scalar(kSand), cv::FILLED, lt, kShift);
+  cv::circle(canvas_, fixed(c), fixed_len(r), scalar(style_.robot_outline), 1, lt, kShift);
+}
+
 void TopDownRenderer::draw_scan(const Pose2& sensor, std::span<const float> angles, std::span<const float> ranges,
                                 double max_range) {
   if (angles.size() != ranges.size()) {

@@ -135,6 +135,10 @@ void SimView::draw(std::uint64_t frame, double time) {
     angles.assign(kinect->angles().begin(), kinect->angles().end());
     renderer_.draw_scan(world_->robot(kinect->robot()).pose, angles, kinect->ranges(), kinect->camera().spec().max_range);
   }
+  // The simulator's people (a real robot's platform has none to draw).
+  if (const auto* physics = dynamic_cast<const PhysicsWorld*>(world_.get())) {
+    for (const PhysicsWorld::Person& p : physics->people()) renderer_.draw_person(p.x, p.y, p.radius);
+  }
   // Robots displayed this frame (Table I: α(Robot) draws the robot); others are not drawn.
   for (const auto& [id, plan] : commanded_) {
     const RobotState& st = world_->robot(id);

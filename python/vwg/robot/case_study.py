@@ -25,6 +25,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, TextIO
 
+import numpy as np
+
 import vwg._core as _core
 from vwg.errors import Error, FrameError, SchemaError
 from vwg.io.maps import OccupancyGrid
@@ -39,7 +41,7 @@ from vwg.plugins import backends as backend_registry
 from vwg.plugins import deciders, platforms
 from vwg.plugins import sensors as sensor_registry
 from vwg.robot.links.rosbridge_client import LinkError
-from vwg.robot.platforms.sim import MOTION_SYMBOLS, Simulation
+from vwg.robot.platforms.sim import MOTION_SYMBOLS, PEOPLE_SYMBOLS, Simulation
 from vwg.robot.world_file import Avoidance, Localization, PlatformSpec, RobotWorld, load_robot_world
 from vwg.saved_run import save_state
 
@@ -71,7 +73,14 @@ def case_study_world(world: RobotWorld, decider: _core.Decider, *,
     for name in sorted({s for r in world.robots for s in r.sensors}):
         for event, fields in sensor_registry.get(name).events.items():
             events.setdefault(event, fields)
-    alphabet = Alphabet(events=events, visual=["eExecute"], **MOTION_SYMBOLS)
+    symbols = MOTION_SYMBOLS
+    if world.people:  # people who walk: Person actors, shown as Pedestrian, pushed by gSocial's eSocial
+        events["eSocial"] = {"fx": 0.0, "fy": 0.0}
+        symbols = {**MOTION_SYMBOLS, "primitives": {**MOTION_SYMBOLS["primitives"], **PEOPLE_SYMBOLS}}
+    alphabet = Alphabet(events=events, visual=["eExecute"], **symbols)
+    if world.people:
+        _core.add_person_actor(alphabet, world.grid, _core.SocialForceSettings(), world.dt,
+                               max(p.radius for p in world.people))
     rooms = {room.marker: room.goal for room in world.rooms.values()}
     radius = max((r.radius for r in world.robots), default=_DEFAULT_RADIUS)
     _core.add_arobot(alphabet, decider, world.grid, rooms, radius=radius, goal_tolerance=world.goal_tolerance,
@@ -241,7 +250,16 @@ class CaseStudy:
             #: The generators of the robots' poses (odometry, or localization) and collisions.
             self.feedback = self.sim.feedback(alphabet, self.localization, self.known_map if knows_map else None,
                                               self.avoidance)
-            generators: list[Any] = [*self.feedback, *sensing, self.orders.generator, every_frame("eDecide"),
+            # People who walk: pushed by gSocial from where the simulator has everyone when the frame begins, put on
+            # the simulator by the people's backend (φ of Pedestrian).
+            walking: list[Any] = []
+            people_backend: list[_core.Backend] = []
+            if world.people:
+                if not isinstance(self.sim, Simulation):
+                    raise SchemaError(f"people: people walk on the simulator only (the platform is {self.sim.name})")
+                walking = [_core.SocialForceGenerator(self.sim.physics, _core.SocialForceSettings(), alphabet)]
+                people_backend = [_core.PeopleBackend(self.sim.physics, alphabet)]
+            generators: list[Any] = [*self.feedback, *walking, *sensing, self.orders.generator, every_frame("eDecide"),
                                      every_frame("eExecute")]
             # The view draws what θ shows of the robots (their actions, paths and status lines) through π
             # and φ, and keeps the trajectories; without video or images it draws nothing.
@@ -250,7 +268,7 @@ class CaseStudy:
             # Extra backends (after the simulator): ready ones, or factories given the simulation.
             shown = [self.view, *(b if isinstance(b, _core.Backend) else b(self.sim) for b in backends)]
             # The platform's motion backend first (it moves the robots), then what shows them.
-            backend = _core.BackendGroup([self.sim.backend, *shown])
+            backend = _core.BackendGroup([self.sim.backend, *people_backend, *shown])
             self.engine = Engine(self.vworld, self.initial_string(), generators, backend, dt=world.dt, seed=self.seed,
                                  max_symbols=max_symbols, threads=threads)
             # Done when every robot sent somewhere is there: checked in C++ after each frame.
@@ -283,6 +301,10 @@ class CaseStudy:
             row, col = self.world.grid.world_to_cell(x, y)
             parts.append(Sym("ARobot", id=robot.id, grid=grid, row=row, column=col, angle=float(yaw), x=float(x),
                              y=float(y), avoid=self.avoidance.avoids(robot.id)))
+        for person in self.world.people:
+            goals = _core.Blob(np.array(person.goals, dtype=np.float64).reshape(-1, 2))
+            parts.append(Sym("Person", id=person.id, x=person.start[0], y=person.start[1], radius=person.radius,
+                             speed=person.speed, goals=goals, loop=person.loop, wander=person.wander))
         return self.vworld.string(*parts)
 
     def sensed_pose(self, robot: int) -> tuple[float, float, float]:

@@ -91,12 +91,16 @@ from vwg.model.limits import MAX_DT, MAX_FRAMES, MAX_SEED, MAX_TIME, MIN_DT
 from vwg.plugins import deciders, platforms
 from vwg.plugins import sensors as sensor_registry
 
-__all__ = ["AVOIDANCES", "LOCALIZATIONS", "Avoidance", "Localization", "Order", "PlatformSpec", "RobotWorld", "Room",
-           "load_robot_world"]
+__all__ = ["AVOIDANCES", "LOCALIZATIONS", "Avoidance", "Localization", "Order", "Person", "PlatformSpec", "RobotWorld",
+           "Room", "load_robot_world"]
 
 MAX_MARKER = 586  # tag36h11 has 587 codes
 _TOP_KEYS = ("name", "description", "map", "wall_height", "rooms", "robots", "sensors", "noise", "frames", "dt", "seed",
-             "orders", "platform", "planner", "goal_tolerance", "localization", "avoidance")
+             "orders", "platform", "planner", "goal_tolerance", "localization", "avoidance", "people")
+_PERSON_KEYS = ("start", "radius", "speed", "waypoints", "loop", "wander")
+#: The widest a person may be, metres, and the fastest it may walk, m/s.
+MAX_PERSON_RADIUS = 1.0
+MAX_PERSON_SPEED = 3.0
 #: Sensor sections older files give at the top, read as ``sensors.NAME``.
 _LEGACY_SENSOR_KEYS = ("laser", "kinect", "camera")
 _ROOM_KEYS = ("marker", "at", "facing", "size", "height", "goal")
@@ -199,6 +203,20 @@ class Avoidance:
         return dict(self.robots).get(robot, self.kind) == "orca"
 
 
+@dataclass(frozen=True)
+class Person:
+    """A person who walks (vwg/sim/people.hpp): from ``start``, to each of ``goals`` in turn (again from the first
+    when ``loop``), or, ``wander``, to goals drawn from the seed; at ``speed`` m/s, a disc of ``radius`` m."""
+
+    id: int
+    start: tuple[float, float]
+    goals: tuple[tuple[float, float], ...]
+    radius: float = 0.25
+    speed: float = 1.0
+    loop: bool = True
+    wander: bool = False
+
+
 @dataclass(eq=False)
 class RobotWorld:
     """A loaded robot world file."""
@@ -223,6 +241,7 @@ class RobotWorld:
     planner: str = "astar"  # the decider a run takes unless told another (--planner)
     localization: Localization = field(default_factory=Localization)
     avoidance: Avoidance = field(default_factory=Avoidance)
+    people: list[Person] = field(default_factory=list)
     data: dict[str, Any] = field(default_factory=dict)  # the YAML as read
 
     def sensor_settings(self, name: str) -> Any:
@@ -565,6 +584,54 @@ def _avoidance(doc: YamlDoc, robots: list[RobotSettings]) -> Avoidance:
     return Avoidance(chosen.kind, settings, tuple(own))
 
 
+def _people(doc: YamlDoc, grid: OccupancyGrid, rooms: dict[str, Room]) -> list[Person]:
+    """``people:``, each {start, waypoints | wander, radius, speed, loop}, numbered from 1 in the file's order."""
+    people: list[Person] = []
+    for i, entry in enumerate(doc.get(("people",), list, default=[])):
+        path: tuple[Any, ...] = ("people", i)
+        if not isinstance(entry, dict):
+            raise doc.error(path, f"expected {{start, waypoints or wander, ...}}, got {entry!r}")
+        _check_keys(doc, path, entry, _PERSON_KEYS)
+        radius = float(doc.number((*path, "radius"), 0.25, minimum=0.0, exclusive_minimum=True,
+                                  maximum=MAX_PERSON_RADIUS))
+        speed = float(doc.number((*path, "speed"), 1.0, minimum=0.0, exclusive_minimum=True, maximum=MAX_PERSON_SPEED))
+        start = _map_point(doc, (*path, "start"), grid)
+        problem = _place_problem(grid, start[0], start[1], radius)
+        if problem:
+            raise doc.error((*path, "start"), f"person {i + 1} at ({_p(start[0])}, {_p(start[1])}) {problem}")
+        loop = doc.get((*path, "loop"), bool, default=True)
+        if ("waypoints" in entry) == ("wander" in entry):
+            raise doc.error(path, "expected waypoints (a list of [x, y]) or wander (room names, or all), one of them")
+        if "waypoints" in entry:
+            points = doc.get((*path, "waypoints"), list)
+            if not points:
+                raise doc.error((*path, "waypoints"), "expected at least one [x, y]")
+            goals = tuple(_map_point(doc, (*path, "waypoints", j), grid) for j in range(len(points)))
+            people.append(Person(i + 1, start, goals, radius, speed, loop))
+            continue
+        wander = doc.get((*path, "wander"), (str, list))
+        names = list(rooms) if wander == "all" else wander if isinstance(wander, list) else None
+        if not names:
+            raise doc.error((*path, "wander"), "expected a list of room names, or all")
+        for j, name in enumerate(names):
+            if name not in rooms:
+                raise doc.error((*path, "wander", j) if isinstance(wander, list) else (*path, "wander"),
+                                f"no room named {name!r} (rooms: {', '.join(rooms) or 'none'})")
+        people.append(Person(i + 1, start, tuple(rooms[n].goal for n in names), radius, speed, True, True))
+    return people
+
+
+def _map_point(doc: YamlDoc, path: tuple[Any, ...], grid: OccupancyGrid) -> tuple[float, float]:
+    """``[x, y]`` at `path`, a point of the map."""
+    value = doc.get(path, list)
+    if len(value) != 2:
+        raise doc.error(path, f"expected [x, y], got {value!r}")
+    x, y = float(doc.number((*path, 0))), float(doc.number((*path, 1)))
+    if not grid.inside(*grid.world_to_cell(x, y)):
+        raise doc.error(path, f"({_p(x)}, {_p(y)}) is outside the map")
+    return x, y
+
+
 def _localization(doc: YamlDoc) -> Localization:
     """``localization: KIND`` or ``{kind: KIND, ...settings}``, the settings checked by the C++ struct."""
     entry = doc.get(("localization",), (str, dict), default="odometry")
@@ -616,8 +683,11 @@ def load_robot_world(path: str | Path) -> RobotWorld:
                                  exclusive_minimum=True))
     localization = _localization(doc)
     avoidance = _avoidance(doc, robots)
+    people = _people(doc, grid, rooms)
+    if people and platform.kind != "sim":
+        raise doc.error(("people",), f"people walk on the simulator only (the platform is {platform.kind})")
     return RobotWorld(path=path, platform=platform, planner=planner, goal_tolerance=tolerance, name=name,
-                      localization=localization, avoidance=avoidance,
+                      localization=localization, avoidance=avoidance, people=people,
                       description=description, map_path=map_path, grid=grid,
                       wall_height=wall_height, rooms=rooms, robots=robots, sensors=sensors,
                       noise=noise, frames=frames, dt=dt, seed=seed, orders=orders, data=doc.data)

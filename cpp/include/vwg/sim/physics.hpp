@@ -19,6 +19,8 @@
 #include "vwg/detail/disc_index.hpp"
 #include "vwg/sim/grid.hpp"
 
+class b2Body;
+
 namespace vwg::sim {
 
 // The robot vocabulary is the platform's (vwg/platform/platform.hpp): the simulator is one platform.
@@ -95,10 +97,23 @@ class PhysicsWorld final : public platform::RobotPlatform {
   void drive(int robot, double speed, double turn_rate);
   /// Step the world for `seconds` (a whole number of fixed steps; the remainder carries over).
   void advance(double seconds) override;
+  /// A person (vwg/sim/people.hpp): a kinematic disc put at (x, y) and moving at (vx, vy) until told again,
+  /// made at its first call with that radius. Robots touch it (a collision whose `other` is −id) and the
+  /// lasers and cameras see it; it does not stop at walls (people steer clear of them themselves). Throws
+  /// SchemaError for an id < 1, a position outside kMaxCoordinate, a radius not in (0, 10] or values that are
+  /// not finite.
+  void set_person(int id, double x, double y, double vx, double vy, double radius);
+  struct Person {
+    int id = 0;
+    double x = 0.0, y = 0.0, vx = 0.0, vy = 0.0, radius = 0.0;
+  };
+  /// The people, in the order they were first set.
+  const std::vector<Person>& people() const { return people_; }
 
   const RobotState& robot(int id) const override;
   const std::vector<RobotState>& robots() const override { return states_; }
-  /// Where each robot's disc is, in the order of robots(): what the other robots' lasers read.
+  /// Where each robot's disc is, in the order of robots(), then each person's (id −person): what the lasers
+  /// read.
   using Disc = sim::Disc;
   const std::vector<Disc>& discs() const { return discs_; }
   /// The discs by squares of the floor, kept with them: a laser looks only at the discs near it.
@@ -145,7 +160,9 @@ class PhysicsWorld final : public platform::RobotPlatform {
   std::unique_ptr<Box2D> box2d_;
   std::vector<Robot> robots_;
   std::vector<RobotState> states_;
-  std::vector<Disc> discs_;                    ///< discs_[i]: states_[i]'s pose and radius, set with it
+  std::vector<Disc> discs_;                    ///< discs_[i]: states_[i]'s pose and radius, set with it; then people_'s
+  std::vector<Person> people_;
+  std::vector<b2Body*> person_bodies_;         ///< person_bodies_[k]: people_[k]'s, owned by the b2World
   DiscIndex disc_index_;                       ///< of discs_, rebuilt whenever they change
   std::unordered_map<int, std::size_t> index_;  ///< robot id -> i in robots_, states_ and discs_
   std::vector<Collision> collisions_;

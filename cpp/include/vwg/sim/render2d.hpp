@@ -125,6 +125,8 @@ class TopDownRenderer {
   /// (metres). A range that is not finite or reaches `max_range` is a miss: a faint ray to
   /// max_range (or nothing, see RenderStyle::draw_misses); others end in a hit point.
   /// Throws vwg::Error when the spans differ in length.
+  /// A person (vwg/sim/people.hpp): a sand-coloured disc with an outline and no heading (robots are the palette's).
+  void draw_person(double x, double y, double radius);
   void draw_scan(const Pose2& sensor, std::span<const float> angles, std::span<const float> ranges,
                  double max_range = std::numeric_limits<double>::infinity());
 

@@ -44,6 +44,7 @@ from vwg.robot.world_file import RobotWorld
 
 __all__ = [
     "MOTION_SYMBOLS",
+    "PEOPLE_SYMBOLS",
     "SIM_EVENTS",
     "CameraRenderer",
     "CameraSpec",
@@ -78,6 +79,12 @@ MOTION_SYMBOLS: dict[str, dict[str, dict[str, Any]]] = {
     "primitives": {"Robot": {"id": 0}, "Path": {"robot": 0, "points": _core.Blob}, "Status": {"robot": 0, "text": ""}},
     "transformations": {"Move": {"dist": 0.0}, "Rotate": {"angle": 0.0},
                         "Velocity": {"speed": 0.0, "turn_rate": 0.0}},
+}
+
+
+#: What a person who walks shows of itself (vwg/sim/people.hpp): the people's backend puts its body there.
+PEOPLE_SYMBOLS: dict[str, dict[str, Any]] = {
+    "Pedestrian": {"id": 0, "x": 0.0, "y": 0.0, "vx": 0.0, "vy": 0.0, "radius": 0.0},
 }
 
 
