@@ -1,6 +1,7 @@
 #include "vwg/robot/arobot.hpp"
 
 #include <cmath>
+#include <limits>
 #include <string>
 #include <utility>
 
@@ -148,7 +149,8 @@ void ARobot::evolve(ActorState& self, const EventView& e, const EvolutionContext
     const double a = self.get_real(kAngle) + e.number(1);
     double cos_a = 0.0, sin_a = 0.0;
     geometry::beam_directions({&a, 1}, "avx2", {&cos_a, 1}, {&sin_a, 1});
-    const ScanBeam b = beam(self, e.number(0), cos_a, sin_a);
+    ScanBeam b = beam(self, e.number(0), cos_a, sin_a);
+    unmark_neighbours(self, ctx, std::span<ScanBeam>(&b, 1));
     edit_map(self, [&](MapEdit& map, ObstacleBits& bits) {
       sense_scan(map, g, bits, self.get_real(kX), self.get_real(kY), std::span<const ScanBeam>(&b, 1), config_.carve_free_space);
     });
@@ -210,6 +212,24 @@ void ARobot::evolve(ActorState& self, const EventView& e, const EvolutionContext
   // eExecute: nothing changes; θ shows the action (DESIGN.md choice 3).
 }
 
+void ARobot::unmark_neighbours(const ActorState& self, const EvolutionContext& ctx, std::span<ScanBeam> scan) const {
+  if (!self.get_bool(kAvoid) || self.get_int(kSensed) != static_cast<std::int64_t>(ctx.frame)) return;
+  const auto rows = self.get_blob(kNeighbours)->view<double>();
+  if (rows.empty()) return;
+  const double x = self.get_real(kX), y = self.get_real(kY), theta = self.get_real(kAngle);
+  const double c = std::cos(theta), s = std::sin(theta), slack = config_.map.resolution;
+  for (ScanBeam& b : scan) {
+    for (std::size_t i = 0; i + 5 <= rows.size(); i += 5) {
+      const double nx = x + c * rows[i] - s * rows[i + 1], ny = y + s * rows[i] + c * rows[i + 1];
+      if (std::hypot(b.end_x - nx, b.end_y - ny) <= rows[i + 4] + slack) {
+        // A return off a robot or a person: the beam still clears the way to it, and marks nothing.
+        b.mark_x = b.mark_y = std::numeric_limits<double>::quiet_NaN();
+        break;
+      }
+    }
+  }
+}
+
 ScanBeam ARobot::beam(const ActorState& self, double dist, double cos_a, double sin_a) const {
   const double hx = self.get_real(kX) + dist * cos_a, hy = self.get_real(kY) + dist * sin_a;
   // Half a cell beyond the surface, so the cell marked is the one the beam stopped in.
@@ -234,6 +254,7 @@ void ARobot::evolve_run(ActorState& self, const EventList& events, std::span<con
   cos_a.resize(turned.size()), sin_a.resize(turned.size());
   geometry::beam_directions(turned, "avx2", cos_a, sin_a);  // all at once, 4 at a time
   for (std::size_t k = 0; k < at.size(); ++k) scan.push_back(beam(self, events[at[k]].number(0), cos_a[k], sin_a[k]));
+  unmark_neighbours(self, ctx, scan);
   edit_map(self, [&](MapEdit& map, ObstacleBits& bits) {
     sense_scan(map, config_.map, bits, self.get_real(kX), self.get_real(kY), scan, config_.carve_free_space);
   });
@@ -376,12 +397,30 @@ void ARobot::decide_avoiding(ActorState& self, const EvolutionContext& ctx) {
     self.set_text(kStatus, "no path to marker " + std::to_string(objective));
     self.set_blob(kPath, empty_path());
     self.set_int(kWait, config_.retry_frames);
+    forget_seen(self);
     return avoid(self, ctx, theta, 0.0);
   }
   if (!d.keep_path) self.set_blob(kPath, path_blob(d.path));
   self.set_text(kStatus, "to marker " + std::to_string(objective));
   // As fast as still stops at the goal within the acceleration limit.
   avoid(self, ctx, theta + d.turn, std::min(config_.limits.max_speed, std::sqrt(2.0 * config_.limits.max_accel * to_goal)));
+}
+
+void ARobot::forget_seen(ActorState& self) {
+  // What is still there is marked again by the next scan; what moved on (a person it could not tell from a wall,
+  // out of sight since) is gone. The prior map's walls stay.
+  const int rows = config_.map.height, cols = config_.map.width;
+  edit_map(self, [&](MapEdit& map, ObstacleBits& bits) {
+    for (int r = 0; r < rows; ++r) {
+      for (int c = 0; c < cols; ++c) {
+        if (!bits.seen(r, c)) continue;
+        const auto k = static_cast<std::size_t>(r) * static_cast<std::size_t>(cols) + static_cast<std::size_t>(c);
+        if (map[k] != kSeenCell) continue;
+        map.set(k, kFreeCell);
+        bits.set(r, c, kFreeCell);
+      }
+    }
+  });
 }
 
 void ARobot::avoid(ActorState& self, const EvolutionContext& ctx, double heading, double speed) {

@@ -32,6 +32,12 @@ void check_settings(const SocialForceSettings& s, const std::string& owner) {
   for (const auto& [name, v] : positive) {
     if (!std::isfinite(v) || v <= 0) throw SchemaError(owner + "." + name, "expected a finite number > 0, got " + format_real(v));
   }
+  if (!(s.sidestep >= 0.0 && s.sidestep <= 10.0)) {
+    throw SchemaError(owner + ".sidestep", "expected a share from 0 to 10, got " + format_real(s.sidestep));
+  }
+  if (!(s.give_up > 0.0 && s.give_up <= 1e6)) {
+    throw SchemaError(owner + ".give_up", "expected seconds > 0, got " + format_real(s.give_up));
+  }
   if (!(s.max_speed >= 1.0 && s.max_speed <= 10.0)) {
     throw SchemaError(owner + ".max_speed", "expected 1 to 10 times the walking speed, got " + format_real(s.max_speed));
   }
@@ -54,6 +60,12 @@ Vec repulsion(const PhysicsWorld::Person& person, std::span<const Disc> discs, c
     const Vec p = push_of(person.x, person.y, person.radius, d.x, d.y, d.radius, robot ? s.robot_strength : s.people_strength,
                           robot ? s.robot_range : s.people_range, s.reach);
     f.x += p.x, f.y += p.y;
+    // Someone ahead also turns the person to its right (people keep right): no standstill face to face.
+    const double speed = std::hypot(person.vx, person.vy);
+    if (speed > 1e-6 && (d.x - person.x) * person.vx + (d.y - person.y) * person.vy > 0) {
+      const double push = s.sidestep * std::hypot(p.x, p.y) / speed;
+      f.x += push * person.vy, f.y -= push * person.vx;
+    }
   }
   // The nearest wall: its clearance (cells) and, by central differences a quarter cell apart, the way away from it.
   double u, v;
@@ -91,18 +103,19 @@ Schema person_attributes() {
       spec("wander", ValueKind::Bool, Datum(false)),
       spec("leg", ValueKind::Int, Datum(0)),  // legs begun; -1: a walk that does not loop has ended
       spec("way", ValueKind::Blob, Datum(points_blob({}))),  // the points of this leg's way still ahead
+      spec("stuck", ValueKind::Real, Datum(0.0)),  // seconds it has been all but stopped on this way
   };
   return s;
 }
 
 PersonBehavior::PersonBehavior(const Alphabet& alphabet, const OccupancyGrid& map, SocialForceSettings settings, double dt,
                                double largest_radius)
-    : geometry_(geometry::MapGeometry::of(map)), settings_(settings), dt_(dt), social_(alphabet.event_type_id("eSocial")),
+    : geometry_(geometry::MapGeometry::of(map)), map_(map),
+      walls_(geometry::BlockedGrid::from_occupancy(map), true), settings_(settings), dt_(dt), social_(alphabet.event_type_id("eSocial")),
       execute_(alphabet.event_type_id("eExecute")), pedestrian_(alphabet.symbol_id("Pedestrian", SymbolKind::Primitive)) {
   check_settings(settings_, "people");
   if (!(dt > 0 && std::isfinite(dt))) throw SchemaError("dt", "expected seconds > 0");
-  const geometry::ClearanceField field(geometry::BlockedGrid::from_occupancy(map), true);
-  grown_ = field.inflated(largest_radius / map.resolution);
+  grown_ = walls_.inflated(largest_radius / map.resolution);
 }
 
 std::vector<double> PersonBehavior::route(double x, double y, double gx, double gy) const {
@@ -141,8 +154,22 @@ void PersonBehavior::evolve(ActorState& self, const EventView& e, const Evolutio
   std::int64_t leg = self.get_int(kLeg);
   auto way = self.get_blob(kWay)->view<double>();
   std::vector<double> ahead(way.begin(), way.end());
-  // The points passed drop off the way; a way walked to its end ends the leg.
+  // The points passed drop off the way; a way walked to its end ends the leg, and so does one on which the person
+  // has been all but stopped for `give_up` seconds (someone stands in its door, or on its goal): it walks on to
+  // its next goal instead.
+  // Those before the nearest point are behind it (it cut a corner past them).
+  std::size_t nearest = 0;
+  for (std::size_t i = 2; i + 1 < ahead.size(); i += 2) {
+    if (std::hypot(ahead[i] - x, ahead[i + 1] - y) < std::hypot(ahead[nearest] - x, ahead[nearest + 1] - y)) nearest = i;
+  }
+  ahead.erase(ahead.begin(), ahead.begin() + static_cast<std::ptrdiff_t>(nearest));
   while (ahead.size() >= 2 && std::hypot(ahead[0] - x, ahead[1] - y) <= settings_.arrive) ahead.erase(ahead.begin(), ahead.begin() + 2);
+  double stuck = std::hypot(vx, vy) < 0.1 * speed && !ahead.empty() ? self.get_real(kStuck) + dt_ : 0.0;
+  if (stuck >= settings_.give_up) {
+    ahead.clear();
+    stuck = 0.0;
+  }
+  self.set_real(kStuck, stuck);
   const auto goals = self.get_blob(kGoals)->view<double>();
   const std::size_t n = goals.size() / 2;
   if (ahead.empty() && leg >= 0 && n > 0) {
@@ -162,11 +189,20 @@ void PersonBehavior::evolve(ActorState& self, const EventView& e, const Evolutio
       ahead = route(x, y, goals[2 * k], goals[2 * k + 1]);
     }
   }
-  // Toward the farthest point of the way within a metre (a corner is cut no more than the way's cells allow).
+  // Toward the farthest point of the way within 2 m that the person sees: a disc of its radius goes there
+  // straight without touching a wall (round a door's frame, not into it).
   double ex = 0.0, ey = 0.0;
   if (ahead.size() >= 2) {
     std::size_t t = 0;
-    while (t + 3 < ahead.size() && std::hypot(ahead[t + 2] - x, ahead[t + 3] - y) <= 1.0) t += 2;
+    double u0, v0;
+    map_.world_to_grid(x, y, u0, v0);
+    const double r = self.get_real(kPradius) / map_.resolution;
+    while (t + 3 < ahead.size() && std::hypot(ahead[t + 2] - x, ahead[t + 3] - y) <= 2.0) {
+      double u1, v1;
+      map_.world_to_grid(ahead[t + 2], ahead[t + 3], u1, v1);
+      if (!walls_.segment_clear(u0, v0, u1, v1, r)) break;
+      t += 2;
+    }
     const double dx = ahead[t] - x, dy = ahead[t + 1] - y, d = std::hypot(dx, dy);
     if (d > 1e-9) ex = dx / d, ey = dy / d;
   }

@@ -20,6 +20,8 @@ Parameters (``params``; all optional):
   the laser and the known map: vwg.robot.LocalizationSettings).
 - ``avoidance``: ``none`` (the world file's default) or ``orca`` (every robot avoids the robots and people its
   laser sees: vwg.robot.AvoidanceSettings).
+- ``people``: that many people who walk, added to the world's: each at a free place drawn from the seed (after the
+  boxes, away from the robots), wandering between all the rooms (vwg.robot.world_file.Person).
 
 The row: ``world, planner, seed, frames_limit, params`` (the cell), then ``reached`` (every ordered robot
 reached its room), ``frames``, ``path_length_m`` (driven, all robots), ``optimal_m`` (the sum of the
@@ -52,10 +54,10 @@ from vwg.plugins import sensors
 from vwg.robot.case_study import CaseStudy
 from vwg.robot.map_quality import map_quality
 from vwg.robot.shortest import DistanceField, grid_graph
-from vwg.robot.world_file import Avoidance, Localization, load_robot_world
+from vwg.robot.world_file import Avoidance, Localization, Person, load_robot_world
 
-__all__ = ["COLUMNS", "KNOWN_PARAMS", "Trial", "cached_world", "random_task", "replace_robot", "run_trial",
-           "shortest_m", "trial_world"]
+__all__ = ["COLUMNS", "KNOWN_PARAMS", "Trial", "add_people", "cached_world", "random_task", "replace_robot",
+           "run_trial", "shortest_m", "trial_world"]
 
 #: The columns of a trial's row, in order (the first five name the cell).
 COLUMNS = ("world", "planner", "seed", "frames_limit", "params", "reached", "frames", "path_length_m", "optimal_m",
@@ -73,6 +75,7 @@ KNOWN_PARAMS: dict[str, tuple[tuple[type, ...], str]] = {
     "obstacles": ((int,), "boxes added on the first robot's way, not on its map"),
     "localization": ((str,), "where the robots believe they are: odometry or particles"),
     "avoidance": ((str,), "how the robots pass each other: none or orca"),
+    "people": ((int,), "people who walk, added at seeded places and wandering between the rooms"),
 }
 
 FLOAT_PARAMS = ("odometry_noise", "motor_noise")
@@ -132,6 +135,8 @@ def check_params(params: dict[str, Any], where: str) -> None:
                 kind.of(params[name])
             except SchemaError as e:
                 raise SchemaError(f"{where}.{e}") from None
+    if "people" in params and not 0 <= params["people"] <= 1000:
+        raise SchemaError(f"{where}.people: expected 0 to 1000, got {params['people']!r}")
     for name in ("robots", "obstacles"):
         if name in params and not 0 <= params[name] <= 100_000:
             raise SchemaError(f"{where}.{name}: expected 0 to 100000, got {params[name]!r}")
@@ -220,7 +225,31 @@ def trial_world(trial: Trial) -> tuple[Any, dict[int, str], Any]:
     known = world.grid
     if p.get("obstacles", 0):
         world = _add_obstacles(world, goals, p["obstacles"], rng)
+    if p.get("people", 0):
+        world = add_people(world, p["people"], rng)
     return world, goals, known
+
+
+def add_people(world: Any, n: int, rng: np.random.Generator) -> Any:
+    """The world with `n` more people, each at a seeded free place SPACING_M from the robots and the other
+    people, wandering between all the rooms."""
+    grid = world.grid
+    radius = Person.__dataclass_fields__["radius"].default
+    free = np.argwhere(~grid.inflate(radius + 0.1))
+    rooms = tuple(room.goal for room in world.rooms.values())
+    if not rooms:
+        raise SchemaError(f"params.people: {world.name} has no rooms to walk between")
+    taken = [r.start[:2] for r in world.robots] + [p.start for p in world.people]
+    people = list(world.people)
+    for k in rng.permutation(len(free)):
+        x, y = (float(v) for v in grid.cell_to_world(*free[k]))
+        if any(math.hypot(x - a, y - b) < SPACING_M for a, b in taken):
+            continue
+        taken.append((x, y))
+        people.append(Person(len(people) + 1, (x, y), rooms, wander=True))
+        if len(people) == len(world.people) + n:
+            return dataclasses.replace(world, people=people)
+    raise Error(f"{world.name}: room for {len(people) - len(world.people)} people {SPACING_M} m apart, {n} asked")
 
 
 def replace_robot(robot: Any, **changes: Any) -> Any:

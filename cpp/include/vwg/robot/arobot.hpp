@@ -19,7 +19,8 @@
 //                            frame: the Decider's next step as a preferred velocity, made safe for
 //                            the neighbours of the frame by ORCA (vwg/robot/avoidance.hpp), shown as
 //                            Velocity<speed, turn_rate>(Robot<id>)
-//   λ(eNeighbour<x, y, vx, vy, radius>)  the robots and people its laser sees this frame (its frame)
+//   λ(eNeighbour<x, y, vx, vy, radius>)  the robots and people its laser sees this frame (its frame); an
+//                            avoiding robot's λ(eLaser) marks no cell for a return off one of them
 //   θ(eExecute)              Rotate<a>(Move<d>(Robot<id>)) (or Robot<id>, drawn and not moved),
 //                            with Path<id, points> and Status<id, text> when the alphabet has them
 #pragma once
@@ -120,6 +121,10 @@ class ARobot final : public ActorBehavior {
   void decide_avoiding(ActorState& self, const EvolutionContext& ctx);
   /// The velocity of steer() toward `heading` at `speed` (0: stay, giving way to neighbours), shown.
   void avoid(ActorState& self, const EvolutionContext& ctx, double heading, double speed);
+  /// An avoiding robot that finds no way forgets the obstacles its sensors reported (the prior map's walls stay):
+  /// a robot or person it could not tell from a wall may have moved on; the next scan marks again what is still
+  /// there in sight.
+  void forget_seen(ActorState& self);
   /// Show Velocity<speed, turn_rate> from the next frame (stopping: zeros).
   void set_velocity(ActorState& self, double speed, double turn_rate);
   /// Where beam eLaser<dist, angle> stopped, and the point whose cell it marks (eq. 12); cos_a
@@ -128,6 +133,9 @@ class ARobot final : public ActorBehavior {
   /// beam or a scan's run of them).
   ScanBeam beam(const ActorState& self, double dist, double cos_a, double sin_a) const;
   bool goal_of(const ActorState& self, int marker, double& x, double& y) const;
+  /// A robot that avoids keeps its map for what stays: the returns off this frame's neighbours (robots and
+  /// people, which ORCA avoids as they move) mark no cell (their beams still clear the way to them).
+  void unmark_neighbours(const ActorState& self, const EvolutionContext& ctx, std::span<ScanBeam> scan) const;
 
   /// Run `edit(map, bits)` on the robot's map (in place when the engine allows it) and its
   /// ObstacleBits, made valid for the map before and kept valid after.

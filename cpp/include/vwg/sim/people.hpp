@@ -2,12 +2,13 @@
 // (Helbing and Molnár, "Social force model for pedestrian dynamics", Phys. Rev. E 51, 1995), with bodies on the
 // simulator that robots touch and sensors see. In the model:
 //
-//   Person<id, x, y, vx, vy, radius, speed, goals, loop, wander, leg, path>
+//   Person<id, x, y, vx, vy, radius, speed, goals, loop, wander, leg, way, stuck>
 //   gSocial       eSocial<to=person, fx, fy>: the repulsion of the others near each person (people and robots,
 //                 where the simulator has them) and of the walls, as accelerations
 //   λ(eSocial)    the person's own pull toward its way (v0·e − v)/τ plus the repulsion, integrated over the
 //                 frame; at the end of a leg, the next waypoint (in turn, looping or not) or, wandering, a room
-//                 drawn from the seed; each leg's way is A* on the map grown by the person's radius
+//                 drawn from the seed; each leg's way is A* on the map grown by the person's radius, walked
+//                 toward its farthest point within 2 m in plain sight (a disc of the person's radius clears the walls)
 //   θ(eExecute)   Pedestrian<id, x, y, vx, vy, radius>, which the people's backend puts on the simulator
 //
 // The repulsion of another at distance d (centres), radii summing to r, is A·exp((r − d)/B) along the line
@@ -39,12 +40,14 @@ struct SocialForceSettings {
   double people_strength = 2.1; ///< A, m/s²: another person's push at contact
   double people_range = 0.3;    ///< B, metres: how fast it falls off
   double robot_strength = 3.0;  ///< A for a robot (people give robots more room)
-  double robot_range = 0.4;     ///< B for a robot
+  double robot_range = 0.5;     ///< B for a robot
+  double sidestep = 0.5;        ///< share of a push ahead of a person that also turns it to its right (keep right)
   double wall_strength = 5.0;   ///< A_w, m/s²
   double wall_range = 0.1;      ///< B_w, metres
   double reach = 3.0;           ///< metres: others and walls farther than this are left out
   double max_speed = 1.3;       ///< the fastest a person goes, as a multiple of its walking speed
   double arrive = 0.4;          ///< metres: a point of the way is passed this close
+  double give_up = 3.0;         ///< seconds all but stopped (under a tenth of its speed) before a person walks on elsewhere
 };
 
 template <class S, class F>
@@ -55,11 +58,13 @@ void visit_settings(S& s, F&& field) {
   field("people_range", s.people_range, "metres: how fast it falls off (B)");
   field("robot_strength", s.robot_strength, "m/s^2: a robot's push at contact");
   field("robot_range", s.robot_range, "metres: how fast a robot's push falls off");
+  field("sidestep", s.sidestep, "share of a push ahead of a person that also turns it to its right (keep right)");
   field("wall_strength", s.wall_strength, "m/s^2: a wall's push at contact");
   field("wall_range", s.wall_range, "metres: how fast a wall's push falls off");
   field("reach", s.reach, "metres: others and walls farther than this are left out");
   field("max_speed", s.max_speed, "the fastest a person goes, as a multiple of its walking speed");
   field("arrive", s.arrive, "metres: a point of the way is passed this close");
+  field("give_up", s.give_up, "seconds all but stopped before a person leaves its way for its next goal");
 }
 
 /// Throws SchemaError naming `owner.field` for a value that is not finite and > 0 (max_speed: >= 1).
@@ -81,7 +86,7 @@ Vec repulsion(const PhysicsWorld::Person& person, std::span<const Disc> discs, c
 
 /// The Person actor type's attributes (register it with them).
 Schema person_attributes();
-enum PersonAttr : std::size_t { kPersonId, kPx, kPy, kPvx, kPvy, kPradius, kPspeed, kGoals, kLoop, kWander, kLeg, kWay };
+enum PersonAttr : std::size_t { kPersonId, kPx, kPy, kPvx, kPvy, kPradius, kPspeed, kGoals, kLoop, kWander, kLeg, kWay, kStuck };
 
 /// λ and θ of Person (see the top of this file). `map` is the world's true map (people know their building).
 class PersonBehavior final : public ActorBehavior {
@@ -98,6 +103,8 @@ class PersonBehavior final : public ActorBehavior {
   std::vector<double> route(double x, double y, double gx, double gy) const;
 
   geometry::MapGeometry geometry_;
+  OccupancyGrid map_;
+  geometry::ClearanceField walls_;
   geometry::BlockedGrid grown_;  ///< the map grown by the largest person's radius
   SocialForceSettings settings_;
   double dt_;
