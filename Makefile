@@ -207,7 +207,7 @@ tsan: install
 ASAN_LIB = $(shell gcc -print-file-name=libasan.so) $(shell gcc -print-file-name=libstdc++.so)
 ASAN_TESTS ?= tests/test_text.py tests/test_engine.py tests/test_engine_contracts.py tests/test_semantics.py \
 	tests/test_record.py tests/test_hostile_input.py tests/test_fuzz.py tests/test_sim.py tests/test_plan.py \
-	tests/test_arobot.py tests/test_sensors.py tests/test_actors.py tests/test_record_hostile.py tests/test_localization.py tests/test_avoidance.py \
+	tests/test_arobot.py tests/test_sensors.py tests/test_actors.py tests/test_record_hostile.py tests/test_localization.py tests/test_avoidance.py tests/test_people.py \
 	$(addprefix tests/test_state_hostile.py::,$(ASAN_STATE_TESTS))
 # The saved states' C++ readers fed cut, random, forged and mutated parts.
 ASAN_STATE_TESTS := test_every_cpp_state_cut_short_or_longer_is_refused_naming_it \

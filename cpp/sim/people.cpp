@@ -157,9 +157,13 @@ void PersonBehavior::evolve(ActorState& self, const EventView& e, const Evolutio
   // The points passed drop off the way; a way walked to its end ends the leg, and so does one on which the person
   // has been all but stopped for `give_up` seconds (someone stands in its door, or on its goal): it walks on to
   // its next goal instead.
-  // Those before the nearest point are behind it (it cut a corner past them).
+  // Those before the nearest point of the next 2 m of way are behind it (it cut a corner past them); farther on, a
+  // way that comes back beside a wall is not near.
   std::size_t nearest = 0;
+  double along = 0.0;
   for (std::size_t i = 2; i + 1 < ahead.size(); i += 2) {
+    along += std::hypot(ahead[i] - ahead[i - 2], ahead[i + 1] - ahead[i - 1]);
+    if (along > 2.0) break;
     if (std::hypot(ahead[i] - x, ahead[i + 1] - y) < std::hypot(ahead[nearest] - x, ahead[nearest + 1] - y)) nearest = i;
   }
   ahead.erase(ahead.begin(), ahead.begin() + static_cast<std::ptrdiff_t>(nearest));

@@ -8,7 +8,7 @@ import numpy
 import numpy.typing
 import os
 import typing
-__all__: list[str] = ['ARobotConfig', 'ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'ArrivalCondition', 'AvoidanceSettings', 'Backend', 'BackendGroup', 'Blob', 'CameraGenerator', 'CameraRenderer', 'CameraSpec', 'Collision', 'CollisionGenerator', 'DStarLite', 'Decider', 'DecisionInput', 'DepthCameraSpec', 'Engine', 'EngineOptions', 'EngineState', 'Event', 'EventColumns', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'FrameSink', 'Generator', 'GridDecider', 'GridRaycaster', 'ImageFiles', 'ImageSequence', 'ImageSource', 'KinectGenerator', 'LaserGenerator', 'LaserSpec', 'LikelihoodField', 'LocalizationGenerator', 'LocalizationSettings', 'MAX_DT', 'MIN_DT', 'MotionBackend', 'MotionFollower', 'MovingAiScenario', 'NeighbourGenerator', 'NeighbourSettings', 'Node', 'NoiseModel', 'NullBackend', 'OBSTACLE_THRESHOLD', 'OccupancyGrid', 'OdometryGenerator', 'OmplDecider', 'OmplPlan', 'OmplPlanner', 'OrderGenerator', 'OverviewCamera', 'OverviewView', 'ParticleFilter', 'PhysicsSettings', 'PhysicsWorld', 'PythonActor', 'RandomDecider', 'RangeScanner', 'ReceivedImages', 'RenderStyle', 'RobotPlatform', 'RobotSettings', 'RobotState', 'SimView', 'SimulatedCamera', 'StopCondition', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoSource', 'add_arobot', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'arobot_event_types', 'astar', 'backend_names', 'beam_angles', 'beam_layout', 'build_string', 'check_dt', 'create_backend', 'create_decider', 'create_platform', 'create_sensor', 'decider_names', 'default_threads', 'detect_apriltags', 'display', 'encode_image', 'estimate_tag_pose', 'evolve', 'grid_clearance', 'grid_inflate', 'jps', 'kld_bound', 'laser_events', 'log_message', 'movingai_grid', 'movingai_scenarios', 'overview_camera', 'plan_ompl', 'platform_names', 'python_budget', 'quantize_pose', 'ranging_sensors', 'read_image', 'render_overview', 'robot_map', 'sensor_names', 'set_log_sink', 'set_python_budget', 'steer', 'struct_defaults', 'visualize', 'walker_behavior', 'write_image']
+__all__: list[str] = ['ARobotConfig', 'ActorBatch', 'ActorBehavior', 'Alphabet', 'AprilTagDetection', 'AprilTagFamily', 'AprilTagPose', 'ArrivalCondition', 'AvoidanceSettings', 'Backend', 'BackendGroup', 'Blob', 'CameraGenerator', 'CameraRenderer', 'CameraSpec', 'Collision', 'CollisionGenerator', 'DStarLite', 'Decider', 'DecisionInput', 'DepthCameraSpec', 'Engine', 'EngineOptions', 'EngineState', 'Event', 'EventColumns', 'EveryFrame', 'FrameInfo', 'FrameRecord', 'FrameSink', 'Generator', 'GridDecider', 'GridRaycaster', 'ImageFiles', 'ImageSequence', 'ImageSource', 'KinectGenerator', 'LaserGenerator', 'LaserSpec', 'LikelihoodField', 'LocalizationGenerator', 'LocalizationSettings', 'MAX_DT', 'MIN_DT', 'MotionBackend', 'MotionFollower', 'MovingAiScenario', 'NeighbourGenerator', 'NeighbourSettings', 'Node', 'NoiseModel', 'NullBackend', 'OBSTACLE_THRESHOLD', 'OccupancyGrid', 'OdometryGenerator', 'OmplDecider', 'OmplPlan', 'OmplPlanner', 'OrderGenerator', 'OverviewCamera', 'OverviewView', 'ParticleFilter', 'PeopleBackend', 'PhysicsSettings', 'PhysicsWorld', 'PythonActor', 'RandomDecider', 'RangeScanner', 'ReceivedImages', 'RenderStyle', 'RobotPlatform', 'RobotSettings', 'RobotState', 'SimView', 'SimulatedCamera', 'SocialForceGenerator', 'SocialForceSettings', 'StopCondition', 'String', 'TopDownRenderer', 'TraceBackend', 'VideoSource', 'add_arobot', 'add_person_actor', 'apriltag_families', 'apriltag_family', 'apriltag_image', 'arobot_event_types', 'astar', 'backend_names', 'beam_angles', 'beam_layout', 'build_string', 'check_dt', 'create_backend', 'create_decider', 'create_platform', 'create_sensor', 'decider_names', 'default_threads', 'detect_apriltags', 'display', 'encode_image', 'estimate_tag_pose', 'evolve', 'grid_clearance', 'grid_inflate', 'jps', 'kld_bound', 'laser_events', 'log_message', 'movingai_grid', 'movingai_scenarios', 'overview_camera', 'person_attributes', 'plan_ompl', 'platform_names', 'python_budget', 'quantize_pose', 'ranging_sensors', 'read_image', 'render_overview', 'robot_map', 'sensor_names', 'set_log_sink', 'set_python_budget', 'social_force', 'social_push', 'steer', 'struct_defaults', 'visualize', 'walker_behavior', 'write_image']
 class Blob:
     """
     A large attribute value held by reference from world strings (an occupancy grid, an image, a path).
@@ -1660,6 +1660,156 @@ class NeighbourSettings:
     @smoothing.setter
     def smoothing(self, arg1: float) -> None:
         ...
+class SocialForceSettings:
+    """
+    People who walk: the social force model's strengths, ranges and speeds.
+    
+    Fields (defaults from the C++ struct):
+      relaxation = 0.5: seconds: how fast a person takes its desired velocity (tau)
+      people_strength = 2.1: m/s^2: another person's push at contact (A)
+      people_range = 0.3: metres: how fast it falls off (B)
+      robot_strength = 3.0: m/s^2: a robot's push at contact
+      robot_range = 0.5: metres: how fast a robot's push falls off
+      sidestep = 0.5: share of a push ahead of a person that also turns it to its right (keep right)
+      wall_strength = 5.0: m/s^2: a wall's push at contact
+      wall_range = 0.1: metres: how fast a wall's push falls off
+      reach = 3.0: metres: others and walls farther than this are left out
+      max_speed = 1.3: the fastest a person goes, as a multiple of its walking speed
+      arrive = 0.4: metres: a point of the way is passed this close
+      give_up = 3.0: seconds all but stopped before a person leaves its way for its next goal
+    """
+    __hash__: typing.ClassVar[None] = None
+    @staticmethod
+    def fields() -> list[tuple[str, str, typing.Any, str]]:
+        """
+        [(name, type, default, meaning)] of every field, in order.
+        """
+    def __copy__(self) -> SocialForceSettings:
+        ...
+    def __deepcopy__(self, memo: typing.Any) -> SocialForceSettings:
+        ...
+    def __eq__(self, arg0: typing.Any) -> bool:
+        ...
+    def __getstate__(self) -> dict:
+        ...
+    def __init__(self, *, relaxation: float = 0.5, people_strength: float = 2.1, people_range: float = 0.3, robot_strength: float = 3.0, robot_range: float = 0.5, sidestep: float = 0.5, wall_strength: float = 5.0, wall_range: float = 0.1, reach: float = 3.0, max_speed: float = 1.3, arrive: float = 0.4, give_up: float = 3.0) -> None:
+        """
+        The settings, each keyword replacing its default.
+        """
+    def __ne__(self, arg0: typing.Any) -> bool:
+        ...
+    def __repr__(self) -> str:
+        ...
+    def __setstate__(self, arg0: dict) -> None:
+        ...
+    def check(self, owner: str) -> None:
+        """
+        Raise vwg.SchemaError naming `owner.field` for a value out of range (what the C++ side would refuse).
+        """
+    def replace(self, **kwargs) -> SocialForceSettings:
+        """
+        A copy with these fields changed: spec.replace(beams=180).
+        """
+    def to_dict(self) -> dict:
+        """
+        {field: value}, as a world file writes them.
+        """
+    @property
+    def arrive(self) -> float:
+        """
+        metres: a point of the way is passed this close (float)
+        """
+    @arrive.setter
+    def arrive(self, arg1: float) -> None:
+        ...
+    @property
+    def give_up(self) -> float:
+        """
+        seconds all but stopped before a person leaves its way for its next goal (float)
+        """
+    @give_up.setter
+    def give_up(self, arg1: float) -> None:
+        ...
+    @property
+    def max_speed(self) -> float:
+        """
+        the fastest a person goes, as a multiple of its walking speed (float)
+        """
+    @max_speed.setter
+    def max_speed(self, arg1: float) -> None:
+        ...
+    @property
+    def people_range(self) -> float:
+        """
+        metres: how fast it falls off (B) (float)
+        """
+    @people_range.setter
+    def people_range(self, arg1: float) -> None:
+        ...
+    @property
+    def people_strength(self) -> float:
+        """
+        m/s^2: another person's push at contact (A) (float)
+        """
+    @people_strength.setter
+    def people_strength(self, arg1: float) -> None:
+        ...
+    @property
+    def reach(self) -> float:
+        """
+        metres: others and walls farther than this are left out (float)
+        """
+    @reach.setter
+    def reach(self, arg1: float) -> None:
+        ...
+    @property
+    def relaxation(self) -> float:
+        """
+        seconds: how fast a person takes its desired velocity (tau) (float)
+        """
+    @relaxation.setter
+    def relaxation(self, arg1: float) -> None:
+        ...
+    @property
+    def robot_range(self) -> float:
+        """
+        metres: how fast a robot's push falls off (float)
+        """
+    @robot_range.setter
+    def robot_range(self, arg1: float) -> None:
+        ...
+    @property
+    def robot_strength(self) -> float:
+        """
+        m/s^2: a robot's push at contact (float)
+        """
+    @robot_strength.setter
+    def robot_strength(self, arg1: float) -> None:
+        ...
+    @property
+    def sidestep(self) -> float:
+        """
+        share of a push ahead of a person that also turns it to its right (keep right) (float)
+        """
+    @sidestep.setter
+    def sidestep(self, arg1: float) -> None:
+        ...
+    @property
+    def wall_range(self) -> float:
+        """
+        metres: how fast a wall's push falls off (float)
+        """
+    @wall_range.setter
+    def wall_range(self, arg1: float) -> None:
+        ...
+    @property
+    def wall_strength(self) -> float:
+        """
+        m/s^2: a wall's push at contact (float)
+        """
+    @wall_strength.setter
+    def wall_strength(self, arg1: float) -> None:
+        ...
 class OverviewView:
     """
     How the 3D overview is seen: image size, angles, robots, labels.
@@ -2144,10 +2294,19 @@ class PhysicsWorld(RobotPlatform):
         """
         Hold the robot at these velocities (m/s, rad/s) from now on, as a base driven by velocity commands (a fake robot behind a link); its plan is dropped, and the next command() ends it.
         """
+    def set_person(self, id: typing.SupportsInt | typing.SupportsIndex, x: typing.SupportsFloat | typing.SupportsIndex, y: typing.SupportsFloat | typing.SupportsIndex, vx: typing.SupportsFloat | typing.SupportsIndex, vy: typing.SupportsFloat | typing.SupportsIndex, radius: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        """
+        Put person `id` (a kinematic disc, made at its first call) at (x, y), moving at (vx, vy).
+        """
     @property
     def journal_bytes(self) -> int:
         """
         Bytes of its journal: every call made to it, which its saved state holds.
+        """
+    @property
+    def people(self) -> list:
+        """
+        The people, in the order they were first set: [{id, x, y, vx, vy, radius}].
         """
     @property
     def wall_shapes(self) -> int:
@@ -3521,6 +3680,19 @@ class NeighbourGenerator(Generator):
     @property
     def robot(self) -> int:
         ...
+class SocialForceGenerator(Generator):
+    """
+    gSocial: eSocial<to=person, fx, fy> for every person on the simulator, the repulsion (m/s²) of the people and
+    robots near it and of the walls, from where the simulator has them when the frame begins.
+    """
+    def __init__(self, world: PhysicsWorld, settings: SocialForceSettings, alphabet: Alphabet, event: str = 'eSocial') -> None:
+        ...
+class PeopleBackend(Backend):
+    """
+    φ of Pedestrian: the person's body on the simulator.
+    """
+    def __init__(self, world: PhysicsWorld, alphabet: Alphabet) -> None:
+        ...
 def add_arobot(alphabet: Alphabet, decider: Decider, grid: OccupancyGrid, rooms: dict, radius: typing.SupportsFloat | typing.SupportsIndex = 0.18, margin: typing.SupportsFloat | typing.SupportsIndex = 0.07, goal_tolerance: typing.SupportsFloat | typing.SupportsIndex = 0.25, step_length: typing.SupportsFloat | typing.SupportsIndex = 1.0, carve: bool = True, name: str = 'ARobot', robots: collections.abc.Sequence[RobotSettings] = [], avoidance: AvoidanceSettings = ...) -> None:
     """
     Register the actor type ARobot (paper eq. 11) with its decider. `grid` gives the map geometry,
@@ -3528,6 +3700,12 @@ def add_arobot(alphabet: Alphabet, decider: Decider, grid: OccupancyGrid, rooms:
     slowest one's limits) and `avoidance` the settings of those that avoid (attribute ``avoid``). The alphabet must
     already have the symbols Robot, Move, Rotate (and Velocity, for robots that avoid) and the events of
     arobot_event_types().
+    """
+def add_person_actor(alphabet: Alphabet, map: OccupancyGrid, settings: SocialForceSettings, dt: typing.SupportsFloat | typing.SupportsIndex, largest_radius: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    """
+    Register the actor type Person (people who walk by the social force model, vwg/sim/people.hpp) on the
+    world's true map. The alphabet must have the primitive Pedestrian<id, x, y, vx, vy, radius> and the events
+    eSocial<fx, fy> and eExecute.
     """
 def apriltag_families() -> list[str]:
     """
@@ -3674,6 +3852,10 @@ def overview_camera(grid: OccupancyGrid, wall_height: typing.SupportsFloat | typ
     """
     The projection render_overview uses with these arguments (to draw over its image). azimuth: direction from the map's centre towards the eye, radians counter-clockwise from +x (-π/2: from the south). elevation: how steeply the eye looks down, radians (π/2: straight down). fov: horizontal field of view, radians; 0 = orthographic. Without target the view frames the map's free cells and their walls; with target (x, y[, z]) it aims there with scale pixels per metre (orthographic) or the eye distance metres away (perspective).
     """
+def person_attributes() -> dict:
+    """
+    Person's attributes {name: (kind, default)}.
+    """
 def plan_ompl(blocked: numpy.typing.NDArray[numpy.bool_], resolution: float, origin: tuple[float, float] | tuple[float, float, float], start_pose: tuple[float, float] | tuple[float, float, float], goal_pose: tuple[float, float] | tuple[float, float, float], robot_radius: float, planner: str = 'RRTConnect', time_limit: float = 1.0, seed: int = 0, *, simplify: bool = True, spacing: float | None = None, iterations: int = 0) -> OmplPlan:
     """
     Plan a path for a disc robot with an OMPL planner, in SE(2).
@@ -3731,6 +3913,14 @@ def set_log_sink(sink: typing.Any) -> None:
 def set_python_budget(seconds: typing.SupportsFloat | typing.SupportsIndex) -> None:
     """
     The time one call of a Python part (an actor's λ or θ, a generator, a backend, a decider) may take before a warning names it and its time (logger `vwg`); 0 turns the reports off; default 1 s. Only reported: the frames never depend on a clock.
+    """
+def social_force(world: PhysicsWorld, person: typing.SupportsInt | typing.SupportsIndex, settings: SocialForceSettings) -> tuple[float, float]:
+    """
+    What gSocial sends person `person` now: the repulsion of the others and the walls (m/s², x and y).
+    """
+def social_push(person: tuple[typing.SupportsFloat | typing.SupportsIndex, typing.SupportsFloat | typing.SupportsIndex, typing.SupportsFloat | typing.SupportsIndex], other: tuple[typing.SupportsFloat | typing.SupportsIndex, typing.SupportsFloat | typing.SupportsIndex, typing.SupportsFloat | typing.SupportsIndex], strength: typing.SupportsFloat | typing.SupportsIndex, range: typing.SupportsFloat | typing.SupportsIndex, reach: typing.SupportsFloat | typing.SupportsIndex) -> tuple[float, float]:
+    """
+    The push (m/s², x and y) of a disc `other` (x, y, radius) on a person (x, y, radius): strength·exp((r − d)/range).
     """
 def steer(pose: tuple[typing.SupportsFloat | typing.SupportsIndex, typing.SupportsFloat | typing.SupportsIndex, typing.SupportsFloat | typing.SupportsIndex], speed: typing.SupportsFloat | typing.SupportsIndex, radius: typing.SupportsFloat | typing.SupportsIndex, robot: RobotSettings, preferred_heading: typing.SupportsFloat | typing.SupportsIndex, preferred_speed: typing.SupportsFloat | typing.SupportsIndex, neighbours: collections.abc.Sequence[tuple[typing.SupportsFloat | typing.SupportsIndex, typing.SupportsFloat | typing.SupportsIndex, typing.SupportsFloat | typing.SupportsIndex, typing.SupportsFloat | typing.SupportsIndex, typing.SupportsFloat | typing.SupportsIndex]], settings: AvoidanceSettings) -> tuple[float, float]:
     """
