@@ -161,11 +161,15 @@ def test_the_extensibility_and_environment_tables_hold_the_sweeps_numbers(report
         assert row[5] == printed(statistics.fmean(int(c["collisions"]) for c in mine), 1)
     _, rows = tables_of(text)["environment"]
     cells = sweep_rows(out, "environment")
-    assert [(r[0], r[1]) for r in rows] == [("office", "0"), ("office", "1"), ("maze", "0"), ("maze", "1")]
+    assert [(r[0], r[1], r[2]) for r in rows] == [("office", "0", "0"), ("office", "1", "0"), ("maze", "0", "0"),
+                                                  ("maze", "1", "0"), ("office", "0", "2"), ("maze", "0", "2")]
     for row in rows:
         mine = [c for c in cells if Path(c["world"]).stem == row[0]
-                and json.loads(c["params"]).get("obstacles", 0) == int(row[1])]
-        assert row[4] == printed(statistics.fmean(int(c["replans"]) for c in mine), 1)
+                and json.loads(c["params"]).get("obstacles", 0) == int(row[1])
+                and json.loads(c["params"]).get("people", 0) == int(row[2])]
+        assert len(mine) == int(row[3])
+        assert row[5] == printed(statistics.fmean(int(c["replans"]) for c in mine), 1)
+        assert row[6] == printed(statistics.fmean(int(c["collisions"]) for c in mine), 1)
 
 
 def test_the_command_refuses_bad_options(tmp_path):

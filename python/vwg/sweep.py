@@ -52,16 +52,23 @@ class SweepSpec:
     seeds: list[int]
     frames: int
     params: dict[str, list[Any]] = field(default_factory=dict)
+    #: More parameter grids, each run over the same worlds, planners and seeds after `params`' (an experiment's
+    #: variant that does not cross every other value: test 5's people, with avoidance, on the unboxed maps).
+    more: list[dict[str, list[Any]]] = field(default_factory=list)
 
     def trials(self) -> list[Trial]:
-        names = list(self.params)
-        grids = [self.params[n] for n in names]
-        return [Trial(world, planner, seed, self.frames, dict(zip(names, values, strict=True)))
-                for world, planner, values, seed in itertools.product(self.worlds, self.planners,
-                                                                      itertools.product(*grids), self.seeds)]
+        out = []
+        for params in (self.params, *self.more):
+            names = list(params)
+            grids = [params[n] for n in names]
+            out += [Trial(world, planner, seed, self.frames, dict(zip(names, values, strict=True)))
+                    for world, planner, values, seed in itertools.product(self.worlds, self.planners,
+                                                                          itertools.product(*grids), self.seeds)]
+        return out
 
     def __len__(self) -> int:
-        return len(self.worlds) * len(self.planners) * len(self.seeds) * math.prod(len(v) for v in self.params.values())
+        cells = sum(math.prod(len(v) for v in params.values()) for params in (self.params, *self.more))
+        return len(self.worlds) * len(self.planners) * len(self.seeds) * cells
 
 
 def load_spec(path: str | Path) -> SweepSpec:

@@ -53,7 +53,7 @@ class Config:
 
 
 def _config(name: str, maps: list[str], planners: list[str], seeds: int, frames: int, sim: SimulationConfig,
-            robots: list[int], boxes: list[int], devices_maps: list[str]) -> Config:
+            robots: list[int], boxes: list[int], devices_maps: list[str], people: int) -> Config:
     random = {"task": ["random"]}
     return Config(
         name,
@@ -63,8 +63,10 @@ def _config(name: str, maps: list[str], planners: list[str], seeds: int, frames:
         simulation=sim,
         extensibility=SweepSpec(["warehouse"], ["astar"], list(range(max(2, seeds // 2))), frames,
                                 {**random, "robots": robots, "avoidance": ["none", "orca"]}),
+        # The maps with boxes, and the same maps and seeds with people walking, the robot avoiding them.
         environment=SweepSpec(ALL_MAPS, ["astar"], list(range(max(2, seeds // 2))), frames + 1500,
-                              {**random, "obstacles": boxes}),
+                              {**random, "obstacles": boxes},
+                              [{**random, "people": [people], "avoidance": ["orca"]}]),
     )
 
 
@@ -73,9 +75,9 @@ def _config(name: str, maps: list[str], planners: list[str], seeds: int, frames:
 CONFIGS: dict[str, Config] = {
     "full": _config("full", ALL_MAPS, PLANNERS, 20, 3000, SimulationConfig([0, 1, 2, 3, 4], 1500,
                     [0.0, 0.01, 0.02, 0.05, 0.1], [0, 1, 2, 3, 4], 1500), [1, 2, 4, 8, 16, 32, 64], [0, 1, 3],
-                    ["office", "maze", "warehouse"]),
+                    ["office", "maze", "warehouse"], 6),
     "quick": _config("quick", ["office", "maze"], PLANNERS, 3, 1500, SimulationConfig([0], 600, [0.0, 0.02, 0.05],
-                     [0], 800), [1, 2, 4, 8], [0, 2], ["office"]),
+                     [0], 800), [1, 2, 4, 8], [0, 2], ["office"], 4),
     "tiny": Config(
         "tiny",
         evolution=SweepSpec(["office"], ["astar", "random", "wavefront"], [1, 3], 500, {"task": ["random"]}),
@@ -84,7 +86,8 @@ CONFIGS: dict[str, Config] = {
         simulation=SimulationConfig([1], 200, [0.0, 0.05], [1], 150),
         extensibility=SweepSpec(["office"], ["astar"], [0], 200, {"task": ["random"], "robots": [1, 2],
                                                                   "avoidance": ["none", "orca"]}),
-        environment=SweepSpec(["office", "maze"], ["astar"], [1], 600, {"task": ["random"], "obstacles": [0, 1]}),
+        environment=SweepSpec(["office", "maze"], ["astar"], [1], 600, {"task": ["random"], "obstacles": [0, 1]},
+                              [{"task": ["random"], "people": [2], "avoidance": ["orca"]}]),
     ),
 }
 
