@@ -196,3 +196,13 @@ def test_robots_that_avoid_reach_their_rooms_among_six_people():
             for seed in range(10, 15)]
     assert not any(r["error"] for r in rows)
     assert sum(r["reached"] is True for r in rows) / len(rows) >= 0.9, [(r["reached"], r["frames"]) for r in rows]
+
+
+def test_the_3d_overview_draws_people_where_they_start():
+    from vwg.robot.overview import render_world_overview
+
+    alone = render_world_overview(vwg.robot.load_robot_world("office"))
+    with_one = render_world_overview(office_with([Person(1, (6.0, 9.0), ((20.0, 9.0),))]))
+    changed = np.argwhere((alone != with_one).any(axis=2))
+    # A cylinder of 0.25 m: some hundreds of pixels, all in one place (a box of at most 80 px a side).
+    assert len(changed) > 200 and np.ptp(changed[:, 0]) < 80 and np.ptp(changed[:, 1]) < 80

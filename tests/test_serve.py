@@ -512,3 +512,23 @@ def test_sigusr1_prints_every_threads_stack_and_the_server_goes_on():
     assert code == 130, (code, err)
     # faulthandler's dump: the live run's thread (in live.py) and the main thread (the event loop).
     assert err.count("(most recent call first)") >= 2 and "live.py" in err and "asyncio" in err, err
+
+
+def test_people_who_walk_are_in_the_frames_and_the_3d_view(tmp_path):
+    import vwg
+
+    office = vwg.robot.load_robot_world("office")
+    text = office.path.read_text(encoding="utf-8").replace("map: office/map.yaml", f"map: {office.map_path.resolve()}")
+    world = tmp_path / "office.yaml"
+    world.write_text(text + "people:\n  - {start: [6.0, 9.0], waypoints: [[20.0, 9.0], [6.0, 9.0]]}\n"
+                            "  - {start: [12.0, 9.5], wander: all}\n", encoding="utf-8")
+    s = Server(str(world), "--no-world-orders", "--speed", "0")
+    try:
+        first = s.wait_for(lambda st: st["frame"] >= 5 and len(st["people"]) == 2)
+        later = s.wait_for(lambda st: st["frame"] >= first["frame"] + 20)
+        walker = {p["id"]: p for p in first["people"]}[1], {p["id"]: p for p in later["people"]}[1]
+        assert walker[1]["x"] > walker[0]["x"] + 0.5  # walking east along the corridor
+        assert all(p["radius"] == 0.25 for p in later["people"])
+        assert s.get("/api/overview.png")[:8] == b"\x89PNG\r\n\x1a\n"
+    finally:
+        s.stop()

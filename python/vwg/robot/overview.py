@@ -54,5 +54,8 @@ def render_world_overview(world: RobotWorld, *, width: int = _VIEW.width, height
                           labels: bool = _VIEW.labels) -> np.ndarray:
     """The world in 3D (H×W×3 uint8) from the preferred view that shows the most robots."""
     best = max(VIEWS, key=lambda v: (robots_seen(world, *v), -VIEWS.index(v)))
-    return _core.render_overview(world.grid, markers=world.rooms, robots=world.robots, wall_height=world.wall_height,
+    # People at their starts, as cylinders too (ids below zero: the palette's other end).
+    people = [{"x": p.start[0], "y": p.start[1], "radius": p.radius, "id": -p.id} for p in world.people]
+    return _core.render_overview(world.grid, markers=world.rooms, robots=[*world.robots, *people],
+                                 wall_height=world.wall_height,
                                  width=width, height=height, azimuth=best[0], elevation=best[1], labels=labels)

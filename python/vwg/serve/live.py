@@ -55,16 +55,18 @@ class Snapshot:
     selected: int | None
     robots: list[dict[str, Any]]
     string: str = ""  # the selected robot's string
+    people: list[dict[str, Any]] = field(default_factory=list)  # id, x, y, radius of each person who walks
     camera: np.ndarray | None = None  # the selected robot's last camera image (H×W×3), if it has a camera
     serial: int = 0  # counts snapshots: a viewer tells a new one from the last
     errors: list[str] = field(default_factory=list)
     text: str | None = field(default=None, repr=False)  # message() as JSON, made once for every client
 
     def state(self) -> dict[str, Any]:
-        """GET /api/state: frame, time, status and each robot's id, pose, objective and reached."""
+        """GET /api/state: frame, time, status, each robot's id, pose, objective and reached, and the people."""
         keys = ("id", "x", "y", "angle", "objective", "reached")
         return {"frame": self.frame, "time": self.time, "status": self.status, "speed": self.speed,
-                "selected": self.selected, "robots": [{k: r[k] for k in keys} for r in self.robots]}
+                "selected": self.selected, "robots": [{k: r[k] for k in keys} for r in self.robots],
+                "people": self.people}
 
     def message(self) -> dict[str, Any]:
         """The WebSocket message of this frame: the state with paths, scans, statuses, the string, errors."""
@@ -374,9 +376,12 @@ class LiveRun:
             for gen in case.sim.made:
                 if isinstance(gen, _core.CameraGenerator) and gen.robot == self._selected and gen.image is not None:
                     camera = np.asarray(gen.image)
+        physics = getattr(case.sim, "physics", None)  # the simulator's people (no other platform has any)
+        people = [{"id": p["id"], "x": round(p["x"], 4), "y": round(p["y"], 4), "radius": p["radius"]}
+                  for p in (physics.people if physics is not None else [])]
         return Snapshot(frame=case.engine.frame, time=round(case.engine.time, 6), status=self._status(),
                         speed=self._speed, selected=self._selected, robots=robots, string=string, camera=camera,
-                        serial=self._next_serial(), errors=list(self._errors))
+                        serial=self._next_serial(), errors=list(self._errors), people=people)
 
 
 def _scan_points(laser: Any, pose: tuple[float, float, float]) -> list[list[float]]:

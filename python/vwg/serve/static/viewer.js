@@ -39,6 +39,16 @@ function draw() {
   if (!world || !mapImage) return;
   ctx.drawImage(mapImage, 0, 0);
   if (!frame) return;
+  for (const person of frame.people || []) {  // people who walk: sand discs, as in the videos
+    const [u, v] = px(person.x, person.y);
+    ctx.fillStyle = "rgb(222, 184, 135)";
+    ctx.strokeStyle = "rgb(20, 20, 24)";
+    ctx.lineWidth = 1;
+    ctx.beginPath();
+    ctx.arc(u, v, Math.max(4, Math.abs(world.map.ax) * person.radius), 0, 2 * Math.PI);
+    ctx.fill();
+    ctx.stroke();
+  }
   for (const robot of frame.robots) {
     ctx.fillStyle = "rgba(220, 40, 40, 0.7)";
     for (const [x, y] of robot.scan) {
