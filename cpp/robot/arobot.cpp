@@ -276,6 +276,24 @@ bool ARobot::goal_of(const ActorState& self, int marker, double& x, double& y) c
   return true;
 }
 
+Decision ARobot::consult(ActorState& self, const EvolutionContext& ctx, double gx, double gy) {
+  DecisionInput in;
+  in.robot = self.get_int(kId);
+  in.map = self.get_blob(kGrid);
+  in.geometry = &config_.map;
+  in.pose = geometry::Pose2{self.get_real(kX), self.get_real(kY), self.get_real(kAngle)};
+  in.goal_x = gx;
+  in.goal_y = gy;
+  in.radius = config_.radius + config_.margin;
+  in.step_length = config_.step_length;
+  in.path_owner = self.get_blob(kPath);
+  in.path = in.path_owner->view<double>();
+  in.seed = ctx.seed;
+  Decision d = decider_->decide(in);
+  if (d.replanned) self.set_int(kReplans, self.get_int(kReplans) + 1);
+  return d;
+}
+
 void ARobot::decide(ActorState& self, const EvolutionContext& ctx) {
   const std::int64_t objective = self.get_int(kObjective);
   // A decided action is shown (θ, eExecute) in the next frame only: from then on it is gone.
@@ -305,20 +323,7 @@ void ARobot::decide(ActorState& self, const EvolutionContext& ctx) {
     }
     return;
   }
-  DecisionInput in;
-  in.robot = self.get_int(kId);
-  in.map = self.get_blob(kGrid);
-  in.geometry = &config_.map;
-  in.pose = geometry::Pose2{x, y, theta};
-  in.goal_x = gx;
-  in.goal_y = gy;
-  in.radius = config_.radius + config_.margin;
-  in.step_length = config_.step_length;
-  in.path_owner = self.get_blob(kPath);
-  in.path = in.path_owner->view<double>();
-  in.seed = ctx.seed;
-  Decision d = decider_->decide(in);
-  if (d.replanned) self.set_int(kReplans, self.get_int(kReplans) + 1);
+  const Decision d = consult(self, ctx, gx, gy);
   if (d.kind == Decision::Kind::NoPath) {
     // Wait a little before searching again, from scratch: the way may clear (a robot moves on).
     self.set_text(kStatus, "no path to marker " + std::to_string(objective));
@@ -379,20 +384,7 @@ void ARobot::decide_avoiding(ActorState& self, const EvolutionContext& ctx) {
     self.set_blob(kPath, empty_path());
     return avoid(self, ctx, theta, 0.0);
   }
-  DecisionInput in;
-  in.robot = self.get_int(kId);
-  in.map = self.get_blob(kGrid);
-  in.geometry = &config_.map;
-  in.pose = geometry::Pose2{x, y, theta};
-  in.goal_x = gx;
-  in.goal_y = gy;
-  in.radius = config_.radius + config_.margin;
-  in.step_length = config_.step_length;
-  in.path_owner = self.get_blob(kPath);
-  in.path = in.path_owner->view<double>();
-  in.seed = ctx.seed;
-  const Decision d = decider_->decide(in);
-  if (d.replanned) self.set_int(kReplans, self.get_int(kReplans) + 1);
+  const Decision d = consult(self, ctx, gx, gy);
   if (d.kind == Decision::Kind::NoPath) {
     self.set_text(kStatus, "no path to marker " + std::to_string(objective));
     self.set_blob(kPath, empty_path());

@@ -117,6 +117,8 @@ class ARobot final : public ActorBehavior {
 
  private:
   void decide(ActorState& self, const EvolutionContext& ctx);
+  /// The decider's next step from the belief to (gx, gy), its replans counted.
+  Decision consult(ActorState& self, const EvolutionContext& ctx, double gx, double gy);
   /// decide() for a robot that avoids: every frame, the velocity of steer().
   void decide_avoiding(ActorState& self, const EvolutionContext& ctx);
   /// The velocity of steer() toward `heading` at `speed` (0: stay, giving way to neighbours), shown.
