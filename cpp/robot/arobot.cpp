@@ -212,16 +212,28 @@ void ARobot::evolve(ActorState& self, const EventView& e, const EvolutionContext
   // eExecute: nothing changes; θ shows the action (DESIGN.md choice 3).
 }
 
-void ARobot::unmark_neighbours(const ActorState& self, const EvolutionContext& ctx, std::span<ScanBeam> scan) const {
-  if (!self.get_bool(kAvoid) || self.get_int(kSensed) != static_cast<std::int64_t>(ctx.frame)) return;
+void ARobot::neighbours_in_world(const ActorState& self, const EvolutionContext& ctx,
+                                 std::vector<orca::Neighbour>& out) const {
+  out.clear();
+  if (self.get_int(kSensed) != static_cast<std::int64_t>(ctx.frame)) return;  // none seen this frame
   const auto rows = self.get_blob(kNeighbours)->view<double>();
-  if (rows.empty()) return;
   const double x = self.get_real(kX), y = self.get_real(kY), theta = self.get_real(kAngle);
-  const double c = std::cos(theta), s = std::sin(theta), slack = config_.map.resolution;
+  const double c = std::cos(theta), s = std::sin(theta);
+  for (std::size_t i = 0; i + 5 <= rows.size(); i += 5) {
+    const double* r = &rows[i];
+    out.push_back(orca::Neighbour{{x + c * r[0] - s * r[1], y + s * r[0] + c * r[1]},
+                                  {c * r[2] - s * r[3], s * r[2] + c * r[3]}, r[4], 0.5});
+  }
+}
+
+void ARobot::unmark_neighbours(const ActorState& self, const EvolutionContext& ctx, std::span<ScanBeam> scan) const {
+  if (!self.get_bool(kAvoid)) return;
+  thread_local std::vector<orca::Neighbour> neighbours;
+  neighbours_in_world(self, ctx, neighbours);
+  const double slack = config_.map.resolution;
   for (ScanBeam& b : scan) {
-    for (std::size_t i = 0; i + 5 <= rows.size(); i += 5) {
-      const double nx = x + c * rows[i] - s * rows[i + 1], ny = y + s * rows[i] + c * rows[i + 1];
-      if (std::hypot(b.end_x - nx, b.end_y - ny) <= rows[i + 4] + slack) {
+    for (const orca::Neighbour& n : neighbours) {
+      if (std::hypot(b.end_x - n.position.x, b.end_y - n.position.y) <= n.radius + slack) {
         // A return off a robot or a person: the beam still clears the way to it, and marks nothing.
         b.mark_x = b.mark_y = std::numeric_limits<double>::quiet_NaN();
         break;
@@ -417,18 +429,8 @@ void ARobot::forget_seen(ActorState& self) {
 
 void ARobot::avoid(ActorState& self, const EvolutionContext& ctx, double heading, double speed) {
   const double x = self.get_real(kX), y = self.get_real(kY), theta = self.get_real(kAngle);
-  // The neighbours of this frame, from the robot's frame into the world's.
   thread_local std::vector<orca::Neighbour> neighbours;
-  neighbours.clear();
-  if (self.get_int(kSensed) == static_cast<std::int64_t>(ctx.frame)) {
-    const auto rows = self.get_blob(kNeighbours)->view<double>();
-    const double c = std::cos(theta), s = std::sin(theta);
-    for (std::size_t i = 0; i + 5 <= rows.size(); i += 5) {
-      const double* r = &rows[i];
-      neighbours.push_back(orca::Neighbour{{x + c * r[0] - s * r[1], y + s * r[0] + c * r[1]},
-                                           {c * r[2] - s * r[3], s * r[2] + c * r[3]}, r[4], 0.5});
-    }
-  }
+  neighbours_in_world(self, ctx, neighbours);
   SteerInput steering;
   steering.pose = geometry::Pose2{x, y, theta};
   steering.speed = self.get_real(kSpeed);
@@ -438,12 +440,11 @@ void ARobot::avoid(ActorState& self, const EvolutionContext& ctx, double heading
   steering.preferred_speed = speed;
   steering.neighbours = neighbours;
   platform::Velocity v = steer(steering, config_.avoidance);
-  // Never into what the robot's own map holds (ORCA knows only the neighbours); a robot already nearer a wall
-  // than its radius may drive as long as it gets no nearer.
+  // Never into what the robot's own map holds (ORCA knows only the neighbours).
   const double ahead = v.speed * config_.avoidance.wall_lookahead;
   if (ahead > 0.0) {
     const Blob& map = *self.get_blob(kGrid);
-    const double radius = std::min(config_.radius, std::max(0.0, clearance(map, config_.map, x, y, config_.radius) - 1e-3));
+    const double radius = move_radius(map, config_.map, x, y, config_.radius);
     if (!segment_clear(map, config_.map, x, y, x + ahead * std::cos(theta), y + ahead * std::sin(theta), radius)) v.speed = 0.0;
   }
   set_velocity(self, v.speed, v.turn_rate);

@@ -30,10 +30,8 @@ Decision RandomDecider::decide(const DecisionInput& in) {
 bool follow_path(const DecisionInput& in_, std::span<const double> path, Decision& out) {
   const std::size_t n = path.size() / 2;
   if (n == 0) return false;
-  // A robot already closer to an obstacle than its clearance (a wall it had not seen) may move as
-  // long as it gets no closer: the test radius is what it has now.
   DecisionInput in = in_;
-  in.radius = std::min(in_.radius, std::max(0.0, clearance(*in_.map, *in_.geometry, in_.pose.x, in_.pose.y, in_.radius) - 1e-3));
+  in.radius = move_radius(*in_.map, *in_.geometry, in_.pose.x, in_.pose.y, in_.radius);
   // Start from the path point nearest to the robot, so points already passed are skipped.
   std::size_t nearest = 0;
   double best = std::numeric_limits<double>::infinity();

@@ -519,6 +519,10 @@ bool segment_clear(const Blob& map, const geometry::MapGeometry& g, double x0, d
          v0 <= g.height - rc && v1 <= g.height - rc;
 }
 
+double move_radius(const Blob& map, const geometry::MapGeometry& g, double x, double y, double radius) {
+  return std::min(radius, std::max(0.0, clearance(map, g, x, y, radius) - 1e-3));
+}
+
 double clearance(const Blob& map, const geometry::MapGeometry& g, double x, double y, double cap) {
   check(map, g);
   double u, v;

@@ -74,6 +74,7 @@ import dataclasses
 import difflib
 import math
 import re
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -564,24 +565,16 @@ def _platform(doc: YamlDoc) -> PlatformSpec:
 def _avoidance(doc: YamlDoc, robots: list[RobotSettings]) -> Avoidance:
     """``avoidance: KIND`` or ``{kind: KIND, ...settings}`` for all robots, and ``robots[i].avoidance: KIND`` for
     one; the settings checked by the C++ struct."""
-    entry = doc.get(("avoidance",), (str, dict), default="none")
-    kind = entry if isinstance(entry, str) else doc.get(("avoidance", "kind"), str, default="orca")
-    try:
-        chosen = Avoidance.of(kind)
-    except SchemaError as e:
-        where = ("avoidance",) if isinstance(entry, str) else ("avoidance", "kind")
-        raise doc.error(where, str(e).removeprefix("avoidance: ")) from None
-    settings = (_settings(doc, ("avoidance",), chosen.settings, skip=("kind",)) if isinstance(entry, dict)
-                else chosen.settings)
+    kind, settings = _kind_and_settings(doc, "avoidance", Avoidance.of, unset="none", mapped="orca")
     own: list[tuple[int, str]] = []
     for i, robot in enumerate(robots):
         mine = doc.get(("robots", i, "avoidance"), str, default=None)
-        if mine is None:
-            continue
-        if mine not in AVOIDANCES:
-            raise doc.error(("robots", i, "avoidance"), f"expected one of {', '.join(AVOIDANCES)}, got {mine!r}")
-        own.append((robot.id, mine))
-    return Avoidance(chosen.kind, settings, tuple(own))
+        if mine is not None:
+            try:
+                own.append((robot.id, Avoidance.of(mine).kind))
+            except SchemaError as e:
+                raise doc.error(("robots", i, "avoidance"), str(e).removeprefix("avoidance: ")) from None
+    return Avoidance(kind, settings, tuple(own))
 
 
 def _people(doc: YamlDoc, grid: OccupancyGrid, rooms: dict[str, Room]) -> list[Person]:
@@ -633,17 +626,24 @@ def _map_point(doc: YamlDoc, path: tuple[Any, ...], grid: OccupancyGrid) -> tupl
 
 
 def _localization(doc: YamlDoc) -> Localization:
-    """``localization: KIND`` or ``{kind: KIND, ...settings}``, the settings checked by the C++ struct."""
-    entry = doc.get(("localization",), (str, dict), default="odometry")
-    kind = entry if isinstance(entry, str) else doc.get(("localization", "kind"), str, default="particles")
+    """``localization: KIND`` or ``{kind: KIND, ...settings}``."""
+    return Localization(*_kind_and_settings(doc, "localization", Localization.of, unset="odometry", mapped="particles"))
+
+
+def _kind_and_settings(doc: YamlDoc, key: str, of: Callable[[str], Any], *, unset: str, mapped: str) -> tuple[str, Any]:
+    """``KEY: KIND`` (`unset` when the key is absent) or ``{kind: KIND, ...settings}`` (`mapped` when it gives no
+    kind): the kind checked by `of` (Localization.of, Avoidance.of), the settings by the C++ struct, errors at
+    their line."""
+    entry = doc.get((key,), (str, dict), default=unset)
+    kind = entry if isinstance(entry, str) else doc.get((key, "kind"), str, default=mapped)
     try:
-        chosen = Localization.of(kind)
+        chosen = of(kind)
     except SchemaError as e:
-        where = ("localization",) if isinstance(entry, str) else ("localization", "kind")
-        raise doc.error(where, str(e).removeprefix("localization: ")) from None
+        where = (key,) if isinstance(entry, str) else (key, "kind")
+        raise doc.error(where, str(e).removeprefix(f"{key}: ")) from None
     if isinstance(entry, dict):
-        return Localization(chosen.kind, _settings(doc, ("localization",), chosen.settings, skip=("kind",)))
-    return chosen
+        return chosen.kind, _settings(doc, (key,), chosen.settings, skip=("kind",))
+    return chosen.kind, chosen.settings
 
 
 #: The highest wall a world may have, metres.

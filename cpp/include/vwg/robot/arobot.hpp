@@ -138,6 +138,8 @@ class ARobot final : public ActorBehavior {
   /// A robot that avoids keeps its map for what stays: the returns off this frame's neighbours (robots and
   /// people, which ORCA avoids as they move) mark no cell (their beams still clear the way to them).
   void unmark_neighbours(const ActorState& self, const EvolutionContext& ctx, std::span<ScanBeam> scan) const;
+  /// This frame's eNeighbour rows, from the robot's frame into the world's (none when it saw none this frame).
+  void neighbours_in_world(const ActorState& self, const EvolutionContext& ctx, std::vector<orca::Neighbour>& out) const;
 
   /// Run `edit(map, bits)` on the robot's map (in place when the engine allows it) and its
   /// ObstacleBits, made valid for the map before and kept valid after.

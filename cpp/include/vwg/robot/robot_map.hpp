@@ -155,6 +155,9 @@ bool segment_clear(const Blob& map, const geometry::MapGeometry& g, double x0, d
                    bool unknown_blocked = false);
 /// Distance from (x, y) to the nearest obstacle square of the map, or `cap` if none is nearer.
 double clearance(const Blob& map, const geometry::MapGeometry& g, double x, double y, double cap);
+/// The radius a move from (x, y) is tested with: `radius`, or what the robot has now when it is already nearer
+/// an obstacle (a wall it had not seen): it may move as long as it gets no nearer.
+double move_radius(const Blob& map, const geometry::MapGeometry& g, double x, double y, double radius);
 /// Where marker `tag` was seen (the centre of its cell); false if it never was.
 bool find_marker(const Blob& map, const geometry::MapGeometry& g, int tag, double& x, double& y);
 
