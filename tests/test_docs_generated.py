@@ -20,7 +20,8 @@ from vwg.cli import EXIT_CODES, build_parser
 from vwg.plugins import deciders
 from vwg.robot.deciders.native import astar
 
-COMMANDS = ["run", "resume", "replay", "sweep", "experiments", "serve", "overview", "check", "plugins", "worlds"]
+COMMANDS = ["run", "resume", "replay", "export", "sweep", "experiments", "serve", "overview", "foxglove-layout", "check",
+            "plugins", "worlds"]
 
 
 @pytest.mark.parametrize("command", COMMANDS)
@@ -36,7 +37,7 @@ def test_the_cli_page_holds_every_option_the_help_prints(command):
 
 
 def test_the_cli_page_has_a_section_for_every_command():
-    assert re.findall(r"^## vwg (\w+)$", hooks.cli_markdown(), flags=re.M) == COMMANDS
+    assert re.findall(r"^## vwg ([\w-]+)$", hooks.cli_markdown(), flags=re.M) == COMMANDS
 
 
 def test_every_exit_status_of_the_cli_is_in_the_table():

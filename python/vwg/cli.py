@@ -30,7 +30,8 @@ import vwg._core as _core
 from vwg.errors import Error, FrameError, ReplayError, clip
 from vwg.generic import named_world_file, replay
 from vwg.io.files import check_output_file
-from vwg.io.record import Recorder, check_goals, read_key, read_record, robot_data, robot_world_file
+from vwg.io.foxglove_server import FoxgloveServer
+from vwg.io.record import Recorder, read_key, read_record, robot_data, robot_world_file
 from vwg.io.shipped import resolve_world, shipped_worlds
 from vwg.io.state_file import engine_state
 from vwg.io.yamldoc import YamlDoc
@@ -43,12 +44,17 @@ from vwg.launch import (
     kind_of,
     load,
     platform_faults,
+    record_options,
     replay_world,
     run_inputs,
     start,
+    step_as_recorded,
     strict_json,
 )
 from vwg.plugins import GROUPS, backends, deciders, platforms, world_kinds
+from vwg.robot.export import export_record
+from vwg.robot.foxglove_layout import write_layout
+from vwg.robot.topics import open_sinks
 from vwg.robot.world_file import AVOIDANCES, Avoidance, load_robot_world
 from vwg.saved_run import keep_snapshots, nearest_snapshot, read_state_file, resume
 
@@ -93,7 +99,8 @@ def _options(args: argparse.Namespace) -> Any:
                       progress=args.progress, platform=args.platform, platform_options=_platform_options(args),
                       planner=args.planner, avoidance=args.avoidance, goals=args.goal,
                       no_world_orders=args.no_world_orders, stdin_orders=args.stdin_orders, video=args.video,
-                      images=args.images, trajectory=args.trajectory, allow_unreached=args.allow_unreached)
+                      images=args.images, trajectory=args.trajectory, allow_unreached=args.allow_unreached,
+                      mcap=args.mcap, foxglove_port=args.foxglove_port, foxglove_host=args.foxglove_host)
 
 
 class _StopOnInterrupt:
@@ -173,6 +180,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
     _check_state_outputs(world, args)
     try:
         run = start(world, options)
+        _say_foxglove("vwg run", getattr(run, "sinks", []))
         try:
             outcome, interrupted = _execute(run, args, options.progress)
         finally:
@@ -187,15 +195,24 @@ def _cmd_run(args: argparse.Namespace) -> int:
     return _report(args, f"vwg run {args.world}", outcome, interrupted)
 
 
+def _say_foxglove(command: str, sinks: Sequence[Any]) -> None:
+    for sink in sinks:
+        if isinstance(sink, FoxgloveServer):
+            print(f"{command}: the Foxglove server is on ws://{sink.host}:{sink.port} (in Foxglove: Open connection, "
+                  "Foxglove WebSocket)", file=sys.stderr, flush=True)
+
+
 def _cmd_resume(args: argparse.Namespace) -> int:
 
     options = RunOptions(frames=args.frames, threads=args.threads, record=args.record, record_key=args.record_key,
                          summary_json=args.summary_json, progress=args.progress, backend=args.backend,
                          video=args.video, images=args.images, trajectory=args.trajectory,
-                         allow_unreached=args.allow_unreached, stdin_orders=args.stdin_orders)
+                         allow_unreached=args.allow_unreached, stdin_orders=args.stdin_orders, mcap=args.mcap,
+                         foxglove_port=args.foxglove_port, foxglove_host=args.foxglove_host)
     if args.snapshot_every is not None and args.record is None:
         raise Error("--snapshot-every keeps the states beside the record: give --record too")
     run = resume(args.state, options)
+    _say_foxglove("vwg resume", getattr(run, "sinks", []))
     try:
         world = getattr(run, "world", None) or getattr(run, "spec", None)
         _check_state_outputs(world, args, {"the state being resumed": args.state})
@@ -271,13 +288,11 @@ def _resume(args: argparse.Namespace, record: Any, key: bytes | None) -> int:
         raise Error(f"--from: {path}: the record {args.record} was made by a {expected} world; this is a {found} "
                     "world")
     loaded = load(path)
-    options = RunOptions(seed=header.get("seed"), frames=header.get("frames_planned"))
+    # A robot world's own orders again: the frames before FRAME get them from the record as they went, and
+    # the run knows whom it sent where (when to stop, the summary).
+    options = record_options(header, loaded, Path(args.record))
     if robot:
-        check_goals(data, list(loaded.rooms), [r.id for r in loaded.robots], Path(args.record))
-        # The run's own orders again: the frames before FRAME get them from the record as they went, and
-        # the run knows whom it sent where (when to stop, the summary).
-        options = dataclasses.replace(options, planner=data["planner"], goals=data["goals"] or None,
-                                      no_world_orders=not data["world_orders"], allow_unreached=args.allow_unreached)
+        options = dataclasses.replace(options, allow_unreached=args.allow_unreached)
     elif args.allow_unreached:
         raise Error("--allow-unreached is for robot worlds; this record is of a generic world")
     # The new record overwrites neither the record read nor the world's files, nor is it a named pipe.
@@ -294,18 +309,13 @@ def _resume(args: argparse.Namespace, record: Any, key: bytes | None) -> int:
     with (resume(snapshot[0], RunOptions(allow_unreached=args.allow_unreached)) if snapshot
           else start(loaded, options)) as run:
         engine = run.engine
-        alphabet = engine.world.alphabet
         try:
             for frame in record.frames:
                 if frame["t"] < first:
                     continue
                 if frame["t"] == args.resume_from:
                     break
-                if str(engine.string) != frame["string"]:
-                    raise ReplayError(frame["t"], frame["string"], str(engine.string))
-                engine.collect_events()  # the generators run as they did, and are left where they were
-                engine.step_with([alphabet.parse_event(text, f"{args.record}: frame {frame['t']}")
-                                  for text in frame["events"]])
+                step_as_recorded(engine, frame, Path(args.record))
             if str(engine.string) != frame["string"]:
                 raise ReplayError(frame["t"], frame["string"], str(engine.string))
         except ReplayError as e:
@@ -346,6 +356,23 @@ def _check_snapshot(state: Path, header: dict[str, Any], record: Any, frame: int
     if engine_state(saved, frame).string != strings[frame]:
         raise Error(f"--from: {state} holds another string at frame {frame} than the record; it was not kept by "
                     "this record's run")
+
+
+def _cmd_export(args: argparse.Namespace) -> int:
+    key = read_key(args.record_key) if args.record_key else None
+    start_time = time.perf_counter()
+    done = export_record(args.record, args.output, world_file=args.world, key=key, progress=args.progress,
+                         allow_cut=args.allow_cut)
+    if done.truth_frames == done.frames:
+        truth = "with the ground truth"
+    elif done.truth_frames:
+        truth = (f"with the ground truth for the first {done.truth_frames} frames (the record's sensors part from the "
+                 "simulator's there: a real robot's run)")
+    else:
+        truth = "without ground truth (a real robot's run)"
+    print(f"vwg export {args.record}: {done.frames} frames, {done.messages} messages to {args.output}, {truth} "
+          f"({time.perf_counter() - start_time:.1f} s)")
+    return 0
 
 
 def _cmd_check(args: argparse.Namespace) -> int:
@@ -420,9 +447,18 @@ def _cmd_serve(args: argparse.Namespace) -> int:
     if args.avoidance is not None:
         world = dataclasses.replace(world, avoidance=Avoidance.of(args.avoidance))
     spec = world.platform.given(args.platform, **_platform_options(args))
-    live = LiveRun(world, planner=args.planner or world.planner, platform=spec, speed=args.speed, seed=args.seed,
-                   threads=args.threads,
-                   world_orders=not args.no_world_orders, paused=args.paused)
+    if args.foxglove_port is not None and not 0 <= args.foxglove_port <= 65535:
+        raise Error(f"--foxglove-port: expected 0 to 65535 (0: any free port), got {args.foxglove_port}")
+    sinks = open_sinks(None, args.foxglove_port, args.host)
+    try:
+        live = LiveRun(world, planner=args.planner or world.planner, platform=spec, speed=args.speed, seed=args.seed,
+                       threads=args.threads, world_orders=not args.no_world_orders, paused=args.paused,
+                       topics_to=sinks)
+    except BaseException:
+        for sink in sinks:
+            sink.close()
+        raise
+    _say_foxglove("vwg serve", sinks)
     if args.host not in ("127.0.0.1", "localhost", "::1"):
         print(f"vwg serve: listening on {args.host}: anyone who can reach it can drive the robots", file=sys.stderr)
 
@@ -433,6 +469,15 @@ def _cmd_serve(args: argparse.Namespace) -> int:
         serve(live, host=args.host, port=args.port, on_ready=ready)
     finally:
         live.stop()
+    return 0
+
+
+def _cmd_foxglove_layout(args: argparse.Namespace) -> int:
+    path = _world_file(args.world, "foxglove-layout", expected="robot")
+    world = load_robot_world(path)
+    check_output_file(args.output, "the layout", run_inputs(world))
+    write_layout(world, args.output)
+    print(f"vwg foxglove-layout {args.world}: {args.output} (in Foxglove: Layouts, Import from file)")
     return 0
 
 
@@ -542,6 +587,16 @@ def _platform_arguments(group: Any) -> None:
                                              "socket://HOST:PORT): --platform-opt port=PORT")
 
 
+def _ros_arguments(group: Any) -> None:
+    group.add_argument("--mcap", type=Path, metavar="FILE.mcap",
+                       help="write the run's ROS 2 messages (odometry, scans, plans, maps, camera, /tf) to an MCAP "
+                            "file that ros2 bag play and Foxglove read")
+    group.add_argument("--foxglove-port", type=int, metavar="PORT",
+                       help="serve the same messages live to the Foxglove app (ws://127.0.0.1:PORT; 0: a free port)")
+    group.add_argument("--foxglove-host", default="127.0.0.1",
+                       help="the address the Foxglove server listens on (default 127.0.0.1: this machine)")
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="vwg", description="vwg, the Virtual Worlds Generator: run worlds written as strings of a grammar.",
@@ -589,6 +644,7 @@ def build_parser() -> argparse.ArgumentParser:
     robot.add_argument("--images", type=Path, help="write every frame as a PNG into this folder")
     robot.add_argument("--trajectory", type=Path, help="PNG of the trajectories (default: beside the video)")
     robot.add_argument("--summary-json", type=Path, help="write the summary as JSON (non-finite numbers as null)")
+    _ros_arguments(robot)
     robot.add_argument("--allow-unreached", action="store_true",
                        help=f"exit 0 even when a robot did not reach its room (otherwise exit {EXIT_UNREACHED})")
     run.add_argument("--record", type=Path, help="write every frame to this JSON Lines file")
@@ -622,6 +678,7 @@ def build_parser() -> argparse.ArgumentParser:
                      help=f"a robot world: exit 0 even when a robot did not reach its room (otherwise "
                           f"{EXIT_UNREACHED})")
     res.add_argument("--stdin-orders", action="store_true", help="a robot world: read orders from standard input")
+    _ros_arguments(res)
     res.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
                      help="show a progress bar (default: on a terminal)")
     res.add_argument("--quiet", "-q", action="store_true", help="print nothing on success")
@@ -650,6 +707,21 @@ def build_parser() -> argparse.ArgumentParser:
                      help=f"with --from, a robot world: exit 0 even when a robot did not reach the room the run sent "
                           f"it to (otherwise exit {EXIT_UNREACHED})")
     rep.set_defaults(func=_cmd_replay)
+
+    exp_mcap = sub.add_parser("export", help="a robot run's record as an MCAP file of ROS 2 messages",
+                              description="Write a robot run's record (vwg run --record) as the MCAP file that vwg run "
+                                          "--mcap writes: the world is run again on the record's events, each frame "
+                                          "checked against it, and its topics written (odometry, scans, plans, maps, "
+                                          "camera, /tf, the ground truth of a run on the simulator).")
+    exp_mcap.add_argument("record", type=Path, help="a file written by `vwg run --record`")
+    exp_mcap.add_argument("output", type=Path, metavar="FILE.mcap", help="the MCAP file to write")
+    exp_mcap.add_argument("--world", type=Path, help="the world file (default: the one the record names)")
+    exp_mcap.add_argument("--record-key", type=Path, metavar="FILE", help="the key of a record written with one")
+    exp_mcap.add_argument("--allow-cut", action="store_true",
+                          help="export a record with no end line (its run was killed): the whole frames it holds")
+    exp_mcap.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
+                          help="show a progress bar (default: on a terminal)")
+    exp_mcap.set_defaults(func=_cmd_export)
 
     swp = sub.add_parser("sweep", help="run worlds × planners × seeds × parameters on Dask, into a CSV",
                          description="Run every cell of a sweep SPEC (YAML: worlds, planners, seeds, frames, "
@@ -681,6 +753,9 @@ def build_parser() -> argparse.ArgumentParser:
     srv.add_argument("world", type=Path, help="a robot world file, or a shipped world's name")
     srv.add_argument("--port", type=int, default=8765, help="the port (default 8765; 0: any free port)")
     srv.add_argument("--host", default="127.0.0.1", help="the address to listen on (default 127.0.0.1: this machine)")
+    srv.add_argument("--foxglove-port", type=int, metavar="PORT",
+                     help="also serve the run's ROS 2 topics to the Foxglove app on this port, on --host (0: a free "
+                          "port)")
     srv.add_argument("--planner", type=_planner_name,
                      help=f"the decision inside eDecide, a registered decider ({_registered(deciders)}; default: the "
                           "world file's planner:, else astar)")
@@ -704,6 +779,15 @@ def build_parser() -> argparse.ArgumentParser:
     ovw.add_argument("--width", type=int, default=1000, help="the picture's width in pixels (default 1000)")
     ovw.add_argument("--height", type=int, default=700, help="the picture's height in pixels (default 700)")
     ovw.set_defaults(func=_cmd_overview)
+
+    lay = sub.add_parser("foxglove-layout", help="write a Foxglove layout for a robot world's topics",
+                         description="Write the Foxglove layout for a robot world's run (vwg run --mcap, "
+                                     "--foxglove-port): the 3D panel from above with the maps, scans, plans and poses "
+                                     "of each robot, and each robot's camera. Import it in Foxglove (Layouts, Import "
+                                     "from file).")
+    lay.add_argument("world", type=Path, help="a robot world file, or a shipped world's name")
+    lay.add_argument("output", type=Path, metavar="FILE.json", help="the layout file to write")
+    lay.set_defaults(func=_cmd_foxglove_layout)
 
     chk = sub.add_parser("check", help="load a world file, check it and report what it declares",
                          description=f"Check a world file of a registered kind ({_registered(world_kinds)}) and "

@@ -18,14 +18,15 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Protocol
 
 import vwg._core as _core
-from vwg.errors import Error, clip
+from vwg.errors import Error, ReplayError, clip
 from vwg.io.files import check_output_file
-from vwg.io.record import Recorder, read_key, robot_data, robot_world_file
+from vwg.io.record import Recorder, check_goals, read_key, robot_data, robot_world_file
 from vwg.io.shipped import resolve_world
 from vwg.io.yamldoc import YamlDoc
 from vwg.model.limits import MAX_FRAMES, MAX_SEED
@@ -66,6 +67,9 @@ class RunOptions:
     images: Path | None = None
     trajectory: Path | None = None
     allow_unreached: bool = False
+    mcap: Path | None = None          # the run's ROS 2 messages as an MCAP file (vwg.robot.topics)
+    foxglove_port: int | None = None  # ... served live to Foxglove (0: a free port)
+    foxglove_host: str = "127.0.0.1"
 
     def given(self) -> list[str]:
         """The options set to something other than their default, in declaration order."""
@@ -86,6 +90,8 @@ class RunOptions:
             raise Error(f"--threads: expected 0 (the machine's cores) to 256 threads, got {self.threads}")
         if self.record_key is not None and self.record is None:
             raise Error("--record-key keys the record that --record writes; give --record too")
+        if self.foxglove_port is not None and not 0 <= self.foxglove_port <= 65535:
+            raise Error(f"--foxglove-port: expected a port from 0 (any free one) to 65535, got {self.foxglove_port}")
 
 
 #: How the command line spells an option whose name differs.
@@ -233,7 +239,7 @@ def check_outputs(world: Any, options: RunOptions, inputs: dict[str, Path] | Non
         inputs["the record's key file"] = Path(options.record_key)
     trajectory = options.trajectory or (Path(options.video).with_suffix(".png") if options.video else None)
     for flag, path in (("--record", options.record), ("--summary-json", options.summary_json),
-                       ("--video", options.video), ("--trajectory", trajectory)):
+                       ("--video", options.video), ("--trajectory", trajectory), ("--mcap", options.mcap)):
         if path is not None:
             check_output_file(Path(path), flag, inputs)
     if options.images is not None:
@@ -355,6 +361,30 @@ def replay_world(header: dict[str, Any], world_file: str | Path | None, record_p
         if other.name != kind.name:
             raise Error(f"{path}: the record was made by a {kind.name} world; this is a {other.name} world")
     return kind.replay_world(header, path, record_path, allow_code_from_record=allow_code_from_record)
+
+
+def record_options(header: dict[str, Any], world: Any, record_path: Path) -> RunOptions:
+    """The options that run `world` again as the record's run went: its seed and frames, and a robot world's
+    planner, orders (--goal, or the file's) and avoidance, each checked against the world."""
+    options = RunOptions(seed=header.get("seed"), frames=header.get("frames_planned"))
+    if (header.get("world_kind") or "generic") != "robot":
+        return options
+    data = robot_data(header, record_path)
+    check_goals(data, list(world.rooms), [r.id for r in world.robots], record_path)
+    return dataclasses.replace(options, planner=data["planner"], goals=data["goals"] or None,
+                               no_world_orders=not data["world_orders"], avoidance=data["avoidance"])
+
+
+def step_as_recorded(engine: Any, frame: dict[str, Any], record_path: Path,
+                     generated: Callable[[list[Any]], None] = lambda events: None) -> None:
+    """One frame of a run started again from a record: the string checked against the frame's (ReplayError),
+    the generators asked as the run asked them (so they go on where they were; `generated` is given what they
+    gave, the record's events when the run is the same), then the frame run with the recorded events."""
+    if str(engine.string) != frame["string"]:
+        raise ReplayError(frame["t"], frame["string"], str(engine.string))
+    generated(list(engine.collect_events()))
+    alphabet = engine.world.alphabet
+    engine.step_with([alphabet.parse_event(text, f"{record_path}: frame {frame['t']}") for text in frame["events"]])
 
 
 def strict_json(value: Any) -> Any:

@@ -53,7 +53,8 @@ WORLD_FILE = "the world file being run"
 #: The run options a resumed run takes: what it writes and how fast, not what it is (its world, seed,
 #: dt, planner, platform and orders are the saved run's).
 RESUME_OPTIONS = frozenset({"frames", "threads", "record", "record_key", "summary_json", "progress", "backend",
-                            "video", "images", "trajectory", "allow_unreached", "stdin_orders", "max_symbols"})
+                            "video", "images", "trajectory", "allow_unreached", "stdin_orders", "max_symbols", "mcap",
+                            "foxglove_port", "foxglove_host"})
 
 
 def _sha256(path: Path) -> str:

@@ -42,6 +42,7 @@ from vwg.plugins import deciders, platforms
 from vwg.plugins import sensors as sensor_registry
 from vwg.robot.links.rosbridge_client import LinkError
 from vwg.robot.platforms.sim import MOTION_SYMBOLS, PEOPLE_SYMBOLS, Simulation
+from vwg.robot.topics import RunTopics, Sink, case_topics, open_sinks
 from vwg.robot.world_file import Avoidance, Localization, PlatformSpec, RobotWorld, load_robot_world
 from vwg.saved_run import save_state
 
@@ -488,6 +489,19 @@ class RobotRun:
                                             "goals": list(options.goals or [])}  # vwg replay --from gives them again
         if options.avoidance is not None:
             self.record_data["avoidance"] = options.avoidance
+        # The run as ROS 2 topics (vwg.robot.topics): to an MCAP file, to Foxglove live, or both. The sinks open
+        # now (a port taken is said before anything runs); the topics begin when the run does (after a resumed
+        # run's state is loaded).
+        self.sinks: list[Sink] = []
+        self.topics: RunTopics | None = None
+        if options.mcap is not None or options.foxglove_port is not None:
+            try:
+                self.sinks = open_sinks(options.mcap, options.foxglove_port, options.foxglove_host,
+                                        {"world": world.name, "planner": self.case.planner,
+                                         "seed": str(self.case.seed)})
+            except BaseException:
+                self.case.close()
+                raise
         if options.stdin_orders:
             self.case.orders.read_lines(sys.stdin, _stderr)
 
@@ -495,6 +509,8 @@ class RobotRun:
 
     def execute(self, progress: bool | None = False) -> Any:
 
+        if self.sinks and self.topics is None:
+            self.topics = case_topics(self.case, self.sinks)
         link_fault = ""
         try:
             summary = self.case.run(progress=progress)
@@ -546,7 +562,16 @@ class RobotRun:
         return save_state(self, path, platform=platform)
 
     def close(self) -> None:
-        self.case.close()
+        try:
+            if self.topics is not None:
+                self.topics.end()
+        finally:
+            sinks, self.sinks, self.topics = self.sinks, [], None
+            try:
+                for sink in sinks:
+                    sink.close()
+            finally:
+                self.case.close()
 
     def __enter__(self) -> RobotRun:
         return self
@@ -561,7 +586,8 @@ class RobotKind:
     name = "robot"
     shape = "a mapping with map:, rooms: and robots:"
     options = frozenset({"platform", "platform_options", "planner", "avoidance", "goals", "no_world_orders",
-                         "stdin_orders", "video", "images", "trajectory", "allow_unreached"})
+                         "stdin_orders", "video", "images", "trajectory", "allow_unreached", "mcap", "foxglove_port",
+                         "foxglove_host"})
 
     def matches(self, data: dict[str, Any]) -> bool:
         return "map" in data

@@ -23,7 +23,7 @@ import json
 import threading
 import time
 from collections import Counter
-from collections.abc import Callable, Hashable
+from collections.abc import Callable, Hashable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -33,6 +33,7 @@ import vwg._core as _core
 from vwg.errors import Error, SchemaError
 from vwg.robot.case_study import CaseStudy
 from vwg.robot.platforms.real_robots import ScanGenerator
+from vwg.robot.topics import Sink, case_topics
 from vwg.robot.world_file import PlatformSpec, RobotWorld
 
 __all__ = ["MAX_SPEED", "MAX_WAITING", "LiveRun", "Snapshot"]
@@ -146,8 +147,10 @@ class LiveRun:
 
     def __init__(self, world: RobotWorld, *, planner: str = "astar", platform: PlatformSpec | None = None,
                  speed: float = 1.0, seed: int | None = None, threads: int = 0, world_orders: bool = True,
-                 paused: bool = False, on_frame: Callable[[Snapshot], None] = lambda s: None) -> None:
+                 paused: bool = False, on_frame: Callable[[Snapshot], None] = lambda s: None,
+                 topics_to: Sequence[Sink] = ()) -> None:
         self.world = world
+        self.topics_to = list(topics_to)  # where each case's ROS 2 topics go (a Foxglove server), across resets
         self.planner = planner
         self.platform = platform
         self.seed = seed
@@ -187,9 +190,12 @@ class LiveRun:
         if self.thread.is_alive():
             if threading.current_thread() is not self.thread:
                 self.thread.join(timeout=30)
-        elif self.case is not None:  # never started: nothing else touches the case
-            self.case.close()
-            self.case = None
+        else:  # never started: nothing else touches the case
+            if self.case is not None:
+                self.case.close()
+                self.case = None
+            for sink in self.topics_to:
+                sink.close()
 
     def pause(self, client: Hashable = None) -> None:
         """Stop the frames (and any steps still to run)."""
@@ -238,8 +244,11 @@ class LiveRun:
 
     # ---- the run's thread ------------------------------------------------------------------------------
     def _new_case(self) -> CaseStudy:
-        return CaseStudy(self.world, self.planner, seed=self.seed, frames=2**62, platform=self.platform,
+        case = CaseStudy(self.world, self.planner, seed=self.seed, frames=2**62, platform=self.platform,
                          threads=self.threads, world_orders=self.world_orders)
+        if self.topics_to:
+            case_topics(case, self.topics_to)  # it observes the case's engine: gone with the case
+        return case
 
     def _waiting(self) -> bool:
         return self._failed or (self._paused and self._steps == 0)
@@ -264,6 +273,8 @@ class LiveRun:
             if self.case is not None:
                 self.case.close()  # on this thread, the only one that touches it (a real robot is stopped)
                 self.case = None
+            for sink in self.topics_to:
+                sink.close()
 
     def _frame(self) -> None:
         assert self.case is not None

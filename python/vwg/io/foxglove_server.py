@@ -1,0 +1,76 @@
+"""A run's ROS 2 messages served live over the Foxglove WebSocket protocol, by the Foxglove SDK's own server
+(``foxglove-sdk``): the Foxglove app connects to ``ws://HOST:PORT`` and shows the topics as they come.
+
+Each server has its own SDK context, so two runs in one process serve their own topics. Topics that are
+sent only when they change (the maps, the rooms, the plans) are sent again to a client when it subscribes,
+at the next frame: a client that connects late still sees them.
+"""
+
+from __future__ import annotations
+
+import threading
+from typing import Any
+
+from vwg.errors import Error
+from vwg.io.ros2_messages import Message
+
+__all__ = ["FoxgloveServer"]
+
+
+class FoxgloveServer:
+    """``write(topic, message, log_time_ns, latched=False)`` logs a message on the topic's channel (made at
+    its first message, advertised to the clients); ``frame_done(log_time_ns)`` tells the clients the run's time;
+    ``close()`` stops the server. Binds to `host` (127.0.0.1 unless said otherwise); port 0 takes a free one
+    (``port`` says which)."""
+
+    def __init__(self, port: int, host: str = "127.0.0.1", name: str = "vwg") -> None:
+        import foxglove
+        from foxglove.websocket import Capability
+
+        self._foxglove = foxglove
+        self._context = foxglove.Context()
+        self._channels: dict[str, Any] = {}
+        self._latched: dict[str, tuple[Message, int]] = {}
+        self._resend: set[str] = set()
+        self._lock = threading.Lock()
+        try:
+            self._server = foxglove.start_server(name=name, host=host, port=port, context=self._context,
+                                                 capabilities=[Capability.Time], server_listener=self._Listener(self))
+        except Exception as e:  # the SDK says why (the port is taken, the host is not this machine's)
+            raise Error(f"--foxglove-port {port}: the Foxglove server could not start on {host}: {e}") from None
+        self.port = int(self._server.port)
+        self.host = host
+
+    class _Listener:
+        def __init__(self, owner: FoxgloveServer) -> None:
+            self._owner = owner
+
+        def on_subscribe(self, client: Any, channel: Any) -> None:  # the SDK's thread: noted, sent by the run's
+            with self._owner._lock:
+                self._owner._resend.add(channel.topic)
+
+        def on_unsubscribe(self, client: Any, channel: Any) -> None:
+            pass
+
+    def write(self, topic: str, message: Message, log_time: int, latched: bool = False) -> None:
+        channel = self._channels.get(topic)
+        if channel is None:
+            schema = self._foxglove.Schema(name=message.schema.name, encoding="ros2msg",
+                                           data=message.schema.text.encode())
+            channel = self._channels[topic] = self._foxglove.Channel(topic, schema=schema, message_encoding="cdr",
+                                                                     context=self._context)
+        channel.log(message.data, log_time=log_time)
+        if latched:
+            self._latched[topic] = (message, log_time)
+
+    def frame_done(self, log_time: int) -> None:
+        """The run's time now: the latched topics a client subscribed to since are sent again, then the time."""
+        with self._lock:
+            resend, self._resend = self._resend, set()
+        for topic in sorted(resend & self._latched.keys()):
+            message, _ = self._latched[topic]
+            self._channels[topic].log(message.data, log_time=log_time)
+        self._server.broadcast_time(log_time)
+
+    def close(self) -> None:
+        self._server.stop()
