@@ -88,6 +88,12 @@ def test_a_run_writes_its_topics_as_ros2_messages(office_run):
     assert schemas["/map"] == "nav_msgs/msg/OccupancyGrid" and counts["/map"] == 1
     assert schemas["/rooms"] == "visualization_msgs/msg/MarkerArray" and counts["/rooms"] == 1
     assert "/people" not in schemas  # nobody walks in the office
+    # rosbags' rosbag2 reader (what ros2 bag's tools do, in Python) opens the file as a bag with the same topics.
+    from rosbags.highlevel import AnyReader
+
+    with AnyReader([out / "run.mcap"]) as bag:
+        assert {c.topic: c.msgcount for c in bag.connections} == dict(counts)
+        assert {c.topic: c.msgtype for c in bag.connections} == schemas
 
     # Stamped with the run's time: the state after frame k at (k + 1)·dt, a scan when its frame began.
     odom = [m for t, _, _, m in got if t == "/robot1/odom"]
