@@ -20,8 +20,8 @@ from vwg.cli import EXIT_CODES, build_parser
 from vwg.plugins import deciders
 from vwg.robot.deciders.native import astar
 
-COMMANDS = ["run", "resume", "replay", "export", "sweep", "experiments", "serve", "overview", "foxglove-layout", "check",
-            "plugins", "worlds"]
+COMMANDS = ["run", "resume", "replay", "export", "sweep", "experiments", "serve", "overview", "foxglove-layout",
+            "check", "plugins", "worlds"]
 
 
 @pytest.mark.parametrize("command", COMMANDS)

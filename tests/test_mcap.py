@@ -88,6 +88,15 @@ def test_a_run_writes_its_topics_as_ros2_messages(office_run):
     assert schemas["/map"] == "nav_msgs/msg/OccupancyGrid" and counts["/map"] == 1
     assert schemas["/rooms"] == "visualization_msgs/msg/MarkerArray" and counts["/rooms"] == 1
     assert "/people" not in schemas  # nobody walks in the office
+    # The ros2 profile's required channel field: the QoS offered, latched (transient local) for what is sent once.
+    import yaml
+
+    with (out / "run.mcap").open("rb") as f:
+        summary = make_reader(f).get_summary()
+    qos = {c.topic: yaml.safe_load(c.metadata["offered_qos_profiles"])[0] for c in summary.channels.values()}
+    assert qos["/map"]["durability"] == qos["/robot1/plan"]["durability"] == "transient_local"
+    assert qos["/robot1/scan"]["durability"] == "volatile" and qos["/robot1/scan"]["reliability"] == "reliable"
+    assert qos["/map"]["deadline"] == {"sec": 9223372036, "nsec": 854775807}
     # rosbags' rosbag2 reader (what ros2 bag's tools do, in Python) opens the file as a bag with the same topics.
     from rosbags.highlevel import AnyReader
 
@@ -262,6 +271,25 @@ def test_a_run_on_a_ros_robot_writes_its_topics_without_ground_truth(tmp_path):
     # The robot's belief (from its odometry over the link) is where the fake robot is, noise being off.
     last = [m for t, _, _, m in got if t == "/robot1/odom"][-1].pose.pose.position
     assert math.hypot(last.x - x, last.y - y) < 0.05
+
+
+@pytest.mark.slow
+def test_a_run_on_a_serial_base_writes_its_topics_without_ground_truth(tmp_path):
+    from vwg.testing.fake_base import FakeSerialBase
+
+    world = dataclasses.replace(OFFICE, orders=[], robots=[OFFICE.robots[0]])
+    with FakeSerialBase(world) as base:
+        options = vwg.RunOptions(platform="serial", platform_options={"port": base.url}, goals=["kitchen"], frames=30,
+                                 mcap=tmp_path / "serial.mcap", allow_unreached=True)
+        with vwg.start(world, options) as run:
+            run.execute()
+        x, y, _ = base.pose_now()
+    got = messages(tmp_path / "serial.mcap")
+    topics = Counter(t for t, _, _, _ in got)
+    assert topics["/robot1/odom"] == 31 and topics["/tf"] == 31 and topics["/map"] == 1
+    assert not any("ground_truth" in t for t in topics)
+    last = [m for t, _, _, m in got if t == "/robot1/odom"][-1].pose.pose.position
+    assert math.hypot(last.x - x, last.y - y) < 0.1  # the base's wheels' pose, as its odometry told vwg
 
 
 def test_people_are_published_as_markers(tmp_path):

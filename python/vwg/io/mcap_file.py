@@ -16,6 +16,19 @@ from vwg.io.ros2_messages import Message, Schema
 
 __all__ = ["McapFile"]
 
+#: rmw's "infinite" duration as rosbag2 writes it.
+_INFINITE = "\n    sec: 9223372036\n    nsec: 854775807"
+
+
+def _qos(latched: bool) -> str:
+    """The publisher's QoS that the ros2 profile requires on each channel (``offered_qos_profiles``, as rosbag2 9
+    writes it): reliable; transient local (latched) for a topic sent when it changes, so that ``ros2 bag play``
+    offers it to a late subscriber as a map server does."""
+    durability, depth = ("transient_local", 1) if latched else ("volatile", 10)
+    return (f"- history: keep_last\n  depth: {depth}\n  reliability: reliable\n  durability: {durability}\n"
+            f"  deadline:{_INFINITE}\n  lifespan:{_INFINITE}\n  liveliness: automatic\n"
+            f"  liveliness_lease_duration:{_INFINITE}\n  avoid_ros_namespace_conventions: false\n")
+
 
 class McapFile:
     """Writes messages to `path`: ``write(topic, message, log_time_ns)``, then ``close()`` (which writes the
@@ -47,7 +60,8 @@ class McapFile:
             if schema is None:
                 schema = self._writer.register_schema(message.schema.name, "ros2msg", message.schema.text.encode())
                 self._schemas[message.schema] = schema
-            channel = self._channels[topic] = self._writer.register_channel(topic, "cdr", schema)
+            channel = self._channels[topic] = self._writer.register_channel(
+                topic, "cdr", schema, {"offered_qos_profiles": _qos(latched)})
         try:
             self._writer.add_message(channel, log_time=log_time, publish_time=log_time, data=message.data)
         except OSError as e:  # a full disk: said with the file's name, not as a traceback
