@@ -115,3 +115,26 @@ def plain_dijkstra(blocked, goal):
                         dist[nr, nc] = nd
                         heapq.heappush(heap, (nd, (nr, nc)))
     return dist
+
+
+def _signal_state() -> tuple[str, str, object]:
+    """The process's ignored and the main thread's blocked signals (the kernel's view, which child processes
+    inherit), and SIGINT's Python handler."""
+    import signal
+    import threading
+
+    status = Path("/proc/self/status").read_text() if Path("/proc/self/status").exists() else ""
+    fields = dict(line.split(":\t", 1) for line in status.splitlines() if ":\t" in line)
+    blocked = sorted(signal.pthread_sigmask(signal.SIG_BLOCK, [])) if threading.current_thread() is \
+        threading.main_thread() else []
+    return fields.get("SigIgn", "").strip(), str(blocked), signal.getsignal(signal.SIGINT)
+
+
+@pytest.fixture(autouse=True)
+def _signals_left_as_found():
+    # A test that leaves a signal ignored or blocked leaks it to every process the worker starts later: a server
+    # started by another test then never sees its Ctrl-C. The test that did it fails here, by name.
+    before = _signal_state()
+    yield
+    after = _signal_state()
+    assert after == before, f"the test changed the process's signals: {before} -> {after}"

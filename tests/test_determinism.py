@@ -15,7 +15,7 @@ VWG = [sys.executable, "-m", "vwg.cli"]
 def record(tmp_path, name: str, planner: str) -> bytes:
     path = tmp_path / f"{name}.jsonl"
     done = subprocess.run([*VWG, "run", "office", "--planner", planner, "--goal", "1:lounge", "--goal", "2:office",
-                           "--frames", "250", "--allow-unreached", "-q", "--record", str(path)],
+                           "--frames", "150", "--allow-unreached", "-q", "--record", str(path)],
                           capture_output=True, text=True, timeout=600)
     assert done.returncode == 0, done.stderr
     return path.read_bytes()
@@ -25,8 +25,8 @@ def record(tmp_path, name: str, planner: str) -> bytes:
 @pytest.mark.slow
 def test_frame_logs_are_identical_across_processes_and_load(planner, tmp_path):
     quiet = record(tmp_path, "quiet", planner)
-    # Two busy processes take the machine's cores while the second run plans.
-    hogs = [subprocess.Popen([sys.executable, "-c", "while True: pass"]) for _ in range(2)]
+    # A busy process takes a core while the second run plans (beside the other test worker, the machine is loaded).
+    hogs = [subprocess.Popen([sys.executable, "-c", "while True: pass"])]
     try:
         loaded = record(tmp_path, "loaded", planner)
     finally:

@@ -60,14 +60,14 @@ def run_saving(world: str | Path, tmp: Path, frames_: int, every: int, *extra: s
 @pytest.mark.parametrize("planner", ["astar", "dstar", "jps", "rrtconnect", "random"])
 @pytest.mark.slow
 def test_warehouse_frames_after_a_resume_in_another_process_are_the_uninterrupted_run_s(tmp_path, planner):
-    record = run_saving("warehouse", tmp_path, 300, 150, "--planner", planner, "--threads", "1")
-    state = record.with_name(record.name + ".states") / f"{150:012d}.vwgstate"
+    record = run_saving("warehouse", tmp_path, 200, 100, "--planner", planner, "--threads", "1")
+    state = record.with_name(record.name + ".states") / f"{100:012d}.vwgstate"
     for threads in ("1", "2"):
         resumed = tmp_path / f"rest{threads}.jsonl"
-        done = cli("resume", str(state), "--frames", "150", "--threads", threads, "--record", str(resumed),
+        done = cli("resume", str(state), "--frames", "100", "--threads", threads, "--record", str(resumed),
                    "--allow-unreached", "--quiet", cwd=tmp_path)
         assert done.returncode == 0, done.stderr
-        same_after(record, resumed, 150, 299)
+        same_after(record, resumed, 100, 199)
 
 
 def test_a_run_saved_at_its_end_goes_on_as_if_it_had_not_stopped(tmp_path):

@@ -3,8 +3,8 @@ frames of the source build; its extension finds every library inside the wheel o
 manylinux policy lets a wheel expect of the system; its C++ SDK builds a downstream project that uses
 the core and one that hosts Python, and refuses the components whose third-party headers it lacks.
 
-The wheel is the one `make wheel` left in dist/ for this Python (`make test` makes it first); without
-one the tests are skipped, saying so."""
+The wheel is the one `make wheel` left in dist/ for this Python (`make wheel-test` makes it, then runs these);
+without one the tests are skipped, saying so."""
 
 from __future__ import annotations
 
@@ -29,7 +29,7 @@ def installed(tmp_path_factory) -> Path:
     """A new venv with the wheel (and pybind11, for the C++ example that hosts Python) and nothing of the
     source tree: its python."""
     if not WHEELS:
-        pytest.skip(f"no wheel for {TAG} in dist/: `make wheel` makes it (make test does)")
+        pytest.skip(f"no wheel for {TAG} in dist/: `make wheel-test` makes it and runs these tests")
     folder = tmp_path_factory.mktemp("wheel-venv")
     venv.EnvBuilder(with_pip=True).create(folder)
     python = folder / "bin" / "python"

@@ -149,8 +149,8 @@ geometry::Cell cell_from_python(py::handle obj, const std::string& field) {
   return {clamp(row), clamp(col)};
 }
 
-/// (x, y) or (x, y, yaw).
-geometry::Pose2 pose_from_python(py::handle obj, const std::string& field) {
+/// (x, y) or (x, y, yaw): a pose, or a point facing +x (the physics binding's pose_from_python takes (x, y, yaw) only).
+geometry::Pose2 pose_or_point_from_python(py::handle obj, const std::string& field) {
   const auto items = items_of(obj, field, 2, 3, "(x, y) or (x, y, yaw) in metres and radians");
   geometry::Pose2 p;
   p.x = real_from_python(items[0], field);
@@ -371,7 +371,7 @@ motions are checked exactly (no sampling), so paths never cross or graze an obst
       .def(py::init([](MaskArg blocked, RealArg resolution, PlanPoseArg origin, RealArg robot_radius) {
              geometry::BlockedGrid grid = blocked_from_python(blocked, "blocked");
              const double res = real_from_python(resolution, "resolution");
-             const geometry::Pose2 o = pose_from_python(origin, "origin");
+             const geometry::Pose2 o = pose_or_point_from_python(origin, "origin");
              const double radius = real_from_python(robot_radius, "robot_radius");
              py::gil_scoped_release release;  // the distance transform is a pass over the map
              return std::make_unique<plan::OmplGridPlanner>(std::move(grid), res, o, radius);
@@ -381,8 +381,8 @@ motions are checked exactly (no sampling), so paths never cross or graze an obst
           "plan",
           [](const plan::OmplGridPlanner& self, PlanPoseArg start_pose, PlanPoseArg goal_pose, const std::string& planner,
              RealArg time_limit, IntArg seed, bool simplify, std::optional<RealArg> spacing, IntArg iterations) {
-            const geometry::Pose2 s = pose_from_python(start_pose, "start_pose");
-            const geometry::Pose2 g = pose_from_python(goal_pose, "goal_pose");
+            const geometry::Pose2 s = pose_or_point_from_python(start_pose, "start_pose");
+            const geometry::Pose2 g = pose_or_point_from_python(goal_pose, "goal_pose");
             const plan::OmplOptions o = ompl_options(planner, time_limit, seed, simplify, spacing, iterations);
             py::gil_scoped_release release;
             return self.plan(s, g, o);
@@ -408,9 +408,9 @@ motions are checked exactly (no sampling), so paths never cross or graze an obst
          std::optional<RealArg> spacing, IntArg iterations) {
         geometry::BlockedGrid grid = blocked_from_python(blocked, "blocked");
         const double res = real_from_python(resolution, "resolution");
-        const geometry::Pose2 o = pose_from_python(origin, "origin");
-        const geometry::Pose2 s = pose_from_python(start_pose, "start_pose");
-        const geometry::Pose2 g = pose_from_python(goal_pose, "goal_pose");
+        const geometry::Pose2 o = pose_or_point_from_python(origin, "origin");
+        const geometry::Pose2 s = pose_or_point_from_python(start_pose, "start_pose");
+        const geometry::Pose2 g = pose_or_point_from_python(goal_pose, "goal_pose");
         const double radius = real_from_python(robot_radius, "robot_radius");
         const plan::OmplOptions opts = ompl_options(planner, time_limit, seed, simplify, spacing, iterations);
         py::gil_scoped_release release;
@@ -460,7 +460,7 @@ argument. Each call computes the map's distance transform: reuse a vwg.OmplPlann
         Py_ssize_t size = 0;
         if (PyBytes_AsStringAndSize(text.ptr(), &data, &size) != 0) throw py::error_already_set();
         geometry::OccupancyGrid grid;
-        const geometry::Pose2 o = pose_from_python(origin, "origin");
+        const geometry::Pose2 o = pose_or_point_from_python(origin, "origin");
         {
           py::gil_scoped_release release;
           grid = plan::to_occupancy_grid(plan::parse_movingai_map({data, static_cast<std::size_t>(size)}, source), resolution, o);
