@@ -51,6 +51,19 @@ class Server:
     def state(self) -> dict:
         return json.loads(self.get("/api/state"))
 
+    def handle_reply(self, message: dict) -> dict:
+        """Send one message over the WebSocket and return the first reply that is not a frame."""
+
+        async def talk() -> dict:
+            async with websockets.connect(self.ws) as ws:
+                await ws.send(json.dumps(message))
+                while True:
+                    reply = json.loads(await asyncio.wait_for(ws.recv(), 10))
+                    if reply.get("type") in ("ok", "error"):
+                        return reply
+
+        return asyncio.run(talk())
+
     def wait_for(self, test, timeout: float = 60.0) -> dict:
         end = time.monotonic() + timeout
         while time.monotonic() < end:
@@ -487,6 +500,34 @@ def test_pause_step_and_reset(server):
     asyncio.run(send({"type": "reset"}, {"type": "pause"}))
     after = server.wait_for(lambda s: s["status"] == "paused")
     assert after["frame"] < 50  # started again from frame 0
+
+
+@pytest.mark.parametrize("server", [("office", "--no-world-orders", "--speed", "1")], indirect=True)
+def test_the_stop_button_interrupts_the_selected_robot_s_task(server):
+    from playwright import sync_api as playwright
+
+    with playwright.sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=CHROMIUM, args=["--no-sandbox"])
+        page = browser.new_page(viewport={"width": 1500, "height": 1000})
+        page.goto(server.url)
+        page.wait_for_function("document.getElementById('status').textContent.startsWith('frame')")
+        page.click('button[data-room="library"]')
+        going = server.wait_for(lambda s: robot(s, 1)["objective"] == "library", timeout=20)
+        page.click("#cancel")
+        stopped = server.wait_for(lambda s: robot(s, 1)["status"] == "interrupted", timeout=20)
+        assert robot(stopped, 1)["objective"] is None and not robot(stopped, 1)["reached"]
+        page.wait_for_function("document.getElementById('objective').textContent === 'interrupted'")
+        browser.close()
+    assert stopped["frame"] > going["frame"]
+    # It came to rest and stays there (a frame at 1x is 0.1 s: a second of frames later, the same place).
+    rest = server.wait_for(lambda s: s["frame"] >= stopped["frame"] + 15)
+    later = server.wait_for(lambda s: s["frame"] >= rest["frame"] + 10)
+    a, b = robot(rest, 1), robot(later, 1)
+    assert abs(a["x"] - b["x"]) < 1e-3 and abs(a["y"] - b["y"]) < 1e-3
+    # The same through the WebSocket's message, for robot 2, and an unknown robot is refused by name.
+    assert server.handle_reply({"type": "order", "robot": 2, "room": "kitchen"})["type"] == "ok"
+    assert server.handle_reply({"type": "cancel", "robot": 2}) == {"type": "ok", "what": "robot 2: task interrupted"}
+    assert "no robot 9" in server.handle_reply({"type": "cancel", "robot": 9})["message"]
 
 
 @pytest.mark.slow

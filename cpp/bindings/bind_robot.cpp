@@ -188,10 +188,13 @@ while running (order, from any thread: they go out at the next frame).)doc")
       .def("schedule", &robot::OrderGenerator::schedule, py::arg("frame"), py::arg("robot"), py::arg("marker"))
       .def("order", &robot::OrderGenerator::order, py::arg("robot"), py::arg("marker"),
            py::call_guard<py::gil_scoped_release>())
+      .def("cancel", &robot::OrderGenerator::cancel, py::arg("robot"), py::call_guard<py::gil_scoped_release>(),
+           "Interrupt `robot`'s task at the next frame: eObjective<marker=-1> (it stops and waits for its next order).")
       .def("pending", &robot::OrderGenerator::pending, py::arg("frame"),
            "Whether orders are still to come after `frame`.")
       .def_property_readonly("given", &robot::OrderGenerator::given, "Orders sent so far.")
-      .def_property_readonly("last", &robot::OrderGenerator::last, "Robot -> the marker of its last order.");
+      .def_property_readonly("last", &robot::OrderGenerator::last,
+                             "Robot -> the marker of its last order (-1: its task was interrupted).");
   py::class_<robot::ArrivalCondition, StopCondition, std::shared_ptr<robot::ArrivalCondition>>(m, "ArrivalCondition",
       "Done when orders were sent, none is still to come, and every robot sent somewhere has reached it.")
       .def(py::init<const Alphabet&, std::shared_ptr<const robot::OrderGenerator>, const std::string&>(),

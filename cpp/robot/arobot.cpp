@@ -163,11 +163,13 @@ void ARobot::evolve(ActorState& self, const EventView& e, const EvolutionContext
     });
   } else if (type == ev_.objective) {
     const std::int64_t marker = e.value(0).i;
+    // A new task, or (marker < 0) the supervisor interrupting the current one: the robot stops where it is.
+    const bool interrupted = marker < 0 && self.get_int(kObjective) >= 0 && !self.get_bool(kReached);
     self.set_int(kObjective, marker);
     self.set_bool(kReached, false);
     self.set_blob(kPath, empty_path());
     self.set_int(kWait, 0);
-    self.set_text(kStatus, marker < 0 ? "idle" : "to marker " + std::to_string(marker));
+    self.set_text(kStatus, marker >= 0 ? "to marker " + std::to_string(marker) : interrupted ? "interrupted" : "idle");
   } else if (type == ev_.odometry) {
     const double x = e.number(0), y = e.number(1);
     self.set_real(kX, x);
@@ -314,7 +316,15 @@ void ARobot::decide(ActorState& self, const EvolutionContext& ctx) {
     self.set_real(kTurn, 0.0);
     self.set_real(kMove, 0.0);
   }
-  if (objective < 0) return;
+  if (objective < 0) {
+    // An interrupted task: the move under way (once the motors have it) is replaced by none, Rotate<0>(Move<0>),
+    // which brings the robot to rest within its limits. An avoiding robot comes to rest by its zero velocity.
+    if (self.get_text(kStatus) == "interrupted" && self.get_bool(kBusy) && self.get_int(kAcked) >= self.get_int(kSent)) {
+      self.set_bool(kActing, true);
+      self.set_int(kSent, self.get_int(kSent) + 1);
+    }
+    return;
+  }
   // Wait until the motors have received the last command and finished it.
   if (self.get_int(kAcked) < self.get_int(kSent) || self.get_bool(kBusy)) return;
   if (const std::int64_t wait = self.get_int(kWait); wait > 0) {

@@ -66,16 +66,18 @@ ArrivalCondition::ArrivalCondition(const Alphabet& alphabet, std::shared_ptr<con
 bool ArrivalCondition::done(const WorldString& w, std::uint64_t frame) {
   if (orders_->given() == 0 || orders_->pending(frame)) return false;
   const std::map<int, int> last = orders_->last();
-  std::size_t arrived = 0;
+  std::size_t sent = 0, arrived = 0;
+  for (const auto& [robot, marker] : last) sent += marker != kNoObjective;
   for (std::size_t i = 0; i < w.nodes().size(); ++i) {
     const Node& n = w.nodes()[i];
     if (n.kind != NodeKind::Actor || n.symbol != actor_) continue;
     const NodeView v = w.node(i);
-    if (!last.contains(static_cast<int>(v.value(id_).i))) continue;
+    const auto it = last.find(static_cast<int>(v.value(id_).i));
+    if (it == last.end() || it->second == kNoObjective) continue;
     if (!v.value(reached_).b) return false;
     ++arrived;
   }
-  return arrived == last.size();  // a robot that was sent somewhere and has gone has not arrived
+  return arrived == sent;  // a robot that was sent somewhere and has gone has not arrived
 }
 
 void OrderGenerator::save_state(StateWriter& out) const {

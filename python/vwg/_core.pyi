@@ -3375,6 +3375,10 @@ class OrderGenerator(Generator):
     """
     def __init__(self, alphabet: Alphabet, event: str = 'eObjective') -> None:
         ...
+    def cancel(self, robot: typing.SupportsInt | typing.SupportsIndex) -> None:
+        """
+        Interrupt `robot`'s task at the next frame: eObjective<marker=-1> (it stops and waits for its next order).
+        """
     def order(self, robot: typing.SupportsInt | typing.SupportsIndex, marker: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
     def pending(self, frame: typing.SupportsInt | typing.SupportsIndex) -> bool:
@@ -3391,7 +3395,7 @@ class OrderGenerator(Generator):
     @property
     def last(self) -> dict[int, int]:
         """
-        Robot -> the marker of its last order.
+        Robot -> the marker of its last order (-1: its task was interrupted).
         """
 class ArrivalCondition(StopCondition):
     """

@@ -46,7 +46,7 @@ from vwg.robot.topics import RunTopics, Sink, case_topics, open_sinks
 from vwg.robot.world_file import Avoidance, Localization, PlatformSpec, RobotWorld, load_robot_world
 from vwg.saved_run import save_state
 
-__all__ = ["CaseStudy", "Orders", "RobotSummary", "RunSummary", "case_study_world", "make_decider"]
+__all__ = ["CANCEL_WORDS", "CaseStudy", "Orders", "RobotSummary", "RunSummary", "case_study_world", "make_decider"]
 
 
 def make_decider(planner: str | _core.Decider) -> _core.Decider:
@@ -90,6 +90,10 @@ def case_study_world(world: RobotWorld, decider: _core.Decider, *,
     return World(alphabet)
 
 
+#: The words of an order line that interrupt a robot's task (vwg run --stdin-orders: ``stop``, ``2 cancel``).
+CANCEL_WORDS = ("cancel", "stop")
+
+
 class Orders:
     """gObjective, the users' orders: a timed script, calls to order(), and lines read from a stream
     (``kitchen`` for robot 1, or ``2 kitchen``), by room name. The events (eObjective<to=robot,
@@ -120,6 +124,12 @@ class Orders:
         self.check_robot(robot)
         self.generator.schedule(frame, robot, self.marker_of(room))
 
+    def cancel(self, robot: int) -> None:
+        """Interrupt `robot`'s task at the next frame (eObjective<marker=-1>, from any thread): it comes to rest
+        where it is and waits for its next order; the run does not wait for it to arrive."""
+        self.check_robot(robot)
+        self.generator.cancel(robot)
+
     def pending(self, frame: int) -> bool:
         """Whether orders are still to come after `frame`."""
         return bool(self.generator.pending(frame))
@@ -131,20 +141,36 @@ class Orders:
 
     @property
     def last(self) -> dict[int, str]:
-        """Robot -> the room of the last order it was sent."""
-        return {robot: self._rooms[marker] for robot, marker in self.generator.last.items()}
+        """Robot -> the room of the last order it was sent (a robot whose task was interrupted since is not in it)."""
+        return {robot: self._rooms[marker] for robot, marker in self.generator.last.items() if marker >= 0}
+
+    @property
+    def interrupted(self) -> set[int]:
+        """The robots whose last order interrupted their task."""
+        return {robot for robot, marker in self.generator.last.items() if marker < 0}
+
+    def read_line(self, line: str) -> None:
+        """One line of orders: ``ROOM`` or ``ROBOT ROOM`` (``ROBOT:ROOM``) sends a robot (the first one unless
+        named) to a room; ``cancel`` or ``stop`` in the room's place interrupts its task, unless a room has
+        that name. SchemaError or ValueError names what is wrong."""
+        words = line.replace(":", " ").split()
+        if not words:
+            return
+        if len(words) > 2:
+            raise SchemaError(f"order: expected ROOM or ROBOT ROOM, got {line.strip()!r}")
+        robot, room = (int(words[0]), words[1]) if len(words) > 1 else (self.world.robots[0].id, words[0])
+        if room in CANCEL_WORDS and room not in self.world.rooms:
+            self.cancel(robot)
+        else:
+            self.order(robot, room)
 
     def read_lines(self, stream: TextIO, on_error: Callable[[str], None]) -> threading.Thread:
-        """Take orders from `stream` as they come, in a background thread."""
+        """Take orders (read_line) from `stream` as they come, in a background thread."""
 
         def loop() -> None:
             for line in stream:
-                words = line.replace(":", " ").split()
-                if not words:
-                    continue
                 try:
-                    robot, room = (int(words[0]), words[1]) if len(words) > 1 else (self.world.robots[0].id, words[0])
-                    self.order(robot, room)
+                    self.read_line(line)
                 except (SchemaError, ValueError) as e:
                     on_error(str(e))
 
@@ -165,6 +191,7 @@ class RobotSummary:
     commands: int
     status: str            # the robot's last status, rooms by name ("arrived at kitchen", "no path to lab")
     pose_error_m: float | None = None  # how far its believed pose is from the truth (None: no truth, a real robot)
+    interrupted: bool = False  # its last order interrupted its task (room is then None: it is not waited for)
 
 
 @dataclass
@@ -365,6 +392,7 @@ class CaseStudy:
     def summary(self) -> RunSummary:
         actors = self.robot_actors()
         last = self.orders.last  # once: it is made from the generator on each call
+        interrupted = self.orders.interrupted
         robots = []
         for spec in self.world.robots:
             state = self.sim.robot(spec.id)
@@ -382,7 +410,8 @@ class CaseStudy:
                 id=spec.id, room=room, reached=reached,
                 distance_to_goal_m=dist, path_length_m=state.travelled, collisions=int(state.collisions),
                 replans=int(actor["replans"]) if actor is not None else 0, commands=int(state.commands),
-                status=self.status_of(spec.id, actor, last) if actor is not None else "gone", pose_error_m=error))
+                status=self.status_of(spec.id, actor, last) if actor is not None else "gone", pose_error_m=error,
+                interrupted=spec.id in interrupted))
         ordered = [r for r in robots if r.room is not None]
         errors = [r.pose_error_m for r in robots if r.pose_error_m is not None]
         outputs = {"video": self.video} if self.video else {}
@@ -413,7 +442,8 @@ class CaseStudy:
             renderer.draw_start(spec.start[0], spec.start[1], spec.id)
             renderer.draw_robot(self.sim.robot(spec.id).pose, spec.radius, spec.id)
             state = "reached" if robot.reached else "not reached"
-            where = "no order" if robot.room is None else f"{robot.room}, {state}"
+            where = ("interrupted" if robot.interrupted else "no order" if robot.room is None
+                     else f"{robot.room}, {state}")
             legend.append((spec.id, f"robot {spec.id}: {where}, {robot.path_length_m:.1f} m"))
         renderer.draw_legend(legend)
         path = Path(path)
@@ -534,7 +564,9 @@ class RobotRun:
             ("replans", str(summary.replans)),
         ]
         for r in summary.robots:
-            if r.room is None:
+            if r.interrupted:
+                where = "interrupted (its task was cancelled)"
+            elif r.room is None:
                 where = "no order"
             elif r.reached:
                 where = f"{r.room}: reached"

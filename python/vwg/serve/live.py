@@ -63,8 +63,9 @@ class Snapshot:
     text: str | None = field(default=None, repr=False)  # message() as JSON, made once for every client
 
     def state(self) -> dict[str, Any]:
-        """GET /api/state: frame, time, status, each robot's id, pose, objective and reached, and the people."""
-        keys = ("id", "x", "y", "angle", "objective", "reached")
+        """GET /api/state: frame, time, status, each robot's id, pose, objective, reached and status ("to kitchen",
+        "interrupted", ...), and the people."""
+        keys = ("id", "x", "y", "angle", "objective", "reached", "status")
         return {"frame": self.frame, "time": self.time, "status": self.status, "speed": self.speed,
                 "selected": self.selected, "robots": [{k: r[k] for k in keys} for r in self.robots],
                 "people": self.people}
@@ -141,8 +142,8 @@ class CommandQueue:
 
 class LiveRun:
     """A robot world run live: ``start()``, then ``pause()``, ``resume()``, ``step()``, ``set_speed()``,
-    ``reset()``, ``order(robot, room)``, ``select(robot)``; ``stop()`` ends it. Each command is checked
-    where it is given (an error names what is wrong) and done by the run's thread between frames; each
+    ``reset()``, ``order(robot, room)``, ``cancel(robot)``, ``select(robot)``; ``stop()`` ends it. Each command
+    is checked where it is given (an error names what is wrong) and done by the run's thread between frames; each
     takes ``client=`` (who gave it), whose waiting commands are bounded (MAX_WAITING, see the module)."""
 
     def __init__(self, world: RobotWorld, *, planner: str = "astar", platform: PlatformSpec | None = None,
@@ -228,6 +229,11 @@ class LiveRun:
         if not isinstance(room, str) or room not in self.world.rooms:
             raise SchemaError(f"order: unknown room {room!r} (rooms: {', '.join(self.world.rooms)})")
         self._commands.put("order", (robot, room), client)
+
+    def cancel(self, robot: int, client: Hashable = None) -> None:
+        """Interrupt `robot`'s task through gObjective (eObjective<marker=-1> at the next frame): it stops."""
+        self.check_robot(robot)
+        self._commands.put("cancel", robot, client)
 
     @staticmethod
     def _checked_speed(speed: Any) -> float:
@@ -320,6 +326,8 @@ class LiveRun:
             self._selected = value
         elif kind == "order" and self.case is not None:
             self.case.orders.order(*value)
+        elif kind == "cancel" and self.case is not None:
+            self.case.orders.cancel(value)
         elif kind == "reset":
             if self.case is not None:
                 self.case.close()

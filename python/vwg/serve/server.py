@@ -12,7 +12,7 @@ API and a WebSocket. I chose aiohttp for its HTTP server and WebSocket in one as
 - ``GET /api/camera/{id}.jpg``: the selected robot's last camera image; ``GET /api/overview.png``: the
   world in 3D with the robots where they are now.
 - ``/ws``: a frame message after each frame (the latest only: a slow client skips frames, it never
-  slows the run); the page sends ``order``, ``select``, ``pause``, ``resume``, ``step``, ``speed``,
+  slows the run); the page sends ``order``, ``cancel``, ``select``, ``pause``, ``resume``, ``step``, ``speed``,
   ``reset`` messages (JSON). A message that cannot be done gets ``{"type": "error", "message": ...}``
   back; one over MAX_MESSAGE (4,096) bytes closes that connection (code 1009); 4,096 bytes are taken.
   A client's commands wait in a queue bounded per client (vwg.serve.live.MAX_WAITING): one over is
@@ -238,8 +238,8 @@ class Viewer:
         except RecursionError:
             return {"type": "error", "message": "malformed JSON: nested too deeply"}
         if not isinstance(message, dict) or not isinstance(message.get("type"), str):
-            return {"type": "error", "message": "expected a JSON object with a \"type\" (order, select, pause, "
-                                                "resume, step, speed, reset)"}
+            return {"type": "error", "message": "expected a JSON object with a \"type\" (order, cancel, select, "
+                                                "pause, resume, step, speed, reset)"}
         kind = message["type"]
         try:
             if kind == "order":
@@ -247,6 +247,10 @@ class Viewer:
                 self.live.order(robot, message.get("room"), client=client)
                 room = message.get("room")
                 return {"type": "ok", "what": f"robot {robot} to {room}"}
+            if kind == "cancel":
+                robot = message.get("robot", self.live.latest.selected)
+                self.live.cancel(robot, client=client)
+                return {"type": "ok", "what": f"robot {robot}: task interrupted"}
             if kind == "select":
                 self.live.select(message.get("robot"), client=client)
             elif kind == "pause":
@@ -260,8 +264,8 @@ class Viewer:
             elif kind == "reset":
                 self.live.reset(client=client)
             else:
-                return {"type": "error", "message": f"unknown message type {kind!r} (expected order, select, pause, "
-                                                    "resume, step, speed, reset)"}
+                return {"type": "error", "message": f"unknown message type {kind!r} (expected order, cancel, select, "
+                                                    "pause, resume, step, speed, reset)"}
         except Error as e:
             return {"type": "error", "message": str(e)}
         except Exception as e:  # anything else a message could provoke is refused, and the connection stays

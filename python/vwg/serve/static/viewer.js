@@ -90,7 +90,8 @@ function showFrame(message) {
   statusLine.textContent = `frame ${frame.frame} · ${frame.time.toFixed(1)} s · ${frame.status}` +
     (selected ? ` · robot ${selected.id}: ${selected.status}` : "");
   document.getElementById("objective").textContent = selected ?
-    (selected.objective ? `to ${selected.objective}${selected.reached ? " (reached)" : ""}` : "no order") : "";
+    (selected.objective ? `to ${selected.objective}${selected.reached ? " (reached)" : ""}` :
+      selected.status === "interrupted" ? "interrupted" : "no order") : "";
   document.getElementById("string").textContent = frame.string;
   if (selecting !== null && frame.selected === selecting) selecting = null;
   if (selecting === null && String(frame.selected) !== robotSelect.value) robotSelect.value = String(frame.selected);
@@ -164,6 +165,8 @@ function select(id) {
   send({ type: "select", robot: id });
 }
 robotSelect.addEventListener("change", () => select(Number(robotSelect.value)));
+// Stop: the selected robot's task is interrupted through gObjective (eObjective<marker=-1>).
+document.getElementById("cancel").addEventListener("click", () => send({ type: "cancel", robot: Number(robotSelect.value) }));
 
 function refreshImages() {
   if (frame && frame.selected !== null) {
