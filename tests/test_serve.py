@@ -7,6 +7,7 @@ and stops with its test."""
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import http.client
 import json
 import select
@@ -101,17 +102,25 @@ def robot(state: dict, rid: int) -> dict:
     return next(r for r in state["robots"] if r["id"] == rid)
 
 
-@pytest.mark.slow
-def test_the_page_in_a_browser_orders_by_button_and_by_marker(server):
+@contextlib.contextmanager
+def viewer_page(server: Server):
+    """The server's page in headless chromium, once it shows frames."""
     from playwright import sync_api as playwright
 
-    world = json.loads(server.get("/api/world"))
     with playwright.sync_playwright() as p:
         browser = p.chromium.launch(executable_path=CHROMIUM, args=["--no-sandbox"])
         page = browser.new_page(viewport={"width": 1500, "height": 1000})
         page.goto(server.url)
-        page.wait_for_function("document.getElementById('map').dataset.drawn === 'true'")
         page.wait_for_function("document.getElementById('status').textContent.startsWith('frame')")
+        yield page
+        browser.close()
+
+
+@pytest.mark.slow
+def test_the_page_in_a_browser_orders_by_button_and_by_marker(server):
+    world = json.loads(server.get("/api/world"))
+    with viewer_page(server) as page:
+        page.wait_for_function("document.getElementById('map').dataset.drawn === 'true'")
         # The map is drawn: the canvas holds the map's pixels, not a blank element.
         colours = page.evaluate("""() => {
             const c = document.getElementById('map');
@@ -160,7 +169,6 @@ def test_the_page_in_a_browser_orders_by_button_and_by_marker(server):
         # A message over the size limit: the server closes that connection, and the page says so.
         page.evaluate("send({type: 'order', robot: 1, room: 'x'.repeat(10000)})")
         page.wait_for_function("document.getElementById('errors').textContent.includes('code 1009')")
-        browser.close()
     assert server.state()["frame"] > 0  # the server goes on
     assert (ARTIFACTS / "serve_office.png").stat().st_size > 10_000
 
@@ -504,20 +512,13 @@ def test_pause_step_and_reset(server):
 
 @pytest.mark.parametrize("server", [("office", "--no-world-orders", "--speed", "1")], indirect=True)
 def test_the_stop_button_interrupts_the_selected_robot_s_task(server):
-    from playwright import sync_api as playwright
-
-    with playwright.sync_playwright() as p:
-        browser = p.chromium.launch(executable_path=CHROMIUM, args=["--no-sandbox"])
-        page = browser.new_page(viewport={"width": 1500, "height": 1000})
-        page.goto(server.url)
-        page.wait_for_function("document.getElementById('status').textContent.startsWith('frame')")
+    with viewer_page(server) as page:
         page.click('button[data-room="library"]')
         going = server.wait_for(lambda s: robot(s, 1)["objective"] == "library", timeout=20)
         page.click("#cancel")
         stopped = server.wait_for(lambda s: robot(s, 1)["status"] == "interrupted", timeout=20)
         assert robot(stopped, 1)["objective"] is None and not robot(stopped, 1)["reached"]
         page.wait_for_function("document.getElementById('objective').textContent === 'interrupted'")
-        browser.close()
     assert stopped["frame"] > going["frame"]
     # It came to rest and stays there (a frame at 1x is 0.1 s: a second of frames later, the same place).
     rest = server.wait_for(lambda s: s["frame"] >= stopped["frame"] + 15)
