@@ -317,9 +317,10 @@ void ARobot::decide(ActorState& self, const EvolutionContext& ctx) {
     self.set_real(kMove, 0.0);
   }
   if (objective < 0) {
-    // An interrupted task: the move under way (once the motors have it) is replaced by none, Rotate<0>(Move<0>),
-    // which brings the robot to rest within its limits. An avoiding robot comes to rest by its zero velocity.
-    if (self.get_text(kStatus) == "interrupted" && self.get_bool(kBusy) && self.get_int(kAcked) >= self.get_int(kSent)) {
+    // No task, yet still moving: its task was interrupted (eObjective<-1>). The move under way (once the motors
+    // have it) is replaced by none, Rotate<0>(Move<0>), which brings the robot to rest within its limits. An
+    // avoiding robot comes to rest by its zero velocity.
+    if (self.get_bool(kBusy) && self.get_int(kAcked) >= self.get_int(kSent)) {
       self.set_bool(kActing, true);
       self.set_int(kSent, self.get_int(kSent) + 1);
     }

@@ -40,11 +40,13 @@ from vwg.launch import (
     EXIT_UNREACHED,
     RunOptions,
     check_outputs,
+    check_port,
     describe,
     kind_of,
     load,
     platform_faults,
     record_options,
+    record_world_path,
     replay_world,
     run_inputs,
     start,
@@ -280,13 +282,10 @@ def _resume(args: argparse.Namespace, record: Any, key: bytes | None) -> int:
                             f"file: {why}. Give the world file to run it with (--world FILE), or "
                             "--allow-code-from-record to run the file the record names")
             world_file = Path(named)
-    # Of the record's kind before it is loaded: a generic world file named as a robot world's would
-    # otherwise be loaded, and its code run, before anything noticed.
-    path = resolve_world(world_file)
-    found = kind_of(path, YamlDoc(path).data).name
-    if found != expected:
-        raise Error(f"--from: {path}: the record {args.record} was made by a {expected} world; this is a {found} "
-                    "world")
+    try:
+        path = record_world_path(world_file, expected)
+    except Error as e:
+        raise Error(f"--from: {e}") from None
     loaded = load(path)
     # A robot world's own orders again: the frames before FRAME get them from the record as they went, and
     # the run knows whom it sent where (when to stop, the summary).
@@ -437,8 +436,8 @@ def _cmd_serve(args: argparse.Namespace) -> int:
         raise Error(f"vwg serve needs aiohttp: pip install 'vwg[serve]' ({e})") from None
     path = _world_file(args.world, "serve", expected="robot")
     world = load_robot_world(path)
-    if not 0 <= args.port <= 65535:
-        raise Error(f"--port: expected 0 to 65535 (0: any free port), got {args.port}")
+    check_port("--port", args.port)
+    check_port("--foxglove-port", args.foxglove_port)
     if args.dt is not None:
         import dataclasses
 
@@ -447,8 +446,6 @@ def _cmd_serve(args: argparse.Namespace) -> int:
     if args.avoidance is not None:
         world = dataclasses.replace(world, avoidance=Avoidance.of(args.avoidance))
     spec = world.platform.given(args.platform, **_platform_options(args))
-    if args.foxglove_port is not None and not 0 <= args.foxglove_port <= 65535:
-        raise Error(f"--foxglove-port: expected 0 to 65535 (0: any free port), got {args.foxglove_port}")
     sinks = open_sinks(None, args.foxglove_port, args.host)
     try:
         live = LiveRun(world, planner=args.planner or world.planner, platform=spec, speed=args.speed, seed=args.seed,

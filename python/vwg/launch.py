@@ -90,8 +90,7 @@ class RunOptions:
             raise Error(f"--threads: expected 0 (the machine's cores) to 256 threads, got {self.threads}")
         if self.record_key is not None and self.record is None:
             raise Error("--record-key keys the record that --record writes; give --record too")
-        if self.foxglove_port is not None and not 0 <= self.foxglove_port <= 65535:
-            raise Error(f"--foxglove-port: expected a port from 0 (any free one) to 65535, got {self.foxglove_port}")
+        check_port("--foxglove-port", self.foxglove_port)
 
 
 #: How the command line spells an option whose name differs.
@@ -356,11 +355,25 @@ def replay_world(header: dict[str, Any], world_file: str | Path | None, record_p
     if world_file is None and name == "robot":  # the file the record names, refused naming the record's field
         world_file = robot_world_file(robot_data(header, record_path), record_path)
     if world_file is not None:
-        path = resolve_world(world_file)
-        other = kind_of(path, YamlDoc(path).data)
-        if other.name != kind.name:
-            raise Error(f"{path}: the record was made by a {kind.name} world; this is a {other.name} world")
+        path = record_world_path(world_file, kind.name)
     return kind.replay_world(header, path, record_path, allow_code_from_record=allow_code_from_record)
+
+
+def record_world_path(world_file: str | Path, kind: str) -> Path:
+    """The world file (a path, or a shipped world's name) to run a record of a `kind` world with, refused unless it
+    is of that kind. Checked before it is loaded: a generic world file named as a robot world's would otherwise be
+    loaded, and its code run, before anything noticed."""
+    path = resolve_world(world_file)
+    found = kind_of(path, YamlDoc(path).data).name
+    if found != kind:
+        raise Error(f"{path}: the record was made by a {kind} world; this is a {found} world")
+    return path
+
+
+def check_port(flag: str, port: int | None) -> None:
+    """A port to listen on: 0 (any free one) to 65535, or None (not asked for)."""
+    if port is not None and not 0 <= port <= 65535:
+        raise Error(f"{flag}: expected a port from 0 (any free one) to 65535, got {port}")
 
 
 def record_options(header: dict[str, Any], world: Any, record_path: Path) -> RunOptions:

@@ -30,7 +30,7 @@ class FoxgloveServer:
         self._foxglove = foxglove
         self._context = foxglove.Context()
         self._channels: dict[str, Any] = {}
-        self._latched: dict[str, tuple[Message, int]] = {}
+        self._latched: dict[str, Message] = {}  # the last message of each topic sent only when it changes
         self._resend: set[str] = set()
         self._lock = threading.Lock()
         try:
@@ -61,15 +61,14 @@ class FoxgloveServer:
                                                                      context=self._context)
         channel.log(message.data, log_time=log_time)
         if latched:
-            self._latched[topic] = (message, log_time)
+            self._latched[topic] = message
 
     def frame_done(self, log_time: int) -> None:
         """The run's time now: the latched topics a client subscribed to since are sent again, then the time."""
         with self._lock:
             resend, self._resend = self._resend, set()
         for topic in sorted(resend & self._latched.keys()):
-            message, _ = self._latched[topic]
-            self._channels[topic].log(message.data, log_time=log_time)
+            self._channels[topic].log(self._latched[topic].data, log_time=log_time)
         self._server.broadcast_time(log_time)
 
     def close(self) -> None:

@@ -20,9 +20,7 @@ from tqdm import tqdm
 from vwg.errors import Error, ReplayError
 from vwg.io.mcap_file import McapFile
 from vwg.io.record import read_record, robot_data, robot_world_file
-from vwg.io.shipped import resolve_world
-from vwg.io.yamldoc import YamlDoc
-from vwg.launch import check_outputs, kind_of, load, record_options, start, step_as_recorded
+from vwg.launch import check_outputs, load, record_options, record_world_path, start, step_as_recorded
 from vwg.robot.topics import case_topics, require_ros
 
 __all__ = ["Export", "export_record"]
@@ -55,10 +53,7 @@ def export_record(record_path: str | Path, out: str | Path, *, world_file: str |
         raise Error(f"{record_path}: the record starts at frame {header['frame']} (its run went on from a saved "
                     "state): export the record of the run that was saved, or run the saved state again with "
                     "vwg resume --mcap")
-    path = resolve_world(world_file or robot_world_file(robot_data(header, record_path), record_path))
-    found = kind_of(path, YamlDoc(path).data).name
-    if found != "robot":
-        raise Error(f"{path}: the record {record_path} was made by a robot world; this is a {found} world")
+    path = record_world_path(world_file or robot_world_file(robot_data(header, record_path), record_path), "robot")
     world = load(path)
     options = record_options(header, world, record_path)
     check_outputs(world, dataclasses.replace(options, mcap=out), {"the record": record_path})

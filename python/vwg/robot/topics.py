@@ -74,9 +74,10 @@ class RunTopics:
         self.sinks = list(sinks)
         self.truth = truth
         self.cameras = dict(cameras or {})
+        # gCamera takes a picture on the frames its period divides: the world's camera settings, or their defaults.
+        self.camera_period = int(world.sensor_settings("camera").period) if self.cameras else 1
         self.dt = world.dt
-        laser = world.sensors.get("laser")
-        self.laser = laser if laser is not None else world.sensor_settings("laser")
+        self.laser = world.sensor_settings("laser")
         self.angle_min, self.increment = _core.beam_layout(self.laser)
         self.scanning = {r.id for r in world.robots if "laser" in r.sensors}
         self._belief: dict[int, tuple[float, float, float]] = {}
@@ -189,8 +190,7 @@ class RunTopics:
                                  self.laser.min_range, self.laser.max_range, self.dt), seconds)
 
     def _cameras(self, record: _core.FrameRecord, seconds: float) -> None:
-        period = int(getattr(self.world.sensors.get("camera"), "period", 1) or 1)
-        if record.frame % period:
+        if record.frame % self.camera_period:
             return
         for robot, camera in sorted(self.cameras.items()):
             image = camera.image
