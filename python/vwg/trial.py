@@ -25,8 +25,9 @@ Parameters (``params``; all optional):
 
 The row: ``world, planner, seed, frames_limit, params`` (the cell), then ``reached`` (every ordered robot
 reached its room), ``frames``, ``path_length_m`` (driven, all robots), ``optimal_m`` (the sum of the
-ordered robots' shortest ways from start to room, by vwg.robot.shortest; empty when a robot has several
-orders), ``collisions``, ``replans``, ``robots``, ``reached_robots``, ``planning_s`` (the decider's
+ordered robots' shortest any-angle ways from start to within the goal tolerance of the room, by vwg.trial.any_angle_m;
+empty when a robot has several orders), ``optimal_unchanged_m`` (the same on the map the robots were given, before
+any boxes were put down), ``collisions``, ``replans``, ``robots``, ``reached_robots``, ``planning_s`` (the decider's
 search time, where it counts it), ``map_precision`` and ``map_recall`` (with ``knows_map: false``: how
 the maps the robots made agree with the true one, vwg.robot.map_quality), ``pose_error_m`` (the robots' mean
 distance from where they believe they are to where they are, at the end), ``run_s`` (the frames' time),
@@ -37,6 +38,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import itertools
 import json
 import math
 import time
@@ -51,18 +53,19 @@ from vwg.errors import Error, FrameError, SchemaError
 from vwg.io.maps import OccupancyGrid
 from vwg.io.shipped import resolve_world
 from vwg.plugins import sensors
+from vwg.robot.any_angle import AnyAngle
 from vwg.robot.case_study import CaseStudy
 from vwg.robot.map_quality import map_quality
 from vwg.robot.shortest import DistanceField, grid_graph
 from vwg.robot.world_file import Avoidance, Localization, Person, load_robot_world
 
-__all__ = ["COLUMNS", "KNOWN_PARAMS", "Trial", "add_people", "cached_world", "random_task", "replace_robot",
-           "run_trial", "shortest_m", "trial_world"]
+__all__ = ["COLUMNS", "KNOWN_PARAMS", "Trial", "add_people", "any_angle_m", "any_angle_way", "cached_world",
+           "random_task", "replace_robot", "run_trial", "shortest_m", "trial_world"]
 
 #: The columns of a trial's row, in order (the first five name the cell).
 COLUMNS = ("world", "planner", "seed", "frames_limit", "params", "reached", "frames", "path_length_m", "optimal_m",
-           "collisions", "replans", "robots", "reached_robots", "planning_s", "map_precision", "map_recall",
-           "pose_error_m", "run_s", "wall_s", "error")
+           "optimal_unchanged_m", "collisions", "replans", "robots", "reached_robots", "planning_s", "map_precision",
+           "map_recall", "pose_error_m", "run_s", "wall_s", "error")
 
 #: Parameter -> (accepted types, meaning).
 KNOWN_PARAMS: dict[str, tuple[tuple[type, ...], str]] = {
@@ -81,6 +84,7 @@ KNOWN_PARAMS: dict[str, tuple[tuple[type, ...], str]] = {
 FLOAT_PARAMS = ("odometry_noise", "motor_noise")
 BOX_M = 0.5  # the side of an added obstacle
 SPACING_M = 0.6  # the least distance between two random starts
+MIN_DETOUR_M = 0.02  # how much longer each box must make the shortest way (above what sight tests may graze)
 
 
 @dataclass(frozen=True)
@@ -199,6 +203,59 @@ def shortest_m(grid: Any, radius: float, start: tuple[float, float], goal: tuple
     return dist * grid.resolution
 
 
+_yardsticks: OrderedDict[tuple[bytes, float], AnyAngle] = OrderedDict()
+
+
+def _any_angle(grid: Any, radius: float) -> AnyAngle:
+    """The any-angle yardstick of `grid` for a disc robot of `radius` (the last 4 kept): among the cells of its
+    configuration space that the planners avoid (OccupancyGrid.inflate: centres within `radius` of a wall), so a
+    doorway is open to it exactly when it is to them. The robot's centre can pass over such a cell's edge by up to
+    half its diagonal without touching the wall, so a robot may drive a little less than the figure on a way with
+    corners (experiments allow 2 %).
+    """
+    import hashlib
+
+    key = (hashlib.sha1(grid.data.tobytes() + repr((grid.resolution, grid.origin)).encode()).digest(), radius)
+    if key in _yardsticks:
+        _yardsticks.move_to_end(key)
+        return _yardsticks[key]
+    field_ = _yardsticks[key] = AnyAngle(grid.inflate(radius))
+    if len(_yardsticks) > 4:
+        _yardsticks.popitem(last=False)
+    return field_
+
+
+def _map_point(grid: Any, x: float, y: float) -> tuple[float, float]:
+    """World (x, y) as a point of the grid in cell units, (row, col): cell (r, c) covers [r, r+1) × [c, c+1)."""
+    ox, oy, yaw = grid.origin
+    dx, dy = x - ox, y - oy
+    cos, sin = math.cos(yaw), math.sin(yaw)
+    return (-sin * dx + cos * dy) / grid.resolution, (cos * dx + sin * dy) / grid.resolution
+
+
+def _world_point(grid: Any, row: float, col: float) -> tuple[float, float]:
+    ox, oy, yaw = grid.origin
+    u, v = col * grid.resolution, row * grid.resolution
+    return ox + math.cos(yaw) * u - math.sin(yaw) * v, oy + math.sin(yaw) * u + math.cos(yaw) * v
+
+
+def any_angle_m(grid: Any, radius: float, start: tuple[float, float], goal: tuple[float, float],
+                tolerance: float = 0.0) -> float:
+    """The shortest any-angle way in metres from `start` to within `tolerance` of `goal` on `grid` for a disc robot
+    of `radius` (vwg.robot.any_angle; inf: none): the way to the goal less the tolerance. The robot counts as arrived
+    anywhere within the tolerance; by the triangle inequality no such point is nearer than that (the goal's
+    surroundings being open)."""
+    cells = _any_angle(grid, radius).distance(_map_point(grid, *start), _map_point(grid, *goal))
+    return max(0.0, cells * grid.resolution - tolerance)
+
+
+def any_angle_way(grid: Any, radius: float, start: tuple[float, float],
+                  goal: tuple[float, float]) -> list[tuple[float, float]]:
+    """The points (world x, y) of that shortest way, from `start` to `goal` (empty: none)."""
+    way = _any_angle(grid, radius).path(_map_point(grid, *start), _map_point(grid, *goal))
+    return [_world_point(grid, r, c) for r, c in way]
+
+
 def trial_world(trial: Trial) -> tuple[Any, dict[int, str], Any]:
     """The robot world a trial runs (its robots, sensors and noise set by the parameters), the orders
     at the start (robot -> room; empty: the world file's), and the map the robots start with."""
@@ -295,8 +352,10 @@ def random_task(world: Any, n: int, rng: np.random.Generator) -> tuple[Any, dict
 
 
 def _add_obstacles(world: Any, goals: dict[int, str], count: int, rng: np.random.Generator) -> Any:
-    """The world with `count` boxes on its first robot's shortest way to its room (each where the way
-    stays open around it), put after the map was drawn."""
+    """The world with `count` boxes on its first robot's shortest way to its room, put after the map was drawn.
+    Each box goes at a seeded point of the middle of the way (any-angle, on the map with the boxes so far), clear of
+    the start and the room, and is kept only where the planners' way stays open and the shortest way becomes at
+    least MIN_DETOUR_M longer: a box the robot need not go round is no change."""
 
     robot = world.robots[0]
     room = goals.get(robot.id) or next((o.room for o in world.orders if o.robot == robot.id), None)
@@ -307,44 +366,46 @@ def _add_obstacles(world: Any, goals: dict[int, str], count: int, rng: np.random
     data = grid.data.copy()
     half = max(1, round(BOX_M / grid.resolution / 2))
     start = robot.start[:2]
+    # The box's corner reaches BOX_M/√2 from its centre; the robot must still fit at its start and arrive.
+    keep_clear = BOX_M * math.sqrt(0.5) + robot.radius + 0.05
     placed = 0
-    for _ in range(50 * count):
+    for _ in range(20 * count):
         if placed == count:
             break
-        changed = OccupancyGrid(data, grid.resolution, grid.origin)
-        field_ = _field(changed, robot.radius, goal)
-        # Walk down the distance field from the start: the way; a box at a seeded point of its middle.
-        way = _descend(field_.distance, changed.world_to_cell(*start))
-        if len(way) < 20:
-            break
-        r, c = way[int(rng.uniform(0.3, 0.7) * len(way))]
+        current = OccupancyGrid(data, grid.resolution, grid.origin)
+        way = any_angle_way(current, robot.radius, start, goal)
+        before = any_angle_m(current, robot.radius, start, goal)
+        x, y = _along(way, float(rng.uniform(0.2, 0.8)))
+        if math.hypot(x - start[0], y - start[1]) < keep_clear or \
+                math.hypot(x - goal[0], y - goal[1]) < keep_clear + world.goal_tolerance:
+            continue
+        r, c = current.world_to_cell(x, y)
         trial_data = data.copy()
         trial_data[max(0, r - half):r + half, max(0, c - half):c + half] = 100
         trial_grid = OccupancyGrid(trial_data, grid.resolution, grid.origin)
-        if math.isfinite(shortest_m(trial_grid, robot.radius, start, goal)):
+        if math.isfinite(shortest_m(trial_grid, robot.radius, start, goal)) and \
+                any_angle_m(trial_grid, robot.radius, start, goal) >= before + MIN_DETOUR_M:
             data = trial_data
             placed += 1
     if placed < count:
         raise Error(f"params.obstacles: room for {placed} of {count} boxes of {BOX_M} m on robot {robot.id}'s way "
-                    f"to {room} in {world.name} (each must leave the way open)")
+                    f"to {room} in {world.name} (each must leave the way open and make it at least {MIN_DETOUR_M} m "
+                    "longer)")
     return dataclasses.replace(world, grid=OccupancyGrid(data, grid.resolution, grid.origin))
 
 
-def _descend(distance: np.ndarray, cell: tuple[int, int]) -> list[tuple[int, int]]:
-    """The cells from `cell` down a distance field to its goal (empty when cut off)."""
-    rows, cols = distance.shape
-    r, c = cell
-    if not (0 <= r < rows and 0 <= c < cols) or not math.isfinite(distance[r, c]):
-        return []
-    way = [(r, c)]
-    while distance[r, c] > 0:
-        best = min(((distance[r + dr, c + dc], r + dr, c + dc) for dr in (-1, 0, 1) for dc in (-1, 0, 1)
-                    if (dr or dc) and 0 <= r + dr < rows and 0 <= c + dc < cols), default=(math.inf, r, c))
-        if not best[0] < distance[r, c]:
-            break
-        r, c = best[1], best[2]
-        way.append((r, c))
-    return way
+def _along(way: list[tuple[float, float]], fraction: float) -> tuple[float, float]:
+    """The point at `fraction` of a polyline's length (its start when it has no length)."""
+    if not way:
+        return (math.nan, math.nan)
+    lengths = [math.dist(a, b) for a, b in itertools.pairwise(way)]
+    left = fraction * sum(lengths)
+    for (a, b), length in zip(itertools.pairwise(way), lengths, strict=True):
+        if left <= length and length > 0:
+            u = left / length
+            return (a[0] + u * (b[0] - a[0]), a[1] + u * (b[1] - a[1]))
+        left -= length
+    return way[-1]
 
 
 # ---- running it ----------------------------------------------------------------------------------------
@@ -388,7 +449,8 @@ def _run(trial: Trial) -> dict[str, Any]:
     ordered = [r for r in summary.robots if r.room is not None]
     return dict(
         reached=summary.reached and not error, frames=summary.frames, path_length_m=round(summary.path_length_m, 6),
-        optimal_m=_optimal(world, goals), collisions=summary.collisions, replans=summary.replans,
+        optimal_m=_optimal(world, goals), optimal_unchanged_m=_optimal(dataclasses.replace(world, grid=known), goals),
+        collisions=summary.collisions, replans=summary.replans,
         robots=len(summary.robots), reached_robots=sum(r.reached for r in ordered),
         planning_s=round(float(getattr(case.decider, "search_seconds", math.nan)), 6),
         map_precision=round(quality[0], 4), map_recall=round(quality[1], 4),
@@ -398,7 +460,7 @@ def _run(trial: Trial) -> dict[str, Any]:
 
 
 def _optimal(world: Any, goals: dict[int, str]) -> float:
-    """The sum of the ordered robots' shortest ways to their rooms, each to within the goal tolerance (where
+    """The sum of the ordered robots' shortest any-angle ways to their rooms, each to within the goal tolerance (where
     a robot counts as arrived); NaN when a robot has several orders, or none has one."""
     orders = dict(goals)
     if not orders:
@@ -411,5 +473,5 @@ def _optimal(world: Any, goals: dict[int, str]) -> float:
     total = 0.0
     for rid, room in orders.items():
         robot = world.robot(rid)
-        total += shortest_m(world.grid, robot.radius, robot.start[:2], world.rooms[room].goal, world.goal_tolerance)
+        total += any_angle_m(world.grid, robot.radius, robot.start[:2], world.rooms[room].goal, world.goal_tolerance)
     return round(total, 6)

@@ -6,9 +6,23 @@ import json
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from vwg.experiments import plots
 from vwg.experiments.section import Section
-from vwg.experiments.tables import Table, fmt, group, mean, median, number, share
+from vwg.experiments.tables import (
+    Table,
+    bootstrap,
+    count_share_cell,
+    fmt,
+    group,
+    mean,
+    mean_cell,
+    median,
+    median_cell,
+    number,
+    share_cell,
+)
 
 __all__ = ["section"]
 
@@ -21,7 +35,8 @@ and with **avoidance orca** (reciprocal collision avoidance on what each robot's
 `avoidance: orca`; a robot that has arrived stays but gives way). **success**: every robot of the run reached
 its room; **robots reached**: the share of robots that did; **collisions** per run (contacts between bodies,
 robots or walls); **frames/s** and **robot-steps/s**: the run's frames over the time the frames took, on one
-thread.
+thread. 95 % intervals in brackets: Wilson's for shares (robots reached: over all the robots of the runs), the
+percentile bootstrap over the runs for means and medians.
 """
 
 
@@ -40,23 +55,31 @@ def section(rows: list[dict[str, Any]], folder: Path) -> Section:
                    "frames/s (median)", "robot-steps/s (median)"])
     rates: dict[str, tuple[list[float], list[float]]] = {}
     collisions: dict[str, tuple[list[float], list[float]]] = {}
+    bands: dict[str, dict[str, list[tuple[float, float]]]] = {"rates": {}, "collisions": {}}
     for (n, kind), runs in sorted(group(rows, lambda r: (_robots(r), _avoidance(r))).items()):
-        rate = median(number(r["frames"]) / number(r["run_s"]) for r in runs)
-        reached = sum(number(r["reached_robots"]) for r in runs) / sum(number(r["robots"]) for r in runs)
-        hits = mean(number(r["collisions"]) for r in runs)
-        table.add(str(n), kind, str(len(runs)), fmt(share(r["reached"] == "True" for r in runs), 2), fmt(reached, 2),
-                  fmt(hits, 1), fmt(rate, 0), fmt(rate * n, 0))
-        for series, value in ((rates, rate * n), (collisions, hits)):
+        per_run = [number(r["frames"]) / number(r["run_s"]) for r in runs]
+        rate = median(per_run)
+        robots = int(sum(number(r["robots"]) for r in runs))
+        reached = int(sum(number(r["reached_robots"]) for r in runs))
+        hits = [number(r["collisions"]) for r in runs]
+        table.add(str(n), kind, str(len(runs)), share_cell(r["reached"] == "True" for r in runs),
+                  count_share_cell(reached, robots), mean_cell(hits, 1), median_cell(per_run, 0),
+                  median_cell((v * n for v in per_run), 0))
+        for series, band, value, interval in (
+                (rates, "rates", rate * n, tuple(v * n for v in bootstrap(per_run))),
+                (collisions, "collisions", mean(hits), bootstrap(hits, np.mean))):
             xs, ys = series.setdefault(kind, ([], []))
             xs.append(n)
             ys.append(value)
+            bands[band].setdefault(kind, []).append(interval)
     out.tables.append(table)
     out.plots.append(plots.lines(folder / "extensibility_rate.png", "Robot-steps per second", "robots",
                                  "robot-steps per second (one thread)",
-                                 {f"avoidance {k}": v for k, v in rates.items()}, logx=True))
+                                 {f"avoidance {k}": v for k, v in rates.items()}, logx=True,
+                                 intervals={f"avoidance {k}": v for k, v in bands["rates"].items()}))
     out.plots.append(plots.lines(folder / "extensibility_collisions.png", "Collisions per run", "robots",
                                  "collisions per run (mean)", {f"avoidance {k}": v for k, v in collisions.items()},
-                                 logx=True))
+                                 logx=True, intervals={f"avoidance {k}": v for k, v in bands["collisions"].items()}))
     most = max(n for n, _ in group(rows, lambda r: (_robots(r), _avoidance(r))))
     for kind, (xs, ys) in rates.items():
         if xs and xs[-1] == most:

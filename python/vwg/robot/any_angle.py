@@ -1,0 +1,231 @@
+"""The shortest any-angle way round blocked grid cells: the experiments' yardstick of path length
+("path / optimal"), by code that shares nothing with vwg's planners.
+
+Geometry. The blocked cells of a mask are closed unit squares; a way is any polyline through the rest of the plane.
+A shortest such way bends only at convex corners of the blocked squares (Lozano-Pérez & Wesley, "An algorithm for
+planning collision-free paths among polyhedral obstacles", CACM 22(10), 1979), so it is a shortest path in the
+visibility graph of those corners plus the two ends. A corner is a lattice point with exactly one of its four cells
+blocked; an edge is kept only where its line is tangent to the blocked cell at each corner end (a shortest way never
+leaves a corner into the cell it wraps round), which shrinks the graph and not the distances. The graph's shortest
+paths are SciPy's Dijkstra (``scipy.sparse.csgraph``).
+
+Sight lines are tested at points at most ``step`` cells apart, a blocked square shrunk by ``EPS`` (so a line may run
+along a cell's edge and leave from its corner). A line can thus graze a blocked square by less than ``step / 2``
+cells unseen: the distances are lower bounds of the exact ones, by at most that much per corner of the way. A wall
+thicker than ``step`` is never crossed.
+
+    field = AnyAngle(blocked)                          # blocked: bool mask, rows × columns, row = y
+    field.distance((r0, c0), (r1, c1))                 # cells; points in cell units (cell (r, c) covers [r, r+1))
+    field.path((r0, c0), (r1, c1))                     # the corners between, as (row, col) points
+
+For a disc robot on an OccupancyGrid, vwg.trial.any_angle_m builds the mask so that the figure is a lower bound of
+what the robot can drive: the cells whose every point is within the robot's radius of a wall.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import OrderedDict
+
+import numpy as np
+
+__all__ = ["EPS", "STEP", "AnyAngle"]
+
+STEP = 0.5  # cells between the points a sight line is tested at
+EPS = 1e-6  # how far a blocked square is shrunk for the test (cells)
+_CHUNK = 1 << 21  # sight lines tested at once (memory)
+_DIAGONAL = math.sqrt(2.0)  # a point of a cell is within this of a point of a cell whose centres are 0 apart
+
+
+class AnyAngle:
+    """Any-angle shortest distances among the blocked cells of `blocked` (rows × columns, True = blocked; outside
+    the grid counts as blocked). The corners' visibility graph is built once; distances to a goal are kept for the
+    last few goals."""
+
+    def __init__(self, blocked: np.ndarray, step: float = STEP) -> None:
+        from scipy.ndimage import distance_transform_edt, label
+
+        blocked = np.asarray(blocked, dtype=bool)
+        if blocked.ndim != 2 or not blocked.size:
+            raise ValueError(f"AnyAngle: expected a non-empty 2-D mask, got shape {blocked.shape}")
+        self.shape = blocked.shape
+        self.step = float(step)
+        # Padded by one blocked cell all round: point (r, c) of the map is (r + 1, c + 1) of the pad.
+        self._pad = np.pad(blocked, 1, constant_values=True)
+        # Free regions (8-connected: two free squares meeting at a corner let a line through) to skip hopeless pairs.
+        self._region, _ = label(~self._pad, structure=np.ones((3, 3), dtype=int))
+        # Each cell's centre's distance to the nearest blocked cell's centre: a stride along a sight line that cannot
+        # reach a blocked square (less _DIAGONAL).
+        self._clearance = distance_transform_edt(~self._pad)
+        self.corners, self._quadrant = self._convex_corners()
+        self._corner_region = self._region_at(self.corners)
+        self._graph = self._visibility_graph()
+        self._to_goal: OrderedDict[tuple[float, float], tuple[np.ndarray, np.ndarray, np.ndarray]] = OrderedDict()
+
+    # ---- the corners and their graph ---------------------------------------------------------------------------
+    def _convex_corners(self) -> tuple[np.ndarray, np.ndarray]:
+        """Lattice points (row, col) in map units with exactly one of the four cells round them blocked, and for
+        each the (drow, dcol) sign of the blocked one."""
+        p = self._pad.astype(np.int8)
+        # Pad lattice point (i, j) has cells (i-1, j-1), (i-1, j), (i, j-1), (i, j) round it.
+        a, b, c, d = p[:-1, :-1], p[:-1, 1:], p[1:, :-1], p[1:, 1:]
+        one = (a + b + c + d) == 1
+        i, j = np.nonzero(one)
+        sr = np.where(a[i, j] | b[i, j], -1, 1)
+        sc = np.where(a[i, j] | c[i, j], -1, 1)
+        points = np.stack([i, j], axis=1).astype(float)  # between pad cells (i, j) and (i+1, j+1): map point (i, j)
+        return points, np.stack([sr, sc], axis=1).astype(np.int8)
+
+    def _region_at(self, points: np.ndarray) -> np.ndarray:
+        """The free region each point touches (a corner touches three free cells of one region)."""
+        out = np.zeros(len(points), dtype=np.int64)
+        for dr in (-0.5, 0.5):
+            for dc in (-0.5, 0.5):
+                r = np.floor(points[:, 0] + dr).astype(np.int64) + 1
+                c = np.floor(points[:, 1] + dc).astype(np.int64) + 1
+                out = np.maximum(out, self._region[r, c])
+        return out
+
+    def _visibility_graph(self) -> object:
+        from scipy.sparse import coo_matrix
+
+        n = len(self.corners)
+        sources, targets, lengths = [], [], []
+        per = max(1, _CHUNK // max(1, n))
+        for first in range(0, n, per):
+            i = np.repeat(np.arange(first, min(n, first + per)), n)
+            j = np.tile(np.arange(n), min(n, first + per) - first)
+            keep = (i < j) & (self._corner_region[i] == self._corner_region[j])
+            i, j = i[keep], j[keep]
+            delta = self.corners[j] - self.corners[i]
+            # Tangent at both ends: the line's direction (dr, dc) with dr·dc·sr·sc <= 0 does not enter the blocked
+            # cell of the corner (sr, sc).
+            q_i, q_j = self._quadrant[i], self._quadrant[j]
+            product = delta[:, 0] * delta[:, 1]
+            keep = (product * q_i[:, 0] * q_i[:, 1] <= 0) & (product * q_j[:, 0] * q_j[:, 1] <= 0)
+            i, j = i[keep], j[keep]
+            seen = self.visible(self.corners[i], self.corners[j])
+            sources.append(i[seen])
+            targets.append(j[seen])
+            lengths.append(np.hypot(*(self.corners[j[seen]] - self.corners[i[seen]]).T))
+        s = np.concatenate(sources) if sources else np.zeros(0, dtype=np.int64)
+        t = np.concatenate(targets) if targets else np.zeros(0, dtype=np.int64)
+        w = np.concatenate(lengths) if lengths else np.zeros(0)
+        return coo_matrix((np.concatenate([w, w]), (np.concatenate([s, t]), np.concatenate([t, s]))),
+                          shape=(n, n)).tocsr()
+
+    # ---- sight ---------------------------------------------------------------------------------------------------
+    def blocked_at(self, points: np.ndarray) -> np.ndarray:
+        """Whether each point (row, col) of the map's rectangle lies in a blocked square shrunk by EPS."""
+        return self._blocked_and_cell(np.asarray(points, dtype=float).reshape(-1, 2))[0]
+
+    def _blocked_and_cell(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """blocked_at, and the flat index of each point's cell in the padded grid. Points are in the map's rectangle
+        (sight lines join such points), so the padded grid holds every cell looked at."""
+        cols = self._pad.shape[1]
+        fr, fc = np.floor(points[:, 0]), np.floor(points[:, 1])
+        cell = (fr.astype(np.intp) + 1) * cols + fc.astype(np.intp) + 1
+        flat = self._pad.ravel()
+        out = flat[cell]
+        # Within EPS of a cell's side (a line along a wall, an end at a corner): blocked only if every cell the
+        # point touches is.
+        near = np.nonzero(out & ((points[:, 0] - fr < EPS) | (points[:, 0] - fr > 1 - EPS)
+                                 | (points[:, 1] - fc < EPS) | (points[:, 1] - fc > 1 - EPS)))[0]
+        if near.size:
+            q = points[near]
+            every = np.ones(near.size, dtype=bool)
+            for dr in (-EPS, EPS):
+                for dc in (-EPS, EPS):
+                    every &= flat[(np.floor(q[:, 0] + dr).astype(np.intp) + 1) * cols
+                                  + np.floor(q[:, 1] + dc).astype(np.intp) + 1]
+            out[near] = every
+        return out, cell
+
+    def visible(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        """For each pair of points a[k], b[k] (row, col) in the map's rectangle, whether the segment between them is
+        clear. Each line is walked from a: where the nearest blocked cell is far, in one stride that cannot reach it
+        (the distance transform's clearance less a cell's diagonal); near walls, `step` at a time."""
+        a = np.asarray(a, dtype=float).reshape(-1, 2)
+        b = np.asarray(b, dtype=float).reshape(-1, 2)
+        blocked_a, cell = self._blocked_and_cell(a)
+        clear = ~(blocked_a | self.blocked_at(b))
+        delta = b - a
+        length = np.hypot(delta[:, 0], delta[:, 1])
+        alive = np.nonzero(clear & (length > self.step))[0]
+        cell = cell[alive]
+        t = np.zeros(len(a))
+        clearance = self._clearance.ravel()
+        while alive.size:
+            t[alive] += np.maximum(self.step, clearance[cell] - _DIAGONAL) / length[alive]
+            going = t[alive] < 1.0
+            alive = alive[going]
+            hit, cell = self._blocked_and_cell(a[alive] + delta[alive] * t[alive, None])
+            clear[alive[hit]] = False
+            alive, cell = alive[~hit], cell[~hit]
+        return clear
+
+    # ---- distances -----------------------------------------------------------------------------------------------
+    def _goal_field(self, goal: tuple[float, float]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Each corner's distance to `goal` and its next corner on the way (-1: straight to the goal), and the goal
+        as an array."""
+        from scipy.sparse.csgraph import dijkstra
+
+        key = (float(goal[0]), float(goal[1]))
+        if key in self._to_goal:
+            self._to_goal.move_to_end(key)
+            return self._to_goal[key]
+        g = np.array(key)
+        n = len(self.corners)
+        seen = self.visible(np.repeat(g[None], n, axis=0), self.corners) if n else np.zeros(0, dtype=bool)
+        direct = np.where(seen, np.hypot(*(self.corners - g).T) if n else np.zeros(0), np.inf)
+        if n and np.isfinite(direct).any():
+            # One Dijkstra from every corner the goal sees, each starting at its straight distance: a virtual source.
+            from scipy.sparse import bmat, coo_matrix
+
+            src = np.nonzero(np.isfinite(direct))[0]
+            link = coo_matrix((direct[src], (np.zeros(len(src), dtype=np.int64), src)), shape=(1, n))
+            graph = bmat([[None, link], [link.T, self._graph]]).tocsr()
+            dist, pred = dijkstra(graph, directed=False, indices=0, return_predecessors=True)
+            dist, pred = dist[1:], pred[1:] - 1  # pred -1 (the goal node 0 - 1) means straight to the goal
+        else:
+            dist, pred = np.full(n, np.inf), np.full(n, -1)
+        field = (dist, pred, g)
+        self._to_goal[key] = field
+        if len(self._to_goal) > 16:
+            self._to_goal.popitem(last=False)
+        return field
+
+    def distance(self, start: tuple[float, float], goal: tuple[float, float]) -> float:
+        """The shortest way from `start` to `goal` (points in cell units: (row, col)), in cells; inf when none."""
+        return self._way(start, goal)[0]
+
+    def path(self, start: tuple[float, float], goal: tuple[float, float]) -> list[tuple[float, float]]:
+        """The shortest way's points from `start` to `goal`, both included (empty when there is none)."""
+        length, first = self._way(start, goal)
+        if not math.isfinite(length):
+            return []
+        points = [(float(start[0]), float(start[1]))]
+        _, pred, _ = self._goal_field(goal)
+        k = first
+        while k >= 0:
+            points.append((float(self.corners[k, 0]), float(self.corners[k, 1])))
+            k = int(pred[k])
+        points.append((float(goal[0]), float(goal[1])))
+        return points
+
+    def _way(self, start: tuple[float, float], goal: tuple[float, float]) -> tuple[float, int]:
+        dist, _, g = self._goal_field(goal)
+        s = np.array([float(start[0]), float(start[1])])
+        if self.visible(s, g)[0]:
+            return float(np.hypot(*(g - s))), -1
+        n = len(self.corners)
+        if not n:
+            return math.inf, -1
+        finite = np.nonzero(np.isfinite(dist))[0]
+        seen = self.visible(np.repeat(s[None], len(finite), axis=0), self.corners[finite])
+        candidates = finite[seen]
+        if not candidates.size:
+            return math.inf, -1
+        total = np.hypot(*(self.corners[candidates] - s).T) + dist[candidates]
+        best = int(np.argmin(total))
+        return float(total[best]), int(candidates[best])
