@@ -69,7 +69,7 @@ def test_one_section_per_test_in_order_with_its_pictures(report):
     places = [text.index(h) for h in HEADINGS]
     assert places == sorted(places)
     for name in ("evolution_path_ratio", "evolution_frames", "devices_map", "simulation_odometry_noise",
-                 "extensibility_rate", "extensibility_collisions", "environment_success"):
+                 "simulation_trajectories", "extensibility_rate", "extensibility_collisions", "environment_success"):
         assert f"]({name}.png)" in text
         png = (out / f"{name}.png").read_bytes()
         assert png[:8] == b"\x89PNG\r\n\x1a\n" and len(png) > 5000
@@ -81,7 +81,8 @@ def test_every_table_parses_and_matches_its_csv(report):
     out, text = report
     tables = tables_of(text)
     assert set(tables) == {"evolution", "evolution_by_map", "devices", "simulation_same_frames",
-                           "simulation_odometry_noise", "simulation_localization", "extensibility", "environment"}
+                           "simulation_trajectories", "simulation_odometry_noise", "simulation_localization",
+                           "extensibility", "environment"}
     for name, (header, rows) in tables.items():
         assert read_csv(out / f"{name}.csv") == [header, *rows], name
 
@@ -135,6 +136,13 @@ def test_the_simulation_tables_hold_the_records(report):
         ros = (out / "records" / f"rosbridge_seed{row[0]}.jsonl").read_bytes()
         assert row[6] == str(len(sim)) and row[7] == ("yes" if sim == ros else "no") == "yes"
         assert int(row[2]) == sim.count(b"\n") - 2  # a header line, a frame per line, a closing line
+    header, compared = tables_of(text)["simulation_trajectories"]
+    assert [(int(r[0]), float(r[1])) for r in compared] == [(seed, level) for level in config.trajectory_levels
+                                                            for seed in config.seeds]
+    for r in (dict(zip(header, row, strict=True)) for row in compared):
+        assert r["arrived (IR-SIM)"] == "yes"  # IR-SIM's robot, driven through the link, arrives too
+        if r["odometry noise"] == "0":
+            assert r["fake robot apart m (max)"] == "0.000"  # the link adds nothing: the same frames
     _, noisy = tables_of(text)["simulation_odometry_noise"]
     errors = {float(r[0]): float(r[4]) for r in noisy}
     assert errors[0.0] == 0.0 and errors[0.05] > 0.0  # no drift without noise; some with it

@@ -77,7 +77,7 @@ CONFIGS: dict[str, Config] = {
                     [0.0, 0.01, 0.02, 0.05, 0.1], [0, 1, 2, 3, 4], 1500), [1, 2, 4, 8, 16, 32, 64], [0, 1, 3],
                     ["office", "maze", "warehouse"], 6),
     "quick": _config("quick", ["office", "maze"], PLANNERS, 3, 1500, SimulationConfig([0], 600, [0.0, 0.02, 0.05],
-                     [0], 800), [1, 2, 4, 8], [0, 2], ["office"], 4),
+                     [0], 800, trajectory_seeds=[1]), [1, 2, 4, 8], [0, 2], ["office"], 4),
     "tiny": Config(
         "tiny",
         evolution=SweepSpec(["office"], ["astar", "random", "wavefront"], [1, 3], 500, {"task": ["random"]}),
