@@ -21,7 +21,7 @@ import vwg._core as _core
 from conftest import ROOT
 from vwg.errors import Error, SchemaError
 from vwg.io.record import read_record
-from vwg.io.state_file import read_state, write_state
+from vwg.io.state_file import engine_parts, engine_state, read_state, write_state
 from vwg.saved_run import resume
 
 VWG = [sys.executable, "-m", "vwg.cli"]
@@ -338,3 +338,21 @@ def test_gym_reset_from_a_saved_state_goes_on_as_the_episode_did():
     for (o1, r1, t1, u1, i1), (o2, r2, t2, u2, i2) in zip(then, again, strict=True):
         assert r1 == r2 and t1 == t2 and u1 == u2 and i1 == i2
         assert all(np.array_equal(o1[k], o2[k]) for k in o1)
+
+
+def test_a_state_keeps_a_figure_and_reads_a_string_saved_before_figures():
+    # The string is kept as its text (the part "string"), in which a figure's primitives stand side by
+    # side (rule 6); a state written before figures has '.' between every two primitives and still loads.
+    world = vwg.World(primitives={"Lamp": {"on": 0}})
+    engine = vwg.Engine(world, "Lamp<1> Lamp<2> . Lamp<3>", [], vwg.NullBackend())
+    engine.step()
+    saved = read_state(write_state({"frame": 1}, engine_parts(engine.save_state())), "<figure>")
+    assert saved.parts["string"] == b"Lamp<1> Lamp<2> . Lamp<3>"
+    other = vwg.Engine(world, "Lamp<0>", [], vwg.NullBackend())
+    other.load_state(engine_state(saved, 1))
+    assert other.string == engine.string
+    assert [n.joined for n in other.string.nodes()] == [False, True, False]
+    saved.parts["string"] = b"Lamp<1> . Lamp<2> . Lamp<3>"
+    other.load_state(engine_state(saved, 1))
+    assert str(other.string) == "Lamp<1> . Lamp<2> . Lamp<3>"
+    assert not any(n.joined for n in other.string.nodes())

@@ -3,6 +3,8 @@ worlds on which the core must agree with the pure-Python reference implementatio
 
 from __future__ import annotations
 
+import math
+
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -178,3 +180,189 @@ def test_addressed_events_follow_an_actor_that_changes_its_id_within_the_frame()
     events = [world.event(t) for t in ("ping<to=2>", "rename<to=1, new=2>", "ping<to=2>", "ping<to=1>", "ping")]
     w = vwg.evolve(world.parse("Renamer<id=1> . Renamer<id=3>"), events)
     assert str(w) == "Renamer<id=2, pings=2> . Renamer<id=3, pings=1>"  # the untargeted ping reaches both
+
+
+# --- figures (rule 6, FIGURE → p+) ----------------------------------------------------------------
+
+class FigureReference(Reference):
+    """The reference with figures: ("F", [primitives]) for primitives side by side. η and π keep a
+    figure as they keep a primitive (eqs. 8, 9: w ∈ P gives w, for each of its primitives); φ runs α on
+    each of its primitives in order (eq. 7, as the paper's α of rule 6 for a sequence of primitives);
+    its text puts a space between its primitives. Text an actor returns is read with its figures."""
+
+    def eta(self, w, events, frame=0):
+        out = []
+        for node in w:
+            if node[0] in ("P", "F"):
+                out.append(node)
+            elif node[0] == "T":
+                children = self.eta(node[3], events, frame)
+                if children:
+                    out.append(("T", node[1], node[2], children))
+            else:
+                out.extend(self._fold(node, list(events), frame))
+        return out
+
+    def pi(self, w, events, frame=0):
+        out = []
+        for node in w:
+            if node[0] in ("P", "F"):
+                out.append(node)
+            elif node[0] == "T":
+                children = self.pi(node[3], events, frame)
+                if children:
+                    out.append(("T", node[1], node[2], children))
+            else:
+                for e in events:
+                    if e.type in self.visual and e.type in self.responds[node[1]] and self._reaches(node, e):
+                        shown = self._call(node, e, "show_", frame)
+                        if shown:
+                            out.extend(shown)
+        return out
+
+    def phi(self, v, calls=None):
+        calls = [] if calls is None else calls
+        for node in v:
+            if node[0] == "F":
+                calls.extend("alpha " + self.symbol_text(p) for p in node[1])
+            else:
+                super().phi([node], calls)
+        return calls
+
+    def text(self, w):
+        parts = []
+        for node in w:
+            if node[0] == "F":
+                parts.append(" ".join(self.symbol_text(p) for p in node[1]))
+            elif node[0] == "T":
+                parts.append(f"{self.symbol_text(node)}({self.text(node[3])})")
+            else:
+                parts.append(self.symbol_text(node))
+        return " . ".join(parts)
+
+    def _tree(self, obj):
+        if isinstance(obj, str):
+            return self.alphabet.parse(obj).tree(figures=True) if obj.strip() else []
+        if isinstance(obj, vwg.String):
+            return obj.tree(figures=True)
+        if isinstance(obj, (list, tuple)):
+            return [node for item in obj for node in self._tree(item)]
+        return super()._tree(obj)
+
+
+FREF = FigureReference(WORLD.alphabet, ACTORS)
+
+primitive = st.one_of(st.just(("P", "Lamp", ())), small_int.map(lambda i: ("P", "Robot", (i,))))
+tree_actor = st.one_of(
+    small_int.map(lambda n: ("A", "Counter", (n,))),
+    st.just(("A", "Mortal", ())),
+    st.integers(0, 2).map(lambda g: ("A", "Splitter", (g,))),
+    st.tuples(st.integers(0, 3), small_int).map(lambda t: ("A", "Tagged", (t[0], t[1], "t", False))),
+)
+tree_objects = st.recursive(
+    st.one_of(tree_actor, primitive, st.lists(primitive, min_size=2, max_size=3).map(lambda ps: ("F", ps))),
+    lambda kids: st.tuples(st.sampled_from(["Move", "Rotate"]), st.floats(-2, 2, allow_nan=False),
+                           st.lists(kids, min_size=1, max_size=3)).map(lambda t: ("T", t[0], (t[1],), t[2])),
+    max_leaves=10,
+)
+
+
+@settings(max_examples=400, deadline=None)
+@given(st.lists(tree_objects, max_size=4), st.lists(event, max_size=5),
+       st.lists(st.just(vwg.Event("split")), max_size=2))
+@pytest.mark.slow
+def test_core_eta_pi_phi_of_figures_agree_with_the_reference(tree, events, splits):
+    # The core reads the text; the reference works on the tree the text was written from.
+    w = WORLD.parse(FREF.text(tree))
+    events = events + splits
+    assert str(vwg.evolve(w, events)) == FREF.text(FREF.eta(tree, events))
+    v = vwg.visualize(w, events)
+    ref_v = FREF.pi(tree, events)
+    assert str(v) == FREF.text(ref_v)
+    trace = vwg.TraceBackend()
+    vwg.display(v, trace)
+    assert trace.calls == FREF.phi(ref_v)
+
+
+class Turtle(vwg.Backend):
+    """A drawing: where each primitive lands, Move<d> going d along the heading and Rotate<a> turning by a
+    (β applies them, δ undoes them)."""
+
+    def __init__(self):
+        super().__init__()
+        self.poses = [(0.0, 0.0, 0.0)]
+        self.drawn = []
+
+    def primitive(self, p):
+        x, y, _ = self.poses[-1]
+        self.drawn.append((p.text, round(x, 9), round(y, 9)))
+
+    def open(self, t):
+        x, y, a = self.poses[-1]
+        if t.name == "Move":
+            self.poses.append((x + t["dist"] * math.cos(a), y + t["dist"] * math.sin(a), a))
+        else:
+            self.poses.append((x, y, a + t["angle"]))
+
+    def close(self, t):
+        self.poses.pop()
+
+
+def drawing(text):
+    turtle = Turtle()
+    vwg.display(WORLD.parse(text), turtle)
+    return turtle.drawn
+
+
+def calls(text):
+    trace = vwg.TraceBackend()
+    vwg.display(WORLD.parse(text), trace)
+    return trace.calls
+
+
+def test_a_transformation_applies_to_the_whole_figure_alpha_to_each_primitive_in_order():
+    # φ(T(Pa Pb)) = β(T); α(Pa); α(Pb); δ(T): the paper's α for the figure's sequence, under T once.
+    assert calls("Rotate<1.5>(Move<2.0>(Lamp<1> Robot<2>)) . Lamp<3>") == FREF.phi(
+        [("T", "Rotate", (1.5,), [("T", "Move", (2.0,), [("F", [("P", "Lamp", (1,)), ("P", "Robot", (2,))])])]),
+         ("P", "Lamp", (3,))]) == [
+        "beta Rotate<1.5>", "beta Move<2.0>", "alpha Lamp<1>", "alpha Robot<2>", "delta Move<2.0>",
+        "delta Rotate<1.5>", "alpha Lamp<3>"]
+    # The same calls as T(Pa . Pb); T(Pa) . T(Pb) opens T twice, and draws the same picture.
+    assert calls("Move<2.0>(Lamp<1> Robot<2>)") == calls("Move<2.0>(Lamp<1> . Robot<2>)")
+    assert calls("Move<2.0>(Lamp<1> Robot<2>)") != calls("Move<2.0>(Lamp<1>) . Move<2.0>(Robot<2>)")
+    x, y = 2.0 * math.cos(1.5), 2.0 * math.sin(1.5)
+    expected = [("Lamp<1>", round(x, 9), round(y, 9)), ("Robot<2>", round(x, 9), round(y, 9)), ("Lamp<3>", 0.0, 0.0)]
+    assert drawing("Rotate<1.5>(Move<2.0>(Lamp<1> Robot<2>)) . Lamp<3>") == expected
+    assert drawing("Rotate<1.5>(Move<2.0>(Lamp<1>) . Move<2.0>(Robot<2>)) . Lamp<3>") == expected
+    assert drawing("Rotate<1.5>(Move<2.0>(Lamp<1>)) . Rotate<1.5>(Move<2.0>(Robot<2>)) . Lamp<3>") == expected
+
+
+def test_eta_and_pi_keep_figures_and_actors_may_return_them():
+    assert eta("Lamp Robot<1> . Counter<n=1> . Robot<2> Lamp", "add<k=2>") == (
+        "Lamp Robot<1> . Counter<n=3> . Robot<2> Lamp")
+    # An actor that becomes ε between two figures leaves two figures, not one.
+    assert eta("Lamp Robot<1> . Mortal . Robot<2> Lamp", "die") == "Lamp Robot<1> . Robot<2> Lamp"
+    assert pi("Lamp Lamp . Counter<n=4>", "show") == "Lamp Lamp . Lamp<4>"
+
+    class Painter(vwg.Actor):
+        """paint: the figure Lamp<n> Robot<n> before itself, n + 1; show (visual): the figure Robot<n> Lamp."""
+
+        events = ("paint", "show")
+        attributes = {"n": 0}
+
+        def on_paint(self, e):
+            return [f"Lamp<{self.n}> Robot<{self.n}>", self.with_(n=self.n + 1)]
+
+        def show_show(self, e):
+            return f"Robot<{self.n}> Lamp"
+
+    world = vwg.World(primitives={"Lamp": None, "Robot": {"id": 0}}, events=["paint", "show"], visual=["show"],
+                      actors=[Painter])
+    ref = FigureReference(world.alphabet, [Painter])
+    w = world.parse("Robot<7> . Painter")
+    after = vwg.evolve(w, [vwg.Event("paint")])
+    assert str(after) == "Robot<7> . Lamp<0> Robot<0> . Painter<n=1>"
+    assert str(after) == ref.text(ref.eta(w.tree(figures=True), [vwg.Event("paint")]))
+    shown = vwg.visualize(after, [vwg.Event("show")])
+    assert str(shown) == "Robot<7> . Lamp<0> Robot<0> . Robot<1> Lamp"
+    assert shown == world.parse(str(shown))

@@ -105,6 +105,14 @@ def test_hand_written_canonical_forms(world):
         ("Lamp<nan>", 1, 6, "'nan'", "a value"),
         ("Lamp<1e400>", 1, 6, "'1e400'", "a finite real number"),
         ("Lamp)", 1, 5, "')'", "no scope is open"),
+        # Rule 6 juxtaposes primitives only (FIGURE → p+); anything else beside an object wants '.'.
+        ("Lamp Tagged<id=1>", 1, 6, "'Tagged'", "'Tagged' is an actor"),
+        ("Tagged<id=1> Lamp", 1, 14, "'Lamp'", "an actor is followed by '.'"),
+        ("Lamp Move<1.0>(Lamp)", 1, 6, "'Move'", "'Move' is a transformation"),
+        ("Move<1.0>(Lamp) Lamp", 1, 17, "'Lamp'", "a transformation's scope is followed by '.'"),
+        ("Move<1.0>(Lamp\n  Mortal)", 2, 3, "'Mortal'", "'.' or ')'"),
+        ("Lamp<1>Lamp", 1, 8, "'Lamp'", "white space between the primitives of a figure"),
+        ("Lamp Lmp", 1, 6, "unknown symbol 'Lmp'", "did you mean 'Lamp'?"),
     ],
 )
 def test_parse_errors_name_line_column_found_and_expected(world, text, line, column, found, expected):
@@ -135,3 +143,81 @@ def test_blobs_are_named_by_content_and_resolved_through_a_table(world):
         vwg.Blob(np.array([1.0, np.nan]))
     with pytest.raises(vwg.SchemaError, match="dtype"):
         vwg.Blob(np.array(["a"]))
+
+
+# --- figures: primitives side by side (paper rule 6, FIGURE → p+) --------------------------------
+
+def figure_text(tree):
+    """The text of a tree with figures ("F", [primitives]), printed independently of the core: a
+    space between a figure's primitives, " . " between objects."""
+    parts = []
+    for node in tree:
+        if node[0] == "F":
+            parts.append(" ".join(REF.symbol_text(p) for p in node[1]))
+        elif node[0] == "T":
+            parts.append(f"{REF.symbol_text(node)}({figure_text(node[3])})")
+        else:
+            parts.append(REF.symbol_text(node))
+    return " . ".join(parts)
+
+
+primitive = st.one_of(
+    st.lists(variadic_value, max_size=3).map(lambda p: ("P", "Lamp", tuple(p))),
+    ints.map(lambda i: ("P", "Robot", (i,))),
+    st.tuples(ints, finite, texts, st.booleans()).map(lambda t: ("P", "Dot", t)),
+)
+figure = st.lists(primitive, min_size=2, max_size=4).map(lambda ps: ("F", ps))
+tree_leaf = st.one_of(
+    primitive,
+    figure,
+    ints.map(lambda n: ("A", "Counter", (n,))),
+    st.just(("A", "Mortal", ())),
+    st.tuples(ints, ints, texts, st.booleans()).map(lambda t: ("A", "Tagged", t)),
+)
+
+
+def tree_scope(children):
+    return st.one_of(
+        finite.map(lambda d: ("Move", (d,))),
+        finite.map(lambda a: ("Rotate", (a,))),
+        st.lists(variadic_value, max_size=2).map(lambda p: ("Group", tuple(p))),
+    ).flatmap(lambda t: st.lists(children, min_size=1, max_size=3).map(lambda kids: ("T", t[0], t[1], kids)))
+
+
+figure_worlds = st.lists(st.recursive(tree_leaf, tree_scope, max_leaves=12), max_size=5)
+
+
+@settings(max_examples=300, deadline=None)
+@given(figure_worlds)
+@pytest.mark.slow
+def test_figures_parse_to_their_tree_and_print_back_as_written(tree):
+    text = figure_text(tree)
+    w = WORLD.parse(text)
+    assert str(w) == text  # print(parse(text)) == text
+    assert w.tree(figures=True) == tree
+    back = WORLD.parse(str(w))  # parse(print(w)) == w
+    assert back == w and hash(back) == hash(w)
+
+
+def test_figures_of_primitives_side_by_side(world):
+    text = 'Move<1.0>(Robot<1> Lamp<2, "x">) . Lamp Dot<1, 2.0, "", true> . Counter<n=3>'
+    w = world.parse(text)
+    assert str(w) == text
+    assert world.parse(str(w)) == w
+    assert len(w) == 6
+    assert [(n.name, n.joined) for n in w.nodes()] == [
+        ("Move", False), ("Robot", False), ("Lamp", True), ("Lamp", False), ("Dot", True), ("Counter", False)]
+    assert w.tree(figures=True) == [
+        ("T", "Move", (1.0,), [("F", [("P", "Robot", (1,)), ("P", "Lamp", (2, "x"))])]),
+        ("F", [("P", "Lamp", ()), ("P", "Dot", (1, 2.0, "", True))]),
+        ("A", "Counter", (3,)),
+    ]
+    # Without figures=True the tree lists a figure's primitives one by one, as before.
+    assert w.tree()[1:3] == [("P", "Lamp", ()), ("P", "Dot", (1, 2.0, "", True))]
+    # Any white space or comment between the primitives of a figure.
+    assert str(world.parse("Robot<1>\n   Lamp  # a comment\n\tRobot")) == "Robot<1> Lamp Robot<0>"
+    # A figure is not the string of its primitives as separate objects (φ runs both alike).
+    assert world.parse("Lamp Lamp") != world.parse("Lamp . Lamp")
+    assert hash(world.parse("Lamp Lamp")) != hash(world.parse("Lamp . Lamp"))
+    # Strings from Python parts: text keeps its figures; parts are objects joined by '.'.
+    assert str(world.string("Lamp Robot<2>", vwg.Sym("Lamp"))) == "Lamp Robot<2> . Lamp"

@@ -15,6 +15,7 @@ struct PyNode {
   py::tuple params;
   py::dict named;  // by name, when the symbol declares names
   std::size_t index = 0;
+  bool joined = false;
 };
 
 std::string short_text(const std::string& s) {
@@ -30,6 +31,7 @@ py::object node_to_python(const NodeView& node) {
   n.name = node.info().name;
   n.text = to_text(node);
   n.index = node.index();
+  n.joined = node.joined();
   py::tuple params(node.value_count());
   const Schema& schema = node.info().schema;
   for (std::size_t k = 0; k < node.value_count(); ++k) {
@@ -49,6 +51,9 @@ void init_strings(py::module_& m) {
       .def_readonly("named", &PyNode::named, "Parameter values by name (empty for symbols declared without names).")
       .def_readonly("index", &PyNode::index, "Position in the string's node array.")
       .def_readonly("text", &PyNode::text, "Canonical text of the symbol alone, e.g. 'Move<0.5>'.")
+      .def_readonly("joined", &PyNode::joined,
+                    "True for a primitive juxtaposed to the primitive before it, in one figure (rule 6, "
+                    "FIGURE → p+): the second node of 'Robot Lamp'.")
       .def("__getitem__", [](const PyNode& n, py::object key) -> py::object {
         if (PyUnicode_Check(key.ptr())) {
           if (!n.named.contains(key)) throw py::key_error(n.name + " has no parameter " + std::string(py::str(key)));
@@ -101,14 +106,17 @@ equal. Build one with ``World.parse`` or as the return value of an actor.)doc")
         for_each_blob(w, [&](const auto& blob) { out.append(py::str(blob_name(*blob).substr(1))); });
         return out;
       }, "The names of the blobs the string holds, one for each blob-valued attribute or parameter in the string's order (a blob held twice is named twice). A recorder stores a changed blob against what its slot held the frame before.")
-      .def("tree", [](const WorldString& w) {
-        // Nested plain-Python form: ("P", name, params) / ("A", name, params) / ("T", name, params, [children]).
+      .def("tree", [](const WorldString& w, bool figures) {
+        // Nested plain-Python form: ("P", name, params) / ("A", name, params) / ("T", name, params, [children]),
+        // and with figures=True ("F", [("P", name, params), ...]) for primitives side by side.
         py::list root;
         std::vector<py::list> stack{root};
+        py::object figure = py::none();  // the list of the figure being built (figures=True)
         for (std::size_t i = 0; i < w.nodes().size(); ++i) {
           const Node& n = w.nodes()[i];
           if (n.kind == NodeKind::Close) {
             stack.pop_back();
+            figure = py::none();
             continue;
           }
           const NodeView view = w.node(i);
@@ -120,11 +128,27 @@ equal. Build one with ``World.parse`` or as the return value of an actor.)doc")
             stack.back().append(py::make_tuple("T", name, params, children));
             stack.push_back(children);
           } else {
-            stack.back().append(py::make_tuple(n.kind == NodeKind::Actor ? "A" : "P", name, params));
+            py::tuple item = py::make_tuple(n.kind == NodeKind::Actor ? "A" : "P", name, params);
+            py::list& level = stack.back();
+            if (figures && n.joined) {
+              if (figure.is_none()) {  // the primitive before becomes the figure's first
+                py::list members;
+                members.append(level[py::len(level) - 1]);
+                level[py::len(level) - 1] = py::make_tuple("F", members);
+                figure = members;
+              }
+              figure.cast<py::list>().append(item);
+              continue;
+            }
+            level.append(item);
           }
+          figure = py::none();
         }
         return root;
-      }, "The string as nested Python tuples: ('P'|'A', name, params) and ('T', name, params, children).");
+      }, py::arg("figures") = false,
+      "The string as nested Python tuples: ('P'|'A', name, params) and ('T', name, params, children). A "
+      "figure of primitives side by side (rule 6, 'Robot Lamp') is its primitives one by one, or with "
+      "figures=True one ('F', [('P', name, params), ...]).");
 
   m.def("build_string", [](std::shared_ptr<Alphabet> a, py::object parts) {
          StringBuilder out(a);

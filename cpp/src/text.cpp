@@ -131,7 +131,8 @@ std::string to_text(const WorldString& s) {
       after_object = true;
       continue;
     }
-    if (after_object) out += " . ";
+    // A figure's primitives stand side by side (rule 6, FIGURE → p+); objects are joined by '.'.
+    if (after_object) out += n.joined ? " " : " . ";
     append_node_text(out, s.alphabet().symbol(n.symbol), s.store(), n.first_value, n.value_count);
     if (n.kind == NodeKind::Transformation) {
       out += '(';
@@ -209,8 +210,19 @@ class Parser {
     skip_space();
     if (at_end()) return out.finish();  // ε
     bool expect_object = true;
+    // Juxtaposition (rule 6, FIGURE → p+): after a primitive and white space, another primitive
+    // joins it in one figure. `joining` is set when such a name is next.
+    bool joining = false;
+    NodeKind last = NodeKind::Close;  // the kind of the object before: a primitive, an actor or a scope's end
+    std::size_t object_end = 0;       // where the last primitive's or actor's text ends
     for (;;) {
       skip_space();
+      const bool spaced = pos_.offset != object_end;
+      if (!expect_object && !at_end() && is_name_start(peek())) {
+        check_juxtaposition(A, spaced, scopes.empty(), last);
+        joining = true;
+        expect_object = true;
+      }
       if (expect_object) {
         if (at_end() || !is_name_start(peek())) {
           if (!scopes.empty() && !at_end() && peek() == ')' && out.node_count() == scopes.back().nodes_at_open) {
@@ -221,21 +233,32 @@ class Parser {
         }
         const Position at = here();
         const std::string name(read_name());
+        object_end = pos_.offset;
         const auto id = A.find_symbol(name);
         if (!id) unknown_symbol(A, name, at);
         const SymbolInfo& info = A.symbol(*id);
         std::vector<RawParam> raw;
         skip_space();
-        if (!at_end() && peek() == '<') raw = parse_params();
+        if (!at_end() && peek() == '<') {
+          raw = parse_params();
+          object_end = pos_.offset;
+        }
         const auto params = match_params(info.name, info.schema, info.kind == SymbolKind::Actor ? "attribute" : "parameter", raw, at, nullptr);
         switch (info.kind) {
           case SymbolKind::Primitive:
-            out.primitive(*id, params);
+            if (joining) {
+              out.juxtapose(*id, params);
+            } else {
+              out.primitive(*id, params);
+            }
+            joining = false;
             expect_object = false;
+            last = NodeKind::Primitive;
             break;
           case SymbolKind::Actor:
             out.actor(*id, params);
             expect_object = false;
+            last = NodeKind::Actor;
             break;
           case SymbolKind::Transformation:
             skip_space();
@@ -271,6 +294,7 @@ class Parser {
         advance(1);
         out.close();
         scopes.pop_back();
+        last = NodeKind::Close;
       } else if (c == '(') {
         fail(here(), scopes.empty() ? "'.' or end of text (only transformations take a scope)"
                                     : "'.' or ')' (only transformations take a scope)");
@@ -278,6 +302,31 @@ class Parser {
         fail(here(), scopes.empty() ? "'.' or end of text" : "'.' or ')'");
       }
     }
+  }
+
+  /// At a name right after an object: it may only be a primitive after a primitive, with white space
+  /// between them (one figure, rule 6); anything else is the error of a missing '.'.
+  void check_juxtaposition(const Alphabet& A, bool spaced, bool top_level, NodeKind last) const {
+    const Position at = here();
+    const std::string expected = top_level ? "'.' or end of text" : "'.' or ')'";
+    const std::string_view name = peek_name();
+    const auto id = A.find_symbol(name);
+    const char* after = nullptr;  // what the object before is, when it is no primitive
+    if (last == NodeKind::Actor) after = "an actor";
+    if (last != NodeKind::Primitive && last != NodeKind::Actor) after = "a transformation's scope";
+    if (after) {
+      fail(at, expected + " (only primitives are juxtaposed, in a figure (rule 6, FIGURE → p+); " +
+                   after + " is followed by '.')");
+    }
+    if (!id) {
+      unknown_symbol(A, std::string(name), at);
+    }
+    const SymbolInfo& info = A.symbol(*id);
+    if (info.kind != SymbolKind::Primitive) {
+      fail(at, expected + " (only primitives are juxtaposed, in a figure (rule 6, FIGURE → p+); '" + info.name +
+                   "' is " + (info.kind == SymbolKind::Actor ? "an actor" : "a transformation") + ")");
+    }
+    if (!spaced) fail(at, expected + " (or white space between the primitives of a figure)");
   }
 
   void parse_event_into(EventList& out) {
@@ -372,6 +421,13 @@ class Parser {
   }
 
  private:
+  /// The name at the cursor, which stays where it is.
+  std::string_view peek_name() const {
+    std::size_t end = pos_.offset;
+    while (end < text_.size() && is_name_char(text_[end])) ++end;
+    return text_.substr(pos_.offset, end - pos_.offset);
+  }
+
   std::string_view read_name() {
     const std::size_t start = pos_.offset;
     while (!at_end() && is_name_char(peek())) advance(1);

@@ -40,7 +40,9 @@ bool WorldString::operator==(const WorldString& other) const {
   for (std::size_t i = 0; i < nodes_.size(); ++i) {
     const Node& a = nodes_[i];
     const Node& b = other.nodes_[i];
-    if (a.symbol != b.symbol || a.kind != b.kind || a.value_count != b.value_count) return false;
+    if (a.symbol != b.symbol || a.kind != b.kind || a.value_count != b.value_count || a.joined != b.joined) {
+      return false;
+    }
     if (a.kind == NodeKind::Close) continue;
     for (std::uint16_t k = 0; k < a.value_count; ++k) {
       if (!ValueStore::equal(store_, store_[a.first_value + k], other.store_,
@@ -55,6 +57,8 @@ bool WorldString::operator==(const WorldString& other) const {
 std::uint64_t WorldString::content_hash() const {
   std::uint64_t h = 0x776F726C64ULL;
   for (const Node& n : nodes_) {
+    // A figure's later primitives mix a mark in; a string without figures hashes as it always did.
+    if (n.joined) h = hash_combine(h, 0x6A6F696E6564ULL);  // "joined"
     const std::string& name = alphabet_->symbol(n.symbol).name;
     h = hash_bytes(name.data(), name.size(), hash_combine(h, static_cast<std::uint64_t>(n.kind)));
     if (n.kind == NodeKind::Close) continue;
@@ -103,11 +107,11 @@ std::vector<Datum> StringBuilder::check_params(const SymbolInfo& info, std::span
   return out;
 }
 
-void StringBuilder::push_node(SymbolId id, NodeKind kind, std::span<const Datum> params) {
+void StringBuilder::push_node(SymbolId id, NodeKind kind, std::span<const Datum> params, bool joined) {
   const SymbolInfo& info = out_.alphabet_->symbol(id);
   const auto checked = check_params(info, params);
   if (checked.size() > 0xFFFF) throw SchemaError(info.name, "more than 65535 parameters");
-  Node n{id, out_.store_.size(), static_cast<std::uint16_t>(checked.size()), kind};
+  Node n{id, out_.store_.size(), static_cast<std::uint16_t>(checked.size()), kind, joined};
   for (const Datum& d : checked) out_.store_.push(d);
   out_.nodes_.push_back(n);
   if (kind == NodeKind::Actor) ++out_.actor_count_;
@@ -132,6 +136,25 @@ StringBuilder& StringBuilder::primitive(std::string_view name, std::initializer_
   return primitive(out_.alphabet_->symbol_id(name, SymbolKind::Primitive), {params.begin(), params.end()});
 }
 
+bool StringBuilder::ends_with_primitive() const {
+  return !out_.nodes_.empty() && out_.nodes_.back().kind == NodeKind::Primitive;
+}
+
+StringBuilder& StringBuilder::juxtapose(SymbolId id, std::span<const Datum> params) {
+  const SymbolInfo& info = out_.alphabet_->symbol(id);
+  expect_kind(info, SymbolKind::Primitive);
+  if (!ends_with_primitive()) {
+    throw SchemaError(info.name, "cannot be juxtaposed here: a figure (rule 6, FIGURE → p+) joins a primitive "
+                                 "to the primitive just before it, and the string does not end with one");
+  }
+  push_node(id, NodeKind::Primitive, params, true);
+  return *this;
+}
+
+StringBuilder& StringBuilder::juxtapose(std::string_view name, std::initializer_list<Datum> params) {
+  return juxtapose(out_.alphabet_->symbol_id(name, SymbolKind::Primitive), {params.begin(), params.end()});
+}
+
 StringBuilder& StringBuilder::open(SymbolId id, std::span<const Datum> params) {
   expect_kind(out_.alphabet_->symbol(id), SymbolKind::Transformation);
   open_.push_back(out_.nodes_.size());
@@ -154,7 +177,7 @@ StringBuilder& StringBuilder::close() {
     return *this;
   }
   const Node& open_node = out_.nodes_[t];
-  out_.nodes_.push_back(Node{open_node.symbol, open_node.first_value, open_node.value_count, NodeKind::Close});
+  out_.nodes_.push_back(Node{open_node.symbol, open_node.first_value, open_node.value_count, NodeKind::Close, false});
   ++out_.close_count_;
   return *this;
 }
@@ -170,7 +193,7 @@ StringBuilder& StringBuilder::actor(std::string_view name, std::initializer_list
 }
 
 StringBuilder& StringBuilder::actor(const ActorState& state) {
-  Node n{state.symbol(), out_.store_.size(), static_cast<std::uint16_t>(state.size()), NodeKind::Actor};
+  Node n{state.symbol(), out_.store_.size(), static_cast<std::uint16_t>(state.size()), NodeKind::Actor, false};
   for (std::size_t i = 0; i < state.size(); ++i) out_.store_.push_from(state.store(), state.value(i));
   out_.nodes_.push_back(n);
   ++out_.actor_count_;
@@ -211,9 +234,12 @@ StringBuilder& StringBuilder::append_range(const WorldString& s, std::size_t beg
     shift = static_cast<std::int64_t>(start) - static_cast<std::int64_t>(first_value);
   }
   const std::size_t node_start = out_.nodes_.size();
+  // A figure goes on across the block's start only if this string ends with a primitive.
+  const bool may_join = ends_with_primitive();
   out_.nodes_.insert(out_.nodes_.end(), s.nodes_.begin() + static_cast<std::ptrdiff_t>(begin),
                      s.nodes_.begin() + static_cast<std::ptrdiff_t>(end));
   const std::uint32_t value_end = out_.store_.size();
+  if (!may_join) out_.nodes_[node_start].joined = false;
   for (std::size_t k = node_start; k < out_.nodes_.size(); ++k) {
     Node& n = out_.nodes_[k];
     switch (n.kind) {
@@ -238,8 +264,9 @@ StringBuilder& StringBuilder::append_node(const WorldString& s, std::size_t inde
   const Node& n = s.nodes_[index];
   if (n.kind == NodeKind::Close) return close();
   const std::size_t at = out_.nodes_.size();
+  const bool joined = n.joined && ends_with_primitive();
   const std::uint32_t first = out_.store_.push_range(s.store_, n.first_value, n.value_count);
-  out_.nodes_.push_back(Node{n.symbol, first, n.value_count, n.kind});
+  out_.nodes_.push_back(Node{n.symbol, first, n.value_count, n.kind, joined});
   if (n.kind == NodeKind::Actor) ++out_.actor_count_;
   if (n.kind == NodeKind::Transformation) open_.push_back(at);
   return *this;

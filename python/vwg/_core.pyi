@@ -162,9 +162,9 @@ class String:
         """
         The symbols in order (scope ends are not listed).
         """
-    def tree(self) -> list:
+    def tree(self, figures: bool = False) -> list:
         """
-        The string as nested Python tuples: ('P'|'A', name, params) and ('T', name, params, children).
+        The string as nested Python tuples: ('P'|'A', name, params) and ('T', name, params, children). A figure of primitives side by side (rule 6, 'Robot Lamp') is its primitives one by one, or with figures=True one ('F', [('P', name, params), ...]).
         """
     @property
     def actor_count(self) -> int:
@@ -378,6 +378,11 @@ class Node:
     def index(self) -> int:
         """
         Position in the string's node array.
+        """
+    @property
+    def joined(self) -> bool:
+        """
+        True for a primitive juxtaposed to the primitive before it, in one figure (rule 6, FIGURE → p+): the second node of 'Robot Lamp'.
         """
     @property
     def kind(self) -> str:

@@ -214,6 +214,50 @@ TEST(Phi, RefusesActors) {
   EXPECT_THROW(display(W.parse("Robot . Counter<n=1>"), g), Error);
 }
 
+// --- figures (rule 6, FIGURE → p+) -------------------------------------------------------------
+
+TEST(Phi, AFigureRunsAlphaOnEachPrimitiveInOrderUnderItsTransformation) {
+  World W;
+  // φ(Move<1>(Robot Lamp)) = β(Move); α(Robot); α(Lamp); δ(Move): the transformation applies once, to
+  // the whole figure, as to Robot . Lamp.
+  TraceBackend figure, objects;
+  display(W.parse("Move<1.0>(Robot Lamp Robot) . Lamp Lamp<2>"), figure);
+  display(W.parse("Move<1.0>(Robot . Lamp . Robot) . Lamp . Lamp<2>"), objects);
+  const std::vector<std::string> expected = {"beta Move<1.0>", "alpha Robot", "alpha Lamp", "alpha Robot",
+                                             "delta Move<1.0>", "alpha Lamp", "alpha Lamp<2>"};
+  EXPECT_EQ(figure.calls(), expected);
+  EXPECT_EQ(objects.calls(), expected);
+}
+
+TEST(Eta, AFigureIsUnchangedAndKeepsItsPrimitivesTogether) {
+  World W;
+  // η(p+) = p+ (eq. 8, first case, for each primitive); the actors beside it evolve.
+  EXPECT_EQ(W.eta("Robot Lamp . Counter<n=1> . Lamp Robot", {"add<2>"}), "Robot Lamp . Counter<n=3> . Lamp Robot");
+  // An actor that becomes ε between two figures leaves two figures, not one.
+  EXPECT_EQ(W.eta("Robot Lamp . Mortal . Lamp Robot", {"die"}), "Robot Lamp . Lamp Robot");
+  EXPECT_EQ(W.eta("Move<1.0>(Robot Lamp . Mortal)", {"poke"}), "Move<1.0>(Robot Lamp . Move<1.0>(Mortal))");
+  EXPECT_EQ(W.pi("Robot Lamp . Counter<n=4> . Lamp Robot", {"show"}), "Robot Lamp . Lamp<4> . Lamp Robot");
+}
+
+TEST(Pi, ThetaMayShowAnActorAsAFigure) {
+  auto a = std::make_shared<Alphabet>();
+  a->add_primitive("Robot");
+  a->add_primitive("Lamp");
+  a->add_event_type("show", true);
+  a->add_actor("Shower", {"show"}, {},
+               std::make_shared<LambdaActor>(
+                   [](ActorState&, const EventView&, const EvolutionContext&, Replacement&) {},
+                   [](const ActorState&, const EventView&, StringBuilder& out) {
+                     out.primitive("Lamp").juxtapose("Robot");
+                   }));
+  EventList show(a);
+  parse_event(show, "show");
+  const WorldString v = visualize(parse_string(a, "Robot . Shower . Shower"), show, FrameContext{});
+  // θ's figure is one object: '.' before it, a space inside it.
+  EXPECT_EQ(to_text(v), "Robot . Lamp Robot . Lamp Robot");
+  EXPECT_EQ(v, parse_string(a, "Robot . Lamp Robot . Lamp Robot"));
+}
+
 // --- errors inside λ -------------------------------------------------------------------------
 
 TEST(Eta, AnErrorInLambdaNamesTheActorTheEventAndTheFrame) {

@@ -216,3 +216,24 @@ TEST(State, EngineSavesItsStringFrameAndGeneratorsAndRefusesOneThatDoesNotSay) {
     EXPECT_EQ(err.field(), "silent");
   }
 }
+
+TEST(State, EngineSavesAFigureAndReadsAStringSavedBeforeFigures) {
+  auto alphabet = std::make_shared<Alphabet>();
+  alphabet->add_primitive("Lamp", vwg::testing::schema({vwg::testing::integer("on", 0)}));
+  const WorldString w = parse_string(alphabet, "Lamp<1> Lamp<2> . Lamp<3>");
+  Engine e(w, {std::make_shared<Counting>()}, nullptr);
+  e.step();
+  const EngineState s = e.save_state();
+  EXPECT_EQ(s.string, "Lamp<1> Lamp<2> . Lamp<3>");
+  Engine f(parse_string(alphabet, "Lamp<0>"), {std::make_shared<Counting>()}, nullptr);
+  f.load_state(s);
+  EXPECT_EQ(f.string(), w);
+  EXPECT_TRUE(f.string().nodes()[1].joined);
+  // A state written before figures existed holds '.' between every two primitives: it still loads,
+  // as the objects it always meant.
+  EngineState old = s;
+  old.string = "Lamp<1> . Lamp<2> . Lamp<3>";
+  f.load_state(old);
+  EXPECT_EQ(to_text(f.string()), "Lamp<1> . Lamp<2> . Lamp<3>");
+  EXPECT_FALSE(f.string().nodes()[1].joined);
+}

@@ -170,6 +170,121 @@ TEST(Text, ErrorsNameLineColumnFoundAndExpected) {
   }
 }
 
+// Rule 6, FIGURE → p+: primitives side by side are one figure, printed with a space between them
+// and '.' between objects.
+TEST(Text, FiguresOfPrimitivesSideBySidePrintBackUnchanged) {
+  auto a = case_study_alphabet();
+  for (const char* s : {
+           "Robot<0> Lamp",
+           "Robot<1> Robot<2> Lamp<3> . Robot<4>",
+           "Move<0.5>(Robot<1> Lamp . Rotate<1.0>(Lamp Lamp)) . Lamp<2> Robot<0>",
+           "ARobot<id=1, row=3, column=4, angle=0.0, objective=\"\"> . Robot<0> Robot<0>",
+       }) {
+    EXPECT_EQ(canon(a, s), s);
+    const WorldString w = parse_string(a, s);
+    EXPECT_EQ(parse_string(a, to_text(w)), w) << s;
+    EXPECT_EQ(parse_string(a, to_text(w)).content_hash(), w.content_hash()) << s;
+  }
+  // Any white space or comment between the primitives; '.' and '·' still separate objects.
+  EXPECT_EQ(canon(a, "Robot\n  Lamp  # a comment\n\tRobot<id=2>"), "Robot<0> Lamp Robot<2>");
+  EXPECT_EQ(canon(a, "Robot<1>·Robot Lamp"), "Robot<1> . Robot<0> Lamp");
+  // The figure's primitives are nodes of their own, the later ones joined to the one before.
+  const WorldString w = parse_string(a, "Robot<1> Lamp Robot<2> . Robot<3>");
+  ASSERT_EQ(w.nodes().size(), 4u);
+  EXPECT_EQ(w.symbol_count(), 4u);
+  const bool joined[] = {false, true, true, false};
+  for (std::size_t i = 0; i < 4; ++i) EXPECT_EQ(w.nodes()[i].joined, joined[i]) << i;
+  EXPECT_TRUE(w.node(1).joined());
+  // A figure is not the same string as its primitives joined by '.', though φ runs them alike.
+  const WorldString figure = parse_string(a, "Robot Lamp");
+  const WorldString objects = parse_string(a, "Robot . Lamp");
+  EXPECT_NE(figure, objects);
+  EXPECT_NE(figure.content_hash(), objects.content_hash());
+  EXPECT_EQ(sizeof(Node), 12u);
+}
+
+TEST(Text, OnlyPrimitivesAreJuxtaposedAndTheErrorNamesTheColumn) {
+  auto a = case_study_alphabet();
+  {
+    const ParseError e = parse_error(a, "Robot ARobot<row=1, column=2>");
+    EXPECT_EQ(e.line(), 1u);
+    EXPECT_EQ(e.column(), 7u);
+    EXPECT_EQ(e.found(), "'ARobot'");
+    EXPECT_EQ(e.expected().rfind("'.' or end of text", 0), 0u) << e.expected();
+    EXPECT_NE(e.expected().find("'ARobot' is an actor"), std::string::npos) << e.expected();
+    EXPECT_NE(e.expected().find("rule 6"), std::string::npos) << e.expected();
+  }
+  {
+    const ParseError e = parse_error(a, "ARobot<row=1, column=2> Robot");
+    EXPECT_EQ(e.column(), 25u);
+    EXPECT_EQ(e.found(), "'Robot'");
+    EXPECT_NE(e.expected().find("an actor is followed by '.'"), std::string::npos) << e.expected();
+  }
+  {
+    const ParseError e = parse_error(a, "Robot Move<1>(Robot)");
+    EXPECT_EQ(e.column(), 7u);
+    EXPECT_EQ(e.found(), "'Move'");
+    EXPECT_NE(e.expected().find("'Move' is a transformation"), std::string::npos) << e.expected();
+  }
+  {
+    const ParseError e = parse_error(a, "Move<1>(Robot) Robot");
+    EXPECT_EQ(e.column(), 16u);
+    EXPECT_NE(e.expected().find("a transformation's scope is followed by '.'"), std::string::npos) << e.expected();
+  }
+  {  // Inside a scope the alternative is ')'.
+    const ParseError e = parse_error(a, "Move<1>(Robot\n   ARobot<row=1, column=2>)");
+    EXPECT_EQ(e.line(), 2u);
+    EXPECT_EQ(e.column(), 4u);
+    EXPECT_EQ(e.expected().rfind("'.' or ')'", 0), 0u) << e.expected();
+  }
+  {  // The primitives of a figure are separated by white space.
+    const ParseError e = parse_error(a, "Robot<1>Robot");
+    EXPECT_EQ(e.column(), 9u);
+    EXPECT_NE(e.expected().find("white space"), std::string::npos) << e.expected();
+  }
+  {  // An unknown name after a primitive is an unknown symbol, with its suggestion.
+    const ParseError e = parse_error(a, "Robot Robt");
+    EXPECT_EQ(e.column(), 7u);
+    EXPECT_EQ(e.found(), "unknown symbol 'Robt'");
+  }
+}
+
+TEST(WorldString, FiguresGoThroughTheBuilderAndItsCopies) {
+  auto a = case_study_alphabet();
+  StringBuilder b(a);
+  b.primitive("Robot", {1}).juxtapose("Lamp").juxtapose("Robot", {2});
+  EXPECT_EQ(to_text(b.finish()), "Robot<1> Lamp Robot<2>");
+  // Only after a primitive.
+  EXPECT_THROW(StringBuilder(a).juxtapose("Lamp"), SchemaError);
+  EXPECT_THROW(StringBuilder(a).actor("ARobot", {0, 1, 2}).juxtapose("Lamp"), SchemaError);
+  EXPECT_THROW(StringBuilder(a).open("Move", {1.0}).juxtapose("Lamp"), SchemaError);
+  EXPECT_THROW(StringBuilder(a).primitive("Robot").juxtapose("Move", {1.0}), SchemaError);
+
+  const WorldString src = parse_string(a, "Robot<1> Robot<2> . Lamp");
+  auto copy = [&](const char* before, std::size_t begin, std::size_t end) {
+    StringBuilder out(a);
+    if (before[0] != '\0') out.append(parse_string(a, before));
+    out.append_range(src, begin, end);
+    const WorldString w = out.finish();
+    EXPECT_EQ(parse_string(a, to_text(w)), w) << to_text(w);  // what is built prints and parses back
+    return to_text(w);
+  };
+  EXPECT_EQ(copy("", 0, 3), "Robot<1> Robot<2> . Lamp");
+  EXPECT_EQ(copy("Robot<9>", 0, 3), "Robot<9> . Robot<1> Robot<2> . Lamp");
+  // A copy that starts at a figure's second primitive: joined to a primitive, else on its own.
+  EXPECT_EQ(copy("Robot<9>", 1, 3), "Robot<9> Robot<2> . Lamp");
+  EXPECT_EQ(copy("", 1, 3), "Robot<2> . Lamp");
+  EXPECT_EQ(copy("ARobot<row=1, column=2>", 1, 2),
+            "ARobot<id=0, row=1, column=2, angle=0.0, objective=\"\"> . Robot<2>");
+  // One node at a time.
+  StringBuilder n(a);
+  for (std::size_t i = 0; i < 3; ++i) n.append_node(src, i);
+  EXPECT_EQ(n.finish(), src);
+  StringBuilder m(a);
+  m.open("Move", {1.0}).append_node(src, 1).close();
+  EXPECT_EQ(to_text(m.finish()), "Move<1.0>(Robot<2>)");
+}
+
 TEST(Text, DeepNestingParsesWithoutRecursion) {
   auto a = case_study_alphabet();
   std::string s;

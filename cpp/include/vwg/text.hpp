@@ -1,13 +1,17 @@
 // The text form of strings and events (DESIGN.md "Text form"), parsed and printed:
 //
 //   world   := [object (sep object)*]            sep := '.' | '·'
-//   object  := NAME ['<' params '>'] ['(' object (sep object)* ')']     only transformations take '('
+//   object  := figure | NAME ['<' params '>'] ['(' object (sep object)* ')']   only transformations take '('
+//   figure  := primitive (SPACE primitive)*      rule 6 (FIGURE → p+): primitives side by side
 //   params  := [param (',' param)*]              param := [NAME '='] value
 //   value   := integer | real | "text" | true | false | @blob
 //
-// Comments run from '#' to the end of the line. Printing is canonical: primitives and
+// A figure's primitives are separated by white space (or a comment) only: `Robot<1> Lamp`. Only
+// primitives are juxtaposed; an actor or a transformation next to anything is an error that asks
+// for '.'. Comments run from '#' to the end of the line. Printing is canonical: primitives and
 // transformations print their parameters positionally, actors and events by name, reals always
-// with a '.' or exponent (0.5, 3.0, 1e+21), separators as " . " and ", ".
+// with a '.' or exponent (0.5, 3.0, 1e+21), separators as " . " and ", ", a figure's primitives
+// with " " between them.
 #pragma once
 
 #include <map>

@@ -1,6 +1,8 @@
 // The world string w ∈ L(M) as a flat array of nodes: a transformation node opens a scope that a
-// Close node ends, so `Move<1>(Robot . A)` is [T Move][P Robot][A A][Close]. Parameters live in
-// one ValueStore. No heap object per symbol; copying a run of nodes is a block copy.
+// Close node ends, so `Move<1>(Robot . A)` is [T Move][P Robot][A A][Close]. A figure of several
+// primitives side by side (rule 6, FIGURE → p+), `Robot Lamp`, is [P Robot][P Lamp, joined]: its
+// primitives are nodes of their own, the second and later marked as joined to the one before.
+// Parameters live in one ValueStore. No heap object per symbol; copying a run of nodes is a block copy.
 #pragma once
 
 #include <cstdint>
@@ -24,7 +26,13 @@ struct Node {
   std::uint32_t first_value;  ///< for Close: the same values as its transformation
   std::uint16_t value_count;
   NodeKind kind;
+  /// A primitive juxtaposed to the primitive just before it, in one figure (rule 6, FIGURE → p+):
+  /// printed `Robot Lamp`, not `Robot . Lamp`. Only a primitive right after a primitive is joined
+  /// (StringBuilder keeps it so); φ and η treat the figure's primitives one by one, in order.
+  bool joined = false;
 };
+// The flag sits in what was padding: a node stays 12 bytes.
+static_assert(sizeof(Node) == 12, "Node must stay 12 bytes (the joined flag lives in its padding)");
 
 /// A read-only view of one node with its parameters.
 class NodeView {
@@ -32,6 +40,8 @@ class NodeView {
   NodeView(const class WorldString& s, std::size_t index);
   NodeKind kind() const { return node_->kind; }
   SymbolId symbol() const { return node_->symbol; }
+  /// Juxtaposed to the primitive before it, in one figure (Node::joined).
+  bool joined() const { return node_->joined; }
   const SymbolInfo& info() const;
   std::size_t value_count() const { return node_->value_count; }
   const Value& value(std::size_t i) const;
@@ -88,6 +98,10 @@ class StringBuilder {
 
   StringBuilder& primitive(SymbolId id, std::span<const Datum> params = {});
   StringBuilder& primitive(std::string_view name, std::initializer_list<Datum> params = {});
+  /// A primitive juxtaposed to the primitive just appended, in one figure with it (rule 6,
+  /// FIGURE → p+; the text `Robot Lamp`). Throws if the string does not end with a primitive.
+  StringBuilder& juxtapose(SymbolId id, std::span<const Datum> params = {});
+  StringBuilder& juxtapose(std::string_view name, std::initializer_list<Datum> params = {});
   /// β side of a scope: `t<params>(`. Must be matched by close().
   StringBuilder& open(SymbolId id, std::span<const Datum> params = {});
   StringBuilder& open(std::string_view name, std::initializer_list<Datum> params = {});
@@ -100,9 +114,12 @@ class StringBuilder {
   /// Append all of `s` (same alphabet).
   StringBuilder& append(const WorldString& s);
   /// Append nodes [begin, end) of `s` as a block. The range may close scopes this builder opened
-  /// earlier and may leave scopes open; a scope it leaves empty is removed as close() does.
+  /// earlier and may leave scopes open; a scope it leaves empty is removed as close() does. Nodes
+  /// keep their figures (Node::joined), except that a first node joined in `s` is joined here only
+  /// if this string ends with a primitive.
   StringBuilder& append_range(const WorldString& s, std::size_t begin, std::size_t end);
-  /// Append one node of `s` (a Close node closes the innermost open scope of this builder).
+  /// Append one node of `s` (a Close node closes the innermost open scope of this builder). A joined
+  /// primitive stays joined only after a primitive.
   StringBuilder& append_node(const WorldString& s, std::size_t index);
 
   std::size_t depth() const { return open_.size(); }
@@ -123,12 +140,14 @@ class StringBuilder {
   static std::vector<Datum> check_params(const SymbolInfo& info, std::span<const Datum> params);
 
  private:
-  void push_node(SymbolId id, NodeKind kind, std::span<const Datum> params);
+  void push_node(SymbolId id, NodeKind kind, std::span<const Datum> params, bool joined = false);
+  /// Whether a joined primitive may come next: the string built so far ends with a primitive.
+  bool ends_with_primitive() const;
   WorldString out_;
   std::vector<std::size_t> open_;  // node indices of open transformations
 };
 
-/// Canonical text of a string, e.g. `Move<0.5>(Robot) . ARobot<id=1, row=3>` (see text.hpp).
+/// Canonical text of a string, e.g. `Move<0.5>(Robot Lamp) . ARobot<id=1, row=3>` (see text.hpp).
 std::string to_text(const WorldString& s);
 /// Canonical text of one node alone, without its scope, e.g. `Move<0.5>`.
 std::string to_text(const NodeView& node);
