@@ -175,10 +175,10 @@ def test_vwg_drives_irsims_robot_through_the_link_to_the_room():
 @pytest.mark.slow
 def test_test_3_has_an_irsim_row_whose_trajectory_stays_near_the_simulators(tmp_path):
     config = SimulationConfig(seeds=[1], frames=200, noise_levels=[0.0], noise_seeds=[1], noise_frames=40)
-    found: dict[str, list] = {"same": [], "noise": [], "localization": []}
+    found: dict[str, list] = {kind: [] for kind in simulation.KINDS}
     for kind, row in simulation.runs(config, tmp_path / "records"):
         found[kind].append(row)
-    section = simulation.section(found["same"], found["noise"], tmp_path, found["localization"])
+    section = simulation.section(found, tmp_path)
     table = next(t for t in section.tables if t.name == "simulation_trajectories")
     assert [t.name for t in section.tables][:2] == ["simulation_same_frames", "simulation_trajectories"]
     (row,) = table.rows

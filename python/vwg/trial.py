@@ -84,7 +84,8 @@ KNOWN_PARAMS: dict[str, tuple[tuple[type, ...], str]] = {
 FLOAT_PARAMS = ("odometry_noise", "motor_noise")
 BOX_M = 0.5  # the side of an added obstacle
 SPACING_M = 0.6  # the least distance between two random starts
-MIN_DETOUR_M = 0.02  # how much longer each box must make the shortest way (above what sight tests may graze)
+CANDIDATES = 4  # points of the way tried for each box (each also with the box moved to either side)
+MIN_DETOUR_M = 0.02  # how much longer the first box must make the shortest way (above what sight tests may graze)
 
 
 @dataclass(frozen=True)
@@ -175,10 +176,7 @@ _graph: dict[tuple[bytes, float], Any] = {}
 def _field(grid: Any, radius: float, goal: tuple[float, float], tolerance: float = 0.0) -> Any:
     """The distance field to `goal` (to within `tolerance` metres of it) on `grid` for a robot of
     `radius`, cached (the last 64): a sweep runs many cells on the same maps and rooms."""
-    import hashlib
-
-
-    grid_key = hashlib.sha1(grid.data.tobytes() + repr((grid.resolution, grid.origin)).encode()).digest()
+    grid_key = _grid_key(grid)
     key = (grid_key, radius, goal, tolerance)
     if key in _fields:
         _fields.move_to_end(key)
@@ -206,6 +204,12 @@ def shortest_m(grid: Any, radius: float, start: tuple[float, float], goal: tuple
 _yardsticks: OrderedDict[tuple[bytes, float], AnyAngle] = OrderedDict()
 
 
+def _grid_key(grid: Any) -> bytes:
+    import hashlib
+
+    return hashlib.sha1(grid.data.tobytes() + repr((grid.resolution, grid.origin)).encode()).digest()
+
+
 def _any_angle(grid: Any, radius: float) -> AnyAngle:
     """The any-angle yardstick of `grid` for a disc robot of `radius` (the last 4 kept): among the cells of its
     configuration space that the planners avoid (OccupancyGrid.inflate: centres within `radius` of a wall), so a
@@ -213,13 +217,16 @@ def _any_angle(grid: Any, radius: float) -> AnyAngle:
     half its diagonal without touching the wall, so a robot may drive a little less than the figure on a way with
     corners (experiments allow 2 %).
     """
-    import hashlib
-
-    key = (hashlib.sha1(grid.data.tobytes() + repr((grid.resolution, grid.origin)).encode()).digest(), radius)
+    key = (_grid_key(grid), radius)
     if key in _yardsticks:
         _yardsticks.move_to_end(key)
         return _yardsticks[key]
-    field_ = _yardsticks[key] = AnyAngle(grid.inflate(radius))
+    return _remember(grid, radius, AnyAngle(grid.inflate(radius)))
+
+
+def _remember(grid: Any, radius: float, field_: AnyAngle) -> AnyAngle:
+    """Keep `field_` as the yardstick of `grid` (one made by AnyAngle.with_blocked is the same as a new one)."""
+    _yardsticks[(_grid_key(grid), radius)] = field_
     if len(_yardsticks) > 4:
         _yardsticks.popitem(last=False)
     return field_
@@ -353,9 +360,10 @@ def random_task(world: Any, n: int, rng: np.random.Generator) -> tuple[Any, dict
 
 def _add_obstacles(world: Any, goals: dict[int, str], count: int, rng: np.random.Generator) -> Any:
     """The world with `count` boxes on its first robot's shortest way to its room, put after the map was drawn.
-    Each box goes at a seeded point of the middle of the way (any-angle, on the map with the boxes so far), clear of
-    the start and the room, and is kept only where the planners' way stays open and the shortest way becomes at
-    least MIN_DETOUR_M longer: a box the robot need not go round is no change."""
+    Each box goes at one of CANDIDATES seeded points of the middle of the way (any-angle, on the map with the boxes
+    so far), clear of the start and the room: the one that lengthens the way most, where the planners' way stays
+    open. The first must lengthen it by at least MIN_DETOUR_M (a box the robot need not go round is no change); the
+    next ones then stand on the way that is left."""
 
     robot = world.robots[0]
     room = goals.get(robot.id) or next((o.room for o in world.orders if o.robot == robot.id), None)
@@ -369,43 +377,62 @@ def _add_obstacles(world: Any, goals: dict[int, str], count: int, rng: np.random
     # The box's corner reaches BOX_M/√2 from its centre; the robot must still fit at its start and arrive.
     keep_clear = BOX_M * math.sqrt(0.5) + robot.radius + 0.05
     placed = 0
-    for _ in range(20 * count):
-        if placed == count:
-            break
+    for k in range(count):
         current = OccupancyGrid(data, grid.resolution, grid.origin)
+        yardstick = _any_angle(current, robot.radius)
+        ends = (_map_point(grid, *start), _map_point(grid, *goal))
         way = any_angle_way(current, robot.radius, start, goal)
-        before = any_angle_m(current, robot.radius, start, goal)
-        x, y = _along(way, float(rng.uniform(0.2, 0.8)))
-        if math.hypot(x - start[0], y - start[1]) < keep_clear or \
-                math.hypot(x - goal[0], y - goal[1]) < keep_clear + world.goal_tolerance:
-            continue
-        r, c = current.world_to_cell(x, y)
-        trial_data = data.copy()
-        trial_data[max(0, r - half):r + half, max(0, c - half):c + half] = 100
-        trial_grid = OccupancyGrid(trial_data, grid.resolution, grid.origin)
-        if math.isfinite(shortest_m(trial_grid, robot.radius, start, goal)) and \
-                any_angle_m(trial_grid, robot.radius, start, goal) >= before + MIN_DETOUR_M:
-            data = trial_data
-            placed += 1
+        before = yardstick.distance(*ends)
+        blocked = current.inflate(robot.radius)
+        # A few seeded points of the way's middle, the box centred on each or moved aside by up to half its side (it
+        # still covers the way there); it goes where it lengthens the way most.
+        tried = []
+        for fraction in rng.uniform(0.2, 0.8, CANDIDATES):
+            (x0, y0), (dx, dy) = _along(way, float(fraction))
+            for aside in (0.0, -0.4 * BOX_M, 0.4 * BOX_M):
+                x, y = x0 - dy * aside, y0 + dx * aside
+                if math.hypot(x - start[0], y - start[1]) < keep_clear or \
+                        math.hypot(x - goal[0], y - goal[1]) < keep_clear + world.goal_tolerance:
+                    continue
+                r, c = current.world_to_cell(x, y)
+                boxed = data.copy()
+                boxed[max(0, r - half):r + half, max(0, c - half):c + half] = 100
+                boxed_grid = OccupancyGrid(boxed, grid.resolution, grid.origin)
+                changed = yardstick.with_blocked(boxed_grid.inflate(robot.radius) & ~blocked)
+                tried.append(((changed.distance(*ends) - before) * grid.resolution, float(fraction), aside, boxed_grid,
+                              changed))
+        chosen = None
+        for detour, _, _, boxed_grid, changed in sorted(tried, key=lambda t: (-t[0], t[1], t[2])):
+            # The first box must lengthen the way by MIN_DETOUR_M. A box often leaves two ways of about the same
+            # length round it, so the next ones (on the way left, the best of their places) need not add as much.
+            if k == 0 and detour < MIN_DETOUR_M:
+                break
+            if math.isfinite(shortest_m(boxed_grid, robot.radius, start, goal)):  # the planners' way is open
+                chosen = boxed_grid
+                _remember(boxed_grid, robot.radius, changed)
+                break
+        if chosen is None:
+            break
+        data = chosen.data.copy()
+        placed += 1
     if placed < count:
         raise Error(f"params.obstacles: room for {placed} of {count} boxes of {BOX_M} m on robot {robot.id}'s way "
-                    f"to {room} in {world.name} (each must leave the way open and make it at least {MIN_DETOUR_M} m "
-                    "longer)")
+                    f"to {room} in {world.name} (each must leave the way open, and the first make it "
+                    f"{MIN_DETOUR_M} m longer)")
     return dataclasses.replace(world, grid=OccupancyGrid(data, grid.resolution, grid.origin))
 
 
-def _along(way: list[tuple[float, float]], fraction: float) -> tuple[float, float]:
-    """The point at `fraction` of a polyline's length (its start when it has no length)."""
-    if not way:
-        return (math.nan, math.nan)
+def _along(way: list[tuple[float, float]], fraction: float) -> tuple[tuple[float, float], tuple[float, float]]:
+    """The point at `fraction` of a polyline's length and the unit direction of the polyline there."""
     lengths = [math.dist(a, b) for a, b in itertools.pairwise(way)]
     left = fraction * sum(lengths)
     for (a, b), length in zip(itertools.pairwise(way), lengths, strict=True):
-        if left <= length and length > 0:
-            u = left / length
-            return (a[0] + u * (b[0] - a[0]), a[1] + u * (b[1] - a[1]))
+        if length > 0 and (left <= length or b == way[-1]):
+            u = min(1.0, left / length)
+            direction = ((b[0] - a[0]) / length, (b[1] - a[1]) / length)
+            return (a[0] + u * (b[0] - a[0]), a[1] + u * (b[1] - a[1])), direction
         left -= length
-    return way[-1]
+    return way[-1], (1.0, 0.0)
 
 
 # ---- running it ----------------------------------------------------------------------------------------

@@ -15,7 +15,8 @@ __all__ = ["section"]
 
 METHOD = """
 Each planner drives one robot from a free place to a room, both drawn from the seed (a start/room
-pair per seed), on each map, with everything else the same: the robot, its laser, the map it knows.
+pair per seed), on each map, with everything else the same: the robot, its laser, the map it knows. (In tests 1, 4
+and 5 the robots carry the laser only: the camera the shipped robots have feeds no decision measured here.)
 **success** is the share of runs that reached the room within the frame limit; **path / optimal** is
 the distance driven over the shortest way for the robot's radius, for the runs that arrived (**arrived**: how many);
 **frames to goal** likewise; **planning** is the decider's own search time per run (the random decider does not

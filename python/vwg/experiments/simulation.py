@@ -24,7 +24,7 @@ from vwg import launch
 from vwg._core import NoiseModel
 from vwg.experiments import plots
 from vwg.experiments.section import Section
-from vwg.experiments.tables import Table, fmt, group, mean, median, share
+from vwg.experiments.tables import Table, bootstrap, fmt, group, mean, mean_cell, median_cell, share_cell
 from vwg.robot.case_study import CaseStudy
 from vwg.robot.world_file import LOCALIZATIONS, Localization, PlatformSpec
 from vwg.testing.fake_robot import FakeRosbridgeRobot
@@ -176,7 +176,7 @@ def _follow(case: CaseStudy, world: Any, goals: dict[int, str], frames: int,
             "truly_there": summary.reached and math.hypot(tx - gx, ty - gy) <= world.goal_tolerance}
 
 
-TRAJECTORIES = "trajectories"  # the rows of the three-robot runs (they come with the "same" rows: see runs())
+KINDS = ("same", "trajectories", "noise", "localization")  # the kinds of row runs() gives
 
 
 def _track(case: CaseStudy, frames: int, truth: Callable[[], tuple[float, float, float]]
@@ -231,7 +231,7 @@ def trajectories(level: float, seed: int, frames: int) -> dict[str, Any]:
             CaseStudy(_on_ros(world, fake.url), "astar", goals=goals, seed=seed, threads=1) as case:
         faked, c = _track(case, frames, lambda: fake.pose(rid))
     to_irsim, to_fake = _apart(sim, irsim), _apart(sim, faked)
-    return {"kind": TRAJECTORIES, "seed": seed, "level": level, "room": goals[rid],
+    return {"seed": seed, "level": level, "room": goals[rid],
             "frames_sim": a.frames, "frames_irsim": b.frames, "frames_fake": c.frames,
             "reached_sim": a.reached, "reached_irsim": b.reached, "reached_fake": c.reached,
             "collisions_irsim": collisions, "mean_irsim": sum(to_irsim) / len(to_irsim), "max_irsim": max(to_irsim),
@@ -262,9 +262,9 @@ def localized(level: float, seed: int, frames: int, kind: str) -> dict[str, Any]
 
 
 def runs(config: SimulationConfig, records: Path) -> Iterator[tuple[str, dict[str, Any]]]:
-    """Every run of the test, as ("same", row), ("noise", row) or ("localization", row), as each finishes. The
-    three-robot runs come as "same" rows too (with "kind": TRAJECTORIES), the kinds run_experiments collects
-    being these three; section() tells them apart."""
+    """Every run of the test as (kind, row), a kind of KINDS, as each finishes: "same" (the frame logs of the
+    simulator and the fake robot), "trajectories" (the three robots), "noise" (through rosbridge with odometry noise),
+    "localization" (on the simulator, odometry alone and particles)."""
     records.mkdir(parents=True, exist_ok=True)
     if config.compared:
         load_irsim()  # before any run: without IR-SIM the test stops at once, saying what to install
@@ -274,7 +274,7 @@ def runs(config: SimulationConfig, records: Path) -> Iterator[tuple[str, dict[st
     frames = config.frames if config.trajectory_frames is None else config.trajectory_frames
     for level in config.trajectory_levels:
         for seed in seeds:
-            yield "same", trajectories(level, seed, frames)
+            yield "trajectories", trajectories(level, seed, frames)
     for level in config.noise_levels:
         for seed in config.noise_seeds:
             yield "noise", drift(level, seed, config.noise_frames)
@@ -284,12 +284,11 @@ def runs(config: SimulationConfig, records: Path) -> Iterator[tuple[str, dict[st
                 yield "localization", localized(level, seed, config.noise_frames, kind)
 
 
-def section(same: list[dict[str, Any]], noise: list[dict[str, Any]], folder: Path,
-            localization: list[dict[str, Any]] | None = None) -> Section:
-    """The test's section: `same` holds the frame-log pairs and the three-robot rows (see runs())."""
+def section(found: dict[str, list[dict[str, Any]]], folder: Path) -> Section:
+    """The test's section from the rows of runs(), by kind."""
     out = Section(3, "Test to validate the simulation", METHOD)
-    compared = [r for r in same if r.get("kind") == TRAJECTORIES]
-    same = [r for r in same if r.get("kind") != TRAJECTORIES]
+    same, compared, noise = found.get("same", []), found.get("trajectories", []), found.get("noise", [])
+    localization = found.get("localization", [])
     table = Table("simulation_same_frames", "The simulator and the robot through rosbridge, noise off",
                   ["seed", "room", "frames (simulator)", "frames (rosbridge)", "reached (simulator)",
                    "reached (rosbridge)", "record bytes", "identical"])
@@ -302,13 +301,14 @@ def section(same: list[dict[str, Any]], noise: list[dict[str, Any]], folder: Pat
     noisy = Table("simulation_odometry_noise", "Through rosbridge with odometry noise",
                   ["odometry noise", "runs", "believed arrived", "truly there", "trajectory error m (mean)",
                    "final error m (median)"])
-    xs, ys, px, py = [], [], [], []
+    xs, ys, px, py, bands = [], [], [], [], []
     for level, rows in group(noise, lambda r: r["level"]).items():
-        noisy.add(f"{level:g}", str(len(rows)), fmt(share(r["reached"] for r in rows), 2),
-                  fmt(share(r["truly_there"] for r in rows), 2), fmt(mean(r["mean_error"] for r in rows), 3),
-                  fmt(median(r["final_error"] for r in rows), 3))
+        noisy.add(f"{level:g}", str(len(rows)), share_cell(r["reached"] for r in rows),
+                  share_cell(r["truly_there"] for r in rows), mean_cell((r["mean_error"] for r in rows), 3),
+                  median_cell((r["final_error"] for r in rows), 3))
         xs.append(level)
         ys.append(mean(r["mean_error"] for r in rows))
+        bands.append(bootstrap((r["mean_error"] for r in rows), np.mean))
         px += [level] * len(rows)
         py += [r["mean_error"] for r in rows]
     out.tables.append(noisy)
@@ -318,13 +318,14 @@ def section(same: list[dict[str, Any]], noise: list[dict[str, Any]], folder: Pat
                         ["odometry noise", "belief from", "runs", "believed arrived", "truly there",
                          "trajectory error m (mean)", "final error m (median)"])
         for (level, kind), rows in group(localization, lambda r: (r["level"], r["localization"])).items():
-            located.add(f"{level:g}", kind, str(len(rows)), fmt(share(r["reached"] for r in rows), 2),
-                        fmt(share(r["truly_there"] for r in rows), 2), fmt(mean(r["mean_error"] for r in rows), 3),
-                        fmt(median(r["final_error"] for r in rows), 3))
+            located.add(f"{level:g}", kind, str(len(rows)), share_cell(r["reached"] for r in rows),
+                        share_cell(r["truly_there"] for r in rows), mean_cell((r["mean_error"] for r in rows), 3),
+                        median_cell((r["final_error"] for r in rows), 3))
         out.tables.append(located)
     out.plots.append(plots.lines(folder / "simulation_odometry_noise.png", "Where vwg believes the robot is, against "
                                  "where it is", "odometry noise (per metre and radian)", "trajectory error (m)",
-                                 {"mean over runs": (xs, ys)}, points={"one run": (px, py)}))
+                                 {"mean over runs": (xs, ys)}, points={"one run": (px, py)},
+                                 intervals={"mean over runs": bands}))
     identical = sum(r["identical"] for r in same)
     out.findings.append(f"{identical} of {len(same)} pairs of frame logs were identical byte for byte.")
     return out

@@ -1,8 +1,8 @@
 """A decider written in Python (paper test 1): the registered planner ``wavefront``.
 
 A breadth-first wavefront spreads from the goal over the robot's own map (its grid attribute:
-walls, what its sensors saw), in numpy, one ring of cells a step; the robot walks down the
-wavefront's numbers to the goal. The path is kept while it stays clear on the robot's map, and made
+walls, what its sensors saw), SciPy's breadth-first search over the grid's graph, in one pass; the robot walks down
+the wavefront's numbers to the goal. The path is kept while it stays clear on the robot's map, and made
 again when a newly seen obstacle cuts it. It is a second, independent kind of planner beside the C++
 ones (a wave of unit steps, 8-connected, so its paths are shortest in steps, not in metres), and an
 example of what a user's decider looks like.
@@ -17,43 +17,24 @@ import numpy as np
 
 from vwg._core import Decider
 from vwg.io.maps import OccupancyGrid
+from vwg.robot.shortest import grid_graph
 
 __all__ = ["WavefrontDecider", "wavefront"]
 
 
-def _shift(mask: np.ndarray, dr: int, dc: int) -> np.ndarray:
-    """``out[r, c] = mask[r - dr, c - dc]`` (False where that falls outside)."""
-    rows, cols = mask.shape
-    out = np.zeros_like(mask)
-    out[max(0, dr):rows + min(0, dr), max(0, dc):cols + min(0, dc)] = \
-        mask[max(0, -dr):rows + min(0, -dr), max(0, -dc):cols + min(0, -dc)]
-    return out
-
-
-def wavefront(blocked: np.ndarray, goal: tuple[int, int], start: tuple[int, int] | None = None) -> np.ndarray:
+def wavefront(blocked: np.ndarray, goal: tuple[int, int]) -> np.ndarray:
     """Steps from each cell to `goal` over the free cells of `blocked`, 8-connected without cutting a
-    blocked corner (-1: not reached). With `start`, the wave stops once it gets there."""
+    blocked corner (-1: not reached): a breadth-first search, SciPy's, over the grid's graph in one pass."""
+    from scipy.sparse.csgraph import shortest_path
+
     steps = np.full(blocked.shape, -1, dtype=np.int32)
     if blocked[goal]:
         return steps
-    free = ~blocked
-    # A diagonal step from (r, c) by (dr, dc) needs (r + dr, c) and (r, c + dc) free: where it may start.
-    diagonal_ok = {(dr, dc): _shift(free, -dr, 0) & _shift(free, 0, -dc) for dr in (-1, 1) for dc in (-1, 1)}
-    frontier = np.zeros(blocked.shape, dtype=bool)
-    frontier[goal] = True
-    steps[goal] = 0
-    k = 0
-    while frontier.any() and not (start is not None and steps[start] >= 0):
-        k += 1
-        grown = np.zeros_like(frontier)
-        for dr in (-1, 0, 1):
-            for dc in (-1, 0, 1):
-                if dr and dc:
-                    grown |= _shift(frontier & diagonal_ok[(dr, dc)], dr, dc)
-                elif dr or dc:
-                    grown |= _shift(frontier, dr, dc)
-        frontier = grown & free & (steps < 0)
-        steps[frontier] = k
+    graph = grid_graph(blocked)  # 8-connected, no corner cutting; unweighted below: steps, not metres
+    cols = blocked.shape[1]
+    dist = shortest_path(graph, method="D", directed=False, unweighted=True, indices=goal[0] * cols + goal[1])
+    reached = np.isfinite(dist)
+    steps.ravel()[reached] = dist[reached].astype(np.int32)
     return steps
 
 
@@ -113,7 +94,7 @@ class WavefrontDecider(Decider):
             return None
         blocked[start] = False  # the robot stands where it stands, even pressed against a wall
         began = time.perf_counter()
-        cells = descend(wavefront(blocked, goal, start), start)
+        cells = descend(wavefront(blocked, goal), start)
         self.searches += 1
         self.search_seconds += time.perf_counter() - began
         if not cells:
