@@ -296,7 +296,8 @@ def trial_world(trial: Trial) -> tuple[Any, dict[int, str], Any]:
 
 def add_people(world: Any, n: int, rng: np.random.Generator) -> Any:
     """The world with `n` more people, each at a seeded free place SPACING_M from the robots and the other
-    people, wandering between all the rooms."""
+    people from which it can walk to a room, wandering between the rooms it can walk to (a person walled off
+    from its goal would look for a way there over the whole map at every step)."""
     grid = world.grid
     radius = Person.__dataclass_fields__["radius"].default
     free = np.argwhere(~grid.inflate(radius + 0.1))
@@ -309,11 +310,15 @@ def add_people(world: Any, n: int, rng: np.random.Generator) -> Any:
         x, y = (float(v) for v in grid.cell_to_world(*free[k]))
         if any(math.hypot(x - a, y - b) < SPACING_M for a, b in taken):
             continue
+        reachable = tuple(goal for goal in rooms if math.isfinite(shortest_m(grid, radius, (x, y), goal)))
+        if len(reachable) < min(2, len(rooms)):
+            continue
         taken.append((x, y))
-        people.append(Person(len(people) + 1, (x, y), rooms, wander=True))
+        people.append(Person(len(people) + 1, (x, y), reachable, wander=True))
         if len(people) == len(world.people) + n:
             return dataclasses.replace(world, people=people)
-    raise Error(f"{world.name}: room for {len(people) - len(world.people)} people {SPACING_M} m apart, {n} asked")
+    raise Error(f"{world.name}: room for {len(people) - len(world.people)} people {SPACING_M} m apart who can walk to "
+                f"a room, {n} asked")
 
 
 def replace_robot(robot: Any, **changes: Any) -> Any:
