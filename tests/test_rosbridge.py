@@ -4,7 +4,6 @@ on a fake ROS robot served on 127.0.0.1, and a robot kept safe when its odometry
 from __future__ import annotations
 
 import dataclasses
-import itertools
 import json
 import math
 import threading
@@ -136,6 +135,31 @@ def test_topics_default_per_robot_and_take_the_robot_id():
 
 
 # ---- runs -------------------------------------------------------------------------------------------------------
+def record_sent(platform: RealRobotPlatform) -> dict[int, list[tuple[float | None, float, float, bool]]]:
+    """Record what `platform` sends each robot, in the order it sends it, on the sender's own time base:
+    (dt, speed, turn rate, sent) for every velocity, dt being what the control tick that computed it
+    gave its follower (None for a velocity sent outside a tick: the stop when the platform closes),
+    sent whether it went out over the link. Call before the platform's first command or frame."""
+    sent: dict[int, list[tuple[float | None, float, float, bool]]] = {r.id: [] for r in platform.robots()}
+    tick = threading.local()  # the control tick under way on this thread, if any
+    control, send_velocity = platform._control, platform.send_velocity
+
+    def control_tick(dt: float) -> None:
+        tick.dt = dt
+        try:
+            control(dt)
+        finally:
+            tick.dt = None
+
+    def send(robot: int, speed: float, turn_rate: float, **kw: object) -> bool:
+        ok = send_velocity(robot, speed, turn_rate, **kw)
+        sent[robot].append((getattr(tick, "dt", None), speed, turn_rate, ok))
+        return ok
+
+    platform._control, platform.send_velocity = control_tick, send  # type: ignore[method-assign]
+    return sent
+
+
 @pytest.fixture
 def fake():
     with FakeRosbridgeRobot(MAZE) as robot:
@@ -148,10 +172,14 @@ def test_the_office_world_runs_on_a_ros_robot_through_rosbridge():
     room = "office"
     with FakeRosbridgeRobot(OFFICE) as fake:
         options = vwg.RunOptions(platform="rosbridge", platform_options={"url": fake.url}, goals=[room], frames=250)
+        started = time.monotonic()
         with vwg.start(OFFICE, options) as run:
+            sent = record_sent(run.case.sim.platform)[1]
             outcome = run.execute()
             images = run.case.sim.platform.images[1]
             grid = np.asarray(run.case.robot_actors()[1]["grid"])
+        took = time.monotonic() - started
+        fake.read_to_close()  # every Twist sent before the link closed
     assert outcome.exit_status == 0 and outcome.summary["reached"], outcome.rows
     # The camera's JPEG images came over the link, and gCamera found the room's marker in them: the
     # robot's map holds it where the world file puts it, within the tag pose's error at a few metres
@@ -171,14 +199,25 @@ def test_the_office_world_runs_on_a_ros_robot_through_rosbridge():
     assert fake.commands[1][-1][1:] == (0.0, 0.0)
     assert outcome.summary["faults"] == []
     # Every command within the robot's limits: speeds, and their change from one command to the next
-    # within the accelerations over the time between them (as the fake received them, 20 ms of
-    # delivery jitter allowed: on a loaded 2-core machine two commands sent 54 ms apart arrived 44 ms
-    # apart; the controller counts at most two control periods).
-    limits, commands = OFFICE.robots[0], fake.commands[1]
-    assert all(abs(v) <= limits.max_speed + 1e-9 and abs(w) <= limits.max_turn_rate + 1e-9 for _, v, w in commands)
-    for (t0, v0, w0), (t1, v1, w1) in itertools.pairwise(commands[:-1]):  # the last: the stop at the end
-        dt = min(t1 - t0 + 0.02, 2 / 20)
-        assert abs(v1 - v0) <= limits.max_accel * dt + 1e-9 and abs(w1 - w0) <= limits.max_turn_accel * dt + 1e-9
+    # within the accelerations over the time the sender meant between them. The robot received the
+    # very Twists the platform sent, in the order it sent them; each was computed by a control tick
+    # for the time since the tick before (at most two control periods), and the ticks' times add up
+    # to no more than the run took. Judged on that time base, not on the times the Twists arrived: on
+    # a loaded 2-core machine two Twists 0.42 rad/s apart (a tick of at least 53 ms at 8 rad/s²)
+    # arrived 27 ms apart, delivery through two event loops' threads being late now and then.
+    limits, period = OFFICE.robots[0], run.case.sim.platform.control_period
+    assert [(v, w) for _, v, w in fake.commands[1]] == [(v, w) for _, v, w, ok in sent if ok]
+    assert all(abs(v) <= limits.max_speed + 1e-9 and abs(w) <= limits.max_turn_rate + 1e-9 for _, v, w, _ in sent)
+    ticks = [dt for dt, *_ in sent if dt is not None]
+    assert len(ticks) > 50 and all(0 < dt <= 2 * period + 1e-9 for dt in ticks) and sum(ticks) <= took
+    assert [dt for dt, *_ in sent].index(None) == len(sent) - 1  # the stop at the end: no tick, no limit
+    held, last = 0.0, (0.0, 0.0)  # the robot holds the last velocity it received (at rest before the first)
+    for dt, v, w, ok in sent[:-1]:
+        held += dt  # a tick whose Twist did not go out: the robot held the one before for it too
+        if ok:
+            assert abs(v - last[0]) <= limits.max_accel * held + 1e-9, (v, last, held)
+            assert abs(w - last[1]) <= limits.max_turn_accel * held + 1e-9, (w, last, held)
+            held, last = 0.0, (v, w)
 
 
 def test_silent_odometry_stops_the_robot_within_the_watchdog(fake):
