@@ -309,6 +309,34 @@ def test_serial_options_are_checked_by_name():
         vwg.start(OFFICE, options)
 
 
+def test_a_serial_line_cut_while_it_opens_leaves_no_socket_open(monkeypatch):
+    # The cable pulled just as the line is reopened: the connect succeeds (the base's listening socket
+    # has queued it), then the base goes and the connection is reset, while pyserial is still in its
+    # open() (emptying the input: "read failed"). The socket that open made is closed by vwg, not left
+    # to the garbage collector (a ResourceWarning wherever it happens to collect it: an error here).
+    import socket
+
+    import serial.urlhandler.protocol_socket as protocol_socket
+
+    from vwg.robot.platforms.serial_base import SerialBase
+
+    made: list[socket.socket] = []
+    reconfigure = protocol_socket.Serial._reconfigure_port
+    with socket.create_server(("127.0.0.1", 0)) as listener:
+
+        def connected_then_cut(line):  # pyserial calls it in open(), right after the connect
+            made.append(line._socket)
+            listener.close()  # the queued connection is reset
+            reconfigure(line)
+
+        monkeypatch.setattr(protocol_socket.Serial, "_reconfigure_port", connected_then_cut)
+        base = SerialBase(f"socket://127.0.0.1:{listener.getsockname()[1]}")
+        with pytest.raises(OSError, match="Connection reset"):
+            base.open()
+    assert len(made) == 1 and made[0].fileno() == -1  # closed
+    base.close()
+
+
 def test_malformed_and_oversized_messages_are_dropped_and_the_run_goes_on(fake):
     platform = RosbridgePlatform([MAZE.robots[0]], fake.url)
     try:

@@ -95,8 +95,14 @@ class SerialBase:
         import serial
 
         self.close()
-        line = serial.serial_for_url(self.port, baudrate=self.baud, timeout=self.timeout, write_timeout=self.timeout)
+        # Opened here, not by serial_for_url: an opening that fails half-way (a socket:// line connects,
+        # then its peer resets it while pyserial empties the input: the cable pulled just then) leaves
+        # an open socket in a line that serial_for_url would never have returned, to be closed by
+        # nobody (pyserial's close() from the garbage collector skips it too: see _close_line).
+        line = serial.serial_for_url(self.port, baudrate=self.baud, timeout=self.timeout, write_timeout=self.timeout,
+                                     do_not_open=True)
         try:
+            line.open()
             line.reset_input_buffer()
         except Exception:
             _close_line(line)
@@ -138,7 +144,8 @@ class SerialBase:
 
 def _close_line(line: Any) -> None:
     """Close a pyserial line. Its socket:// close() skips closing its socket when shutdown() fails (the peer
-    already gone), and the socket is then left to the garbage collector: close that socket here first."""
+    already gone, or reset), and the socket is then left to the garbage collector (a ResourceWarning, at
+    whatever moment it collects it): close that socket here first."""
     sock = getattr(line, "_socket", None)
     if sock is not None:
         sock.close()
@@ -224,6 +231,8 @@ class SerialPlatform(RealRobotPlatform):
                     # A reopened port may have rebooted the board (its counts back to zero): the next
                     # counts are a new baseline, the pose goes on from where it was.
                     self._ticks = None
+                if not self._running:  # closed meanwhile: an opening (a connect) may outlast close_link's wait
+                    self.base.close()
             time.sleep(period)
 
     def _integrate(self, left: int, right: int, t: float) -> None:
