@@ -8,6 +8,7 @@ import math
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from world_strategies import figure_worlds
 
 import vwg
 from conftest import ACTORS, make_world
@@ -184,74 +185,6 @@ def test_addressed_events_follow_an_actor_that_changes_its_id_within_the_frame()
 
 # --- figures (rule 6, FIGURE → p+) ----------------------------------------------------------------
 
-class FigureReference(Reference):
-    """The reference with figures: ("F", [primitives]) for primitives side by side. η and π keep a
-    figure as they keep a primitive (eqs. 8, 9: w ∈ P gives w, for each of its primitives); φ runs α on
-    each of its primitives in order (eq. 7, as the paper's α of rule 6 for a sequence of primitives);
-    its text puts a space between its primitives. Text an actor returns is read with its figures."""
-
-    def eta(self, w, events, frame=0):
-        out = []
-        for node in w:
-            if node[0] in ("P", "F"):
-                out.append(node)
-            elif node[0] == "T":
-                children = self.eta(node[3], events, frame)
-                if children:
-                    out.append(("T", node[1], node[2], children))
-            else:
-                out.extend(self._fold(node, list(events), frame))
-        return out
-
-    def pi(self, w, events, frame=0):
-        out = []
-        for node in w:
-            if node[0] in ("P", "F"):
-                out.append(node)
-            elif node[0] == "T":
-                children = self.pi(node[3], events, frame)
-                if children:
-                    out.append(("T", node[1], node[2], children))
-            else:
-                for e in events:
-                    if e.type in self.visual and e.type in self.responds[node[1]] and self._reaches(node, e):
-                        shown = self._call(node, e, "show_", frame)
-                        if shown:
-                            out.extend(shown)
-        return out
-
-    def phi(self, v, calls=None):
-        calls = [] if calls is None else calls
-        for node in v:
-            if node[0] == "F":
-                calls.extend("alpha " + self.symbol_text(p) for p in node[1])
-            else:
-                super().phi([node], calls)
-        return calls
-
-    def text(self, w):
-        parts = []
-        for node in w:
-            if node[0] == "F":
-                parts.append(" ".join(self.symbol_text(p) for p in node[1]))
-            elif node[0] == "T":
-                parts.append(f"{self.symbol_text(node)}({self.text(node[3])})")
-            else:
-                parts.append(self.symbol_text(node))
-        return " . ".join(parts)
-
-    def _tree(self, obj):
-        if isinstance(obj, str):
-            return self.alphabet.parse(obj).tree(figures=True) if obj.strip() else []
-        if isinstance(obj, vwg.String):
-            return obj.tree(figures=True)
-        if isinstance(obj, (list, tuple)):
-            return [node for item in obj for node in self._tree(item)]
-        return super()._tree(obj)
-
-
-FREF = FigureReference(WORLD.alphabet, ACTORS)
-
 primitive = st.one_of(st.just(("P", "Lamp", ())), small_int.map(lambda i: ("P", "Robot", (i,))))
 tree_actor = st.one_of(
     small_int.map(lambda n: ("A", "Counter", (n,))),
@@ -259,29 +192,27 @@ tree_actor = st.one_of(
     st.integers(0, 2).map(lambda g: ("A", "Splitter", (g,))),
     st.tuples(st.integers(0, 3), small_int).map(lambda t: ("A", "Tagged", (t[0], t[1], "t", False))),
 )
-tree_objects = st.recursive(
-    st.one_of(tree_actor, primitive, st.lists(primitive, min_size=2, max_size=3).map(lambda ps: ("F", ps))),
-    lambda kids: st.tuples(st.sampled_from(["Move", "Rotate"]), st.floats(-2, 2, allow_nan=False),
-                           st.lists(kids, min_size=1, max_size=3)).map(lambda t: ("T", t[0], (t[1],), t[2])),
-    max_leaves=10,
-)
+tree_worlds = figure_worlds(
+    primitive, tree_actor,
+    st.tuples(st.sampled_from(["Move", "Rotate"]), st.floats(-2, 2, allow_nan=False).map(lambda d: (d,))),
+    figure_size=3, max_leaves=10, max_objects=4)
 
 
 @settings(max_examples=400, deadline=None)
-@given(st.lists(tree_objects, max_size=4), st.lists(event, max_size=5),
+@given(tree_worlds, st.lists(event, max_size=5),
        st.lists(st.just(vwg.Event("split")), max_size=2))
 @pytest.mark.slow
 def test_core_eta_pi_phi_of_figures_agree_with_the_reference(tree, events, splits):
     # The core reads the text; the reference works on the tree the text was written from.
-    w = WORLD.parse(FREF.text(tree))
+    w = WORLD.parse(REF.text(tree))
     events = events + splits
-    assert str(vwg.evolve(w, events)) == FREF.text(FREF.eta(tree, events))
+    assert str(vwg.evolve(w, events)) == REF.text(REF.eta(tree, events))
     v = vwg.visualize(w, events)
-    ref_v = FREF.pi(tree, events)
-    assert str(v) == FREF.text(ref_v)
+    ref_v = REF.pi(tree, events)
+    assert str(v) == REF.text(ref_v)
     trace = vwg.TraceBackend()
     vwg.display(v, trace)
-    assert trace.calls == FREF.phi(ref_v)
+    assert trace.calls == REF.phi(ref_v)
 
 
 class Turtle(vwg.Backend):
@@ -322,7 +253,7 @@ def calls(text):
 
 def test_a_transformation_applies_to_the_whole_figure_alpha_to_each_primitive_in_order():
     # φ(T(Pa Pb)) = β(T); α(Pa); α(Pb); δ(T): the paper's α for the figure's sequence, under T once.
-    assert calls("Rotate<1.5>(Move<2.0>(Lamp<1> Robot<2>)) . Lamp<3>") == FREF.phi(
+    assert calls("Rotate<1.5>(Move<2.0>(Lamp<1> Robot<2>)) . Lamp<3>") == REF.phi(
         [("T", "Rotate", (1.5,), [("T", "Move", (2.0,), [("F", [("P", "Lamp", (1,)), ("P", "Robot", (2,))])])]),
          ("P", "Lamp", (3,))]) == [
         "beta Rotate<1.5>", "beta Move<2.0>", "alpha Lamp<1>", "alpha Robot<2>", "delta Move<2.0>",
@@ -358,7 +289,7 @@ def test_eta_and_pi_keep_figures_and_actors_may_return_them():
 
     world = vwg.World(primitives={"Lamp": None, "Robot": {"id": 0}}, events=["paint", "show"], visual=["show"],
                       actors=[Painter])
-    ref = FigureReference(world.alphabet, [Painter])
+    ref = Reference(world.alphabet, [Painter])
     w = world.parse("Robot<7> . Painter")
     after = vwg.evolve(w, [vwg.Event("paint")])
     assert str(after) == "Robot<7> . Lamp<0> Robot<0> . Painter<n=1>"

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from world_strategies import figure_worlds
 
 import vwg
 from conftest import make_world
@@ -147,51 +148,29 @@ def test_blobs_are_named_by_content_and_resolved_through_a_table(world):
 
 # --- figures: primitives side by side (paper rule 6, FIGURE → p+) --------------------------------
 
-def figure_text(tree):
-    """The text of a tree with figures ("F", [primitives]), printed independently of the core: a
-    space between a figure's primitives, " . " between objects."""
-    parts = []
-    for node in tree:
-        if node[0] == "F":
-            parts.append(" ".join(REF.symbol_text(p) for p in node[1]))
-        elif node[0] == "T":
-            parts.append(f"{REF.symbol_text(node)}({figure_text(node[3])})")
-        else:
-            parts.append(REF.symbol_text(node))
-    return " . ".join(parts)
-
-
 primitive = st.one_of(
     st.lists(variadic_value, max_size=3).map(lambda p: ("P", "Lamp", tuple(p))),
     ints.map(lambda i: ("P", "Robot", (i,))),
     st.tuples(ints, finite, texts, st.booleans()).map(lambda t: ("P", "Dot", t)),
 )
-figure = st.lists(primitive, min_size=2, max_size=4).map(lambda ps: ("F", ps))
-tree_leaf = st.one_of(
-    primitive,
-    figure,
+tree_actor = st.one_of(
     ints.map(lambda n: ("A", "Counter", (n,))),
     st.just(("A", "Mortal", ())),
     st.tuples(ints, ints, texts, st.booleans()).map(lambda t: ("A", "Tagged", t)),
 )
-
-
-def tree_scope(children):
-    return st.one_of(
-        finite.map(lambda d: ("Move", (d,))),
-        finite.map(lambda a: ("Rotate", (a,))),
-        st.lists(variadic_value, max_size=2).map(lambda p: ("Group", tuple(p))),
-    ).flatmap(lambda t: st.lists(children, min_size=1, max_size=3).map(lambda kids: ("T", t[0], t[1], kids)))
-
-
-figure_worlds = st.lists(st.recursive(tree_leaf, tree_scope, max_leaves=12), max_size=5)
+tree_transformation = st.one_of(
+    finite.map(lambda d: ("Move", (d,))),
+    finite.map(lambda a: ("Rotate", (a,))),
+    st.lists(variadic_value, max_size=2).map(lambda p: ("Group", tuple(p))),
+)
+tree_worlds = figure_worlds(primitive, tree_actor, tree_transformation, figure_size=4, max_leaves=12, max_objects=5)
 
 
 @settings(max_examples=300, deadline=None)
-@given(figure_worlds)
+@given(tree_worlds)
 @pytest.mark.slow
 def test_figures_parse_to_their_tree_and_print_back_as_written(tree):
-    text = figure_text(tree)
+    text = REF.text(tree)  # printed by the reference, independently of the core
     w = WORLD.parse(text)
     assert str(w) == text  # print(parse(text)) == text
     assert w.tree(figures=True) == tree

@@ -1,12 +1,18 @@
 """A straightforward pure-Python implementation of η, π and φ (paper eqs. 7-9) and of the
 canonical printer, written from the paper and DESIGN.md independently of the C++ core.
 
-It works on the nested form of ``String.tree()``: ``("P", name, params)``, ``("A", name, params)``
-and ``("T", name, params, children)``. The tests compare the core against it on generated strings,
+It works on the nested form of ``String.tree(figures=True)``: ``("P", name, params)``,
+``("F", [primitives])`` for a figure (paper rule 6, FIGURE → p+: primitives side by side),
+``("A", name, params)`` and ``("T", name, params, children)``. η and π keep a figure as they keep a
+primitive (eqs. 8, 9: w ∈ P gives w, for each of its primitives); φ runs α on each of its primitives in
+order under the transformations around the whole figure (eq. 7: φ(T(Pa Pb)) = β(T); α(Pa); α(Pb); δ(T),
+the calls of T(Pa . Pb)); the text puts a space between a figure's primitives. (In the form of
+``String.tree()`` a figure's primitives stand one by one: φ gives the same calls, the text separate
+objects.) The tests compare the core against it on generated strings,
 and ``benchmarks/bench_core.py`` times it as the baseline. Actors are vwg.Actor classes with
 per-actor handlers (batch handlers are a core optimisation and are not modelled here; a run
 handler is called on each event as a run of one). Text
-returned by a handler is parsed with the core's parser; everything else is plain Python.
+returned by a handler is parsed with the core's parser, figures and all; everything else is plain Python.
 """
 
 from __future__ import annotations
@@ -61,7 +67,7 @@ class Reference:
     def eta(self, w: Tree, events: Sequence[_core.Event], frame: int = 0) -> Tree:
         out: Tree = []
         for node in w:
-            if node[0] == "P":
+            if node[0] in ("P", "F"):
                 out.append(node)
             elif node[0] == "T":
                 children = self.eta(node[3], events, frame)
@@ -89,7 +95,7 @@ class Reference:
     def pi(self, w: Tree, events: Sequence[_core.Event], frame: int = 0) -> Tree:
         out: Tree = []
         for node in w:
-            if node[0] == "P":
+            if node[0] in ("P", "F"):
                 out.append(node)
             elif node[0] == "T":
                 children = self.pi(node[3], events, frame)
@@ -109,6 +115,8 @@ class Reference:
         for node in v:
             if node[0] == "P":
                 calls.append("alpha " + self.symbol_text(node))
+            elif node[0] == "F":
+                calls.extend("alpha " + self.symbol_text(p) for p in node[1])
             elif node[0] == "T":
                 calls.append("beta " + self.symbol_text(node))
                 self.phi(node[3], calls)
@@ -146,7 +154,9 @@ class Reference:
     def text(self, w: Tree) -> str:
         parts = []
         for node in w:
-            if node[0] == "T":
+            if node[0] == "F":
+                parts.append(" ".join(self.symbol_text(p) for p in node[1]))
+            elif node[0] == "T":
                 parts.append(f"{self.symbol_text(node)}({self.text(node[3])})")
             else:
                 parts.append(self.symbol_text(node))
@@ -178,9 +188,9 @@ class Reference:
 
     def _tree(self, obj: Any) -> Tree:
         if isinstance(obj, str):
-            return self.alphabet.parse(obj).tree() if obj.strip() else []
+            return self.alphabet.parse(obj).tree(figures=True) if obj.strip() else []
         if isinstance(obj, _core.String):
-            return obj.tree()
+            return obj.tree(figures=True)
         if isinstance(obj, Actor):
             return [("A", obj.name, tuple(obj._v))]
         if isinstance(obj, Sym):
