@@ -8,11 +8,11 @@ import math
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from world_strategies import figure_worlds
 
 import vwg
 from conftest import ACTORS, make_world
 from vwg.testing.reference import Reference
+from world_strategies import figure_worlds
 
 WORLD = make_world()
 REF = Reference(WORLD.alphabet, ACTORS)
