@@ -5,7 +5,7 @@
 #                downstream project); the wheel's are make wheel-test's
 #   make check   the fast tier for iterating: lint and the Python tests not marked slow (2-3 min once built)
 # Other targets: install, docs, wheel, wheel-test, sdist, bench, stubs, lint, cpp-test, asan-python, cpp-package, fuzz, stress,
-# tsan, clean.
+# experiments, experiments-quick, tsan, clean.
 
 SHELL := /bin/bash
 .SHELLFLAGS := -eu -o pipefail -c
@@ -32,7 +32,7 @@ TEST_APT_PACKAGES := chromium
 BUILD := build
 STAMP := $(BUILD)/stamps
 
-.PHONY: help deps test-deps venv install wheel wheel-check wheel-test sdist docs demo test check pytest fuzz asan-configure asan-python stress lint stubs cpp-test cpp-package tsan bench bench-scale irsim-env clean
+.PHONY: help deps test-deps venv install wheel wheel-check wheel-test sdist docs demo test check pytest experiments experiments-quick fuzz asan-configure asan-python stress lint stubs cpp-test cpp-package tsan bench bench-scale irsim-env clean
 
 help:
 	@sed -n '1,6p' Makefile | sed 's/^# \{0,1\}//'
@@ -168,6 +168,19 @@ lint:
 ## if the memory grows or the run slows down (about 3 min).
 stress: install
 	cd benchmarks && ../$(PY) bench_stress.py
+
+## The paper's five tests at full size (vwg experiments; 1,280 runs, under an hour on 2 cores), its report, CSVs and
+## pictures then copied to docs/experiments/ (commit them: readers see the numbers without running anything).
+experiments: install
+	rm -rf $(BUILD)/experiments
+	$(PY) -m vwg.cli experiments $(BUILD)/experiments --progress
+	rm -rf docs/experiments && mkdir -p docs/experiments
+	cp -r $(BUILD)/experiments/report.md $(BUILD)/experiments/*.csv $(BUILD)/experiments/*.png $(BUILD)/experiments/sweeps docs/experiments/
+
+## The same at the quick size (111 runs, a few minutes), into build/experiments-quick.
+experiments-quick: install
+	rm -rf $(BUILD)/experiments-quick
+	$(PY) -m vwg.cli experiments $(BUILD)/experiments-quick --quick --progress
 
 ## The readers fuzzed longer than make test does (tests/test_fuzz.py, 20,000 inputs a reader; ~12 min).
 fuzz: install

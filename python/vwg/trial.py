@@ -85,6 +85,7 @@ FLOAT_PARAMS = ("odometry_noise", "motor_noise")
 BOX_M = 0.5  # the side of an added obstacle
 SPACING_M = 0.6  # the least distance between two random starts
 CANDIDATES = 4  # points of the way tried for each box (each also with the box moved to either side)
+ROUNDS = 4  # rounds of CANDIDATES points at most
 MIN_DETOUR_M = 0.02  # how much longer the first box must make the shortest way (above what sight tests may graze)
 
 
@@ -389,32 +390,35 @@ def _add_obstacles(world: Any, goals: dict[int, str], count: int, rng: np.random
         way = any_angle_way(current, robot.radius, start, goal)
         before = yardstick.distance(*ends)
         blocked = current.inflate(robot.radius)
-        # A few seeded points of the way's middle, the box centred on each or moved aside by up to half its side (it
-        # still covers the way there); it goes where it lengthens the way most.
-        tried = []
-        for fraction in rng.uniform(0.2, 0.8, CANDIDATES):
-            (x0, y0), (dx, dy) = _along(way, float(fraction))
-            for aside in (0.0, -0.4 * BOX_M, 0.4 * BOX_M):
-                x, y = x0 - dy * aside, y0 + dx * aside
-                if math.hypot(x - start[0], y - start[1]) < keep_clear or \
-                        math.hypot(x - goal[0], y - goal[1]) < keep_clear + world.goal_tolerance:
-                    continue
-                r, c = current.world_to_cell(x, y)
-                boxed = data.copy()
-                boxed[max(0, r - half):r + half, max(0, c - half):c + half] = 100
-                boxed_grid = OccupancyGrid(boxed, grid.resolution, grid.origin)
-                changed = yardstick.with_blocked(boxed_grid.inflate(robot.radius) & ~blocked)
-                tried.append(((changed.distance(*ends) - before) * grid.resolution, float(fraction), aside, boxed_grid,
-                              changed))
         chosen = None
-        for detour, _, _, boxed_grid, changed in sorted(tried, key=lambda t: (-t[0], t[1], t[2])):
-            # The first box must lengthen the way by MIN_DETOUR_M. A box often leaves two ways of about the same
-            # length round it, so the next ones (on the way left, the best of their places) need not add as much.
-            if k == 0 and detour < MIN_DETOUR_M:
-                break
-            if math.isfinite(shortest_m(boxed_grid, robot.radius, start, goal)):  # the planners' way is open
-                chosen = boxed_grid
-                _remember(boxed_grid, robot.radius, changed)
+        for _ in range(ROUNDS):  # more places only when none of a round's would do: the same boxes otherwise
+            # A few seeded points of the way's middle, the box centred on each or moved aside by up to half its side
+            # (it still covers the way there); it goes where it lengthens the way most.
+            tried = []
+            for fraction in rng.uniform(0.2, 0.8, CANDIDATES):
+                (x0, y0), (dx, dy) = _along(way, float(fraction))
+                for aside in (0.0, -0.4 * BOX_M, 0.4 * BOX_M):
+                    x, y = x0 - dy * aside, y0 + dx * aside
+                    if math.hypot(x - start[0], y - start[1]) < keep_clear or \
+                            math.hypot(x - goal[0], y - goal[1]) < keep_clear + world.goal_tolerance:
+                        continue
+                    r, c = current.world_to_cell(x, y)
+                    boxed = data.copy()
+                    boxed[max(0, r - half):r + half, max(0, c - half):c + half] = 100
+                    boxed_grid = OccupancyGrid(boxed, grid.resolution, grid.origin)
+                    changed = yardstick.with_blocked(boxed_grid.inflate(robot.radius) & ~blocked)
+                    detour = (changed.distance(*ends) - before) * grid.resolution
+                    tried.append((detour, float(fraction), aside, boxed_grid, changed))
+            for detour, _, _, boxed_grid, changed in sorted(tried, key=lambda t: (-t[0], t[1], t[2])):
+                # The first box must lengthen the way by MIN_DETOUR_M. A box often leaves two ways of about the same
+                # length round it, so the next ones (on the way left, the best of their places) need not add as much.
+                if k == 0 and detour < MIN_DETOUR_M:
+                    break
+                if math.isfinite(shortest_m(boxed_grid, robot.radius, start, goal)):  # the planners' way is open
+                    chosen = boxed_grid
+                    _remember(boxed_grid, robot.radius, changed)
+                    break
+            if chosen is not None:
                 break
         if chosen is None:
             break
