@@ -20,7 +20,7 @@ from vwg.errors import Error, SchemaError, WorldFileError
 from vwg.robot.case_study import CaseStudy
 from vwg.robot.shortest import DistanceField
 from vwg.sweep import finished_keys, load_spec, run_sweep
-from vwg.trial import COLUMNS, Trial, run_trial, shortest_m, trial_world
+from vwg.trial import COLUMNS, Trial, any_angle_m, run_trial, shortest_m, trial_world
 
 SPEC = """\
 worlds: [office, maze]
@@ -271,12 +271,14 @@ def test_added_obstacles_are_on_the_way_and_not_on_the_robots_map():
     trial = Trial("office", "astar", 1, 10, {"task": "random", "obstacles": 2})
     world, goals, known = trial_world(trial)
     added = (world.grid.data == 100) & (known.data != 100)
-    assert added.sum() == 2 * 10 * 10  # two boxes of 0.5 m at 0.05 m a cell
+    assert 10 * 10 < added.sum() <= 2 * 10 * 10  # two boxes of 0.5 m at 0.05 m a cell (one may overlap a wall)
     robot = world.robots[0]
     goal = world.rooms[goals[robot.id]].goal
-    before = shortest_m(known, robot.radius, robot.start[:2], goal)
-    after = shortest_m(world.grid, robot.radius, robot.start[:2], goal)
-    assert math.isfinite(after) and after > before  # each box stood on the way of the moment
+    # The planners' way stays open; the shortest any-angle way got at least 2 cm longer (the 8-connected one may
+    # not: it has many ways of the same length).
+    assert math.isfinite(shortest_m(world.grid, robot.radius, robot.start[:2], goal))
+    before = any_angle_m(known, robot.radius, robot.start[:2], goal)
+    assert any_angle_m(world.grid, robot.radius, robot.start[:2], goal) >= before + 0.02
     # The robot starts with the map it knew and goes round what it finds.
     case = CaseStudy(world, "astar", goals=goals, known_map=known, threads=1)
     grid = np.asarray(case.robot_actors()[robot.id]["grid"])
