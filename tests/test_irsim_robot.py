@@ -10,6 +10,7 @@ import json
 import math
 import socket
 import sys
+import time
 
 import numpy as np
 import pytest
@@ -147,6 +148,48 @@ def test_the_server_binds_127_0_0_1_refuses_a_step_it_cannot_take_and_stops_by_i
     assert not robot.running
     with pytest.raises(OSError):
         socket.create_connection(("127.0.0.1", port), timeout=2).close()
+
+
+def test_a_step_sent_again_with_its_id_is_answered_but_not_done_again():
+    # vwg sends a step again, with its id, when the link dropped before the answer: IR-SIM steps once.
+    world = world_of(np.zeros((40, 40), np.int8), (1.0, 1.0, 0.0))
+    with IrsimRosbridgeRobot(world) as robot:
+        def step_with_id(step_id: str) -> dict:
+            return {**step(0.3), "args": {"seconds": 0.3, "step_id": step_id}}
+
+        first = talk(robot.url, twist(0.2, 0.0), step_with_id("run:1"))[-1]["values"]
+        there = robot.pose(1)
+        again = talk(robot.url, *SUBSCRIBE, twist(0.2, 0.0), step_with_id("run:1"))  # another connection
+        assert robot.pose(1) == there and robot._steps == 3
+        after = talk(robot.url, step_with_id("run:2"))[-1]["values"]
+    assert first == {"time": pytest.approx(0.3), "step_id": "run:1"}
+    assert again[-1]["values"] == {**first, "repeated": True}
+    assert odometry(published(again, "/odom")[-1]).time == pytest.approx(0.3)  # where it is, published again
+    assert after == {"time": pytest.approx(0.6), "step_id": "run:2"}
+
+
+def test_the_server_answers_pings_while_irsim_steps():
+    # IR-SIM steps on the server's simulation thread, not on its event loop: a step that takes 1.5 s (IR-SIM's
+    # office and lidar on a loaded machine took up to 0.8 s a step) leaves the loop answering the client's
+    # keepalive pings meanwhile, and the answer comes when the step is done.
+    world = world_of(np.zeros((40, 40), np.int8), (1.0, 1.0, 0.0))
+    with IrsimRosbridgeRobot(world) as robot:
+        advance = robot._advance
+
+        def long_step(seconds: float) -> None:
+            time.sleep(1.5)
+            advance(seconds)
+
+        robot._advance = long_step
+        with connect(robot.url) as ws:
+            ws.send(json.dumps(step(0.1)))
+            time.sleep(0.3)  # the step is under way
+            pinged = time.monotonic()
+            assert ws.ping().wait(1.0), "no pong while IR-SIM stepped"
+            ponged = time.monotonic()
+            answer = json.loads(ws.recv(timeout=30))
+    assert ponged - pinged < 1.0
+    assert answer["result"] is True and answer["values"] == {"time": pytest.approx(0.1)}
 
 
 def test_without_irsim_the_error_names_the_package(monkeypatch):

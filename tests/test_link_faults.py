@@ -3,7 +3,8 @@ with its time, a link that drops more than the flap limit allows ends the run wi
 and after a reconnection the robot is sent nothing but stops until odometry has come over the new
 connection. The servers are the fakes of vwg.testing.fake_robot and vwg.testing.fake_base on 127.0.0.1, told to
 flap: close every connection at a given time, then every new one 0.15 s after it opened (as the
-held-out robot server that found this did, 9 s into its run; here sooner, to keep the tests short)."""
+held-out robot server that found this did, 9 s into its run; here sooner, to keep the tests short).
+In lockstep a drop with a step in flight loses nothing: the step goes again with its id and is done once."""
 
 from __future__ import annotations
 
@@ -17,6 +18,7 @@ import vwg
 from vwg.cli import main
 from vwg.errors import SchemaError, WorldFileError
 from vwg.io.record import read_record
+from vwg.robot.links.rosbridge_client import CallLostError, RosbridgeLink
 from vwg.robot.platforms.rosbridge import RosbridgePlatform
 from vwg.robot.world_file import PlatformSpec, load_robot_world
 from vwg.testing.fake_base import FakeSerialBase
@@ -203,3 +205,102 @@ def test_the_flap_limit_reaches_the_platform(tmp_path):
                          (5, "flap_limit: expected a mapping, got int 5")):
         with pytest.raises(SchemaError, match=match):
             RosbridgePlatform([MAZE.robots[0]], "ws://127.0.0.1:9", flap_limit=wrong)
+
+
+# ---- lockstep: a drop while a step is in flight ------------------------------------------------------------------
+# A lockstep robot's clock stands still with the link: a drop loses no motion, only (at most) a step call or its
+# answer. The tick's velocities and its step go again over the next connection with the step's id, and the robot,
+# which remembers the ids it has done, does not step twice: the frames are those of an undisturbed run.
+LOCKSTEP_FRAMES = 30
+DROP_AT = 120  # the step call the server drops the link at (call 1 is the platform's first, of 0 s)
+
+
+def run_lockstep(fake: FakeRosbridgeRobot, record: Path) -> vwg.launch.Outcome:
+    spec = PlatformSpec("rosbridge", {"url": fake.url, "lockstep": "/vwg/step", "control_rate": 100, "watchdog": 10.0})
+    with vwg.start(dataclasses.replace(OFFICE, platform=spec),
+                   vwg.RunOptions(goals=["office"], frames=LOCKSTEP_FRAMES, record=record)) as run:
+        return run.execute()
+
+
+def frame_lines(record: Path) -> list[bytes]:
+    """The record's header and frames: all but its end line (which holds the run's faults)."""
+    lines = record.read_bytes().splitlines()
+    assert len(lines) == LOCKSTEP_FRAMES + 2
+    return lines[:-1]
+
+
+@pytest.fixture(scope="module")
+def undisturbed(tmp_path_factory: pytest.TempPathFactory) -> tuple[vwg.launch.Outcome, list[bytes], float, int]:
+    record = tmp_path_factory.mktemp("lockstep") / "undisturbed.jsonl"
+    with FakeRosbridgeRobot(OFFICE, lockstep=True) as fake:
+        outcome = run_lockstep(fake, record)
+        clock, calls = fake.physics.time(), fake.step_calls
+    assert not outcome.summary["faults"], outcome.summary["faults"]
+    return outcome, frame_lines(record), clock, calls
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("done", [True, False], ids=["its answer lost", "the call lost"])
+def test_a_lockstep_link_that_drops_with_a_step_in_flight_gives_the_frames_of_an_undisturbed_run(
+        tmp_path, undisturbed, done):
+    plain, plain_frames, plain_clock, plain_calls = undisturbed
+    with FakeRosbridgeRobot(OFFICE, lockstep=True) as fake:
+        fake.drop_at_step(DROP_AT, done=done, hold=0.3)
+        outcome = run_lockstep(fake, tmp_path / "dropped.jsonl")
+        clock, calls = fake.physics.time(), fake.step_calls
+    assert outcome.exit_status == plain.exit_status, outcome.message
+    assert frame_lines(tmp_path / "dropped.jsonl") == plain_frames  # byte for byte
+    # The step in flight was called twice and done once: the robot's clock is the undisturbed run's.
+    assert calls == plain_calls + 1 and clock == plain_clock
+    # The drop, the step sent again and the return are faults, in the summary and the record's end line.
+    faults = [f["what"] for f in outcome.summary["faults"]]
+    assert len(faults) == 3, faults
+    assert faults[0].startswith("link lost (closed by the server); drop 1")
+    assert f"dropped before step {DROP_AT} was answered" in faults[1]
+    assert faults[2].startswith("link back after") and "clock stood still" in faults[2]
+    assert read_record(tmp_path / "dropped.jsonl").faults == outcome.summary["faults"]
+
+
+class StepIdsUnknown(FakeRosbridgeRobot):
+    """A lockstep robot whose step service knows no step ids: it neither echoes nor remembers them."""
+
+    def _step(self, seconds: float, step_id: str | None, wanted: set[str]) -> tuple[dict, list]:
+        return super()._step(seconds, None, wanted)
+
+
+@pytest.mark.slow
+def test_a_lockstep_robot_that_takes_no_step_ids_ends_the_run_when_a_step_was_in_flight(tmp_path):
+    with StepIdsUnknown(OFFICE, lockstep=True) as fake:
+        fake.drop_at_step(DROP_AT, done=True, hold=0.3)
+        outcome = run_lockstep(fake, tmp_path / "r.jsonl")
+        clock, calls = fake.physics.time(), fake.step_calls
+    assert outcome.exit_status == vwg.launch.EXIT_LINK_FAULT == 4
+    assert "the connection dropped before /vwg/step answered" in outcome.message, outcome.message
+    assert f"echoes no step_id, so vwg cannot tell whether it stepped: step {DROP_AT} is not sent again" \
+        in outcome.message
+    # Not sent again: the robot did the step once (its first call of 0 s, then DROP_AT - 1 of 0.01 s).
+    assert calls == DROP_AT and clock == pytest.approx((DROP_AT - 1) * 0.01, abs=1e-9)
+    assert fake.commands[1][-1][1:] == (0.0, 0.0)  # stopped as the run ended
+
+
+def test_a_call_whose_connection_drops_raises_call_lost_at_once_and_a_step_id_done_is_not_done_again():
+    with FakeRosbridgeRobot(MAZE, lockstep=True) as fake:
+        link = RosbridgeLink(fake.url, on_message=lambda topic, msg: None, reconnect=10.0)
+        link.connect()
+        try:
+            fake.drop_at_step(1, done=True, hold=2.0)
+            asked = time.monotonic()
+            with pytest.raises(CallLostError, match=r"the connection dropped before /vwg/step answered") as lost:
+                link.call_service("/vwg/step", {"seconds": 0.1, "step_id": "a"}, timeout=20.0)
+            assert lost.value.sent and time.monotonic() - asked < 5.0  # at the drop, not at the timeout
+            with pytest.raises(CallLostError, match="not connected") as down:  # refused for 2 s yet
+                link.call_service("/vwg/step", {"seconds": 0.1, "step_id": "a"}, timeout=20.0)
+            assert not down.value.sent
+            assert link.wait_connected(10.0)
+            again = link.call_service("/vwg/step", {"seconds": 0.1, "step_id": "a"}, timeout=20.0)
+            assert again == {"time": pytest.approx(0.1), "step_id": "a", "repeated": True}  # done once
+            after = link.call_service("/vwg/step", {"seconds": 0.1, "step_id": "b"}, timeout=20.0)
+            assert after == {"time": pytest.approx(0.2), "step_id": "b"}
+        finally:
+            link.close()
+    assert fake.step_calls == 3  # the one refused while down never came

@@ -10,17 +10,19 @@ ranges, walls and other robots) and sensor_msgs/CompressedImage (the simulator's
         vwg.start(world, options).execute()
 
 By default it runs at wall-clock rate (``rate`` Hz). With ``lockstep=True`` it runs in simulated
-time instead: it steps only when the service ``/vwg/step`` is called (``{"seconds": s}``), then
-publishes and answers — a simulator that vwg steps, for the frame-by-frame equivalence of paper
-test 3 (platform option ``lockstep: /vwg/step``).
+time instead: it steps only when the service ``/vwg/step`` is called (``{"seconds": s}``, with a
+``step_id`` it does not do twice), then publishes and answers — a simulator that vwg steps, for the
+frame-by-frame equivalence of paper test 3 (platform option ``lockstep: /vwg/step``).
 
 A base stops by itself when no command has come for ``cmd_timeout`` seconds, as real bases do.
 For fault tests: ``cut()`` closes every connection and refuses new ones until ``restore()``;
 ``silence(robot)`` stops its odometry until ``speak(robot)``; ``flap(after, hold)`` closes every
 connection ``after`` seconds from the call and from then on each new one ``hold`` seconds after it
 opened (a link that keeps dropping); ``odometry_delay`` holds back the odometry of each new
-connection for that long (a driver that takes a moment). ``commands[robot]`` lists the (time,
-speed, turn rate) of every Twist received, the time on the server's monotonic clock, and
+connection for that long (a driver that takes a moment); in lockstep, ``drop_at_step(n, done=...)``
+drops the link at the n-th call of the step service, the step done (its answer lost) or not (the call
+lost). ``commands[robot]`` lists the (time, speed, turn rate) of every Twist received, the time on
+the server's monotonic clock, and
 ``connections`` what each connection saw (when it opened and closed, when its first odometry went
 out, the Twists that came over it).
 """
@@ -42,6 +44,7 @@ class FakeRosbridgeRobot(RosbridgeRobotServer):
     """vwg's own simulator behind a rosbridge v2 server (the server: vwg.testing.rosbridge_server)."""
 
     thread_name = "vwg-fake-robot"
+    step_in_thread = False  # a step of Box2D and its C++ scans takes a millisecond or so: on the loop
 
     def __init__(self, world: RobotWorld, *, rate: float = 50.0, ros2: bool = False, cmd_timeout: float = 0.5,
                  odom_offset: tuple[float, float, float] = (0.0, 0.0, 0.0), lockstep: bool = False,

@@ -8,7 +8,16 @@ A subclass brings the robot (vwg.testing.fake_robot: vwg's own Box2D simulator; 
 IR-SIM) by giving ``_drive``, ``_advance``, ``_sim_time``, ``_messages`` and ``pose``; the server, the
 clock (wall-clock at ``rate`` Hz, or lockstep: it steps only when ``/vwg/step`` is called with
 ``{"seconds": s}``, then publishes, then answers), the stop when commands stop coming, and the link's
-faults for tests (``cut``, ``flap``, ``silence``, ``odometry_delay``) are here, once.
+faults for tests (``cut``, ``flap``, ``silence``, ``odometry_delay``, ``drop_at_step``) are here, once.
+
+The simulation steps on a thread of its own (the server's worker), not on the event loop: a step that takes
+long (IR-SIM's, on a loaded machine) leaves the server answering the client's keepalive pings meanwhile. A
+subclass whose steps take a millisecond or so sets ``step_in_thread = False`` (the fake robot: a hand-over
+to another thread and back would take longer than its step, on a loaded machine several times as long).
+
+A step call may carry ``"step_id"`` (a string): a step whose id has been done already, over whatever
+connection, is not done again; the robot is published where it is and the answer is the same, with
+``"repeated": true``. vwg sends a step again with its id when the link dropped before the answer came.
 """
 
 from __future__ import annotations
@@ -20,6 +29,8 @@ import json
 import math
 import threading
 import time
+from collections import OrderedDict
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from typing import Any, Self
 
@@ -31,6 +42,7 @@ __all__ = ["STEP_SERVICE", "Connection", "RosbridgeRobotServer"]
 
 
 STEP_SERVICE = "/vwg/step"
+_STEP_IDS_KEPT = 1024  # the step ids a server remembers as done (a repeated step comes within a few)
 
 
 @dataclass
@@ -48,6 +60,7 @@ class RosbridgeRobotServer:
     """A rosbridge v2 server for the robots of `world`; a subclass simulates them (see the module)."""
 
     thread_name = "vwg-rosbridge-robot"
+    step_in_thread = True  # step (and compute the messages) on the worker, not on the event loop
 
     def __init__(self, world: RobotWorld, *, rate: float = 50.0, ros2: bool = False, cmd_timeout: float = 0.5,
                  odom_offset: tuple[float, float, float] = (0.0, 0.0, 0.0), lockstep: bool = False,
@@ -63,6 +76,8 @@ class RosbridgeRobotServer:
         self.connections: list[Connection] = []
         self._connection_of: dict[Any, Connection] = {}
         self._flap_hold: float | None = None  # flapping: each connection is closed this long after it opened
+        self._drop_at: tuple[int, bool, float] | None = None  # drop_at_step: (call, done first, hold)
+        self.step_calls = 0  # service calls received (the step service's, or refused), over every connection
         several = len(world.robots) > 1
         self.starts = {r.id: tuple(r.start) for r in world.robots}
         self.topics = {r.id: topics_for(r.id, several) for r in world.robots}
@@ -75,6 +90,10 @@ class RosbridgeRobotServer:
         self._subscriptions: dict[Any, set[str]] = {}
         self._cut = False
         self._lock = threading.Lock()
+        # The simulation's own thread (started with the first step): the event loop goes on talking (and
+        # answering pings) while a step runs.
+        self._worker = ThreadPoolExecutor(max_workers=1, thread_name_prefix=f"{self.thread_name}-sim")
+        self._steps_done: OrderedDict[str, None] = OrderedDict()  # the step ids done, oldest first
         self._loop = asyncio.new_event_loop()
         self._thread = threading.Thread(target=self._loop.run_forever, name=self.thread_name, daemon=True)
         self._server: Any = None
@@ -82,7 +101,7 @@ class RosbridgeRobotServer:
         self._t0 = time.monotonic()
         self.port = 0
 
-    # ---- what a subclass gives (called with the lock held) -----------------------------------------------------
+    # ---- what a subclass gives (called with the lock held; on the worker if step_in_thread) ----------------------
     def _drive(self, robot: int, speed: float, turn_rate: float) -> None:  # pragma: no cover - abstract
         """Hold `robot` at these velocities from now on (a Twist came, or commands stopped)."""
         raise NotImplementedError
@@ -127,6 +146,7 @@ class RosbridgeRobotServer:
         if not self._thread.is_alive():
             if self._thread.ident is None and not self._loop.is_closed():
                 self._loop.close()  # never started: its loop never ran
+            self._worker.shutdown(wait=True)
             return  # never started, or stopped already
 
         async def shut() -> None:
@@ -143,6 +163,7 @@ class RosbridgeRobotServer:
             self._thread.join(5)
             if not self._thread.is_alive():
                 self._loop.close()
+            self._worker.shutdown(wait=True)  # a step under way ends first
 
     @property
     def running(self) -> bool:
@@ -191,6 +212,18 @@ class RosbridgeRobotServer:
 
     def steady(self) -> None:
         self._flap_hold = None
+
+    def drop_at_step(self, call: int, *, done: bool = True, hold: float = 0.3) -> None:
+        """Lockstep: on the `call`-th call of the step service (from 1, over any connection), close every
+        connection and refuse new ones for `hold` seconds: after doing the step (``done``: its answer is lost)
+        or instead of it (the call is lost on the way)."""
+        self._drop_at = (call, done, hold)
+
+    async def _drop(self, hold: float) -> None:
+        self._cut = True
+        for ws in list(self._clients):
+            await ws.close()
+        self._loop.call_later(hold, self.restore)
 
     def silence(self, robot: int) -> float:
         """Stop publishing `robot`'s odometry; returns when (the server's monotonic clock)."""
@@ -260,47 +293,91 @@ class RosbridgeRobotServer:
                     v, w = twist_of(msg)
                 except ValueError:
                     return
-                with self._lock:
-                    self._drive(rid, v, w)
-                    self._commanded_at[rid] = time.monotonic()
-                    self.commands[rid].append((self._commanded_at[rid], v, w))
-                    if connection is not None:
-                        connection.twists.append((self._commanded_at[rid], rid, v, w))
+                at = time.monotonic()
+                self._commanded_at[rid] = at
+                self.commands[rid].append((at, v, w))
+                if connection is not None:
+                    connection.twists.append((at, rid, v, w))
+                if not self.step_in_thread:
+                    self._drive_locked(rid, v, w)
+                    continue
+                # On the worker, after a step under way (the loop does not wait for its lock) and before the
+                # steps that come after.
+                with contextlib.suppress(RuntimeError):  # the server is stopping: the worker takes no more
+                    self._worker.submit(self._drive_locked, rid, v, w)
+
+    def _drive_locked(self, rid: int, v: float, w: float) -> None:
+        with self._lock:
+            self._drive(rid, v, w)
+
+    async def _on_worker(self, work: Any, *args: Any) -> Any:
+        """`work(*args)` on the simulation's thread (inline when the subclass steps on the loop)."""
+        if not self.step_in_thread:
+            return work(*args)
+        return await asyncio.get_running_loop().run_in_executor(self._worker, work, *args)
+
+    def _step(self, seconds: float, step_id: str | None, wanted: set[str]) -> tuple[dict[str, Any], list[Any]]:
+        """Step (unless `step_id` has been done); the answer's values and the messages (on the worker)."""
+        with self._lock:
+            repeated = step_id is not None and step_id in self._steps_done
+            if not repeated:
+                self._advance(seconds)
+                if step_id is not None:
+                    self._steps_done[step_id] = None
+                    while len(self._steps_done) > _STEP_IDS_KEPT:
+                        self._steps_done.popitem(last=False)
+            values: dict[str, Any] = {"time": self._sim_time()}
+            if step_id is not None:
+                values["step_id"] = step_id
+            if repeated:
+                values["repeated"] = True
+            return values, self._outgoing(wanted)
 
     async def _call(self, ws: Any, message: dict[str, Any]) -> None:
-        """The step service of a lockstep robot: advance the simulation, publish, then answer."""
+        """The step service of a lockstep robot: advance the simulation (unless this step's id has been done),
+        publish, then answer."""
         args = message.get("args")
         seconds = args.get("seconds") if isinstance(args, dict) else None
+        step_id = args.get("step_id") if isinstance(args, dict) else None
         ok = (self.lockstep and message.get("service") == STEP_SERVICE and isinstance(seconds, (int, float))
-              and math.isfinite(seconds) and 0 <= seconds <= 10)
-        refused = "no such service, or bad arguments"
+              and math.isfinite(seconds) and 0 <= seconds <= 10 and (step_id is None or isinstance(step_id, str)))
+        values: Any = "no such service, or bad arguments"
+        self.step_calls += 1
+        drop = self._drop_at if self._drop_at is not None and self._drop_at[0] == self.step_calls else None
+        if drop is not None and not drop[1]:
+            await self._drop(drop[2])  # the call is lost on the way: no step, no answer
+            return
         if ok:
             try:
-                with self._lock:
-                    self._advance(float(seconds))
+                values, out = await self._on_worker(self._step, float(seconds), step_id, self._wanted())
             except ValueError as e:
-                ok, refused = False, str(e)
-        if ok:
-            await self._publish()
-        with self._lock:
-            values = {"time": self._sim_time()} if ok else refused
+                ok, values = False, str(e)
+            else:
+                await self._send_out(out)
+        if drop is not None:
+            await self._drop(drop[2])  # the step is done, its answer lost
+            return
         answer = {"op": "service_response", "service": message.get("service"), "id": message.get("id"),
                   "values": values, "result": ok}
         with contextlib.suppress(Exception):
             await ws.send(json.dumps(answer))
+
+    def _tick_once(self, period: float, wanted: set[str]) -> list[Any]:
+        """A wall-clock tick (a base whose commands stopped coming stops), and the messages (on the worker)."""
+        now = time.monotonic()
+        with self._lock:
+            for rid, at in self._commanded_at.items():
+                if now - at > self.cmd_timeout:
+                    self._drive(rid, 0.0, 0.0)
+            self._advance(period)
+            return self._outgoing(wanted)
 
     async def _tick(self) -> None:
         period = 1.0 / self.rate
         next_at = time.monotonic()
         while True:
             next_at += period
-            now = time.monotonic()
-            with self._lock:
-                for rid, at in self._commanded_at.items():
-                    if now - at > self.cmd_timeout:
-                        self._drive(rid, 0.0, 0.0)
-                self._advance(period)
-            await self._publish()
+            await self._send_out(await self._on_worker(self._tick_once, period, self._wanted()))
             await asyncio.sleep(max(0.0, next_at - time.monotonic()))
 
     def _odometry(self, rid: int, pose: tuple[float, float, float]) -> tuple[float, float, float]:
@@ -308,12 +385,17 @@ class RosbridgeRobotServer:
         started (⊕ the offset its count stood at when vwg connected)."""
         return pose_compose(self.odom_offset, pose_relative(self.starts[rid], pose))
 
-    async def _publish(self) -> None:
-        wanted = set().union(*self._subscriptions.values()) if self._subscriptions else set()
-        with self._lock:
-            now = self._sim_time() if self.lockstep else time.monotonic() - self._t0
-            out = [(topic, msg) for topic, msg in self._messages(now, wanted)
-                   if self._odometry_topics.get(topic) not in self._silent]
+    def _wanted(self) -> set[str]:
+        """The topics some client is subscribed to (on the loop, which keeps the subscriptions)."""
+        return set().union(*self._subscriptions.values()) if self._subscriptions else set()
+
+    def _outgoing(self, wanted: set[str]) -> list[tuple[str, dict[str, Any]]]:
+        """What to publish now (the lock held)."""
+        now = self._sim_time() if self.lockstep else time.monotonic() - self._t0
+        return [(topic, msg) for topic, msg in self._messages(now, wanted)
+                if self._odometry_topics.get(topic) not in self._silent]
+
+    async def _send_out(self, out: list[tuple[str, dict[str, Any]]]) -> None:
         for ws in list(self._clients):
             wanted = self._subscriptions.get(ws, set())
             connection = self._connection_of.get(ws)

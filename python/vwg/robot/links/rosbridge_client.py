@@ -9,6 +9,11 @@ read is logged and dropped: it never stops the link. A lost connection is retrie
 ends the run. Every connection made and lost is told to ``on_state``; ``connection`` numbers them
 (1 for the first), and ``publish(..., connection=n)`` sends only over connection ``n``.
 
+A service call is answered over the connection it went out on, or not at all: when that connection drops
+first, the call raises CallLostError at once (``sent``: it had gone out, so the service may have run), and
+it is the caller's to say whether calling again is safe (a lockstep step is, when the service knows its
+step id).
+
     link = RosbridgeLink("ws://127.0.0.1:9090", on_message=lambda topic, msg: ...)
     link.connect()
     link.advertise("/cmd_vel", "geometry_msgs/Twist")
@@ -33,7 +38,7 @@ from typing import Any
 
 from vwg.errors import Error
 
-__all__ = ["LinkError", "RosbridgeLink"]
+__all__ = ["CallLostError", "LinkError", "RosbridgeLink"]
 
 log = logging.getLogger("vwg.robot.links.rosbridge_client")
 
@@ -42,18 +47,35 @@ class LinkError(Error):
     """A robot's link failed: it could not connect, or it was lost and did not come back in time."""
 
 
+class CallLostError(LinkError):
+    """A service call got no answer because its connection was not up (``sent`` False: it never went out)
+    or dropped before the answer came (``sent`` True: the service may have run)."""
+
+    def __init__(self, message: str, *, sent: bool) -> None:
+        super().__init__(message)
+        self.sent = sent
+
+
 class RosbridgeLink:
     """One WebSocket connection to a rosbridge server. ``on_message(topic, msg)`` runs on the link's
     thread for every message published to a subscribed topic; ``on_state(connected, detail)`` on
-    the same thread when a connection comes (before any of its messages) or goes (``detail``: why)."""
+    the same thread when a connection comes (before any of its messages) or goes (``detail``: why).
+
+    Keepalive: a ping every second or so (at most half the ``reconnect`` time, at least 0.5 s); a pong that
+    has not come within ``ping_timeout`` seconds (default: the ping's period) drops the connection, which
+    notices a peer gone without closing (power, Wi-Fi) within the reconnect time. A peer that closes or
+    crashes is seen at once, whatever the pings."""
 
     def __init__(self, url: str, *, on_message: Callable[[str, Any], None],
                  on_state: Callable[[bool, str], None] | None = None, reconnect: float = 5.0,
-                 connect_timeout: float = 5.0, max_message: int = 8 * 1024 * 1024) -> None:
+                 connect_timeout: float = 5.0, max_message: int = 8 * 1024 * 1024,
+                 ping_timeout: float | None = None) -> None:
         if not url.startswith(("ws://", "wss://")):
             raise LinkError(f"rosbridge url: expected ws://HOST:PORT or wss://HOST:PORT, got {url!r}")
         self.url = url
         self.reconnect = reconnect
+        self.ping_interval = max(0.5, min(1.0, reconnect / 2))
+        self.ping_timeout = self.ping_interval if ping_timeout is None else max(self.ping_interval, ping_timeout)
         self.connect_timeout = connect_timeout
         self.max_message = max_message
         self._on_message = on_message
@@ -68,7 +90,7 @@ class RosbridgeLink:
         self.connection = 0             # connections made so far: the current one's number while up
         self._last_error = "closed"     # why the last connection attempt ended
         self.dropped = 0                # malformed or oversized messages logged and ignored
-        self._calls: dict[str, Future[Any]] = {}  # call_service ids waiting for their response
+        self._calls: dict[str, tuple[str, Future[Any]]] = {}  # call_service ids waiting: (service, answer)
         self._call_ids = itertools.count(1)
         self._thread = threading.Thread(target=self._loop.run_forever, name="vwg-rosbridge", daemon=True)
         self._thread.start()
@@ -95,10 +117,9 @@ class RosbridgeLink:
         opened = False  # a connection was made on this pass (its loss is told to on_state)
         while not self._closing:
             try:
-                # Pings notice a peer that went away without closing (power, Wi-Fi) within the reconnect time.
-                ping = max(0.5, min(1.0, self.reconnect / 2))
                 async with websockets.connect(self.url, open_timeout=self.connect_timeout, max_size=None,
-                                              ping_interval=ping, ping_timeout=ping, close_timeout=1.0) as ws:
+                                              ping_interval=self.ping_interval, ping_timeout=self.ping_timeout,
+                                              close_timeout=1.0) as ws:
                     # Up from the handshake on: a server that closes while vwg declares its topics
                     # has dropped a connection too (and counts towards a platform's flap limit).
                     self._ws = ws
@@ -127,6 +148,7 @@ class RosbridgeLink:
             self._connected.clear()
             if opened:
                 opened = False
+                self._lose_calls(self._last_error)
                 self._on_state(False, self._last_error)
             if self._closing:
                 break
@@ -139,6 +161,15 @@ class RosbridgeLink:
                 return
             await asyncio.sleep(delay)
             delay = min(delay * 2, 1.0)
+
+    def _lose_calls(self, reason: str) -> None:
+        """The connection dropped: no call still waiting will be answered (an answer comes over the connection
+        its call went out on), so each raises CallLostError now rather than at its timeout."""
+        for call_id, (service, answer) in list(self._calls.items()):
+            self._calls.pop(call_id, None)
+            with contextlib.suppress(Exception):  # answered or given up on meanwhile
+                answer.set_exception(CallLostError(
+                    f"rosbridge {self.url}: the connection dropped before {service} answered ({reason})", sent=True))
 
     def _receive(self, text: str | bytes) -> None:
         if len(text) > self.max_message:
@@ -164,7 +195,7 @@ class RosbridgeLink:
                 self.dropped += 1
                 log.warning("rosbridge %s: dropped a message on %s (%s)", self.url, message["topic"], e)
         elif op == "service_response" and isinstance(message.get("id"), str) and message["id"] in self._calls:
-            call = self._calls.pop(message["id"])
+            _, call = self._calls.pop(message["id"])
             if message.get("result", True) is False:
                 call.set_exception(LinkError(f"rosbridge {self.url}: service {message.get('service')} failed: "
                                              f"{message.get('values')}"))
@@ -198,16 +229,23 @@ class RosbridgeLink:
         or when `connection` is given and is no longer the one that is up."""
         return self._send({"op": "publish", "topic": topic, "msg": msg}, connection=connection)
 
-    def call_service(self, service: str, args: dict[str, Any], timeout: float) -> Any:
+    def wait_connected(self, timeout: float) -> bool:
+        """Wait up to `timeout` seconds for a connection to be up; whether one is."""
+        return self._connected.wait(timeout)
+
+    def call_service(self, service: str, args: dict[str, Any], timeout: float, connection: int | None = None) -> Any:
         """Call `service` and wait for its response's values; messages published before the response
-        have been handled when it returns (one connection keeps the order). LinkError when not
-        connected, when the service fails, or after `timeout` seconds without an answer."""
+        have been handled when it returns (one connection keeps the order). With `connection`, only over
+        that connection. CallLostError when not connected (or `connection` is no longer the one up) or when
+        the connection drops before the answer; LinkError when the service fails, or after `timeout`
+        seconds without an answer."""
         call_id = f"vwg_call_{next(self._call_ids)}"
         answer: Future[Any] = Future()
-        self._calls[call_id] = answer
+        self._calls[call_id] = (service, answer)
         try:
-            if not self._send({"op": "call_service", "id": call_id, "service": service, "args": args}):
-                raise LinkError(f"rosbridge {self.url}: cannot call {service}: not connected")
+            if not self._send({"op": "call_service", "id": call_id, "service": service, "args": args},
+                              connection=connection):
+                raise CallLostError(f"rosbridge {self.url}: cannot call {service}: not connected", sent=False)
             return answer.result(timeout)
         except FutureTimeout:
             raise LinkError(f"rosbridge {self.url}: service {service} did not answer within {timeout:g} s") from None
@@ -222,8 +260,8 @@ class RosbridgeLink:
 
         async def send() -> bool:
             # Checked on the link's thread, which alone changes connections: no new one can come
-            # between this check and the send.
-            if connection is not None and (connection != self.connection or self._ws is not ws):
+            # between this check and the send, and a connection that has dropped sends nothing more.
+            if self._ws is not ws or (connection is not None and connection != self.connection):
                 return False
             await ws.send(text)
             return True

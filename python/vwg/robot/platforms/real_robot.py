@@ -18,6 +18,14 @@ Safety, in this order of precedence:
   ``flap_limit.drops`` times within ``flap_limit.seconds``) stops the run: ``advance`` raises
   LinkError after a last stop to every robot;
 - ``close()`` (the end of any run) sends a stop to every robot before the link closes.
+
+In lockstep (a simulated robot whose clock moves only when vwg steps it) a drop is a fault and counts
+towards the flap limit as above, but it stops nothing and halts no plan: the robot's clock stands still
+with the link, so the odometry vwg has is still the robot's. The frames wait for the link to come back;
+the velocities of the tick under way and its step are then sent again over the new connection, the step
+with the same id, so a robot that had stepped already (its answer lost with the connection) does not
+step twice. A robot whose step service does not echo step ids ends the run instead when a step was in
+flight: vwg cannot tell whether it stepped.
 """
 
 from __future__ import annotations
@@ -27,6 +35,7 @@ import logging
 import math
 import threading
 import time
+import uuid
 from collections import deque
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -34,7 +43,7 @@ from typing import Any
 
 import vwg._core as _core
 from vwg.robot.links.ros_messages import LaserScan, Odometry, pose_compose, pose_relative
-from vwg.robot.links.rosbridge_client import LinkError
+from vwg.robot.links.rosbridge_client import CallLostError, LinkError
 from vwg.robot.platform import Option
 
 __all__ = ["LINK_OPTIONS", "Fault", "FlapLimit", "RealRobotPlatform"]
@@ -128,6 +137,9 @@ class RealRobotPlatform(_core.RobotPlatform):
         self.lockstep = lockstep
         self._clock = 0.0    # lockstep: the robot's simulated time
         self._pending = 0.0  # lockstep: time asked for that is less than a control period
+        self._steps = 0      # lockstep: steps asked for; step n's id is "<run>:<n>"
+        self._run_id = uuid.uuid4().hex[:12]
+        self._repeatable = False  # lockstep: the robot echoed a step id (a step sent again is not done twice)
         self.faults: list[Fault] = []
         self._lock = threading.Lock()
         self._robots: dict[int, _Robot] = {}
@@ -187,8 +199,10 @@ class RealRobotPlatform(_core.RobotPlatform):
             down_at, self._down_at = self._down_at, None
             if down_at is not None and not self._failing:  # once the run has ended on the link, not its news
                 gap = time.monotonic() - down_at
-                self._fault_locked(0, f"link back after {gap:.2f} s (connection {connection}); "
-                                      "robots wait for odometry over it", level=logging.WARNING)
+                then = ("the robot's clock stood still meanwhile" if self.lockstep
+                        else "robots wait for odometry over it")
+                self._fault_locked(0, f"link back after {gap:.2f} s (connection {connection}); {then}",
+                                   level=logging.WARNING)
 
     def link_down(self, reason: str) -> None:
         """The link's connection dropped (called by the subclass from its own thread, which must not
@@ -204,8 +218,9 @@ class RealRobotPlatform(_core.RobotPlatform):
                 self._drops.popleft()
             self._fault_locked(0, f"link lost ({reason}); drop {len(self._drops)} within "
                                   f"{self.flap_limit.seconds:g} s")
-            for r in self._robots.values():
-                r.follower.halt()  # its plan goes on from rest once odometry comes over a new connection
+            if not self.lockstep:  # in lockstep the robot cannot move until it is stepped again
+                for r in self._robots.values():
+                    r.follower.halt()  # its plan goes on from rest once odometry comes over a new connection
             limit = self.flap_limit
             if len(self._drops) > limit.drops and self._flapping is None:
                 self._flapping = (f"the link dropped {len(self._drops)} times within {limit.seconds:g} s "
@@ -220,6 +235,10 @@ class RealRobotPlatform(_core.RobotPlatform):
 
     def link_failure(self) -> str | None:  # pragma: no cover - abstract
         raise NotImplementedError
+
+    def wait_link(self, timeout: float) -> bool:
+        """Wait up to `timeout` seconds for the link to be up; whether it is (a link that does not say: up)."""
+        return True
 
     def close_link(self) -> None:  # pragma: no cover - abstract
         raise NotImplementedError
@@ -273,10 +292,43 @@ class RealRobotPlatform(_core.RobotPlatform):
         return _core.quantize_pose(pose_compose(_core.quantize_pose(r.settings.start), local))
 
     # ---- lockstep -------------------------------------------------------------------------------------------------
-    def step_clock(self, seconds: float) -> None:  # pragma: no cover - abstract
-        """Lockstep: let the robot's simulated clock advance `seconds` (0: publish where it is) and
-        return once its odometry after the step has come; LinkError when it does not answer."""
+    def step_clock(self, seconds: float, step_id: str, connection: int | None) -> bool:  # pragma: no cover
+        """Lockstep: let the robot's simulated clock advance `seconds` (0: publish where it is), the step
+        called `step_id`, over the link's connection `connection` (None: whichever is up), and return once
+        its odometry after the step has come: whether the robot echoed the id (it does not do a step whose
+        id it has done again). CallLostError when the link was down or dropped before the answer; LinkError
+        when the robot does not answer or refuses."""
         raise NotImplementedError
+
+    def _step(self, sends: list[tuple[int, float, float, int | None]], seconds: float) -> None:
+        """Lockstep: the velocities of a tick, then the step of the robot's clock, over one connection; when
+        the link is down or drops before the answer, both again over the next connection (the same
+        velocities, the same step id), as often as the link comes back within its reconnect time and flap
+        limit. LinkError when it does not, or when a step was in flight and the robot takes no step ids."""
+        self._steps += 1
+        step_id = f"{self._run_id}:{self._steps}"
+        while True:
+            self._raise_if_failed()
+            while not self.wait_link(self.control_period):
+                self._raise_if_failed()
+            connection = self._connection or None
+            for rid, v, w, _ in sends:
+                self.send_velocity(rid, v, w, connection=connection)  # lost with the connection: the step is too
+            try:
+                self._repeatable = self.step_clock(seconds, step_id, connection)
+                return
+            except CallLostError as e:
+                if not e.sent:  # the step never went out: the link is down, or about to say so
+                    log.debug("%s: lockstep: step %d not sent (%s); again once the link is up", self.name(),
+                              self._steps, e)
+                    time.sleep(self.control_period)
+                    continue
+                if not self._repeatable and seconds > 0:  # (a step of 0 s moves no clock: it can always go again)
+                    raise LinkError(f"{e}; the robot's step service echoes no step_id, so vwg cannot tell "
+                                    f"whether it stepped: step {self._steps} is not sent again") from None
+                self._fault(0, f"lockstep: the link dropped before step {self._steps} was answered; "
+                               "its velocities and the step go again over the next connection (the robot "
+                               "does a step once)", level=logging.WARNING)
 
     def _advance_lockstep(self, seconds: float) -> None:
         # Whole control periods, the remainder carried over: the simulator's own arithmetic, so
@@ -289,9 +341,8 @@ class RealRobotPlatform(_core.RobotPlatform):
             self._raise_if_failed()
             with self._lock:
                 sends = [self._next_velocity(rid, r, period) for rid, r in self._robots.items()]
-            self._send_all(sends)
             try:
-                self.step_clock(period)
+                self._step(sends, period)
             except LinkError as e:
                 self._fail(str(e))
                 raise
@@ -303,8 +354,9 @@ class RealRobotPlatform(_core.RobotPlatform):
     def _next_velocity(self, rid: int, r: _Robot, dt: float) -> tuple[int, float, float, int | None]:
         """(robot, speed, turn rate, the connection it may go over): a stop while the link is down or
         the robot has had no odometry over its current connection (a reconnection), else the
-        follower's next."""
-        if self._down_at is not None or r.odom_connection != self._connection:
+        follower's next. In lockstep always the follower's next: the robot has not moved since its last
+        odometry, whichever connection brought it (and the tick waits for the link)."""
+        if not self.lockstep and (self._down_at is not None or r.odom_connection != self._connection):
             r.follower.halt()
             return rid, 0.0, 0.0, None
         v, w = r.follower.tick(self._map_pose(r), dt)
@@ -382,9 +434,9 @@ class RealRobotPlatform(_core.RobotPlatform):
                 sends.append(self._next_velocity(rid, r, dt))
         self._send_all(sends)
 
-    def _fault(self, robot: int, what: str) -> None:
+    def _fault(self, robot: int, what: str, level: int | None = None) -> None:
         with self._lock:
-            self._fault_locked(robot, what)
+            self._fault_locked(robot, what, level)
 
     def _fault_locked(self, robot: int, what: str, level: int | None = None) -> None:
         fault = Fault(time.monotonic() - self._t0, robot, what)

@@ -19,15 +19,22 @@ sensor_msgs/CompressedImage (type names in the ROS 1 spelling unless ``ros: 2``;
 read in both spellings).
 
 ``lockstep: SERVICE`` is for a robot that is itself simulated and advances its clock on request:
-each control tick publishes the velocities, then calls SERVICE with ``{"seconds": period}`` and
-waits (up to ``watchdog`` seconds) for its response, by which time the robot has published its
-odometry and scan after the step. With ``control_rate`` equal to the simulator's rate (100 Hz for
-its 0.01 s step), the frames are those of ``--platform sim`` bit for bit (noise off).
+each control tick publishes the velocities, then calls SERVICE with ``{"seconds": period, "step_id":
+"<run>:<n>"}`` and waits (up to ``watchdog`` seconds) for its response, by which time the robot has
+published its odometry and scan after the step. With ``control_rate`` equal to the simulator's rate
+(100 Hz for its 0.01 s step), the frames are those of ``--platform sim`` bit for bit (noise off).
+When the link drops before a step is answered, the velocities and the step go again over the next
+connection with the same ``step_id``: a service that has done that step already must not do it again
+but publish where the robot is and answer with the id (``{"time": t, "step_id": id}``), as the
+servers of vwg.testing do; vwg ends the run instead when the service's answers echo no ``step_id``.
+The link's keepalive waits for a pong as long as for a step (``watchdog``): a robot busy stepping is
+not a lost link (one that closes or crashes is seen at once).
 
 Every drop of the link and every reconnection is a fault in the run's summary, with its time; after
-a reconnection the robots are sent only stops until odometry has come over the new connection; a
-link that drops more than ``flap_limit.drops`` times within ``flap_limit.seconds`` ends the run
-(exit status 4), as one that stays away longer than ``reconnect`` seconds does.
+a reconnection the robots are sent only stops until odometry has come over the new connection (not in
+lockstep, where the robot has not moved: above); a link that drops more than ``flap_limit.drops`` times
+within ``flap_limit.seconds`` ends the run (exit status 4), as one that stays away longer than
+``reconnect`` seconds does.
 """
 
 from __future__ import annotations
@@ -114,7 +121,9 @@ class RosbridgePlatform(RealRobotPlatform):
                          flap_limit=flap_limit)
         # Each robot's latest camera image, decoded when its gCamera asks (sensor_msgs/CompressedImage).
         self.images = {r.id: _core.ReceivedImages() for r in robots if "camera" in r.sensors}
-        self.link = RosbridgeLink(url, on_message=self._on_message, on_state=self._on_link_state, reconnect=reconnect)
+        # In lockstep the robot's clock stands still until it is stepped: a pong may take as long as a step.
+        self.link = RosbridgeLink(url, on_message=self._on_message, on_state=self._on_link_state, reconnect=reconnect,
+                                  ping_timeout=watchdog if lockstep else None)
         self.link.connect()
         for rid, named in self.topics.items():
             self.link.advertise(named["cmd_vel"], self.types["cmd_vel"])
@@ -125,7 +134,7 @@ class RosbridgePlatform(RealRobotPlatform):
             if "camera" in sensors:
                 self.link.subscribe(named["camera"], self.types["camera"])
         if self.step_service:
-            self.step_clock(0.0)  # the robot says where it is before the first frame
+            self._step([], 0.0)  # the robot says where it is before the first frame
 
     def _on_message(self, topic: str, msg: Any) -> None:
         key, robot = self._by_topic.get(topic, ("", 0))
@@ -151,9 +160,15 @@ class RosbridgePlatform(RealRobotPlatform):
             return False
         return self.link.publish(topics["cmd_vel"], twist_message(speed, turn_rate), connection=connection)
 
-    def step_clock(self, seconds: float) -> None:
+    def step_clock(self, seconds: float, step_id: str, connection: int | None) -> bool:
         assert self.link is not None and self.step_service is not None
-        self.link.call_service(self.step_service, {"seconds": seconds}, timeout=self.watchdog)
+        values = self.link.call_service(self.step_service, {"seconds": seconds, "step_id": step_id},
+                                        timeout=self.watchdog, connection=connection)
+        return isinstance(values, dict) and values.get("step_id") == step_id
+
+    def wait_link(self, timeout: float) -> bool:
+        assert self.link is not None
+        return self.link.wait_connected(timeout)
 
     def link_failure(self) -> str | None:
         return self.link.failed if self.link is not None else None
