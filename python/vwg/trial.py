@@ -234,17 +234,10 @@ def _remember(grid: Any, radius: float, field_: AnyAngle) -> AnyAngle:
 
 
 def _map_point(grid: Any, x: float, y: float) -> tuple[float, float]:
-    """World (x, y) as a point of the grid in cell units, (row, col): cell (r, c) covers [r, r+1) × [c, c+1)."""
-    ox, oy, yaw = grid.origin
-    dx, dy = x - ox, y - oy
-    cos, sin = math.cos(yaw), math.sin(yaw)
-    return (-sin * dx + cos * dy) / grid.resolution, (cos * dx + sin * dy) / grid.resolution
-
-
-def _world_point(grid: Any, row: float, col: float) -> tuple[float, float]:
-    ox, oy, yaw = grid.origin
-    u, v = col * grid.resolution, row * grid.resolution
-    return ox + math.cos(yaw) * u - math.sin(yaw) * v, oy + math.sin(yaw) * u + math.cos(yaw) * v
+    """World (x, y) as a point of the grid in cell units, (row, col), as AnyAngle takes it (the grid's own
+    continuous coordinates, swapped)."""
+    u, v = grid.world_to_grid(x, y)
+    return v, u
 
 
 def any_angle_m(grid: Any, radius: float, start: tuple[float, float], goal: tuple[float, float],
@@ -261,7 +254,7 @@ def any_angle_way(grid: Any, radius: float, start: tuple[float, float],
                   goal: tuple[float, float]) -> list[tuple[float, float]]:
     """The points (world x, y) of that shortest way, from `start` to `goal` (empty: none)."""
     way = _any_angle(grid, radius).path(_map_point(grid, *start), _map_point(grid, *goal))
-    return [_world_point(grid, r, c) for r, c in way]
+    return [grid.grid_to_world(c, r) for r, c in way]
 
 
 def trial_world(trial: Trial) -> tuple[Any, dict[int, str], Any]:
@@ -383,12 +376,12 @@ def _add_obstacles(world: Any, goals: dict[int, str], count: int, rng: np.random
     # The box's corner reaches BOX_M/√2 from its centre; the robot must still fit at its start and arrive.
     keep_clear = BOX_M * math.sqrt(0.5) + robot.radius + 0.05
     placed = 0
+    ends = (_map_point(grid, *start), _map_point(grid, *goal))
     for k in range(count):
         current = OccupancyGrid(data, grid.resolution, grid.origin)
         yardstick = _any_angle(current, robot.radius)
-        ends = (_map_point(grid, *start), _map_point(grid, *goal))
-        way = any_angle_way(current, robot.radius, start, goal)
         before = yardstick.distance(*ends)
+        way = [grid.grid_to_world(c, r) for r, c in yardstick.path(*ends)]
         blocked = current.inflate(robot.radius)
         chosen = None
         for _ in range(ROUNDS):  # more places only when none of a round's would do: the same boxes otherwise

@@ -85,18 +85,14 @@ class AnyAngle:
         if not changed.size:
             out._graph = self._graph
             return out
-        # Old corners still corners with the same blocked cell: their new numbers.
-        width = self._pad.shape[1] + 1
-        old_key = (self.corners[:, 0] * width + self.corners[:, 1]) * 4 + (self._quadrant[:, 0] + 1) + \
-            (self._quadrant[:, 1] + 1) // 2
-        new_key = (out.corners[:, 0] * width + out.corners[:, 1]) * 4 + (out._quadrant[:, 0] + 1) + \
-            (out._quadrant[:, 1] + 1) // 2
+        # Old corners still corners with the same blocked cell: their new numbers (-1: gone).
+        old_key, new_key = self._corner_keys(), out._corner_keys()
         order = np.argsort(new_key)
-        place = np.searchsorted(new_key[order], old_key)
-        place = np.minimum(place, len(order) - 1) if len(order) else place
-        found = len(order) > 0
-        renumber = np.where(found & (new_key[order][place] == old_key), order[place], -1) if found else \
-            np.full(len(old_key), -1)
+        renumber = np.full(len(old_key), -1)
+        if len(order):
+            place = order[np.minimum(np.searchsorted(new_key, old_key, sorter=order), len(order) - 1)]
+            stays = new_key[place] == old_key
+            renumber[stays] = place[stays]
         graph = self._graph.tocoo()
         keep = graph.row < graph.col
         i, j = renumber[graph.row[keep]], renumber[graph.col[keep]]
@@ -122,6 +118,12 @@ class AnyAngle:
         return out
 
     # ---- the corners and their graph ---------------------------------------------------------------------------
+    def _corner_keys(self) -> np.ndarray:
+        """A number per corner naming its lattice point and its blocked cell (the same in any mask of this size)."""
+        width = self._pad.shape[1] + 1
+        quadrant = (self._quadrant[:, 0] + 1) + (self._quadrant[:, 1] + 1) // 2
+        return ((self.corners[:, 0] * width + self.corners[:, 1]) * 4 + quadrant).astype(np.int64)
+
     def _convex_corners(self) -> tuple[np.ndarray, np.ndarray]:
         """Lattice points (row, col) in map units with exactly one of the four cells round them blocked, and for
         each the (drow, dcol) sign of the blocked one."""
