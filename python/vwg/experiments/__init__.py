@@ -4,9 +4,10 @@
 
 writes ``OUT_DIR/report.md``: one section per test, each with its tables (a CSV of each beside the
 report), its plots (PNG) and the sentences its numbers make. Tests 1, 2, 4 and 5 are sweeps
-(vwg.sweep on Dask; their cells in ``OUT_DIR/sweeps/*.csv``); test 3 runs here, with a robot behind a
-rosbridge server on 127.0.0.1. Every number in the report comes from the run that writes it (unless
-``resume=True`` keeps the sweep cells of an earlier run, which the report then says).
+(vwg.sweep on Dask; their cells in ``OUT_DIR/sweeps/*.csv``); test 3's runs go to the same Dask cluster,
+each with its robot behind a rosbridge server of its own on 127.0.0.1. Every number in the report comes
+from the run that writes it (unless ``resume=True`` keeps the sweep cells of an earlier run, which the
+report then says).
 """
 
 from __future__ import annotations
@@ -112,6 +113,9 @@ def run_experiments(out_dir: str | Path, config: str | Config = "full", *, worke
     reused = 0
     rows: dict[str, list[dict[str, Any]]] = {}
     with dask_client(scheduler, workers) as client:
+        # Test 3's runs go to the cluster first: they are the longest, and run beside the sweeps' cells.
+        test3 = simulation.jobs(config.simulation, out / "records")
+        submitted = [client.submit(work, *args, pure=False) for _, work, args in test3]
         for name, spec in config.sweeps().items():
             csv_path = sweeps_dir / f"{name}.csv"
             if not resume:
@@ -130,12 +134,11 @@ def run_experiments(out_dir: str | Path, config: str | Config = "full", *, worke
                     kept.append(row)
             rows[name] = sorted(kept, key=lambda r: keys[(r["world"], r["planner"], r["seed"], r["frames_limit"],
                                                           r["params"])])  # the spec's order, not the finishing one
-    _say(progress, f"test simulation: {config.simulation.runs} runs, through rosbridge on 127.0.0.1 and on the "
-                   "simulator")
-    found: dict[str, list[dict[str, Any]]] = {kind: [] for kind in simulation.KINDS}
-    steps = simulation.runs(config.simulation, out / "records")
-    for kind, row in _progress(steps, config.simulation.runs, progress):
-        found[kind].append(row)
+        _say(progress, f"test simulation: {config.simulation.runs} runs ({len(test3)} tasks on Dask), through "
+                       "rosbridge on 127.0.0.1 and on the simulator")
+        found: dict[str, list[dict[str, Any]]] = {kind: [] for kind in simulation.KINDS}
+        for (kind, _, _), future in zip(test3, _progress(submitted, len(test3), progress), strict=True):
+            found[kind].append(future.result())  # in the jobs' order, however they finished
     sections = [
         evolution.section(rows["evolution"], out),
         devices.section(rows["devices"], out),
@@ -195,4 +198,4 @@ def _progress(items: Any, total: int, show: bool | None) -> Any:
     from tqdm import tqdm
 
     disable = not sys.stderr.isatty() if show is None else not show
-    return tqdm(items, total=total, desc="runs", unit="run", disable=disable)
+    return tqdm(items, total=total, desc="test 3", unit="task", disable=disable)

@@ -261,27 +261,31 @@ def localized(level: float, seed: int, frames: int, kind: str) -> dict[str, Any]
                 **_follow(case, world, goals, frames, lambda rid: case.sim.robot(rid).pose)}
 
 
-def runs(config: SimulationConfig, records: Path) -> Iterator[tuple[str, dict[str, Any]]]:
-    """Every run of the test as (kind, row), a kind of KINDS, as each finishes: "same" (the frame logs of the
-    simulator and the fake robot), "trajectories" (the three robots), "noise" (through rosbridge with odometry noise),
-    "localization" (on the simulator, odometry alone and particles)."""
+def jobs(config: SimulationConfig, records: Path) -> list[tuple[str, Callable[..., dict[str, Any]], tuple[Any, ...]]]:
+    """Every run of the test as (kind, function, its arguments), a kind of KINDS, in the report's order: "same"
+    (the frame logs of the simulator and the fake robot), "trajectories" (the three robots), "noise" (through
+    rosbridge with odometry noise), "localization" (on the simulator, odometry alone and particles). Each is
+    independent of the others (its servers on 127.0.0.1, on a port of its own), so they may run anywhere."""
     records.mkdir(parents=True, exist_ok=True)
     if config.compared:
         load_irsim()  # before any run: without IR-SIM the test stops at once, saying what to install
-    for seed in config.seeds:
-        yield "same", same_frames(seed, config.frames, records)
+    todo: list[tuple[str, Callable[..., dict[str, Any]], tuple[Any, ...]]] = []
+    todo += [("same", same_frames, (seed, config.frames, records)) for seed in config.seeds]
     seeds = config.seeds if config.trajectory_seeds is None else config.trajectory_seeds
     frames = config.frames if config.trajectory_frames is None else config.trajectory_frames
-    for level in config.trajectory_levels:
-        for seed in seeds:
-            yield "trajectories", trajectories(level, seed, frames)
-    for level in config.noise_levels:
-        for seed in config.noise_seeds:
-            yield "noise", drift(level, seed, config.noise_frames)
-    for level in config.noise_levels:
-        for seed in config.noise_seeds:
-            for kind in LOCALIZATIONS:
-                yield "localization", localized(level, seed, config.noise_frames, kind)
+    todo += [("trajectories", trajectories, (level, seed, frames))
+             for level in config.trajectory_levels for seed in seeds]
+    todo += [("noise", drift, (level, seed, config.noise_frames))
+             for level in config.noise_levels for seed in config.noise_seeds]
+    todo += [("localization", localized, (level, seed, config.noise_frames, kind))
+             for level in config.noise_levels for seed in config.noise_seeds for kind in LOCALIZATIONS]
+    return todo
+
+
+def runs(config: SimulationConfig, records: Path) -> Iterator[tuple[str, dict[str, Any]]]:
+    """Every run of jobs() here, one after another, as (kind, row)."""
+    for kind, work, args in jobs(config, records):
+        yield kind, work(*args)
 
 
 def section(found: dict[str, list[dict[str, Any]]], folder: Path) -> Section:
