@@ -304,3 +304,24 @@ def test_a_call_whose_connection_drops_raises_call_lost_at_once_and_a_step_id_do
         finally:
             link.close()
     assert fake.step_calls == 3  # the one refused while down never came
+
+
+def test_a_link_whose_state_callback_raises_ends_failed_not_silently_down():
+    # A platform waiting for a dropped link to come back polls `failed`: an error that ends the link's loop must
+    # show there (else the wait would never end), and the link is no longer connected.
+    def on_state(connected, detail):
+        if not connected:
+            raise RuntimeError("a callback's bug")
+
+    with FakeRosbridgeRobot(MAZE, lockstep=True) as fake:
+        link = RosbridgeLink(fake.url, on_message=lambda topic, msg: None, on_state=on_state, reconnect=10.0)
+        link.connect()
+        try:
+            fake.cut()
+            end = time.monotonic() + 10.0
+            while link.failed is None and time.monotonic() < end:
+                time.sleep(0.02)
+            assert link.failed is not None and "RuntimeError: a callback's bug" in link.failed
+            assert not link.connected
+        finally:
+            link.close()

@@ -110,6 +110,20 @@ class RosbridgeLink:
         return self._connected.is_set()
 
     async def _run(self) -> None:
+        # The link ends failed or closed, never silently: a platform waiting for it to come back polls
+        # ``failed``, so an error escaping the connection loop (a callback's, say) must end up there.
+        try:
+            await self._keep_connected()
+        except asyncio.CancelledError:
+            raise
+        except BaseException as e:
+            self.failed = self.failed or f"the link to {self.url} stopped: {type(e).__name__}: {e}"
+            log.exception("rosbridge %s: the link stopped", self.url)
+            raise
+        finally:
+            self._connected.clear()
+
+    async def _keep_connected(self) -> None:
         import websockets
 
         lost_at: float | None = None
