@@ -169,7 +169,7 @@ lint:
 stress: install
 	cd benchmarks && ../$(PY) bench_stress.py
 
-## The paper's five tests at full size (vwg experiments; 1,280 runs, under an hour on 2 cores), its report, CSVs and
+## The paper's five tests at full size (vwg experiments; 1,280 runs, about 35 min on 2 cores), its report, CSVs and
 ## pictures then copied to docs/experiments/ (commit them: readers see the numbers without running anything).
 experiments: install
 	rm -rf $(BUILD)/experiments
@@ -177,7 +177,7 @@ experiments: install
 	rm -rf docs/experiments && mkdir -p docs/experiments
 	cp -r $(BUILD)/experiments/report.md $(BUILD)/experiments/*.csv $(BUILD)/experiments/*.png $(BUILD)/experiments/sweeps docs/experiments/
 
-## The same at the quick size (111 runs, a few minutes), into build/experiments-quick.
+## The same at the quick size (111 runs, about 1.5 min on 2 cores), into build/experiments-quick.
 experiments-quick: install
 	rm -rf $(BUILD)/experiments-quick
 	$(PY) -m vwg.cli experiments $(BUILD)/experiments-quick --quick --progress

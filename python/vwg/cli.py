@@ -731,10 +731,10 @@ def build_parser() -> argparse.ArgumentParser:
 
     exp = sub.add_parser("experiments", help="the paper's five tests, measured, into a Markdown report",
                          description="Run the paper's five tests (§III.F) and write OUT_DIR/report.md with tables "
-                                     "(and their CSVs) and plots. The full size takes hours on 2 cores; --quick "
-                                     "takes a few minutes.")
+                                     "(and their CSVs) and plots. The full size takes about 35 minutes on 2 cores; "
+                                     "--quick about a minute and a half.")
     exp.add_argument("output", type=Path, metavar="OUT_DIR", help="the folder for the report, its tables and plots")
-    exp.add_argument("--quick", action="store_true", help="a small configuration (a few minutes)")
+    exp.add_argument("--quick", action="store_true", help="a small configuration (about 1.5 min on 2 cores)")
     exp.add_argument("--planner", action="append", type=_planner_name, metavar="NAME",
                      help=f"a decider test 1 compares, instead of its list (repeatable; registered: "
                           f"{_registered(deciders)})")

@@ -75,7 +75,7 @@ def _config(name: str, maps: list[str], planners: list[str], seeds: int, frames:
     )
 
 
-#: The sizes: ``full`` (every map and planner, 20 start/room pairs), ``quick`` (a few minutes),
+#: The sizes: ``full`` (every map and planner, 20 start/room pairs), ``quick`` (1.5 min on 2 cores),
 #: ``tiny`` (the tests': a minute).
 CONFIGS: dict[str, Config] = {
     "full": _config("full", ALL_MAPS, PLANNERS, 20, 3000, SimulationConfig([0, 1, 2, 3, 4], 1500,
