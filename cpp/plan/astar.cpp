@@ -64,6 +64,61 @@ void AStar::prepare(std::size_t padded_size) {
   expanded_ = 0;
 }
 
+// The search for one set of moves and one heuristic, each a constant here: the compiler drops the
+// branches on them, and the heuristic of a neighbour comes from the expanded cell's offset to the goal
+// (one division per expansion, not one per neighbour).
+template <bool Diagonal, bool CornerCutting, Heuristic H>
+bool AStar::run(const BlockedGrid& grid, std::int32_t source, std::int32_t target, Cell goal) {
+  const std::uint8_t* blocked = grid.padded().data();
+  const std::int32_t s = grid.stride();
+  const int goal_row = goal.row + 1, goal_col = goal.col + 1;  // padded
+  const std::uint16_t open = stamp_, closed = static_cast<std::uint16_t>(stamp_ + 1);
+
+  // v, reached from u at cost gv, is drow rows and dcol columns from the goal.
+  auto relax = [&](std::int32_t v, std::int32_t u, double gv, int drow, int dcol) {
+    std::uint16_t& mark = marks_[v];
+    if (mark == closed) return;  // consistent heuristics never reopen a closed cell
+    Node& nv = nodes_[v];
+    if (mark == open && gv >= nv.g) return;
+    mark = open;
+    nv.g = gv;
+    nv.parent = u;
+    // h is recomputed rather than stored: a smaller node keeps more of the map in cache.
+    push(gv + heuristic_distance(H, drow, dcol), v);
+  };
+
+  nodes_[source] = Node{0.0, -1};
+  marks_[source] = open;
+  push(heuristic_distance(H, source / s - goal_row, source % s - goal_col), source);
+  while (open_size_ > 0) {
+    const std::int32_t u = pop();
+    if (marks_[u] == closed) continue;  // a stale entry: u was closed through a shorter path
+    marks_[u] = closed;
+    ++expanded_;
+    if (u == target) return true;
+    const double gu = nodes_[u].g;
+    const int row = u / s, drow = row - goal_row, dcol = u - row * s - goal_col;
+    // The moves of moves_from(), in its order.
+    if (!blocked[u + 1]) relax(u + 1, u, gu + 1.0, drow, dcol + 1);
+    if (!blocked[u - 1]) relax(u - 1, u, gu + 1.0, drow, dcol - 1);
+    if (!blocked[u + s]) relax(u + s, u, gu + 1.0, drow + 1, dcol);
+    if (!blocked[u - s]) relax(u - s, u, gu + 1.0, drow - 1, dcol);
+    if constexpr (Diagonal) {
+      auto diagonal = [&](std::int32_t dr, std::int32_t dc, int rows, int cols) {
+        const std::int32_t v = u + dr + dc;
+        if (blocked[v]) return;
+        if (!CornerCutting && (blocked[u + dr] || blocked[u + dc])) return;
+        relax(v, u, gu + kDiagonalCost, drow + rows, dcol + cols);
+      };
+      diagonal(s, 1, 1, 1);
+      diagonal(s, -1, 1, -1);
+      diagonal(-s, 1, -1, 1);
+      diagonal(-s, -1, -1, -1);
+    }
+  }
+  return false;
+}
+
 GridPath AStar::search(const BlockedGrid& grid, Cell start, Cell goal, const GridSearchOptions& options) {
   validate(options);
   check_cell(grid, start, "start", true);
@@ -72,45 +127,19 @@ GridPath AStar::search(const BlockedGrid& grid, Cell start, Cell goal, const Gri
   if (grid.blocked(goal)) return result;
 
   prepare(grid.padded().size());
-  const std::uint16_t open = stamp_, closed = static_cast<std::uint16_t>(stamp_ + 1);
   const std::int32_t source = grid.index(start), target = grid.index(goal);
-  const std::int32_t stride = grid.stride();
-  const Heuristic heuristic = options.heuristic;
-  auto estimate = [&](std::int32_t node) {
-    return heuristic_distance(heuristic, node / stride - (goal.row + 1), node % stride - (goal.col + 1));
+  auto with = [&]<bool Diagonal, bool CornerCutting>() {
+    switch (options.heuristic) {
+      case Heuristic::Euclidean: return run<Diagonal, CornerCutting, Heuristic::Euclidean>(grid, source, target, goal);
+      case Heuristic::Octile: return run<Diagonal, CornerCutting, Heuristic::Octile>(grid, source, target, goal);
+      case Heuristic::Manhattan: return run<Diagonal, CornerCutting, Heuristic::Manhattan>(grid, source, target, goal);
+      case Heuristic::Zero: break;
+    }
+    return run<Diagonal, CornerCutting, Heuristic::Zero>(grid, source, target, goal);
   };
-
-  nodes_[source] = Node{0.0, -1};
-  marks_[source] = open;
-  push(estimate(source), source);
-
-  std::array<Step, 8> steps;
-  bool found = false;
-  while (open_size_ > 0) {
-    const std::int32_t u = pop();
-    if (marks_[u] == closed) continue;  // a stale entry: u was closed through a shorter path
-    marks_[u] = closed;
-    ++expanded_;
-    if (u == target) {
-      found = true;
-      break;
-    }
-    const double gu = nodes_[u].g;
-    const int count = moves_from(grid, u, options, steps);
-    for (int k = 0; k < count; ++k) {
-      const std::int32_t v = steps[k].to;
-      const double gv = gu + steps[k].cost;
-      std::uint16_t& mark = marks_[v];
-      if (mark == closed) continue;  // consistent heuristics never reopen a closed cell
-      Node& nv = nodes_[v];
-      if (mark == open && gv >= nv.g) continue;
-      mark = open;
-      nv.g = gv;
-      nv.parent = u;
-      // h is recomputed rather than stored: a smaller node keeps more of the map in cache.
-      push(gv + estimate(v), v);
-    }
-  }
+  const bool found = !options.diagonal              ? with.template operator()<false, false>()
+                     : options.corner_cutting ? with.template operator()<true, true>()
+                                              : with.template operator()<true, false>();
   if (!found) return result;
 
   for (std::int32_t n = target; n != -1; n = nodes_[n].parent) result.cells.push_back(grid.cell(n));

@@ -16,6 +16,7 @@
 #include <random>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "plan/dstar_lite_search.hpp"
@@ -178,6 +179,51 @@ TEST(AStar, OpenGridLengths) {
     EXPECT_NEAR(astar(g, {0, 0}, {9, 9}, opts(true, false, h)).length, 9.0 * kSqrt2, 1e-12);
     EXPECT_NEAR(astar(g, {0, 0}, {3, 9}, opts(true, false, h)).length, 3.0 * kSqrt2 + 6.0, 1e-12);
     EXPECT_NEAR(astar(g, {9, 0}, {0, 9}, opts(false, false, h)).length, 18.0, 1e-12);
+  }
+}
+
+TEST(AStar, AmongEqualFTheLastPushedGoesFirst) {
+  // On an open 4-connected grid with the Manhattan heuristic (exact there) every cell on a shortest way
+  // has the same f: taking the last pushed of equal f first dives along one way, so a search expands
+  // only the cells of the path it returns (a first-in-first-out order among the ties would expand the
+  // whole rectangle between start and goal).
+  const BlockedGrid g(60, 80);
+  AStar search;
+  for (const auto& [start, goal] : {std::pair{Cell{0, 0}, Cell{59, 79}}, std::pair{Cell{50, 3}, Cell{7, 60}}}) {
+    const GridPath p = search.search(g, start, goal, opts(false, false, Heuristic::Manhattan));
+    EXPECT_EQ(p.length, static_cast<double>(std::abs(goal.row - start.row) + std::abs(goal.col - start.col)));
+    EXPECT_EQ(search.expanded(), p.cells.size());
+  }
+}
+
+TEST(AStar, EqualsDijkstraOnRandomGridsForEveryHeuristic) {
+  // The open list's ring of buckets: the lengths of Dijkstra's algorithm (the zero heuristic) on grids
+  // with long detours, where f climbs far above its start and the ring goes round many times.
+  std::mt19937 rng(7);
+  AStar search;
+  for (int trial = 0; trial < 60; ++trial) {
+    BlockedGrid g(40 + trial % 7, 50 + trial % 5);
+    std::bernoulli_distribution wall(0.05 + 0.006 * trial);
+    for (int r = 0; r < g.rows(); ++r) {
+      for (int c = 0; c < g.cols(); ++c) {
+        if (wall(rng)) g.set_blocked({r, c}, true);
+      }
+    }
+    const Cell s{0, 0}, t{g.rows() - 1, g.cols() - 1};
+    g.set_blocked(s, false);
+    g.set_blocked(t, false);
+    for (const bool diagonal : {false, true}) {
+      const double truth = search.search(g, s, t, opts(diagonal, false, Heuristic::Zero)).length;
+      for (Heuristic h : {Heuristic::Euclidean, Heuristic::Octile, Heuristic::Manhattan}) {
+        if (diagonal && h == Heuristic::Manhattan) continue;
+        const double length = search.search(g, s, t, opts(diagonal, false, h)).length;
+        if (std::isinf(truth)) {
+          EXPECT_TRUE(std::isinf(length));
+        } else {
+          EXPECT_NEAR(length, truth, 1e-9) << "trial " << trial << " diagonal " << diagonal;
+        }
+      }
+    }
   }
 }
 

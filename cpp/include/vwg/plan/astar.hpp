@@ -51,6 +51,11 @@ class AStar {
 
   void prepare(std::size_t padded_size);
 
+  /// The search with its moves and heuristic as constants (search() picks one of these): whether it
+  /// reached `target`, its path then in nodes_' parents.
+  template <bool Diagonal, bool CornerCutting, Heuristic H>
+  bool run(const BlockedGrid& grid, std::int32_t source, std::int32_t target, Cell goal);
+
   std::vector<Node> nodes_;
   std::vector<std::uint16_t> marks_;  ///< stamp_: open, stamp_ + 1: closed, anything else: untouched
   std::array<std::vector<Entry>, 65> buckets_;
