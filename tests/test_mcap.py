@@ -13,6 +13,7 @@ import re
 import struct
 import subprocess
 import sys
+import time
 from collections import Counter, defaultdict
 from pathlib import Path
 
@@ -318,8 +319,15 @@ async def _foxglove_client(url: str, topic: str, want: int) -> tuple[dict, list[
     payloads: list[bytes] = []
     received: set[str] = set()
     subscribed: dict[int, str] = {}
+    # A deadline for the whole exchange, not only for each message: the server sends the run's time every frame,
+    # so a client that never gets `topic` would otherwise wait for ever.
+    deadline = time.monotonic() + 60.0
     async with websockets.connect(url, subprotocols=["foxglove.sdk.v1"]) as ws:
         while len(payloads) < want:
+            if time.monotonic() > deadline:
+                raise AssertionError(f"{len(payloads)} of {want} {topic} messages in 60 s; advertised: "
+                                     f"{sorted(c['topic'] for c in channels)}; subscribed: "
+                                     f"{sorted(subscribed.values())}; received: {sorted(received)}")
             message = await asyncio.wait_for(ws.recv(), 20)
             if isinstance(message, str):
                 d = json.loads(message)
