@@ -341,6 +341,15 @@ async def _foxglove_client(url: str, topic: str, want: int) -> tuple[dict, list[
                     if wanted:
                         await ws.send(json.dumps({"op": "subscribe", "subscriptions": [
                             {"id": c["id"] + 100, "channelId": c["id"]} for c in wanted]}))
+                elif d["op"] == "status" and (unknown := re.fullmatch(r"Unknown channel ID: (\d+)", d["message"])):
+                    # foxglove-sdk 0.30 advertises a channel made while a client is connected a moment before it
+                    # takes subscriptions to it: a subscribe sent at once is refused (seen in 4 of 25 runs under
+                    # load). Ask again, as a client that shows the topic must.
+                    channel = int(unknown.group(1))
+                    if channel + 100 in subscribed:
+                        await asyncio.sleep(0.05)
+                        await ws.send(json.dumps({"op": "subscribe", "subscriptions": [
+                            {"id": channel + 100, "channelId": channel}]}))
             elif message[0] == 1:  # message data: subscription id, log time, payload
                 sub, _ = struct.unpack_from("<IQ", message, 1)
                 received.add(subscribed[sub])
