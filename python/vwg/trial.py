@@ -240,6 +240,11 @@ def _map_point(grid: Any, x: float, y: float) -> tuple[float, float]:
     return v, u
 
 
+def _world_points(grid: Any, way: list[tuple[float, float]]) -> list[tuple[float, float]]:
+    """An AnyAngle way's points (row, col) as world (x, y): _map_point's inverse."""
+    return [grid.grid_to_world(c, r) for r, c in way]
+
+
 def any_angle_m(grid: Any, radius: float, start: tuple[float, float], goal: tuple[float, float],
                 tolerance: float = 0.0) -> float:
     """The shortest any-angle way in metres from `start` to within `tolerance` of `goal` on `grid` for a disc robot
@@ -253,8 +258,7 @@ def any_angle_m(grid: Any, radius: float, start: tuple[float, float], goal: tupl
 def any_angle_way(grid: Any, radius: float, start: tuple[float, float],
                   goal: tuple[float, float]) -> list[tuple[float, float]]:
     """The points (world x, y) of that shortest way, from `start` to `goal` (empty: none)."""
-    way = _any_angle(grid, radius).path(_map_point(grid, *start), _map_point(grid, *goal))
-    return [grid.grid_to_world(c, r) for r, c in way]
+    return _world_points(grid, _any_angle(grid, radius).path(_map_point(grid, *start), _map_point(grid, *goal)))
 
 
 def trial_world(trial: Trial) -> tuple[Any, dict[int, str], Any]:
@@ -381,7 +385,7 @@ def _add_obstacles(world: Any, goals: dict[int, str], count: int, rng: np.random
         current = OccupancyGrid(data, grid.resolution, grid.origin)
         yardstick = _any_angle(current, robot.radius)
         before = yardstick.distance(*ends)
-        way = [grid.grid_to_world(c, r) for r, c in yardstick.path(*ends)]
+        way = _world_points(grid, yardstick.path(*ends))
         blocked = current.inflate(robot.radius)
         chosen = None
         for _ in range(ROUNDS):  # more places only when none of a round's would do: the same boxes otherwise
