@@ -1,6 +1,7 @@
 """Grid A* against a peer: vwg.plan.astar and pyastar2d (a C++ A* with a Python face) on the same
-queries — the MovingAI benchmark maps and their scenarios — each called as a user calls it (a numpy
-map in, a path out), in the same process.
+queries — the MovingAI benchmark maps and their scenarios, and held-out mazes and city blocks
+(tests/data/heldout, made by heldout_maps.py: the kinds of map the issue's figures came from, with optima
+from SciPy's Dijkstra) — each called as a user calls it (a numpy map in, a path out), in the same process.
 
     python benchmarks/bench_astar_peer.py [--quick]  writes benchmarks/results/<machine>/bench_astar_peer.json
 
@@ -28,9 +29,10 @@ from tqdm import tqdm
 import vwg
 
 ROOT = Path(__file__).resolve().parents[1]
-DATA = ROOT / "tests" / "data" / "movingai"
+DATA = ROOT / "tests" / "data"
 RESULTS = Path(__file__).resolve().parent / "results" / "bench_astar_peer.json"
-MAPS = ("random512-10-0.map", "8room_000.map", "den312d.map", "arena.map")
+MAPS = ("movingai/random512-10-0.map", "movingai/8room_000.map", "movingai/den312d.map", "movingai/arena.map",
+        "heldout/maze-c2.map", "heldout/maze-c8.map", "heldout/city-a.map", "heldout/city-b.map")
 
 
 def queries(name: str) -> tuple[np.ndarray, list[tuple[tuple[int, int], tuple[int, int]]], list[float]]:
@@ -94,7 +96,8 @@ def main() -> int:
         dstar = min(timed(dstar_once, qs) for _ in range(3))
         ours8 = min(timed(ours8_once, qs) for _ in range(3))
         peer8 = min(timed(peer8_once, qs) for _ in range(3))
-        rows.append({"map": name, "cells": int(blocked.size), "queries": len(qs), "vwg_ms": ours / len(qs) * 1e3,
+        rows.append({"map": Path(name).name, "kind": Path(name).parent.name, "cells": int(blocked.size),
+                     "queries": len(qs), "vwg_ms": ours / len(qs) * 1e3,
                      "pyastar2d_ms": peer / len(qs) * 1e3, "speed_ratio": peer / ours,
                      "dstar_first_plan_ms": dstar / len(qs) * 1e3, "dstar_speed_ratio": peer / dstar,
                      "vwg_8_euclidean_ms": ours8 / len(qs) * 1e3, "pyastar2d_8_ms": peer8 / len(qs) * 1e3,

@@ -18,6 +18,8 @@ import vwg
 
 SQRT2 = math.sqrt(2.0)
 MOVINGAI = Path(__file__).resolve().parent / "data" / "movingai"
+# Mazes and city blocks made by benchmarks/heldout_maps.py, their optimal lengths from SciPy's Dijkstra.
+HELDOUT = Path(__file__).resolve().parent / "data" / "heldout"
 
 
 def grid(*rows: str) -> np.ndarray:
@@ -25,17 +27,17 @@ def grid(*rows: str) -> np.ndarray:
     return np.array([[ch == "#" for ch in row] for row in rows], dtype=bool)
 
 
-def read_map(name: str) -> np.ndarray:
-    lines = (MOVINGAI / f"{name}.map").read_text().splitlines()
+def read_map(name: str, folder: Path = MOVINGAI) -> np.ndarray:
+    lines = (folder / f"{name}.map").read_text().splitlines()
     height, width = int(lines[1].split()[1]), int(lines[2].split()[1])
     rows = lines[4:4 + height]
     assert all(len(r) == width for r in rows)
     return np.array([[ch not in ".GS" for ch in r] for r in rows], dtype=bool)
 
 
-def read_scenarios(name: str) -> list[tuple[tuple[int, int], tuple[int, int], float]]:
+def read_scenarios(name: str, folder: Path = MOVINGAI) -> list[tuple[tuple[int, int], tuple[int, int], float]]:
     out = []
-    for line in (MOVINGAI / f"{name}.map.scen").read_text().splitlines()[1:]:
+    for line in (folder / f"{name}.map.scen").read_text().splitlines()[1:]:
         f = line.split()
         if f:
             sx, sy, gx, gy = (int(v) for v in f[4:8])
@@ -128,6 +130,18 @@ def test_astar_movingai_512_maps_sampled(name):
         for heuristic in ("octile", "euclidean"):
             _, length = vwg.plan.astar(blocked, start, goal, heuristic=heuristic)
             assert length == pytest.approx(optimal, rel=1e-4, abs=1e-4)
+
+
+@pytest.mark.parametrize("name", ["maze-c2", "maze-c8", "city-a", "city-b"])
+def test_planners_match_dijkstra_on_the_held_out_mazes_and_city_blocks(name):
+    # 150 queries a map, the optima from SciPy's Dijkstra on the same graph (8 decimals in the file).
+    blocked = read_map(name, HELDOUT)
+    for i, (start, goal, optimal) in enumerate(read_scenarios(name, HELDOUT)):
+        path, length = vwg.plan.astar(blocked, start, goal)
+        assert length == pytest.approx(optimal, abs=1e-6), (name, i)
+        assert vwg.plan.jps(blocked, start, goal)[1] == pytest.approx(optimal, abs=1e-6), (name, i)
+        if i % 15 == 0:
+            assert check_legal(blocked, path, start, goal) == pytest.approx(length, abs=1e-9)
 
 
 @pytest.mark.parametrize("name", ["arena", "den312d", "8room_000"])

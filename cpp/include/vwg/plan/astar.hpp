@@ -5,6 +5,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "vwg/plan/grid_graph.hpp"
@@ -43,8 +44,26 @@ class AStar {
   // The open list is a radix heap (Ahuja, Mehlhorn, Orlin & Tarjan 1990): with a consistent
   // heuristic the keys A* pops never decrease, and for such monotone keys a radix heap pops in the
   // same order as a binary heap, faster: searches on the MovingAI 512×512 maps took about half
-  // the time of a 4-ary heap with decrease-key. Bucket 0 holds keys equal to the last popped key;
-  // bucket i > 0 those whose highest bit differing from it is bit i - 1.
+  // the time of a 4-ary heap with decrease-key. Its digits are 6 bits wide, not 1: bucket 0 holds
+  // keys equal to the last popped key, bucket 1 + 64 L + d those whose highest 6-bit digit that
+  // differs from it is digit L, where theirs is d. Buckets in index order hold ever larger keys,
+  // and an entry moves down a whole digit at a time: on 512 × 512 city and maze maps a third of
+  // the moves of binary buckets, and 25 % fewer instructions per expansion.
+  static constexpr int kDigitBits = 6, kDigits = 1 << kDigitBits, kLevels = (64 + kDigitBits - 1) / kDigitBits;
+  static constexpr int kBuckets = 1 + kLevels * kDigits;
+
+  /// A bucket's entries: a plain growable array (std::vector's push_back kept its end in memory
+  /// through the loop that spreads a bucket, which cost more than the moves).
+  struct Bucket {
+    std::unique_ptr<Entry[]> data;
+    std::uint32_t size = 0, capacity = 0;
+    void push(const Entry& e) {
+      if (size == capacity) [[unlikely]] grow();
+      data[size++] = e;
+    }
+    void grow();
+  };
+
   void push(double f, std::int32_t node);
   std::int32_t pop();
   int bucket_of(std::uint64_t key) const;
@@ -58,8 +77,9 @@ class AStar {
 
   std::vector<Node> nodes_;
   std::vector<std::uint16_t> marks_;  ///< stamp_: open, stamp_ + 1: closed, anything else: untouched
-  std::array<std::vector<Entry>, 65> buckets_;
-  std::uint64_t occupied_ = 0;  ///< bit i - 1 set when bucket i > 0 holds entries: finds the first in one instruction
+  std::array<Bucket, kBuckets> buckets_;
+  /// Bit b set when bucket b may hold entries (bucket 0's bit is not looked at): finds the first in a few words.
+  std::array<std::uint64_t, (kBuckets + 63) / 64> occupied_{};
   std::uint64_t last_key_ = 0;
   std::size_t open_size_ = 0;
   std::uint16_t stamp_ = 0;
