@@ -1,7 +1,7 @@
 """Grid A* against a peer: vwg.plan.astar and pyastar2d (a C++ A* with a Python face) on the same
 queries — the MovingAI benchmark maps and their scenarios, and held-out mazes and city blocks
-(tests/data/heldout, made by heldout_maps.py: the kinds of map the issue's figures came from, with optima
-from SciPy's Dijkstra) — each called as a user calls it (a numpy map in, a path out), in the same process.
+(tests/data/heldout, made by heldout_maps.py: the kinds of map of MovingAI's maze and street sets, with
+optima from SciPy's Dijkstra) — each called as a user calls it (a numpy map in, a path out), in the same process.
 
     python benchmarks/bench_astar_peer.py [--quick]  writes benchmarks/results/<machine>/bench_astar_peer.json
 

@@ -5,8 +5,8 @@ format, with scenarios whose optimal lengths come from a second method (SciPy's 
     python benchmarks/heldout_maps.py [OUT]   writes OUT/<name>.map and OUT/<name>.map.scen
                                               (OUT: tests/data/heldout; the files are committed)
 
-The MovingAI benchmark's maze512-* and street maps (Berlin_0_512, ...) are the kinds the issue's
-figures were taken on; they are not in ../shared/data, so these stand in for them, made from a seed:
+The MovingAI benchmark's maze512-* and street maps (Berlin_0_512, ...) are not in the repository;
+these stand in for them, made from a seed:
 - maze-c2, maze-c8: a depth-first maze with corridors and walls 2 (8) cells wide;
 - city-a, city-b: avenues cut by recursive division, streets between blocks of buildings with
   alleys, courtyards and parks, two diagonal boulevards.
