@@ -206,3 +206,30 @@ def test_the_3d_overview_draws_people_where_they_start():
     changed = np.argwhere((alone != with_one).any(axis=2))
     # A cylinder of 0.25 m: some hundreds of pixels, all in one place (a box of at most 80 px a side).
     assert len(changed) > 200 and np.ptp(changed[:, 0]) < 80 and np.ptp(changed[:, 1]) < 80
+
+
+def test_a_person_with_no_way_to_its_goals_stands_and_tries_again_after_give_up():
+    # Both waypoints are in a box of walls 1.6 m square in the middle room: no way in. A person then stands `give_up`
+    # (3 s: 30 frames of 0.1 s) before it looks for a way to its next goal, rather than search the map every frame.
+    # Its first eSocial comes in frame 2 (frame 1's θ puts it on the simulator): legs begun at frames 2, 32 and 62
+    # (worked out from give_up and dt), not one a frame.
+    world = vwg.robot.load_robot_world("office")
+    grid = world.grid.copy()
+    (r0, c0), (r1, c1) = grid.world_to_cell(10.2, 10.6), grid.world_to_cell(11.8, 12.2)
+    lo_r, hi_r, lo_c, hi_c = min(r0, r1), max(r0, r1), min(c0, c1), max(c0, c1)
+    assert not grid.blocked()[lo_r:hi_r + 1, lo_c:hi_c + 1].any()  # free floor before the box
+    across, along = slice(lo_c, hi_c + 1), slice(lo_r, hi_r + 1)  # its walls, two cells (0.1 m) thick
+    for rows, cols in ((slice(lo_r, lo_r + 2), across), (slice(hi_r - 1, hi_r + 1), across),
+                       (along, slice(lo_c, lo_c + 2)), (along, slice(hi_c - 1, hi_c + 1))):
+        grid.data[rows, cols] = 100
+    walker = Person(1, (4.0, 9.0), ((11.0, 11.4), (10.8, 11.2)), loop=True)
+    with CaseStudy(dataclasses.replace(world, grid=grid, people=[walker]), "astar", threads=1) as run:
+        run.run(31)
+        assert person(run, 1)["leg"] == 1 and person(run, 1)["rest"] > 0
+        run.run(30)
+        assert person(run, 1)["leg"] == 2
+        run.run(1)
+        assert person(run, 1)["leg"] == 3
+        p = person(run, 1)
+        # It walked nowhere (6 s at 1 m/s would have taken it 6 m), though the robots near its start push it a little.
+        assert math.hypot(p["x"] - 4.0, p["y"] - 9.0) < 1.0

@@ -104,6 +104,9 @@ Schema person_attributes() {
       spec("leg", ValueKind::Int, Datum(0)),  // legs begun; -1: a walk that does not loop has ended
       spec("way", ValueKind::Blob, Datum(points_blob({}))),  // the points of this leg's way still ahead
       spec("stuck", ValueKind::Real, Datum(0.0)),  // seconds it has been all but stopped on this way
+      // Seconds it stands before it looks for a way again, after it found none to its goal (a goal walled off,
+      // or the person shut in): searching every frame would cost a whole-map search a frame.
+      spec("rest", ValueKind::Real, Datum(0.0)),
   };
   return s;
 }
@@ -176,7 +179,9 @@ void PersonBehavior::evolve(ActorState& self, const EventView& e, const Evolutio
   self.set_real(kStuck, stuck);
   const auto goals = self.get_blob(kGoals)->view<double>();
   const std::size_t n = goals.size() / 2;
-  if (ahead.empty() && leg >= 0 && n > 0) {
+  double rest = self.get_real(kRest);
+  if (rest > 0.0) rest = rest - dt_ > 1e-9 ? rest - dt_ : 0.0;  // (no retry a frame late for a rounding)
+  if (ahead.empty() && leg >= 0 && n > 0 && rest == 0.0) {
     std::size_t k;
     if (self.get_bool(kWander)) {
       Rng rng(derive_seed(ctx.seed, 0x77616C6BULL, static_cast<std::uint64_t>(self.get_int(kPersonId)) << 32 | static_cast<std::uint64_t>(leg)));
@@ -191,8 +196,10 @@ void PersonBehavior::evolve(ActorState& self, const EventView& e, const Evolutio
     } else {
       ++leg;
       ahead = route(x, y, goals[2 * k], goals[2 * k + 1]);
+      if (ahead.empty()) rest = settings_.give_up;  // no way there: it stands, then tries its next goal
     }
   }
+  if (rest != self.get_real(kRest)) self.set_real(kRest, rest);
   // Toward the farthest point of the way within 2 m that the person sees: a disc of its radius goes there
   // straight without touching a wall (round a door's frame, not into it).
   double ex = 0.0, ey = 0.0;

@@ -1681,7 +1681,7 @@ class SocialForceSettings:
       reach = 3.0: metres: others and walls farther than this are left out
       max_speed = 1.3: the fastest a person goes, as a multiple of its walking speed
       arrive = 0.4: metres: a point of the way is passed this close
-      give_up = 3.0: seconds all but stopped before a person leaves its way for its next goal
+      give_up = 3.0: seconds all but stopped before a person leaves its way for its next goal, and seconds it stands after finding no way to a goal before it tries the next
     """
     __hash__: typing.ClassVar[None] = None
     @staticmethod
@@ -1730,7 +1730,7 @@ class SocialForceSettings:
     @property
     def give_up(self) -> float:
         """
-        seconds all but stopped before a person leaves its way for its next goal (float)
+        seconds all but stopped before a person leaves its way for its next goal, and seconds it stands after finding no way to a goal before it tries the next (float)
         """
     @give_up.setter
     def give_up(self, arg1: float) -> None:

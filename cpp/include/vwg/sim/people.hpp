@@ -47,7 +47,8 @@ struct SocialForceSettings {
   double reach = 3.0;           ///< metres: others and walls farther than this are left out
   double max_speed = 1.3;       ///< the fastest a person goes, as a multiple of its walking speed
   double arrive = 0.4;          ///< metres: a point of the way is passed this close
-  double give_up = 3.0;         ///< seconds all but stopped (under a tenth of its speed) before a person walks on elsewhere
+  double give_up = 3.0;         ///< seconds all but stopped (under a tenth of its speed) before a person walks on elsewhere; and
+                                ///< seconds it stands after finding no way to a goal before it tries its next
 };
 
 template <class S, class F>
@@ -64,7 +65,9 @@ void visit_settings(S& s, F&& field) {
   field("reach", s.reach, "metres: others and walls farther than this are left out");
   field("max_speed", s.max_speed, "the fastest a person goes, as a multiple of its walking speed");
   field("arrive", s.arrive, "metres: a point of the way is passed this close");
-  field("give_up", s.give_up, "seconds all but stopped before a person leaves its way for its next goal");
+  field("give_up", s.give_up,
+        "seconds all but stopped before a person leaves its way for its next goal, and seconds it stands after finding "
+        "no way to a goal before it tries the next");
 }
 
 /// Throws SchemaError naming `owner.field` for a value that is not finite and > 0 (max_speed: >= 1).
@@ -86,7 +89,7 @@ Vec repulsion(const PhysicsWorld::Person& person, std::span<const Disc> discs, c
 
 /// The Person actor type's attributes (register it with them).
 Schema person_attributes();
-enum PersonAttr : std::size_t { kPersonId, kPx, kPy, kPvx, kPvy, kPradius, kPspeed, kGoals, kLoop, kWander, kLeg, kWay, kStuck };
+enum PersonAttr : std::size_t { kPersonId, kPx, kPy, kPvx, kPvy, kPradius, kPspeed, kGoals, kLoop, kWander, kLeg, kWay, kStuck, kRest };
 
 /// λ and θ of Person (see the top of this file). `map` is the world's true map (people know their building).
 class PersonBehavior final : public ActorBehavior {
