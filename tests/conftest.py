@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import heapq
 import math
+import signal
 import sys
 from pathlib import Path
 
@@ -16,6 +17,12 @@ import vwg
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+# A suite started in the background by a shell without job control (`make test &` in a script) inherits SIGINT
+# ignored, as POSIX has it, and so would every server a test starts: none would stop on the Ctrl-C the tests send
+# it. Python's own handler is taken back here; a handled signal is reset to the default in a child.
+if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+    signal.signal(signal.SIGINT, signal.default_int_handler)
 
 
 class Counter(vwg.Actor):
