@@ -138,7 +138,7 @@ ObstacleBits& ARobot::bits_of(std::int64_t robot) {
   } last;
   if (last.owner == serial_ && last.robot == robot) return *last.bits;
   const std::lock_guard<std::mutex> lock(bits_mutex_);
-  last = {serial_, robot, &bits_[robot]};
+  last = {serial_, robot, &bits_.try_emplace(robot, robot).first->second};
   return *last.bits;
 }
 

@@ -193,7 +193,8 @@ void GridDecider::load_state(StateReader& in) {
   if (const std::string saved = in.text(); saved != name()) in.fail("saved by the decider " + saved + ", not " + name());
   std::map<std::int64_t, RobotState> robots;
   for (std::size_t n = in.count(1, "robots"); n > 0; --n) {
-    RobotState& s = robots[in.i64()];
+    const std::int64_t robot = in.i64();
+    RobotState& s = robots.try_emplace(robot, robot).first->second;
     s.map.load(in);
     if (in.boolean()) s.dstar.emplace(plan::DStarLite::load(in));
     const std::int64_t row = in.i64(), col = in.i64();
@@ -208,7 +209,7 @@ void GridDecider::load_state(StateReader& in) {
 
 GridDecider::RobotState& GridDecider::state_of(std::int64_t robot) {
   const std::lock_guard<std::mutex> lock(mutex_);
-  return robots_[robot];
+  return robots_.try_emplace(robot, robot).first->second;
 }
 
 plan::GridPath GridDecider::search(RobotState& s, geometry::Cell start, geometry::Cell goal) {
@@ -320,14 +321,17 @@ void OmplDecider::save_state(StateWriter& out) const {
 void OmplDecider::load_state(StateReader& in) {
   if (const std::string saved = in.text(); saved != planner_) in.fail("saved by the decider " + saved + ", not " + planner_);
   std::map<std::int64_t, PlanningMap> maps;
-  for (std::size_t n = in.count(1, "robots"); n > 0; --n) maps[in.i64()].load(in);
+  for (std::size_t n = in.count(1, "robots"); n > 0; --n) {
+    const std::int64_t robot = in.i64();
+    maps.try_emplace(robot, robot).first->second.load(in);
+  }
   in.end();
   maps_ = std::move(maps);
 }
 
 Decision OmplDecider::decide(const DecisionInput& in) {
   const geometry::MapGeometry& g = *in.geometry;
-  PlanningMap& m = maps_[in.robot];
+  PlanningMap& m = maps_.try_emplace(in.robot, in.robot).first->second;
   const bool changed = m.update(*in.map, g, in.radius);
   Decision d;
   const std::size_t n = in.path.size() / 2;

@@ -108,6 +108,7 @@ bool PlanningMap::start_from_original(const Blob& map, const geometry::MapGeomet
   });
   if (original == nullptr) return false;
   PlanningMap copy = *original;  // all or nothing: a copy that fails leaves this map as it was
+  copy.looks_ = looks_;          // this robot's count (reshare_phase), not the original's
   *this = std::move(copy);
   return true;
 }

@@ -144,6 +144,7 @@ void ObstacleBits::sync(const Blob& map, const geometry::MapGeometry& g) {
     scan(cells, g);
   } else {
     ObstacleBits copy = *original;  // all or nothing (see PlanningMap::start_from_original)
+    copy.edits_ = edits_;           // this robot's count (reshare_phase), not the original's
     *this = std::move(copy);
     // The cells this copy changed.
     for_each_changed_cell(cells, map.original_view<std::int16_t>(), [&](std::size_t i) {

@@ -215,6 +215,54 @@ TEST(PlanningMap, GridsGiveBackThePagesOfWhatHasGone) {
   EXPECT_EQ(held()[2], 0);
 }
 
+TEST(PlanningMap, EachRobotGivesBackItsPagesInAFrameOfItsOwn) {
+  // A robot's looks are counted from reshare_phase(robot), its id mod 16: robot 5 gives its grids' pages back at
+  // its 11th look at a new revision (5 + 11 = 16), robot 16 at its 16th, robot -3 (-3 mod 16 = 13) at its 3rd. The
+  // first look, from the shared grids, counts and keeps the count.
+  const int rows = 260, cols = 300;
+  const geometry::MapGeometry g{cols, rows, 0.05, {}};
+  for (const auto& [robot, due] : {std::pair{5, 11}, std::pair{16, 16}, std::pair{-3, 3}}) {
+    std::mt19937 rng(5);
+    const auto shared = shared_random_map(rows, cols, rng);
+    auto map = shared->clone();
+    PlanningMap pm(robot);
+    pm.update(*map, g, 0.2);  // look 1
+    std::size_t at = static_cast<std::size_t>(123) * cols + 143;
+    while (map->view<std::int16_t>()[at] != kFreeCell) ++at;
+    BlobEdit<std::int16_t> edit(*map);
+    edit.set(at, kSeenCell);
+    pm.update(*map, g, 0.2);  // look 2: a passer-by, its pages copied
+    for (int look = 3; look <= due; ++look) {
+      EXPECT_GT(vwg::testing::anonymous_bytes(pm.obstacles().padded().data()), 0) << robot << ": look " << look;
+      edit.set(at, look == 3 ? kFreeCell : kSeenCell);
+      if (look > 3) edit.set(at, kFreeCell);
+      pm.update(*map, g, 0.2);
+    }
+    EXPECT_EQ(vwg::testing::anonymous_bytes(pm.obstacles().padded().data()), 0) << robot << ": given back at look " << due;
+  }
+}
+
+TEST(ObstacleBits, EachRobotCountsItsEditsFromItsOwnPhase) {
+  // reshare_due_after_edit() is true at the 11th edit for robot 5, the 16th for robot 32, the 3rd for robot -3,
+  // and every 16 edits after (worked out from the ids mod 16: 5, 0, 13); a copy of a shared map's bits keeps the
+  // robot's count.
+  const int rows = 64, cols = 64;
+  const geometry::MapGeometry g{cols, rows, 0.05, {}};
+  std::mt19937 rng(7);
+  const auto shared = shared_random_map(rows, cols, rng);
+  using Due = std::vector<int>;
+  for (const auto& [robot, expected] : {std::pair{5, Due{11, 27}}, std::pair{32, Due{16, 32}}, std::pair{-3, Due{3, 19, 35}}}) {
+    ObstacleBits bits(robot);
+    auto map = shared->clone();
+    bits.sync(*map, g);
+    std::vector<int> due;
+    for (int edit = 1; edit <= 40; ++edit) {
+      if (bits.reshare_due_after_edit()) due.push_back(edit);
+    }
+    EXPECT_EQ(due, expected) << robot;
+  }
+}
+
 TEST(PlanningMap, ACellChangedAndChangedBackIsNoChange) {
   const geometry::MapGeometry g{10, 10, 0.1, {}};
   Blob map(DType::Int16, {10, 10});

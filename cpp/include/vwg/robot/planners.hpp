@@ -75,6 +75,7 @@ class GridDecider final : public Decider {
 
  private:
   struct RobotState {
+    explicit RobotState(std::int64_t robot) : map(robot) {}
     PlanningMap map;
     std::optional<plan::DStarLite> dstar;
     geometry::Cell goal{-1, -1};

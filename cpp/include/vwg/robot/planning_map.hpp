@@ -18,6 +18,9 @@ namespace vwg::robot {
 
 class PlanningMap {
  public:
+  PlanningMap() = default;
+  /// For robot `robot`: its looks at new revisions counted from reshare_phase(robot).
+  explicit PlanningMap(std::int64_t robot) : looks_(reshare_phase(robot)) {}
   /// Bring the grids up to `map` (a robot map of geometry `g`) for a robot of `radius` metres;
   /// true if the grids changed since the last call (a cell became an obstacle, or unknown, or
   /// stopped being one), false if they are the same. The first call for a copy of a shared map
