@@ -155,3 +155,24 @@ def test_vwg_plugins_lists_every_group() -> None:
     for group in GROUPS:
         assert f"{group}:" in out.stdout
     assert "  astar " in out.stdout and "  sim " in out.stdout and "  laser " in out.stdout
+
+
+def test_a_command_imports_a_group_s_plugins_only_when_it_needs_them(site: Path, tmp_path: Path) -> None:
+    # The commands' helps name the registered parts, but only when a help is shown: a command that needs no decider
+    # does not import the deciders' plugins (a slow one would slow every command, a broken one be tried by each). A
+    # robot world's planner is checked against the deciders: `vwg worlds`, `run` and `check` of one do load them.
+    imported = tmp_path / "imported"
+    _dist(site, "noted-decider", "vwg.deciders", {"noted": "noted_decider:Noted"},
+          {"noted_decider": f"""
+              import pathlib
+              pathlib.Path({str(imported)!r}).write_text("imported")
+              class Noted:
+                  pass
+          """})
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(filter(None, [str(site), os.environ.get("PYTHONPATH")]))}
+    cli = [sys.executable, "-m", "vwg.cli"]
+    for command in (["--version"], ["plugins", "--group", "vwg.sensors"]):  # they need no decider
+        done = subprocess.run([*cli, *command], env=env, capture_output=True, text=True, check=True)
+        assert done.stdout and not imported.exists(), command
+    helped = subprocess.run([*cli, "run", "--help"], env=env, capture_output=True, text=True, check=True)
+    assert "noted" in " ".join(helped.stdout.split()) and imported.exists()

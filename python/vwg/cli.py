@@ -16,6 +16,7 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import faulthandler
+import re
 import signal
 import sys
 import time
@@ -560,6 +561,40 @@ def _registered(registry: Any) -> str:
     return ", ".join(registry) or "none"
 
 
+# Help texts name the registered parts by a mark, filled in only when a help is shown: listing them loads every
+# plugin of their group, and a command that shows no help should not (a broken plugin warned on every command, a
+# slow one slowed every command).
+_PARTS = {"deciders": deciders, "platforms": platforms, "backends": backends, "world_kinds": world_kinds}
+
+
+def _names_of(group: str) -> str:
+    """The mark of a group's registered names in a help text (see _HelpFormatter)."""
+    assert group in _PARTS, group
+    return f"@{group}@"
+
+
+def _fill_names(text: str) -> str:
+    return re.sub(r"@(\w+)@", lambda m: _registered(_PARTS[m[1]]) if m[1] in _PARTS else m[0], text)
+
+
+class _HelpFormatter(argparse.HelpFormatter):
+    """argparse's, with the registered parts' names put in a help before it is wrapped."""
+
+    def _expand_help(self, action: argparse.Action) -> str:
+        return _fill_names(super()._expand_help(action))
+
+    def _format_text(self, text: str) -> str:
+        return super()._format_text(_fill_names(text))
+
+
+class _Parser(argparse.ArgumentParser):
+    """A parser (and its commands', of the same class) whose helps name the registered parts when shown."""
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        kwargs.setdefault("formatter_class", _HelpFormatter)
+        super().__init__(*args, **kwargs)
+
+
 def _planner_name(value: str) -> str:
     """--planner: a name (an empty one ran astar silently); which names exist is checked at the run."""
     if not value.strip():
@@ -595,7 +630,7 @@ def _ros_arguments(group: Any) -> None:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="vwg", description="vwg, the Virtual Worlds Generator: run worlds written as strings of a grammar.",
         epilog="exit status: " + "; ".join(f"{status} {meaning.split(':')[0].split(' (')[0]}"
                                            for status, meaning in sorted(EXIT_CODES.items())),
@@ -610,7 +645,7 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--frames", type=int, help="number of frames, 0 to 2**64 - 1 (default: the file's, else 100)")
     run.add_argument("--seed", type=int, help="random seed, 0 to 2**64 - 1 (default: the file's, else 0)")
     run.add_argument("--dt", type=float, help="seconds per frame, 1e-6 to 3600 (default: the file's, else 0.1)")
-    run.add_argument("--backend", help=f"a registered backend ({_registered(backends)}): instead of the file's in "
+    run.add_argument("--backend", help=f"a registered backend ({_names_of('backends')}): instead of the file's in "
                                        "a generic world, beside the simulator and its view in a robot world")
     run.add_argument("--max-symbols", type=int, default=10_000_000,
                      help="fail if the string grows past this many symbols (default 10 000 000; 0: no limit)")
@@ -621,11 +656,11 @@ def build_parser() -> argparse.ArgumentParser:
                      help="threads for the robots' lasers and decisions (default 0: the machine's cores); any "
                           "count gives the same frames")
     robot = run.add_argument_group("robot worlds (the case study: world files that name a map)")
-    robot.add_argument("--platform", help=f"where the robots run: a registered platform ({_registered(platforms)}; "
+    robot.add_argument("--platform", help=f"where the robots run: a registered platform ({_names_of('platforms')}; "
                                            "default: the world file's platform:, else sim)")
     _platform_arguments(robot)
     robot.add_argument("--planner", type=_planner_name,
-                       help=f"the decision inside eDecide, a registered decider ({_registered(deciders)}; "
+                       help=f"the decision inside eDecide, a registered decider ({_names_of('deciders')}; "
                             "default: the world file's planner:, else astar)")
     robot.add_argument("--avoidance", choices=AVOIDANCES,
                        help="how every robot passes the others: none, or orca (reciprocal avoidance of the robots "
@@ -695,7 +730,7 @@ def build_parser() -> argparse.ArgumentParser:
                           "only for a record you trust")
     rep.add_argument("--record-key", type=Path, metavar="FILE",
                      help="the key the record was made with (vwg run --record-key): its chain is checked with it")
-    rep.add_argument("--backend", help=f"show the replay on this registered backend ({_registered(backends)})")
+    rep.add_argument("--backend", help=f"show the replay on this registered backend ({_names_of('backends')})")
     rep.add_argument("--from", dest="resume_from", type=int, metavar="FRAME",
                      help="replay up to FRAME, then go on live from there with the world's generators (a robot "
                           "world: with the run's --goal orders, kept in the record)")
@@ -737,7 +772,7 @@ def build_parser() -> argparse.ArgumentParser:
     exp.add_argument("--quick", action="store_true", help="a small configuration (about 1.5 min on 2 cores)")
     exp.add_argument("--planner", action="append", type=_planner_name, metavar="NAME",
                      help=f"a decider test 1 compares, instead of its list (repeatable; registered: "
-                          f"{_registered(deciders)})")
+                          f"{_names_of('deciders')})")
     exp.add_argument("--resume", action="store_true",
                      help="keep the sweep cells of an earlier run in OUT_DIR/sweeps (the report says how many)")
     _dask_options(exp)
@@ -754,11 +789,11 @@ def build_parser() -> argparse.ArgumentParser:
                      help="also serve the run's ROS 2 topics to the Foxglove app on this port, on --host (0: a free "
                           "port)")
     srv.add_argument("--planner", type=_planner_name,
-                     help=f"the decision inside eDecide, a registered decider ({_registered(deciders)}; default: the "
+                     help=f"the decision inside eDecide, a registered decider ({_names_of('deciders')}; default: the "
                           "world file's planner:, else astar)")
     srv.add_argument("--avoidance", choices=AVOIDANCES,
                      help="how every robot passes the others: none or orca (default: the world file's, else none)")
-    srv.add_argument("--platform", help=f"a registered platform ({_registered(platforms)}; default: the file's "
+    srv.add_argument("--platform", help=f"a registered platform ({_names_of('platforms')}; default: the file's "
                                          "platform:, else sim)")
     _platform_arguments(srv)
     srv.add_argument("--speed", type=float, default=1.0, help="times real time (default 1; 0: as fast as it goes)")
@@ -787,7 +822,7 @@ def build_parser() -> argparse.ArgumentParser:
     lay.set_defaults(func=_cmd_foxglove_layout)
 
     chk = sub.add_parser("check", help="load a world file, check it and report what it declares",
-                         description=f"Check a world file of a registered kind ({_registered(world_kinds)}) and "
+                         description=f"Check a world file of a registered kind ({_names_of('world_kinds')}) and "
                                      "describe it: a robot world's map, rooms, robots, sensors, orders and platform; a "
                                      "generic world's alphabet, generators and initial string.")
     chk.add_argument("world", type=Path, help="a world file, or the name of a shipped world")
