@@ -24,10 +24,6 @@ struct GridDataTag {
 struct OriginTag {
   static constexpr auto name = py::detail::const_name("collections.abc.Sequence[float]");
 };
-struct IndexTag {
-  static constexpr auto name = py::detail::const_name("int");
-};
-using IndexArg = LooseArg<IndexTag>;
 
 /// The cells of a 2-D array of integers (-1..100; int8 taken as it is) or bools (True = 100), copied.
 void set_cells(OccupancyGrid& g, py::handle data) {
@@ -129,7 +125,7 @@ pose of the lower-left corner of cell (0, 0), as map_server's `origin`. The cell
         g.cell_to_world(row, col, x, y);
         return std::make_tuple(x, y);
       }, py::arg("row"), py::arg("col"), "World (x, y) of the centre of cell (row, col).")
-      .def("inside", [](const OccupancyGrid& g, const IndexArg& row, const IndexArg& col) {
+      .def("inside", [](const OccupancyGrid& g, const IntArg& row, const IntArg& col) {
         return index_within(row, g.height) && index_within(col, g.width);
       }, py::arg("row"), py::arg("col"), "Whether (row, col) is a cell of the grid.")
       .def("contains", &OccupancyGrid::contains, py::arg("x"), py::arg("y"), "Whether the world point (x, y) lies on the map.")

@@ -35,18 +35,10 @@ struct CellsTag {
 struct PlanPoseTag {
   static constexpr auto name = py::detail::const_name("tuple[float, float] | tuple[float, float, float]");
 };
-struct RealTag {
-  static constexpr auto name = py::detail::const_name("float");
-};
-struct IntTag {
-  static constexpr auto name = py::detail::const_name("int");
-};
 using MaskArg = LooseArg<MaskTag>;
 using CellArg = LooseArg<CellTag>;
 using CellsArg = LooseArg<CellsTag>;
 using PlanPoseArg = LooseArg<PlanPoseTag>;
-using RealArg = LooseArg<RealTag>;
-using IntArg = LooseArg<IntTag>;
 
 /// What astar and DStarLite.path return: (path, length).
 using PathResult = py::typing::Tuple<py::typing::Optional<py::typing::List<py::typing::Tuple<int, int>>>, float>;

@@ -174,8 +174,16 @@ struct MapTag {
 struct PoseTag {
   static constexpr auto name = py::detail::const_name("tuple[float, float, float]");
 };
+struct IntTag {
+  static constexpr auto name = py::detail::const_name("int");
+};
+struct RealTag {
+  static constexpr auto name = py::detail::const_name("float");
+};
 using MapArg = LooseArg<MapTag>;
 using PoseArg = LooseArg<PoseTag>;
+using IntArg = LooseArg<IntTag>;
+using RealArg = LooseArg<RealTag>;
 
 }  // namespace vwg::bindings
 

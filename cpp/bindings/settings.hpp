@@ -64,17 +64,11 @@ struct FieldTag<bool> {
   static constexpr auto name = py::detail::const_name("bool");
 };
 template <>
-struct FieldTag<int> {
-  static constexpr auto name = py::detail::const_name("int");
-};
+struct FieldTag<int> : IntTag {};
 template <>
-struct FieldTag<std::uint64_t> {
-  static constexpr auto name = py::detail::const_name("int");
-};
+struct FieldTag<std::uint64_t> : IntTag {};
 template <>
-struct FieldTag<double> {
-  static constexpr auto name = py::detail::const_name("float");
-};
+struct FieldTag<double> : RealTag {};
 template <>
 struct FieldTag<std::string> {
   static constexpr auto name = py::detail::const_name("str");
