@@ -6,7 +6,9 @@ from __future__ import annotations
 
 import heapq
 import math
+import os
 import signal
+import subprocess
 import sys
 from pathlib import Path
 
@@ -23,6 +25,19 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 # it. Python's own handler is taken back here; a handled signal is reset to the default in a child.
 if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
     signal.signal(signal.SIGINT, signal.default_int_handler)
+
+
+def env_with_path(folder: Path) -> dict[str, str]:
+    """The environment of a child process that also imports from `folder` (first on PYTHONPATH)."""
+    return {**os.environ, "PYTHONPATH": os.pathsep.join(filter(None, [str(folder), os.environ.get("PYTHONPATH")]))}
+
+
+def pip_install_apart(source: Path, target: Path) -> dict[str, str]:
+    """The package at `source` installed with pip into `target`, a folder of its own (the venv is left as it was),
+    and the environment of a child process that sees it (env_with_path)."""
+    subprocess.run([sys.executable, "-m", "pip", "install", "-q", "--no-deps", "--no-build-isolation", "--target",
+                    str(target), str(source)], check=True, capture_output=True)
+    return env_with_path(target)
 
 
 class Counter(vwg.Actor):

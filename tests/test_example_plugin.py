@@ -9,7 +9,6 @@ import dataclasses
 import importlib.util
 import json
 import math
-import os
 import shutil
 import subprocess
 import sys
@@ -21,7 +20,7 @@ import pytest
 
 import vwg
 import vwg._core as _core
-from conftest import ROOT
+from conftest import ROOT, pip_install_apart
 from vwg.errors import SchemaError, WorldFileError
 from vwg.plugins import deciders, platforms, sensors
 from vwg.robot import RobotSettings
@@ -322,10 +321,7 @@ def test_the_installed_plugin_is_listed_and_its_world_runs_from_the_command_line
     # Built from a copy: pip builds in the source folder, and leaves build/ and .egg-info/ there.
     source = shutil.copytree(PLUGIN, tmp_path / "plugin", ignore=shutil.ignore_patterns("build", "*.egg-info",
                                                                                         "__pycache__"))
-    target = tmp_path / "installed"
-    subprocess.run([sys.executable, "-m", "pip", "install", "-q", "--no-deps", "--no-build-isolation", "--target",
-                    str(target), str(source)], check=True, capture_output=True)
-    env = {**os.environ, "PYTHONPATH": os.pathsep.join(filter(None, [str(target), os.environ.get("PYTHONPATH")]))}
+    env = pip_install_apart(source, tmp_path / "installed")
     cli = [sys.executable, "-m", "vwg.cli"]
     listed = subprocess.run([*cli, "plugins"], env=env, capture_output=True, text=True, check=True).stdout
     for name, group, value in (("sonar", "vwg.sensors", "vwg_example_plugin.sonar:Sonar"),

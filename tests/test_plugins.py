@@ -4,7 +4,6 @@ still load; vwg's own parts are registered the same way."""
 
 from __future__ import annotations
 
-import os
 import subprocess
 import sys
 import textwrap
@@ -14,10 +13,9 @@ import pytest
 
 import vwg
 import vwg._core as _core
+from conftest import env_with_path, pip_install_apart
 from vwg.errors import SchemaError
 from vwg.plugins import GROUPS, Registry, deciders, platforms, sensors, world_kinds
-
-ROOT = Path(__file__).resolve().parents[1]
 
 
 def _dist(site: Path, name: str, group: str, entries: dict[str, str], modules: dict[str, str]) -> None:
@@ -89,9 +87,9 @@ def test_the_built_in_parts_are_entry_points_of_the_vwg_distribution() -> None:
         assert registry.failures == []
 
 
-def _install_decider_package(tmp_path: Path) -> Path:
+def _install_decider_package(tmp_path: Path) -> dict[str, str]:
     """An out-of-tree package declaring a vwg.deciders entry point, installed with pip into a folder of
-    its own (put on PYTHONPATH: the venv is left as it was)."""
+    its own; the environment of a child process that sees it (pip_install_apart)."""
     src = tmp_path / "straight-ahead"
     (src / "straight_ahead").mkdir(parents=True)
     (src / "pyproject.toml").write_text(textwrap.dedent("""
@@ -122,16 +120,12 @@ def _install_decider_package(tmp_path: Path) -> Path:
                 turn = math.remainder(math.atan2(gy - y, gx - x) - theta, math.tau)
                 return turn, min(0.3, math.hypot(gx - x, gy - y))
     """))
-    target = tmp_path / "installed"
-    subprocess.run([sys.executable, "-m", "pip", "install", "-q", "--no-deps", "--no-build-isolation",
-                    "--target", str(target), str(src)], check=True, capture_output=True)
-    return target
+    return pip_install_apart(src, tmp_path / "installed")
 
 
 @pytest.mark.slow
 def test_an_installed_package_s_decider_runs_from_the_command_line(tmp_path: Path) -> None:
-    target = _install_decider_package(tmp_path)
-    env = {**os.environ, "PYTHONPATH": os.pathsep.join(filter(None, [str(target), os.environ.get("PYTHONPATH")]))}
+    env = _install_decider_package(tmp_path)
     cli = [sys.executable, "-m", "vwg.cli"]
     helped = subprocess.run([*cli, "run", "--help"], env=env, capture_output=True, text=True, check=True)
     assert "straight" in " ".join(helped.stdout.split())
@@ -169,7 +163,7 @@ def test_a_command_imports_a_group_s_plugins_only_when_it_needs_them(site: Path,
               class Noted:
                   pass
           """})
-    env = {**os.environ, "PYTHONPATH": os.pathsep.join(filter(None, [str(site), os.environ.get("PYTHONPATH")]))}
+    env = env_with_path(site)
     cli = [sys.executable, "-m", "vwg.cli"]
     for command in (["--version"], ["plugins", "--group", "vwg.sensors"]):  # they need no decider
         done = subprocess.run([*cli, *command], env=env, capture_output=True, text=True, check=True)
