@@ -202,10 +202,17 @@ def test_the_3d_overview_draws_people_where_they_start():
     from vwg.robot.overview import render_world_overview
 
     alone = render_world_overview(vwg.robot.load_robot_world("office"))
-    with_one = render_world_overview(office_with([Person(1, (6.0, 9.0), ((20.0, 9.0),))]))
+    walker = Person(1, (6.0, 9.0), ((20.0, 9.0),))
+    with_one = render_world_overview(office_with([walker]))
     changed = np.argwhere((alone != with_one).any(axis=2))
     # A cylinder of 0.25 m: some hundreds of pixels, all in one place (a box of at most 80 px a side).
     assert len(changed) > 200 and np.ptp(changed[:, 0]) < 80 and np.ptp(changed[:, 1]) < 80
+    # Sand, as the 2D views draw people ((222, 184, 135): red above green above blue), not the palette colour a robot
+    # of its id would take (people come to the view as ids below zero; -1 mod 10 is (23, 190, 207), cyan).
+    bare = [render_world_overview(office_with(people), labels=False) for people in ([], [walker])]
+    body = np.argwhere((bare[0] != bare[1]).any(axis=2))
+    r, g, b = (bare[1][body[:, 0], body[:, 1]].astype(int).T)
+    assert len(body) > 100 and ((r > g) & (g > b)).mean() > 0.9
 
 
 def test_a_person_with_no_way_to_its_goals_stands_and_tries_again_after_give_up():

@@ -197,6 +197,7 @@ void init_render(py::module_& m) {
   colour_property<&sim::RenderStyle::unknown>(style, "unknown", "Unknown cells.");
   colour_property<&sim::RenderStyle::robot_outline>(style, "robot_outline", "Outline of robot discs.");
   colour_property<&sim::RenderStyle::heading>(style, "heading", "Heading line of robots.");
+  colour_property<&sim::RenderStyle::person>(style, "person", "People who walk (sand).");
   colour_property<&sim::RenderStyle::ray>(style, "ray", "Laser rays that hit.");
   colour_property<&sim::RenderStyle::ray_miss>(style, "ray_miss", "Laser rays at max range.");
   colour_property<&sim::RenderStyle::hit>(style, "hit", "Laser hit points.");

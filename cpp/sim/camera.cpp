@@ -145,7 +145,7 @@ struct CameraRenderer::Scene {
   std::vector<float> normal_x, normal_y;  // per cell: outward normal of the nearby walls, world frame
   std::vector<Tag> tags;
   double plane_tolerance;  // how far a wall hit may be from a marker's plane and still carry it
-  std::vector<Rgb> palette;
+  RenderStyle style;  // the bodies' colours
 
   // Per image column u: the ray's direction relative to the heading, x_c = (u - cx) / fx, and the
   // horizontal distance per unit depth.
@@ -160,7 +160,6 @@ struct CameraRenderer::Scene {
     geometry.origin = grid.origin;
     plane_tolerance = 2.0 * grid.resolution;
     compute_normals(grid, threshold);
-    palette = RenderStyle{}.palette;
   }
 
   /// Normals from the gradient of the blurred occupancy (sigma 1.5 cells): along a straight wall
@@ -484,7 +483,7 @@ void CameraRenderer::render_columns(const Pose2& pose, std::span<const RobotShap
       const RobotShape& r = robots[h.robot];
       const double z1 = h.t1 / sc.stretch[uu], z2 = h.t2 / sc.stretch[uu];
       const double px = pose.x + h.t1 * azimuth_x, py = pose.y + h.t1 * azimuth_y;
-      const Rgb base = sc.palette[static_cast<std::size_t>(((r.id % 10) + 10) % 10)];
+      const Rgb base = sc.style.body(r.id);
       const Colour body{static_cast<float>(base.r), static_cast<float>(base.g), static_cast<float>(base.b)};
       const auto side = Pixel<Channels>::of(seen(body, lambert((px - r.pose.x) / r.radius, (py - r.pose.y) / r.radius), z1));
       const double rise = mount - spec_.robot_height;  // > 0: the camera looks down on the lid

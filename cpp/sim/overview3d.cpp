@@ -189,10 +189,10 @@ void add_markers(Scene& scene, const OccupancyGrid& g, std::span<const WallMarke
 }
 
 void add_robots(Scene& scene, std::span<const RobotShape> robots, double height, const OverviewCamera& cam, const Vec3& light) {
-  const std::vector<Rgb> palette = RenderStyle{}.palette;
+  const RenderStyle style;
   constexpr int kFacets = 48;
   for (const RobotShape& r : robots) {
-    const Rgb c = palette[static_cast<std::size_t>(((r.id % 10) + 10) % 10)];
+    const Rgb c = style.body(r.id);
     const Colour body{static_cast<float>(c.r), static_cast<float>(c.g), static_cast<float>(c.b)};
     const Vec3 base(r.pose.x, r.pose.y, 0), up(0, 0, height);
     Polygon lid;
@@ -639,14 +639,15 @@ cv::Mat render_overview(const OccupancyGrid& g, double wall_height, std::span<co
       if (std::fabs(u) > 1e6 || std::fabs(v) > 1e6) continue;
       label(m.label.empty() ? "#" + std::to_string(m.id) : m.label + " #" + std::to_string(m.id), u, v, cv::Scalar(255, 214, 140));
     }
-    const std::vector<Rgb> palette = RenderStyle{}.palette;
+    const RenderStyle style;
     for (const RobotShape& r : robots) {
       double u, v;
       if (!cam.project(r.pose.x, r.pose.y, view.robot_height + 0.25, u, v)) continue;
       if (std::fabs(u) > 1e6 || std::fabs(v) > 1e6) continue;
-      const Rgb c = palette[static_cast<std::size_t>(((r.id % 10) + 10) % 10)];
-      // The palette's colours, lightened: readable on the dark box.
-      label("robot " + std::to_string(r.id), u, v, cv::Scalar((c.r + 255) / 2, (c.g + 255) / 2, (c.b + 255) / 2));
+      const Rgb c = style.body(r.id);
+      // The bodies' colours, lightened: readable on the dark box. People come as ids below zero.
+      const std::string name = r.id < 0 ? "person " + std::to_string(-static_cast<long long>(r.id)) : "robot " + std::to_string(r.id);
+      label(name, u, v, cv::Scalar((c.r + 255) / 2, (c.g + 255) / 2, (c.b + 255) / 2));
     }
   }
   return image;

@@ -159,11 +159,13 @@ Pose2 TopDownRenderer::pixel_to_world(double px, double py) const {
   return p;
 }
 
-Rgb TopDownRenderer::robot_colour(int id) const {
-  if (style_.palette.empty()) return style_.path;  // an emptied palette still draws robots
-  const int n = static_cast<int>(style_.palette.size());
-  return style_.palette[static_cast<std::size_t>(((id % n) + n) % n)];
+Rgb RenderStyle::robot(int id) const {
+  if (palette.empty()) return path;  // an emptied palette still draws robots
+  const int n = static_cast<int>(palette.size());
+  return palette[static_cast<std::size_t>(((id % n) + n) % n)];
 }
+
+Rgb TopDownRenderer::robot_colour(int id) const { return style_.robot(id); }
 
 void TopDownRenderer::put_label(const std::string& text, cv::Point2d anchor, cv::Point2d away, cv::Point2d side) {
   if (text.empty() || !finite(anchor)) return;
@@ -219,8 +221,7 @@ void TopDownRenderer::draw_person(double x, double y, double radius) {
   if (!finite(c)) return;
   const double r = std::max(std::isfinite(radius) ? radius * pixels_per_metre() : 0.0, style_.min_robot_px);
   const int lt = style_.antialias ? cv::LINE_AA : cv::LINE_8;
-  constexpr Rgb kSand{222, 184, 135};
-  cv::circle(canvas_, fixed(c), fixed_len(r), scalar(kSand), cv::FILLED, lt, kShift);
+  cv::circle(canvas_, fixed(c), fixed_len(r), scalar(style_.person), cv::FILLED, lt, kShift);
   cv::circle(canvas_, fixed(c), fixed_len(r), scalar(style_.robot_outline), 1, lt, kShift);
 }
 

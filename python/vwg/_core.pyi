@@ -2526,6 +2526,14 @@ class RenderStyle:
     def path_px(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
     @property
+    def person(self) -> tuple[int, int, int]:
+        """
+        People who walk (sand).
+        """
+    @person.setter
+    def person(self, arg1: tuple[typing.SupportsInt | typing.SupportsIndex, typing.SupportsInt | typing.SupportsIndex, typing.SupportsInt | typing.SupportsIndex]) -> None:
+        ...
+    @property
     def pixels_per_cell(self) -> float:
         """
         Scale; ignored when width > 0.

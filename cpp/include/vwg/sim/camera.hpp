@@ -92,7 +92,7 @@ struct WallMarker {
 struct RobotShape {
   Pose2 pose{};
   double radius = platform::kDefaultRobotRadius;  ///< metres
-  int id = 0;            ///< picks the colour, as the 2D view does (RenderStyle::palette[id mod 10])
+  int id = 0;            ///< picks the colour: RenderStyle::body(id), a robot's palette colour; below zero a person, sand
 };
 
 /// Checks markers against a wall height; throws vwg::SchemaError naming "markers[i].field" for an

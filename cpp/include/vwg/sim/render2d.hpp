@@ -46,6 +46,12 @@ struct RenderStyle {
                            {140, 86, 75},  {227, 119, 194}, {127, 127, 127}, {188, 189, 34}, {23, 190, 207}};
   Rgb robot_outline{20, 20, 24};
   Rgb heading{255, 255, 255};
+  Rgb person{222, 184, 135};  ///< people who walk (vwg/sim/people.hpp): sand
+  /// Robot `id`'s colour: palette[id mod its size] (the path colour if the palette is empty).
+  Rgb robot(int id) const;
+  /// A body's colour where robots and people are given as bodies, people with the id −(their id) (the 3D
+  /// views, the robot camera): robot(id), or `person` for an id below zero.
+  Rgb body(int id) const { return id < 0 ? person : robot(id); }
   double min_robot_px = 4.0;  ///< a robot is never drawn smaller than this radius, so it stays visible
 
   // --- laser scans ---
