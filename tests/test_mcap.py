@@ -28,7 +28,7 @@ from vwg.errors import Error
 from vwg.io.record import read_record
 from vwg.robot.export import export_record
 from vwg.robot.foxglove_layout import shipped_layout
-from vwg.robot.topics import open_sinks
+from vwg.robot.topics import open_sinks, world_topics
 from vwg.robot.world_file import Person
 from vwg.saved_run import resume
 
@@ -383,6 +383,63 @@ def test_the_foxglove_server_advertises_the_topics_and_sends_scans_while_the_run
     assert stamps == sorted(stamps) and stamps[-1] > stamps[0]  # the run went on between them
     # The known map is sent once, when the run begins: a client that subscribes later gets it all the same.
     assert "/map" in received
+
+
+def test_the_topics_a_run_wrote_are_those_declared_for_its_world(office_run):
+    # What a live server declares before it takes clients (world_topics) against what a run of the office wrote
+    # to its MCAP file: every topic and message type the same, both ways (the office: two robots with a laser and
+    # a camera each, on the simulator, no people).
+    out, _, _ = office_run
+    written = {topic: schema for topic, schema, _, _ in messages(out / "run.mcap")}
+    assert {t: s.name for t, s in world_topics(OFFICE).items()} == written
+    assert "/robot1/ground_truth" not in world_topics(OFFICE, ground_truth=False)
+    people = world_topics(dataclasses.replace(OFFICE, people=[Person(1, (6.0, 9.0), ((20.0, 9.0),))]))
+    assert people["/people"].name == "visualization_msgs/msg/MarkerArray"
+
+
+def test_a_client_connected_before_the_run_begins_is_told_every_topic_and_gets_the_first_messages():
+    # A client that connects before the run begins (the Foxglove app connects as soon as a server is up) is told
+    # every topic of the world when it connects, and its subscription to /map, sent at once, gets the known map when
+    # the run begins: no channel is made while it is connected (foxglove-sdk 0.30 refused a subscribe sent at once
+    # to such a channel: "Unknown channel ID").
+    import websockets
+
+    from vwg.io.foxglove_server import FoxgloveServer
+    from vwg.robot.topics import RunTopics
+
+    server = FoxgloveServer(0, topics=world_topics(OFFICE))
+
+    async def client(first: vwg._core.String) -> tuple[list[str], list[str], bytes]:
+        async with websockets.connect(f"ws://127.0.0.1:{server.port}", subprotocols=["foxglove.sdk.v1"]) as ws:
+            advertised: list[dict] = []
+            while not advertised:
+                d = json.loads(await asyncio.wait_for(ws.recv(), 20))
+                if d["op"] == "advertise":
+                    advertised = d["channels"]
+            (map_channel,) = [c for c in advertised if c["topic"] == "/map"]
+            await ws.send(json.dumps({"op": "subscribe", "subscriptions": [{"id": 7, "channelId": map_channel["id"]}]}))
+            await asyncio.sleep(0.2)  # the subscription taken before the run begins
+            statuses: list[str] = []
+            RunTopics(OFFICE, [server]).begin(first, 0.0)
+            while True:
+                message = await asyncio.wait_for(ws.recv(), 20)
+                if isinstance(message, str):
+                    d = json.loads(message)
+                    if d["op"] == "status":
+                        statuses.append(d["message"])
+                elif message[0] == 1 and struct.unpack_from("<I", message, 1)[0] == 7:
+                    return [c["topic"] for c in advertised], statuses, bytes(message[13:])
+
+    try:
+        with vwg.start(OFFICE, vwg.RunOptions(frames=1)) as run:
+            advertised, statuses, payload = asyncio.run(client(run.case.engine.string))
+    finally:
+        server.close()
+    assert sorted(advertised) == sorted(world_topics(OFFICE))
+    assert not any("Unknown channel" in s for s in statuses), statuses
+    grid = DecoderFactory().decoder_for("cdr", McapSchema(id=1, name="nav_msgs/msg/OccupancyGrid", encoding="ros2msg",
+                                                          data=world_topics(OFFICE)["/map"].text.encode()))(payload)
+    assert (grid.info.height, grid.info.width) == OFFICE.grid.data.shape
 
 
 def test_vwg_run_says_where_the_foxglove_server_is(tmp_path):

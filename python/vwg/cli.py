@@ -447,7 +447,8 @@ def _cmd_serve(args: argparse.Namespace) -> int:
     if args.avoidance is not None:
         world = dataclasses.replace(world, avoidance=Avoidance.of(args.avoidance))
     spec = world.platform.given(args.platform, **_platform_options(args))
-    sinks = open_sinks(None, args.foxglove_port, args.host)
+    truth = bool(getattr(platforms.get(spec.kind), "ground_truth", False)) if args.foxglove_port is not None else False
+    sinks = open_sinks(None, args.foxglove_port, args.host, world=world, ground_truth=truth)
     try:
         live = LiveRun(world, planner=args.planner or world.planner, platform=spec, speed=args.speed, seed=args.seed,
                        threads=args.threads, world_orders=not args.no_world_orders, paused=args.paused,

@@ -4,26 +4,33 @@
 Each server has its own SDK context, so two runs in one process serve their own topics. Topics that are
 sent only when they change (the maps, the rooms, the plans) are sent again to a client when it subscribes,
 at the next frame: a client that connects late still sees them.
+
+The topics a run will publish are declared before the server takes clients. foxglove-sdk 0.30 advertises a
+channel made while a client is connected a moment before it takes subscriptions to it, and refuses a subscribe
+sent at once ("Unknown channel ID"): the Foxglove app, which connects as soon as a server is up, then showed
+no data on such a topic until it subscribed again.
 """
 
 from __future__ import annotations
 
 import threading
+from collections.abc import Mapping
 from typing import Any
 
 from vwg.errors import Error
-from vwg.io.ros2_messages import Message
+from vwg.io.ros2_messages import Message, Schema
 
 __all__ = ["FoxgloveServer"]
 
 
 class FoxgloveServer:
-    """``write(topic, message, log_time_ns, latched=False)`` logs a message on the topic's channel (made at
-    its first message, advertised to the clients); ``frame_done(log_time_ns)`` tells the clients the run's time;
-    ``close()`` stops the server. Binds to `host` (127.0.0.1 unless said otherwise); port 0 takes a free one
-    (``port`` says which)."""
+    """``write(topic, message, log_time_ns, latched=False)`` logs a message on the topic's channel (declared
+    in `topics` before the server starts, or made at its first message and advertised to the clients then);
+    ``frame_done(log_time_ns)`` tells the clients the run's time; ``close()`` stops the server. Binds to `host`
+    (127.0.0.1 unless said otherwise); port 0 takes a free one (``port`` says which)."""
 
-    def __init__(self, port: int, host: str = "127.0.0.1", name: str = "vwg") -> None:
+    def __init__(self, port: int, host: str = "127.0.0.1", name: str = "vwg",
+                 topics: Mapping[str, Schema] | None = None) -> None:
         import foxglove
         from foxglove.websocket import Capability
 
@@ -33,6 +40,8 @@ class FoxgloveServer:
         self._latched: dict[str, Message] = {}  # the last message of each topic sent only when it changes
         self._resend: set[str] = set()
         self._lock = threading.Lock()
+        for topic, schema in sorted((topics or {}).items()):
+            self._channel(topic, schema)
         try:
             self._server = foxglove.start_server(name=name, host=host, port=port, context=self._context,
                                                  capabilities=[Capability.Time], server_listener=self._Listener(self))
@@ -52,13 +61,14 @@ class FoxgloveServer:
         def on_unsubscribe(self, client: Any, channel: Any) -> None:
             pass
 
+    def _channel(self, topic: str, schema: Schema) -> Any:
+        given = self._foxglove.Schema(name=schema.name, encoding="ros2msg", data=schema.text.encode())
+        channel = self._channels[topic] = self._foxglove.Channel(topic, schema=given, message_encoding="cdr",
+                                                                 context=self._context)
+        return channel
+
     def write(self, topic: str, message: Message, log_time: int, latched: bool = False) -> None:
-        channel = self._channels.get(topic)
-        if channel is None:
-            schema = self._foxglove.Schema(name=message.schema.name, encoding="ros2msg",
-                                           data=message.schema.text.encode())
-            channel = self._channels[topic] = self._foxglove.Channel(topic, schema=schema, message_encoding="cdr",
-                                                                     context=self._context)
+        channel = self._channels.get(topic) or self._channel(topic, message.schema)
         channel.log(message.data, log_time=log_time)
         if latched:
             self._latched[topic] = message

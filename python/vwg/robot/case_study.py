@@ -528,7 +528,8 @@ class RobotRun:
             try:
                 self.sinks = open_sinks(options.mcap, options.foxglove_port, options.foxglove_host,
                                         {"world": world.name, "planner": self.case.planner,
-                                         "seed": str(self.case.seed)})
+                                         "seed": str(self.case.seed)}, world=world,
+                                        ground_truth=self.case.sim.ground_truth)
             except BaseException:
                 self.case.close()
                 raise

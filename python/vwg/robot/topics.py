@@ -36,7 +36,7 @@ from vwg.io.foxglove_server import FoxgloveServer
 from vwg.io.mcap_file import McapFile
 from vwg.robot.world_file import RobotWorld
 
-__all__ = ["RunTopics", "Sink", "case_topics", "open_sinks", "require_ros"]
+__all__ = ["RunTopics", "Sink", "case_topics", "open_sinks", "require_ros", "world_topics"]
 
 
 class Sink(Protocol):
@@ -229,6 +229,26 @@ def case_topics(case: Any, sinks: Iterable[Sink]) -> RunTopics:
     return topics
 
 
+def world_topics(world: RobotWorld, *, ground_truth: bool = True) -> dict[str, ros.Schema]:
+    """Every topic a run of `world` may publish (RunTopics), with its message type: a live server declares them
+    before it takes clients. `ground_truth`: whether the platform knows where its robots are (the simulator)."""
+    grid, markers = ros.schema("nav_msgs/msg/OccupancyGrid"), ros.schema("visualization_msgs/msg/MarkerArray")
+    odometry = ros.schema("nav_msgs/msg/Odometry")
+    out = {"/map": grid, "/rooms": markers, "/tf": ros.schema("tf2_msgs/msg/TFMessage")}
+    if world.people:
+        out["/people"] = markers
+    for robot in world.robots:
+        prefix = f"/robot{robot.id}"
+        out |= {f"{prefix}/odom": odometry, f"{prefix}/plan": ros.schema("nav_msgs/msg/Path"), f"{prefix}/map": grid}
+        if "laser" in robot.sensors:
+            out[f"{prefix}/scan"] = ros.schema("sensor_msgs/msg/LaserScan")
+        if "camera" in robot.sensors:
+            out[f"{prefix}/camera/image/compressed"] = ros.schema("sensor_msgs/msg/CompressedImage")
+        if ground_truth:
+            out[f"{prefix}/ground_truth"] = odometry
+    return out
+
+
 def require_ros(*modules: str) -> None:
     """Error naming the extra to install when a module of the ros extra is missing."""
     import importlib.util
@@ -240,8 +260,10 @@ def require_ros(*modules: str) -> None:
 
 
 def open_sinks(mcap: str | Path | None, foxglove_port: int | None, host: str = "127.0.0.1",
-               metadata: Mapping[str, str] | None = None) -> list[Sink]:
-    """The sinks asked for: an MCAP file, a Foxglove server (either may be None)."""
+               metadata: Mapping[str, str] | None = None, world: RobotWorld | None = None,
+               ground_truth: bool = True) -> list[Sink]:
+    """The sinks asked for: an MCAP file, a Foxglove server (either may be None). The topics of a run of `world`
+    (world_topics, with `ground_truth`) are declared to the server before it takes clients."""
     needs = (["mcap", "rosbags"] if mcap is not None else []) + (["foxglove"] if foxglove_port is not None else [])
     require_ros(*needs)
     sinks: list[Sink] = []
@@ -249,7 +271,8 @@ def open_sinks(mcap: str | Path | None, foxglove_port: int | None, host: str = "
         sinks.append(McapFile(mcap, dict(metadata or {})))
     if foxglove_port is not None:
         try:
-            sinks.append(FoxgloveServer(foxglove_port, host))
+            topics = world_topics(world, ground_truth=ground_truth) if world is not None else None
+            sinks.append(FoxgloveServer(foxglove_port, host, topics=topics))
         except BaseException:
             for sink in sinks:
                 sink.close()
