@@ -385,16 +385,34 @@ def test_the_foxglove_server_advertises_the_topics_and_sends_scans_while_the_run
     assert "/map" in received
 
 
-def test_the_topics_a_run_wrote_are_those_declared_for_its_world(office_run):
-    # What a live server declares before it takes clients (world_topics) against what a run of the office wrote
-    # to its MCAP file: every topic and message type the same, both ways (the office: two robots with a laser and
-    # a camera each, on the simulator, no people).
+def test_the_topics_a_run_wrote_are_those_declared_for_its_world(office_run, tmp_path):
+    # What a live server declares before it takes clients (world_topics) against what a run wrote to its MCAP
+    # file: every topic and message type the same, both ways. The office: two robots with a laser and a camera
+    # each, on the simulator, no people; then robot 2 without its camera and a person walking.
     out, _, _ = office_run
     written = {topic: schema for topic, schema, _, _ in messages(out / "run.mcap")}
     assert {t: s.name for t, s in world_topics(OFFICE).items()} == written
+    robots = [OFFICE.robots[0], OFFICE.robots[1].replace(sensors=("laser",))]
+    other = dataclasses.replace(OFFICE, robots=robots, people=[Person(1, (6.0, 9.0), ((20.0, 9.0),))])
+    with vwg.start(other, vwg.RunOptions(frames=4, mcap=tmp_path / "o.mcap", allow_unreached=True)) as run:
+        run.execute()
+    written = {topic: schema for topic, schema, _, _ in messages(tmp_path / "o.mcap")}
+    assert {t: s.name for t, s in world_topics(other).items()} == written
+    assert "/people" in written and "/robot2/camera/image/compressed" not in written
     assert "/robot1/ground_truth" not in world_topics(OFFICE, ground_truth=False)
-    people = world_topics(dataclasses.replace(OFFICE, people=[Person(1, (6.0, 9.0), ((20.0, 9.0),))]))
-    assert people["/people"].name == "visualization_msgs/msg/MarkerArray"
+
+
+def test_the_foxglove_server_refuses_a_message_of_another_type_than_its_topic_s():
+    from vwg.io import ros2_messages as ros
+    from vwg.io.foxglove_server import FoxgloveServer
+
+    server = FoxgloveServer(0, topics={"/robot1/odom": ros.schema("nav_msgs/msg/Odometry")})
+    try:
+        with pytest.raises(Error, match=r"/robot1/odom: declared as nav_msgs/msg/Odometry, written as "
+                                        r"nav_msgs/msg/Path"):
+            server.write("/robot1/odom", ros.path(0.0, "map", np.zeros((2, 2))), 0)
+    finally:
+        server.close()
 
 
 def test_a_client_connected_before_the_run_begins_is_told_every_topic_and_gets_the_first_messages():

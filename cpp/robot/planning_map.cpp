@@ -32,7 +32,9 @@ void PlanningMap::load(StateReader& in) {
   const double radius = in.f64();
   geometry::BlockedGrid obstacles = geometry::BlockedGrid::load(in);
   if (radius != -1.0 && (!(radius >= 0.0) || !std::isfinite(radius))) in.fail("a planning radius that is not a finite number >= 0");
+  const unsigned looks = looks_;  // the robot's count (reshare_phase) stays
   *this = PlanningMap();
+  looks_ = looks;
   if (radius < 0.0) return;  // saved before its first update
   loaded_ = std::move(obstacles);
   loaded_radius_ = radius;

@@ -574,7 +574,8 @@ def _names_of(group: str) -> str:
     return f"@{group}@"
 
 
-def _fill_names(text: str) -> str:
+def fill_registered_names(text: str) -> str:
+    """`text` with each group's mark (_names_of) replaced by the group's registered names."""
     return re.sub(r"@(\w+)@", lambda m: _registered(_PARTS[m[1]]) if m[1] in _PARTS else m[0], text)
 
 
@@ -582,10 +583,10 @@ class _HelpFormatter(argparse.HelpFormatter):
     """argparse's, with the registered parts' names put in a help before it is wrapped."""
 
     def _expand_help(self, action: argparse.Action) -> str:
-        return _fill_names(super()._expand_help(action))
+        return fill_registered_names(super()._expand_help(action))
 
     def _format_text(self, text: str) -> str:
-        return super()._format_text(_fill_names(text))
+        return super()._format_text(fill_registered_names(text))
 
 
 class _Parser(argparse.ArgumentParser):

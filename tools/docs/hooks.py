@@ -57,12 +57,13 @@ def _option_rows(parser: argparse.ArgumentParser) -> list[str]:
 
 
 def cli_markdown() -> str:
-    from vwg.cli import build_parser
+    from vwg.cli import build_parser, fill_registered_names
 
     parser = build_parser()
     parts = [f"```text\n{parser.format_usage().strip()}\n```", parser.description or "", *_option_rows(parser)]
     for name, sub in _subcommands(parser).items():
-        parts += [f"\n## vwg {name}\n", sub.description or "", f"```text\n{sub.format_usage().strip()}\n```",
+        description = fill_registered_names(sub.description or "")  # the registered parts' names, as the help has
+        parts += [f"\n## vwg {name}\n", description, f"```text\n{sub.format_usage().strip()}\n```",
                   *_option_rows(sub)]
     return "\n".join(parts) + "\n"
 

@@ -37,6 +37,7 @@ class FoxgloveServer:
         self._foxglove = foxglove
         self._context = foxglove.Context()
         self._channels: dict[str, Any] = {}
+        self._types: dict[str, str] = {}  # each channel's message type
         self._latched: dict[str, Message] = {}  # the last message of each topic sent only when it changes
         self._resend: set[str] = set()
         self._lock = threading.Lock()
@@ -65,10 +66,15 @@ class FoxgloveServer:
         given = self._foxglove.Schema(name=schema.name, encoding="ros2msg", data=schema.text.encode())
         channel = self._channels[topic] = self._foxglove.Channel(topic, schema=given, message_encoding="cdr",
                                                                  context=self._context)
+        self._types[topic] = schema.name
         return channel
 
     def write(self, topic: str, message: Message, log_time: int, latched: bool = False) -> None:
-        channel = self._channels.get(topic) or self._channel(topic, message.schema)
+        channel = self._channels.get(topic)
+        if channel is None:
+            channel = self._channel(topic, message.schema)
+        elif self._types[topic] != message.schema.name:  # a client would decode it as the declared type
+            raise Error(f"Foxglove topic {topic}: declared as {self._types[topic]}, written as {message.schema.name}")
         channel.log(message.data, log_time=log_time)
         if latched:
             self._latched[topic] = message

@@ -54,7 +54,7 @@ def render_world_overview(world: RobotWorld, *, width: int = _VIEW.width, height
                           labels: bool = _VIEW.labels) -> np.ndarray:
     """The world in 3D (H×W×3 uint8) from the preferred view that shows the most robots."""
     best = max(VIEWS, key=lambda v: (robots_seen(world, *v), -VIEWS.index(v)))
-    # People at their starts, as cylinders too (ids below zero: the palette's other end).
+    # People at their starts, as cylinders too: bodies of id -(their id), which the view draws in sand.
     people = [{"x": p.start[0], "y": p.start[1], "radius": p.radius, "id": -p.id} for p in world.people]
     return _core.render_overview(world.grid, markers=world.rooms, robots=[*world.robots, *people],
                                  wall_height=world.wall_height,

@@ -170,7 +170,7 @@ class Viewer:
         world = self.live.world
         where = {r["id"]: (r["x"], r["y"], r["angle"]) for r in snapshot.robots}
         robots: list[Any] = [replace_robot(r, start=where.get(r.id, r.start)) for r in world.robots]
-        # People as cylinders too, where they are (ids below zero: the palette's other end).
+        # People as cylinders too, where they are: bodies of id -(their id), which the view draws in sand.
         robots += [{"x": p["x"], "y": p["y"], "radius": p["radius"], "id": -p["id"]} for p in snapshot.people]
         image = _core.render_overview(world.grid, markers=world.rooms, robots=robots, wall_height=world.wall_height,
                                       width=640, height=420, supersample=1)

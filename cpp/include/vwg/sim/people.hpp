@@ -2,7 +2,7 @@
 // (Helbing and Molnár, "Social force model for pedestrian dynamics", Phys. Rev. E 51, 1995), with bodies on the
 // simulator that robots touch and sensors see. In the model:
 //
-//   Person<id, x, y, vx, vy, radius, speed, goals, loop, wander, leg, way, stuck>
+//   Person<id, x, y, vx, vy, radius, speed, goals, loop, wander, leg, way, stuck, rest>
 //   gSocial       eSocial<to=person, fx, fy>: the repulsion of the others near each person (people and robots,
 //                 where the simulator has them) and of the walls, as accelerations
 //   λ(eSocial)    the person's own pull toward its way (v0·e − v)/τ plus the repulsion, integrated over the
