@@ -19,6 +19,7 @@ frame (ms, search_s, faults) and their means, with the process's memory after th
 from __future__ import annotations
 
 import argparse
+import os
 import resource
 import time
 from pathlib import Path
@@ -32,7 +33,7 @@ import vwg
 from vwg.robot.case_study import CaseStudy
 
 RESULTS = Path(__file__).resolve().parent / "results" / "bench_crowd_frames.json"
-MAPS = {1000: lambda: rooms_world(), 10000: lambda: rooms_world(1600, 12)}
+MAPS = {1000: rooms_world, 10000: lambda: rooms_world(1600, 12)}  # bench_scale's rooms500 and rooms1600
 
 
 def minor_faults() -> int:
@@ -55,8 +56,6 @@ def main() -> None:
     with CaseStudy(world, args.planner, goals=room_goals(world), sensors=("laser",), threads=args.threads) as run:
         run.engine.run(WARMUP_FRAMES, progress=True)  # first plans, first scans, the crowd's robots met
         if args.pid_file:
-            import os
-
             args.pid_file.write_text(str(os.getpid()))
         for _ in tqdm(range(args.frames), desc="timed", unit="frame"):
             searched, faulted, t0 = run.decider.search_seconds, minor_faults(), time.perf_counter()
