@@ -11,7 +11,7 @@ from pathlib import Path
 from typing import Any
 
 from vwg.errors import Error
-from vwg.robot.topics import require_ros
+from vwg.robot.topics import CAMERA, GROUND_TRUTH, MAP, ODOM, PEOPLE, PLAN, ROBOT_MAP, ROOMS, SCAN, require_ros
 from vwg.robot.world_file import RobotWorld
 
 __all__ = ["layout_json", "shipped_layout", "write_layout"]
@@ -26,27 +26,26 @@ def layout_json(world: RobotWorld) -> str:
     import foxglove.layouts as fl
 
     topics: dict[str, Any] = {
-        "/map": fl.BaseRendererRosOccupancyGridTopicSettings(visible=True, color_mode="map", draw_behind=True),
-        "/rooms": fl.BaseRendererRosMarkerTopicSettings(visible=True),
-        "/people": fl.BaseRendererRosMarkerTopicSettings(visible=True),
+        MAP.name: fl.BaseRendererRosOccupancyGridTopicSettings(visible=True, color_mode="map", draw_behind=True),
+        ROOMS.name: fl.BaseRendererRosMarkerTopicSettings(visible=True),
+        PEOPLE.name: fl.BaseRendererRosMarkerTopicSettings(visible=True),
     }
     cameras = []
     for n, robot in enumerate(world.robots):
         colour = _COLOURS[n % len(_COLOURS)]
-        prefix = f"/robot{robot.id}"
-        topics[f"{prefix}/map"] = fl.BaseRendererRosOccupancyGridTopicSettings(visible=n == 0, color_mode="costmap",
-                                                                             alpha=0.35)
-        topics[f"{prefix}/scan"] = fl.BaseRendererLaserScanTopicSettings(visible=True, point_size=4,
-                                                                        color_mode="flat", flat_color=colour)
-        topics[f"{prefix}/plan"] = fl.BaseRendererPosesTopicSettings(visible=True, type="line", line_width=0.05,
-                                                                    gradient=(colour, colour))
-        topics[f"{prefix}/odom"] = fl.BaseRendererPoseTopicSettings(visible=True, type="arrow", color=colour)
-        topics[f"{prefix}/ground_truth"] = fl.BaseRendererPoseTopicSettings(visible=True, type="axis", axis_scale=0.5)
+        topics[ROBOT_MAP.of(robot.id)] = fl.BaseRendererRosOccupancyGridTopicSettings(visible=n == 0,
+                                                                                    color_mode="costmap", alpha=0.35)
+        topics[SCAN.of(robot.id)] = fl.BaseRendererLaserScanTopicSettings(visible=True, point_size=4, color_mode="flat",
+                                                                         flat_color=colour)
+        topics[PLAN.of(robot.id)] = fl.BaseRendererPosesTopicSettings(visible=True, type="line", line_width=0.05,
+                                                                     gradient=(colour, colour))
+        topics[ODOM.of(robot.id)] = fl.BaseRendererPoseTopicSettings(visible=True, type="arrow", color=colour)
+        topics[GROUND_TRUTH.of(robot.id)] = fl.BaseRendererPoseTopicSettings(visible=True, type="axis", axis_scale=0.5)
         if "camera" in robot.sensors:
             cameras.append(fl.StackItem(size=1, panel=fl.ImagePanel(
                 title=f"robot {robot.id}'s camera",
                 config=fl.ImageConfig(image_mode=fl.ImageModeConfig(
-                    image_topic=f"{prefix}/camera/image/compressed")))))
+                    image_topic=CAMERA.of(robot.id))))))
     g = world.grid
     centre = (g.origin[0] + g.width_m / 2, g.origin[1] + g.height_m / 2, 0.0)
     scene = fl.ThreeDeePanel(title=f"{world.name}: maps, scans, plans", config=fl.ThreeDeeConfig(

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Iterable, Mapping
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Protocol
 
@@ -36,7 +37,33 @@ from vwg.io.foxglove_server import FoxgloveServer
 from vwg.io.mcap_file import McapFile
 from vwg.robot.world_file import RobotWorld
 
-__all__ = ["RunTopics", "Sink", "case_topics", "open_sinks", "require_ros", "world_topics"]
+__all__ = ["CAMERA", "GROUND_TRUTH", "MAP", "ODOM", "PEOPLE", "PLAN", "ROBOT_MAP", "ROOMS", "SCAN", "TF", "RunTopics",
+           "Sink", "Topic", "case_topics", "open_sinks", "require_ros", "world_topics"]
+
+
+@dataclass(frozen=True)
+class Topic:
+    """A topic of a run: its name (``{robot}`` in a robot's own, filled by ``of``) and its message type. The
+    names live here alone: RunTopics writes them, world_topics declares them, the Foxglove layout shows them."""
+
+    name: str
+    type: str
+
+    def of(self, robot: int) -> str:
+        """The name of robot `robot`'s."""
+        return self.name.format(robot=robot)
+
+
+MAP = Topic("/map", "nav_msgs/msg/OccupancyGrid")
+ROOMS = Topic("/rooms", "visualization_msgs/msg/MarkerArray")
+PEOPLE = Topic("/people", "visualization_msgs/msg/MarkerArray")
+TF = Topic("/tf", "tf2_msgs/msg/TFMessage")
+ODOM = Topic("/robot{robot}/odom", "nav_msgs/msg/Odometry")
+PLAN = Topic("/robot{robot}/plan", "nav_msgs/msg/Path")
+ROBOT_MAP = Topic("/robot{robot}/map", "nav_msgs/msg/OccupancyGrid")
+SCAN = Topic("/robot{robot}/scan", "sensor_msgs/msg/LaserScan")
+CAMERA = Topic("/robot{robot}/camera/image/compressed", "sensor_msgs/msg/CompressedImage")
+GROUND_TRUTH = Topic("/robot{robot}/ground_truth", "nav_msgs/msg/Odometry")
 
 
 class Sink(Protocol):
@@ -96,9 +123,9 @@ class RunTopics:
     def begin(self, string: _core.String, seconds: float) -> None:
         """The known map and the rooms (latched), and the robots where the run starts."""
         g = self.world.grid
-        self._write("/map", ros.occupancy_grid(seconds, "map", np.asarray(g.data), g.resolution, g.origin), seconds,
+        self._write(MAP.name, ros.occupancy_grid(seconds, "map", np.asarray(g.data), g.resolution, g.origin), seconds,
                     latched=True)
-        self._write("/rooms", ros.marker_array(seconds, "map", self._room_markers()), seconds, latched=True)
+        self._write(ROOMS.name, ros.marker_array(seconds, "map", self._room_markers()), seconds, latched=True)
         self._state(string, seconds, first=True)
 
     def frame(self, record: _core.FrameRecord) -> None:
@@ -140,25 +167,24 @@ class RunTopics:
                 dx, dy = pose[0] - before[0], pose[1] - before[1]
                 speed = (dx * math.cos(before[2]) + dy * math.sin(before[2])) / self.dt
                 turn = _wrap(pose[2] - before[2]) / self.dt
-            self._write(f"/{prefix}/odom", ros.odometry(seconds, f"{prefix}/odom", f"{prefix}/base_link", pose, speed,
-                                                        turn), seconds)
+            odom = ros.odometry(seconds, f"{prefix}/odom", f"{prefix}/base_link", pose, speed, turn)
+            self._write(ODOM.of(robot), odom, seconds)
             transforms += [("map", f"{prefix}/odom", (0.0, 0.0, 0.0)), (f"{prefix}/odom", f"{prefix}/base_link", pose)]
             truth = self.truth(robot) if self.truth is not None else None
             if truth is not None:
-                self._write(f"/{prefix}/ground_truth", ros.odometry(seconds, "map", f"{prefix}/base_link", truth),
-                            seconds)
+                self._write(GROUND_TRUTH.of(robot), ros.odometry(seconds, "map", f"{prefix}/base_link", truth), seconds)
             plan = actor["path"]
             if self._plans.get(robot) != plan.name:
                 self._plans[robot] = plan.name
-                self._write(f"/{prefix}/plan", ros.path(seconds, "map", np.asarray(plan)), seconds, latched=True)
+                self._write(PLAN.of(robot), ros.path(seconds, "map", np.asarray(plan)), seconds, latched=True)
             grid = actor["grid"]
             self._map_last[robot] = (grid.name, grid)
             if self._maps.get(robot) != grid.name and seconds - self._map_sent.get(robot, -math.inf) >= MAP_PERIOD_S:
                 self._send_map(robot, grid.name, grid, seconds)
         if transforms:
-            self._write("/tf", ros.tf(seconds, transforms), seconds)
+            self._write(TF.name, ros.tf(seconds, transforms), seconds)
         if people:
-            self._write("/people", ros.marker_array(seconds, "map", people), seconds)
+            self._write(PEOPLE.name, ros.marker_array(seconds, "map", people), seconds)
         for sink in self.sinks:
             sink.frame_done(_ns(seconds))
 
@@ -166,8 +192,8 @@ class RunTopics:
         g = self.world.grid
         self._maps[robot] = name
         self._map_sent[robot] = seconds
-        self._write(f"/robot{robot}/map", ros.occupancy_grid(seconds, "map", np.asarray(grid), g.resolution,
-                                                             g.origin), seconds, latched=True)
+        self._write(ROBOT_MAP.of(robot), ros.occupancy_grid(seconds, "map", np.asarray(grid), g.resolution, g.origin),
+                    seconds, latched=True)
 
     def _scans(self, record: _core.FrameRecord, seconds: float) -> None:
         if not self.scanning:
@@ -185,7 +211,7 @@ class RunTopics:
                 mine = np.asarray(targets) == robot
                 out[index[mine]] = np.asarray(columns["dist"])[mine]
         for robot in sorted(ranges):
-            self._write(f"/robot{robot}/scan",
+            self._write(SCAN.of(robot),
                         ros.scan(seconds, f"robot{robot}/base_link", self.angle_min, self.increment, ranges[robot],
                                  self.laser.min_range, self.laser.max_range, self.dt), seconds)
 
@@ -196,7 +222,7 @@ class RunTopics:
             image = camera.image
             if image is not None:
                 jpeg = _core.encode_image(np.asarray(image), format="jpeg")
-                self._write(f"/robot{robot}/camera/image/compressed",
+                self._write(CAMERA.of(robot),
                             ros.compressed_image(seconds, f"robot{robot}/camera", jpeg, "jpeg"), seconds)
 
     def _room_markers(self) -> list[ros.Marker]:
@@ -232,21 +258,13 @@ def case_topics(case: Any, sinks: Iterable[Sink]) -> RunTopics:
 def world_topics(world: RobotWorld, *, ground_truth: bool = True) -> dict[str, ros.Schema]:
     """Every topic a run of `world` may publish (RunTopics), with its message type: a live server declares them
     before it takes clients. `ground_truth`: whether the platform knows where its robots are (the simulator)."""
-    grid, markers = ros.schema("nav_msgs/msg/OccupancyGrid"), ros.schema("visualization_msgs/msg/MarkerArray")
-    odometry = ros.schema("nav_msgs/msg/Odometry")
-    out = {"/map": grid, "/rooms": markers, "/tf": ros.schema("tf2_msgs/msg/TFMessage")}
-    if world.people:
-        out["/people"] = markers
+    topics = [MAP, ROOMS, TF, *([PEOPLE] if world.people else [])]
+    named = {t.name: ros.schema(t.type) for t in topics}
     for robot in world.robots:
-        prefix = f"/robot{robot.id}"
-        out |= {f"{prefix}/odom": odometry, f"{prefix}/plan": ros.schema("nav_msgs/msg/Path"), f"{prefix}/map": grid}
-        if "laser" in robot.sensors:
-            out[f"{prefix}/scan"] = ros.schema("sensor_msgs/msg/LaserScan")
-        if "camera" in robot.sensors:
-            out[f"{prefix}/camera/image/compressed"] = ros.schema("sensor_msgs/msg/CompressedImage")
-        if ground_truth:
-            out[f"{prefix}/ground_truth"] = odometry
-    return out
+        mine = [ODOM, PLAN, ROBOT_MAP, *([SCAN] if "laser" in robot.sensors else []),
+                *([CAMERA] if "camera" in robot.sensors else []), *([GROUND_TRUTH] if ground_truth else [])]
+        named |= {t.of(robot.id): ros.schema(t.type) for t in mine}
+    return named
 
 
 def require_ros(*modules: str) -> None:
