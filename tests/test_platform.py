@@ -150,3 +150,68 @@ def test_robots_spawned_by_a_lambda_get_a_body_and_those_gone_lose_it():
     run.engine.set_string(initial)  # robot 3 (and the spawner) leave the string
     run.run(frames=1)
     assert [r.id for r in run.sim.platform.robots()] == [1, 2]
+
+
+def _office(feedback: str) -> vwg.robot.RobotWorld:
+    """The office with every simulated sensor on both robots, and the feedback asked for (odometry alone, particles,
+    or ORCA's neighbours)."""
+    import dataclasses
+
+    from vwg.robot.world_file import Avoidance, Localization
+
+    world = vwg.robot.load_robot_world("office")
+    robots = [RobotSettings(id=r.id, start=r.start, radius=r.radius, sensors=("laser", "kinect", "camera"))
+              for r in world.robots]
+    world = dataclasses.replace(world, robots=robots)
+    if feedback == "particles":
+        world = dataclasses.replace(world, localization=Localization.of("particles"))
+    if feedback == "orca":
+        world = dataclasses.replace(world, avoidance=Avoidance.of("orca"))
+    return world
+
+
+@pytest.mark.parametrize("feedback", ["odometry", "particles", "orca"])
+def test_a_robot_that_leaves_the_string_leaves_its_sensors_quiet(feedback):
+    # Robot 2's laser, depth camera, camera (and its particle filter, or its neighbour tracker) were made for it at
+    # the start; once a λ takes it out of the string its body is gone, and they emit nothing (they made the next
+    # frame fail, looking for the body). Robot 1 goes on as before.
+    from vwg.robot.case_study import CaseStudy
+
+    world = _office(feedback)
+    run = CaseStudy(world, "astar")
+    run.run(frames=2)
+    spec = world.robots[0]
+    alone = run.vworld.string(vwg.Sym("ARobot", id=1, grid=_core.robot_map(world.grid), x=spec.start[0],
+                                      y=spec.start[1], angle=spec.start[2], avoid=feedback == "orca"))
+    run.engine.set_string(alone)
+    targets: list[tuple[int, str, int]] = []
+    run.engine.add_observer(lambda r: targets.extend((r.frame, e.type, e.target) for e in r.events))
+    summary = run.run(frames=4)
+    assert [r.id for r in run.sim.platform.robots()] == [1]
+    assert run.sim.platform.find_robot(2) is None and run.sim.platform.find_robot(1).id == 1
+    # The frame that took robot 2 out of the string (frame 2) still had its events; none after it.
+    assert not [t for t in targets if t[0] > 2 and t[2] == 2]
+    for frame in (3, 4, 5):
+        assert {e for f, e, to in targets if f == frame and to == 1} >= {"eOdometry", "eLaser"}
+    assert [(r.id, r.status) for r in summary.robots if r.id == 2] == [(2, "gone")]
+
+
+def test_a_robot_spawned_under_particle_localization_gets_its_odometry():
+    # Robots 1 and 2 are localized by their particle filters; robot 3, spawned by a λ, has no filter: its pose is
+    # its odometry, one eOdometry a frame, and robots 1 and 2 still get one each (their filters'), not two.
+    from vwg.robot.case_study import CaseStudy
+
+    world = _office("particles")
+    run = CaseStudy(world, "astar", sensors=("laser",))
+    run.vworld.alphabet.add_actor_type(Spawner)
+    initial = run.initial_string()
+    run.engine.set_string(run.vworld.string(initial, vwg.Sym("Spawner", grid=_core.robot_map(run.world.grid))))
+    odometry: list[tuple[int, int]] = []
+    run.engine.add_observer(lambda r: odometry.extend((r.frame, e.target) for e in r.events if e.type == "eOdometry"))
+    run.run(frames=6)
+    assert [r.id for r in run.sim.platform.robots()] == [1, 2, 3]
+    # Robot 3's body is made after frame 0 (the λ ran in it): from frame 1 on, each robot has one eOdometry a frame.
+    assert sorted(odometry) == sorted([(0, 1), (0, 2)] + [(f, r) for f in range(1, 6) for r in (1, 2, 3)])
+    # Its odometry is where its body is (it has not been told to move).
+    robot3 = run.robot_actors()[3]
+    assert (float(robot3["x"]), float(robot3["y"])) == pytest.approx((12.0, 9.0), abs=1e-3)

@@ -244,6 +244,10 @@ robots() -> list of RobotState, take_collisions() -> list of Collision, time() a
            "Let `seconds` pass on the platform.")
       .def("robots", [](const RobotPlatform& p) { return p.robots(); }, "Every robot's state.")
       .def("robot", &RobotPlatform::robot, py::arg("id"), py::return_value_policy::copy)
+      .def("find_robot", [](const RobotPlatform& p, int id) -> std::optional<RobotState> {
+             const RobotState* s = p.find_robot(id);
+             return s != nullptr ? std::optional<RobotState>(*s) : std::nullopt;
+           }, py::arg("id"), "Robot `id`'s state, or None when the platform has no such robot (a λ took it out of the string).")
       .def("take_collisions", &RobotPlatform::take_collisions, "The collisions since the last call.")
       .def("time", &RobotPlatform::time, "The platform's clock, seconds.")
       .def("name", &RobotPlatform::name)
@@ -267,9 +271,11 @@ pass on the platform. The same string drives the simulator and a real robot.)doc
       .def_property_readonly("platform", &platform::MotionBackend::platform);
 
   py::class_<platform::OdometryGenerator, Generator, std::shared_ptr<platform::OdometryGenerator>>(m, "OdometryGenerator",
-      "Each frame, for each robot of the platform: event<to=id, x, y, angle, busy, commands> (its odometry).")
-      .def(py::init<std::shared_ptr<RobotPlatform>, const Alphabet&, const std::string&>(), py::arg("platform"),
-           py::arg("alphabet"), py::arg("event") = "eOdometry");
+      "Each frame, for each robot of the platform but those `localized` (whose pose their LocalizationGenerator "
+      "gives): event<to=id, x, y, angle, busy, commands> (its odometry).")
+      .def(py::init<std::shared_ptr<RobotPlatform>, const Alphabet&, const std::string&, std::vector<int>>(),
+           py::arg("platform"), py::arg("alphabet"), py::arg("event") = "eOdometry",
+           py::arg("localized") = std::vector<int>{});
   py::class_<platform::CollisionGenerator, Generator, std::shared_ptr<platform::CollisionGenerator>>(m, "CollisionGenerator",
       "For each collision since the last frame: event<to=robot, other> (other = 0 for a wall).")
       .def(py::init<std::shared_ptr<RobotPlatform>, const Alphabet&, const std::string&>(), py::arg("platform"),

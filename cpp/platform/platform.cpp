@@ -42,10 +42,15 @@ void check_settings(const RobotSettings& r, const std::string& owner) {
 }
 
 const RobotState& RobotPlatform::robot(int id) const {
-  for (const RobotState& s : robots()) {
-    if (s.id == id) return s;
-  }
+  if (const RobotState* s = find_robot(id)) return *s;
   throw SchemaError("robot", "no robot " + std::to_string(id) + " on the " + name() + " platform");
+}
+
+const RobotState* RobotPlatform::find_robot(int id) const {
+  for (const RobotState& s : robots()) {
+    if (s.id == id) return &s;
+  }
+  return nullptr;
 }
 
 void RobotPlatform::save_state(StateWriter&) const {

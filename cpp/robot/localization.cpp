@@ -290,7 +290,9 @@ void LocalizationGenerator::reset(std::uint64_t seed) {
 }
 
 void LocalizationGenerator::generate(const FrameInfo&, EventList& out) {
-  const platform::RobotState& s = platform_->robot(robot_);
+  const platform::RobotState* robot = platform_->find_robot(robot_);
+  if (robot == nullptr) return;  // out of the string: no body to localize
+  const platform::RobotState& s = *robot;
   const Pose2 odometry = s.odometry;
   if (!started_) {
     // The robot starts where its world file puts it (where its odometry starts).

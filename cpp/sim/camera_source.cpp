@@ -11,13 +11,18 @@ SimulatedCamera::SimulatedCamera(std::shared_ptr<const PhysicsWorld> world, int 
 }
 
 bool SimulatedCamera::grab(const FrameInfo&, cv::Mat& grey) {
+  const RobotState* self = world_->find_robot(robot_);
+  if (self == nullptr) {  // out of the string: no body, no picture (and none kept from before)
+    grey.release();
+    return false;
+  }
   others_.clear();
   for (const RobotState& s : world_->robots()) {
     if (s.id != robot_) others_.push_back(RobotShape{s.pose, s.radius, s.id});
   }
   // People are seen as robots are: upright cylinders (their heading does not show).
   for (const PhysicsWorld::Person& p : world_->people()) others_.push_back(RobotShape{{p.x, p.y, 0.0}, p.radius, -p.id});
-  renderer_->render(world_->robot(robot_).pose, others_, grey, PixelFormat::Grey);
+  renderer_->render(self->pose, others_, grey, PixelFormat::Grey);
   return true;
 }
 

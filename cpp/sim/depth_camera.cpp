@@ -108,7 +108,9 @@ KinectGenerator::KinectGenerator(std::shared_ptr<const RangeScanner> scanner, in
 }
 
 void KinectGenerator::generate(const FrameInfo&, EventList& out) {
-  const Pose2 pose = scanner_->world().robot(robot_).pose;
+  const RobotState* robot = scanner_->world().find_robot(robot_);
+  if (robot == nullptr) return;  // out of the string: no body, no picture
+  const Pose2 pose = robot->pose;
   camera_.render(robot_, pose, depth_, camera_.spec().noise ? &rng_ : nullptr);
   camera_.to_scan(depth_, ranges_);
   const auto angles = camera_.angles();

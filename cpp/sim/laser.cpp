@@ -205,7 +205,9 @@ void LaserGenerator::load_state(StateReader& in) {
 }
 
 void LaserGenerator::generate(const FrameInfo&, EventList& out) {
-  const Pose2 pose = scanner_->world().robot(robot_).pose;
+  const RobotState* robot = scanner_->world().find_robot(robot_);
+  if (robot == nullptr) return;  // out of the string: no body, no scan
+  const Pose2 pose = robot->pose;
   scanner_->scan(robot_, pose, angles_, spec_.max_range, ranges_);
   // The bounds as floats. The scan writes max_range as a float (no return): a max_range that
   // float32 rounds down (3.3) must still read as no obstacle.

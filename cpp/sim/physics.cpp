@@ -323,6 +323,11 @@ PhysicsWorld::Robot& PhysicsWorld::find(int id) { return robots_[index_of(id)]; 
 
 const RobotState& PhysicsWorld::robot(int id) const { return states_[index_of(id)]; }
 
+const RobotState* PhysicsWorld::find_robot(int id) const {
+  const auto it = index_.find(id);
+  return it != index_.end() ? &states_[it->second] : nullptr;
+}
+
 void PhysicsWorld::command(int robot, std::vector<MotionStep> plan) {
   Robot& r = find(robot);
   for (const MotionStep& s : plan) {

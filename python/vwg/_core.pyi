@@ -2053,6 +2053,10 @@ class RobotPlatform:
         """
         Replace the robot's command: a list of ('turn', radians) and ('drive', metres) steps.
         """
+    def find_robot(self, id: typing.SupportsInt | typing.SupportsIndex) -> RobotState | None:
+        """
+        Robot `id`'s state, or None when the platform has no such robot (a λ took it out of the string).
+        """
     def load_state(self, data: bytes, seconds: typing.SupportsFloat | typing.SupportsIndex | None = None) -> None:
         """
         Back to what save_state() returned, on a platform made as the saved one was. `seconds`: the saved run's simulated time, which nothing in the state may exceed (a state from someone else cannot ask for years).
@@ -2092,9 +2096,9 @@ class MotionBackend(Backend):
         ...
 class OdometryGenerator(Generator):
     """
-    Each frame, for each robot of the platform: event<to=id, x, y, angle, busy, commands> (its odometry).
+    Each frame, for each robot of the platform but those `localized` (whose pose their LocalizationGenerator gives): event<to=id, x, y, angle, busy, commands> (its odometry).
     """
-    def __init__(self, platform: RobotPlatform, alphabet: Alphabet, event: str = 'eOdometry') -> None:
+    def __init__(self, platform: RobotPlatform, alphabet: Alphabet, event: str = 'eOdometry', localized: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex] = []) -> None:
         ...
 class CollisionGenerator(Generator):
     """

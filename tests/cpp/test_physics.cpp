@@ -269,6 +269,9 @@ TEST(Physics, RobotsFoundByIdAndDiscsFollowThePosesAfterRemovals) {
     for (std::size_t i = 0; i < world.robots().size(); ++i) {
       const RobotState& s = world.robots()[i];
       EXPECT_EQ(&world.robot(s.id), &s);
+      EXPECT_EQ(world.find_robot(s.id), &s);
+      // The walk of the platform's default finds the same state as the simulator's index.
+      EXPECT_EQ(world.vwg::platform::RobotPlatform::find_robot(s.id), &s);
       EXPECT_EQ(world.discs()[i].id, s.id);
       EXPECT_EQ(world.discs()[i].x, s.pose.x);
       EXPECT_EQ(world.discs()[i].y, s.pose.y);
@@ -281,6 +284,8 @@ TEST(Physics, RobotsFoundByIdAndDiscsFollowThePosesAfterRemovals) {
   world.remove_robot(16);  // the third
   world.remove_robot(10);  // the first
   EXPECT_THROW(world.robot(16), vwg::SchemaError);
+  EXPECT_EQ(world.find_robot(16), nullptr);
+  EXPECT_EQ(world.vwg::platform::RobotPlatform::find_robot(10), nullptr);
   world.advance(0.5);
   check();
   EXPECT_EQ(world.robots().front().id, 13);

@@ -395,7 +395,13 @@ class CaseStudy:
         interrupted = self.orders.interrupted
         robots = []
         for spec in self.world.robots:
-            state = self.sim.robot(spec.id)
+            state = self.sim.platform.find_robot(spec.id)
+            if state is None:  # a λ took it out of the string, and the platform its body
+                robots.append(RobotSummary(
+                    id=spec.id, room=last.get(spec.id), reached=False, distance_to_goal_m=math.inf, path_length_m=0.0,
+                    collisions=0, replans=0, commands=0, status="gone", pose_error_m=None,
+                    interrupted=spec.id in interrupted))
+                continue
             room = last.get(spec.id)
             dist = math.inf
             if room is not None:
@@ -440,7 +446,8 @@ class CaseStudy:
         legend = []
         for robot, spec in zip(self.summary().robots, self.world.robots, strict=True):
             renderer.draw_start(spec.start[0], spec.start[1], spec.id)
-            renderer.draw_robot(self.sim.robot(spec.id).pose, spec.radius, spec.id)
+            if (state := self.sim.platform.find_robot(spec.id)) is not None:
+                renderer.draw_robot(state.pose, spec.radius, spec.id)
             state = "reached" if robot.reached else "not reached"
             where = ("interrupted" if robot.interrupted else "no order" if robot.room is None
                      else f"{robot.room}, {state}")

@@ -178,8 +178,11 @@ class Platform:
         lasers = {r.id: self._laser(r, why) for r in self.world.robots}
         field = _core.LikelihoodField(known_map, localization.settings, max(g.max_range for g in lasers.values()))
         # One a robot, as the lasers are: the robots' filters run side by side (the same frames on any threads).
-        return [*(_core.LocalizationGenerator(self.platform, lasers[r.id], field, localization.settings, alphabet)
-                  for r in self.world.robots), *neighbours, collisions]
+        # A robot a λ spawns has no filter: its odometry is its pose (after the filters' poses).
+        filters = [_core.LocalizationGenerator(self.platform, lasers[r.id], field, localization.settings, alphabet)
+                   for r in self.world.robots]
+        odometry = _core.OdometryGenerator(self.platform, alphabet, localized=[r.id for r in self.world.robots])
+        return [*filters, odometry, *neighbours, collisions]
 
     def _laser(self, robot: _core.RobotSettings, why: str) -> _core.LaserGenerator:
         """Robot `robot`'s laser as made by make_sensors; SchemaError saying `why` it is needed when it has none

@@ -5,6 +5,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "vwg/alphabet.hpp"
 #include "vwg/generator.hpp"
@@ -18,8 +19,10 @@ namespace vwg::platform {
 /// declare the fields x, y, angle (real), busy (bool) and commands (int), in this order.
 class OdometryGenerator final : public Generator {
  public:
+  /// `localized`: the robots whose pose their own localization gives (LocalizationGenerator), left out here;
+  /// every other robot of the platform, one a λ spawned included, gets its odometry.
   OdometryGenerator(std::shared_ptr<RobotPlatform> platform, const Alphabet& alphabet,
-                    const std::string& event = "eOdometry");
+                    const std::string& event = "eOdometry", std::vector<int> localized = {});
   void generate(const FrameInfo& frame, EventList& out) override;
   std::string name() const override { return "odometry"; }
   void save_state(StateWriter&) const override {}  // reads the platform, which keeps its own
@@ -28,6 +31,7 @@ class OdometryGenerator final : public Generator {
  private:
   std::shared_ptr<RobotPlatform> platform_;
   EventTypeId event_;
+  std::vector<int> localized_;  // sorted
 };
 
 /// For each collision since the last frame: `<event><to=robot, other>` with the other robot's id,

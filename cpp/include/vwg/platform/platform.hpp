@@ -113,6 +113,10 @@ class RobotPlatform {
   virtual const std::vector<RobotState>& robots() const = 0;
   /// One robot's state; throws vwg::SchemaError for an unknown id.
   virtual const RobotState& robot(int id) const;
+  /// One robot's state, or null when the platform has no robot of that id: a robot's own generators
+  /// (its sensors, its localization) ask this each frame, and emit nothing for a robot a λ took out of the
+  /// string (PlatformSync removed its body).
+  virtual const RobotState* find_robot(int id) const;
   /// The contacts since the last call.
   virtual std::vector<Collision> take_collisions() = 0;
   /// The platform's clock, seconds since it started.

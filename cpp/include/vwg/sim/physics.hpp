@@ -111,6 +111,7 @@ class PhysicsWorld final : public platform::RobotPlatform {
   const std::vector<Person>& people() const { return people_; }
 
   const RobotState& robot(int id) const override;
+  const RobotState* find_robot(int id) const override;
   const std::vector<RobotState>& robots() const override { return states_; }
   /// Where each robot's disc is, in the order of robots(), then each person's (id −person): what the lasers
   /// read.

@@ -32,7 +32,10 @@ class WallLaser(_core.Generator):
         self.angles = _core.beam_angles(spec)  # LaserGenerator's, bit for bit
 
     def generate(self, frame: _core.FrameInfo) -> list[Any]:
-        ranges = self.raycaster.scan(self.platform.robot(self.robot).pose, self.angles, self.spec.max_range)
+        state = self.platform.find_robot(self.robot)
+        if state is None:
+            return []  # out of the string (a λ took it away): no body, no scan
+        ranges = self.raycaster.scan(state.pose, self.angles, self.spec.max_range)
         # The rule of every laser, simulated or real (C++ platform::laser_events), here without noise.
         dist, angle = _core.laser_events(ranges, self.angles, self.spec.min_range, self.spec.max_range)
         if dist.size == 0:
