@@ -37,17 +37,28 @@ enum class Touch {
   Refused,  ///< blocked when a square is at most radius away (OMPL's validity: clearance > radius)
 };
 
+/// The squares segment_clear_of_blocked looks at: rows r0..r1, columns c0..c1 (empty when r0 > r1).
+struct CellWindow {
+  int r0, r1, c0, c1;
+  bool holds(int row, int col) const { return row >= r0 && row <= r1 && col >= c0 && col <= c1; }
+};
+
+/// The squares within reach of a disc of `radius` cells swept along (u0, v0)–(u1, v1): those near its bounding box.
+inline CellWindow segment_window(double u0, double v0, double u1, double v1, double radius, int rows, int cols) {
+  const int margin = static_cast<int>(std::ceil(radius)) + 1;
+  return CellWindow{std::max(static_cast<int>(std::floor(std::min(v0, v1))) - margin, 0),
+                    std::min(static_cast<int>(std::floor(std::max(v0, v1))) + margin, rows - 1),
+                    std::max(static_cast<int>(std::floor(std::min(u0, u1))) - margin, 0),
+                    std::min(static_cast<int>(std::floor(std::max(u0, u1))) + margin, cols - 1)};
+}
+
 /// Whether the segment (u0, v0)–(u1, v1) stays clear of every square of a rows × cols grid for which
-/// `blocked(row, col)`, by `radius` cells under the `touch` rule. Every square near the segment's
-/// bounding box is tested exactly (no sampling), so keep segments short or the grid sparse.
+/// `blocked(row, col)`, by `radius` cells under the `touch` rule. Every square of segment_window is
+/// tested exactly (no sampling), so keep segments short or the grid sparse.
 template <class Blocked>
 bool segment_clear_of_blocked(double u0, double v0, double u1, double v1, double radius, Touch touch, int rows, int cols,
                               Blocked&& blocked) {
-  const int margin = static_cast<int>(std::ceil(radius)) + 1;
-  const int r0 = std::max(static_cast<int>(std::floor(std::min(v0, v1))) - margin, 0);
-  const int r1 = std::min(static_cast<int>(std::floor(std::max(v0, v1))) + margin, rows - 1);
-  const int c0 = std::max(static_cast<int>(std::floor(std::min(u0, u1))) - margin, 0);
-  const int c1 = std::min(static_cast<int>(std::floor(std::max(u0, u1))) + margin, cols - 1);
+  const auto [r0, r1, c0, c1] = segment_window(u0, v0, u1, v1, radius, rows, cols);
   for (int r = r0; r <= r1; ++r) {
     for (int c = c0; c <= c1; ++c) {
       if (!blocked(r, c)) continue;

@@ -6,6 +6,7 @@
 
 #include "vwg/error.hpp"
 #include "vwg/plan/astar.hpp"
+#include "geometry/clearance.hpp"
 #include "vwg/geometry/clearance_field.hpp"
 #include "vwg/plan/ompl_planner.hpp"
 
@@ -62,25 +63,89 @@ geometry::Cell nearest_free(const geometry::BlockedGrid& grid, geometry::Cell ce
   return {-1, -1};
 }
 
-bool path_clear(const DecisionInput& in, std::span<const double> path) {
-  const std::size_t n = path.size() / 2;
-  if (n < 2) return false;
-  // From the path point nearest to the robot on.
+namespace {
+
+/// The path point nearest to the robot: path_clear looks at the path from there on.
+std::size_t nearest_point(const DecisionInput& in, std::span<const double> path) {
   std::size_t nearest = 0;
   double best = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = 0; i < path.size() / 2; ++i) {
     const double d = std::hypot(path[2 * i] - in.pose.x, path[2 * i + 1] - in.pose.y);
     if (d < best) {
       best = d;
       nearest = i;
     }
   }
-  // The path was planned for the centre of the robot: check it with a slightly smaller disc, so
-  // that the cell-centre path's corners (inside the clearance by construction) do not count.
-  const double r = 0.9 * in.radius;
-  for (std::size_t i = nearest; i + 1 < n; ++i) {
-    if (!segment_clear(*in.map, *in.geometry, path[2 * i], path[2 * i + 1], path[2 * i + 2], path[2 * i + 3], r)) return false;
+  return nearest;
+}
+
+/// The path was planned for the centre of the robot: it is checked with a slightly smaller disc, so
+/// that the cell-centre path's corners (inside the clearance by construction) do not count.
+double path_check_radius(const DecisionInput& in) { return 0.9 * in.radius; }
+
+bool path_segment_clear(const DecisionInput& in, std::span<const double> path, std::size_t i, double radius) {
+  return segment_clear(*in.map, *in.geometry, path[2 * i], path[2 * i + 1], path[2 * i + 2], path[2 * i + 3], radius);
+}
+
+}  // namespace
+
+bool path_clear(const DecisionInput& in, std::span<const double> path) {
+  const std::size_t n = path.size() / 2;
+  if (n < 2) return false;
+  const double r = path_check_radius(in);
+  for (std::size_t i = nearest_point(in, path); i + 1 < n; ++i) {
+    if (!path_segment_clear(in, path, i, r)) return false;
   }
+  return true;
+}
+
+bool ClearPathMemo::clear(const DecisionInput& in, std::span<const double> path) {
+  checked_ = 0;
+  const std::size_t n = path.size() / 2;
+  if (n < 2) {
+    path_.reset();
+    return false;
+  }
+  const geometry::MapGeometry& g = *in.geometry;
+  const double radius = path_check_radius(in);
+  // The cells written since the last answer that are obstacles now: only they can block a segment found clear.
+  // Past a few hundred, testing each segment against them costs more than checking it.
+  constexpr std::size_t kMostFollowed = 256;
+  thread_local std::vector<geometry::Cell> obstacles;
+  obstacles.clear();
+  bool follow = path_ != nullptr && path_ == in.path_owner && radius == radius_;
+  if (follow) {
+    const auto cells = in.map->view<std::int16_t>();
+    follow = in.map->written_since(map_, [&](std::size_t k) {
+      if (is_obstacle(cells[k])) obstacles.push_back({static_cast<int>(k / g.width), static_cast<int>(k % g.width)});
+    });
+    follow = follow && obstacles.size() <= kMostFollowed;
+  }
+  const geometry::OccupancyGrid frame = g.frame();
+  const double rc = radius / g.resolution;  // as segment_clear has it
+  bool clear = true;
+  const std::size_t from = nearest_point(in, path);
+  for (std::size_t i = from; clear && i + 1 < n; ++i) {
+    if (follow && i >= from_) {
+      double u0, v0, u1, v1;
+      frame.world_to_grid(path[2 * i], path[2 * i + 1], u0, v0);
+      frame.world_to_grid(path[2 * i + 2], path[2 * i + 3], u1, v1);
+      const geometry::CellWindow looked_at = geometry::segment_window(u0, v0, u1, v1, rc, g.height, g.width);
+      if (std::none_of(obstacles.begin(), obstacles.end(), [&](geometry::Cell c) { return looked_at.holds(c.row, c.col); })) {
+        continue;
+      }
+    }
+    ++checked_;
+    clear = path_segment_clear(in, path, i, radius);
+  }
+  if (!clear) {
+    path_.reset();
+    return false;
+  }
+  path_ = in.path_owner;
+  map_ = in.map->mark();
+  from_ = from;
+  radius_ = radius;
   return true;
 }
 
@@ -260,7 +325,7 @@ Decision GridDecider::decide(const DecisionInput& in) {
   // Keep the plan while it is still clear and still leads to this goal.
   const std::size_t n = in.path.size() / 2;
   const bool same_goal = n >= 2 && std::hypot(in.path[2 * n - 2] - in.goal_x, in.path[2 * n - 1] - in.goal_y) < 1e-9;
-  if (same_goal && (!changed || path_clear(in, in.path)) && follow_path(in, in.path, d)) {
+  if (same_goal && (!changed || s.clear_path.clear(in, in.path)) && follow_path(in, in.path, d)) {
     d.keep_path = true;
     return d;
   }

@@ -614,3 +614,81 @@ TEST(NoWayMemo, AWayKnownShutIsShutForAFreshSearchAndOpensWithItsBorder) {
   EXPECT_GT(shut_answers, 100) << "the memo saves searches";
   EXPECT_GT(opened, 10) << "ways did open";
 }
+
+TEST(ClearPathMemo, AnswersAsPathClearWhileTheMapAndThePlanChange) {
+  // A plan kept over many frames while cells near it and far from it are written (obstacles, unknown, free), the
+  // robot moves along it and sometimes back, and a new plan comes now and then: the memo's answer is path_clear's
+  // (every segment checked: the second method) at every step, and on a clear plan it checks fewer than half the
+  // segments path_clear does.
+  const int rows = 60, cols = 110;  // 11 × 6 m, the plans 7–10 m long
+  const geometry::MapGeometry g{cols, rows, 0.1, {0.5, -0.25, 0.0}};
+  auto map = std::make_shared<Blob>(DType::Int16, std::vector<std::int64_t>{rows, cols});
+  std::mt19937 rng(11);
+  auto random_plan = [&] {
+    std::vector<double> xy;
+    double x = 1.5 + 0.01 * (rng() % 100), y = 0.5 + 0.01 * (rng() % 100);
+    for (int k = 0; k < 30; ++k) {
+      xy.push_back(x), xy.push_back(y);
+      x += 0.2 + 0.001 * (rng() % 100);
+      y += 0.1 * (static_cast<int>(rng() % 5) - 2) * 0.5;
+      y = std::clamp(y, 0.5, 5.0);
+    }
+    return std::make_shared<const Blob>(DType::Float64, std::vector<std::int64_t>{30, 2}, xy.data(), xy.size() * sizeof(double));
+  };
+  std::shared_ptr<const Blob> plan = random_plan();
+  ClearPathMemo memo;
+  const std::int16_t values[] = {kFreeCell, kFreeCell, kUnknownCell, kWallCell, kSeenCell};
+  std::size_t steps_clear = 0, steps_blocked = 0, checked = 0, segments = 0;
+  int at = 0;
+  for (int step = 0; step < 600; ++step) {
+    if (rng() % 40 == 0) {
+      plan = random_plan();
+      at = 0;
+    }
+    {
+      BlobEdit<std::int16_t> edit(*map);
+      // A few cells a frame, near the plan or anywhere.
+      const auto xy = plan->view<double>();
+      for (int k = rng() % 4 == 0 ? 1 : 0; k > 0; --k) {
+        int row, col;
+        const std::size_t p = 2 * (rng() % (xy.size() / 2));
+        if (rng() % 4 == 0 && g.cell_of(xy[p] + 0.1 * (static_cast<int>(rng() % 9) - 4),
+                                        xy[p + 1] + 0.1 * (static_cast<int>(rng() % 9) - 4), row, col)) {
+          edit.set(static_cast<std::size_t>(row) * cols + col, values[rng() % 5]);
+        } else {
+          edit.set(rng() % map->size(), rng() % 2 ? std::int16_t{kFreeCell} : values[rng() % 5]);
+        }
+      }
+      // Now and then the three bottom rows, away from the plans, all marked or all cleared: more obstacle cells
+      // written than the memo follows.
+      if (rng() % 25 == 0) {
+        const std::int16_t band = rng() % 2 ? kSeenCell : kFreeCell;
+        for (std::size_t k = 0; k < 3 * static_cast<std::size_t>(cols); ++k) edit.set(k, band);
+      }
+      // The map clears itself slowly, so that plans stay clear for a while.
+      for (int k = 0; k < 40; ++k) edit.set(rng() % map->size(), kFreeCell);
+    }
+    const unsigned move = rng() % 8;  // on along the plan now and then, back sometimes
+    at = std::clamp(at + (move < 2 ? 1 : move == 2 ? -1 : 0), 0, 28);
+    const auto xy = plan->view<double>();
+    DecisionInput in;
+    in.map = map;
+    in.geometry = &g;
+    in.radius = 0.23;
+    in.pose = {xy[2 * at] + 0.01, xy[2 * at + 1] - 0.01, 0.0};
+    in.path_owner = plan;
+    in.path = xy;
+    const bool truth = path_clear(in, xy);
+    ASSERT_EQ(memo.clear(in, xy), truth) << "step " << step;
+    (truth ? steps_clear : steps_blocked) += 1;
+    if (truth) {  // path_clear checked every segment from the robot's on
+      checked += memo.checked();
+      segments += 29 - static_cast<std::size_t>(at);
+    }
+    map = std::make_shared<Blob>(*map);  // the next frame's map: a copy, as an actor's edit makes one
+  }
+  EXPECT_GT(steps_clear, 100u);
+  EXPECT_GT(steps_blocked, 100u);
+  EXPECT_LT(checked, segments / 2) << "the memo checked " << checked << " of " << segments << " segments ("
+                                    << steps_clear << " steps clear, " << steps_blocked << " blocked)";
+}

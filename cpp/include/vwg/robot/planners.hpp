@@ -53,6 +53,27 @@ class NoWayMemo {
   std::vector<std::int32_t> border_;  // padded indices of the blocked cells round the side, in the map
 };
 
+/// path_clear of one robot's plan, following its map: a segment found clear stays clear while no cell that
+/// segment_clear looks at for it becomes an obstacle. It asks the map which cells were written since its last answer
+/// (Blob::written_since) and checks again only the segments near those that are obstacles now (and, if the robot
+/// has gone back along its path, the segments it had not checked). The answer is path_clear's, bit for bit. A robot
+/// that avoids decides every frame, and its map changes most frames: checking every segment of a long plan each
+/// time was a fifth of an avoiding crowd's frame.
+class ClearPathMemo {
+ public:
+  /// path_clear(in, path) for `path`, the plan in.path_owner holds.
+  bool clear(const DecisionInput& in, std::span<const double> path);
+  /// Segments checked by the last clear() (the others it knew clear).
+  std::size_t checked() const { return checked_; }
+
+ private:
+  std::shared_ptr<const Blob> path_;  // the plan last found clear (held: no other blob can take its address)
+  Blob::Mark map_;                    // the robot's map then
+  std::size_t from_ = 0;              // its first segment then: those from it on were clear
+  double radius_ = 0.0;               // the disc they were checked with
+  std::size_t checked_ = 0;
+};
+
 class GridDecider final : public Decider {
  public:
   enum class Algorithm { AStar, DStarLite, JumpPoint };
@@ -80,6 +101,7 @@ class GridDecider final : public Decider {
     std::optional<plan::DStarLite> dstar;
     geometry::Cell goal{-1, -1};
     NoWayMemo no_way;
+    ClearPathMemo clear_path;  // not saved: it gives path_clear's answers, and a loaded run starts it afresh
   };
   plan::GridPath search(RobotState& s, geometry::Cell start, geometry::Cell goal);
   RobotState& state_of(std::int64_t robot);
