@@ -232,7 +232,12 @@ void ARobot::unmark_neighbours(const ActorState& self, const EvolutionContext& c
   if (!self.get_bool(kAvoid)) return;
   thread_local std::vector<orca::Neighbour> neighbours;
   neighbours_in_world(self, ctx, neighbours);
-  const double slack = config_.map.resolution;
+  // A return within two cells of a tracked disc is off that neighbour: the tracker's disc is fitted to an arc and
+  // moved on from the last frame's scan. Measured on bench_avoidance's crowd (100 robots, 600,000 beams), the
+  // returns off neighbours end within one cell of their discs for 91 %, two cells 99 %; beyond, as many returns
+  // end as off walls near robots. With one cell, the rest were marked and blocked plans: 15 searches a frame
+  // against 9.7 with two.
+  const double slack = 2 * config_.map.resolution;
   for (ScanBeam& b : scan) {
     for (const orca::Neighbour& n : neighbours) {
       if (std::hypot(b.end_x - n.position.x, b.end_y - n.position.y) <= n.radius + slack) {
