@@ -171,14 +171,14 @@ def _office(feedback: str) -> vwg.robot.RobotWorld:
 
 
 @pytest.mark.parametrize("feedback", ["odometry", "particles", "orca"])
-def test_a_robot_that_leaves_the_string_leaves_its_sensors_quiet(feedback):
+def test_a_robot_that_leaves_the_string_leaves_its_sensors_quiet(feedback, tmp_path):
     # Robot 2's laser, depth camera, camera (and its particle filter, or its neighbour tracker) were made for it at
     # the start; once a λ takes it out of the string its body is gone, and they emit nothing (they made the next
-    # frame fail, looking for the body). Robot 1 goes on as before.
+    # frame fail, looking for the body). Robot 1 goes on as before, and the view, which draws the scans, draws on.
     from vwg.robot.case_study import CaseStudy
 
     world = _office(feedback)
-    run = CaseStudy(world, "astar")
+    run = CaseStudy(world, "astar", images=tmp_path)
     run.run(frames=2)
     spec = world.robots[0]
     alone = run.vworld.string(vwg.Sym("ARobot", id=1, grid=_core.robot_map(world.grid), x=spec.start[0],
@@ -194,6 +194,7 @@ def test_a_robot_that_leaves_the_string_leaves_its_sensors_quiet(feedback):
     for frame in (3, 4, 5):
         assert {e for f, e, to in targets if f == frame and to == 1} >= {"eOdometry", "eLaser"}
     assert [(r.id, r.status) for r in summary.robots if r.id == 2] == [(2, "gone")]
+    assert len(list(tmp_path.glob("*.png"))) == 6  # one picture a frame, frames 0-5
 
 
 def test_a_robot_spawned_under_particle_localization_gets_its_odometry():

@@ -64,11 +64,11 @@ void NeighbourGenerator::reset(std::uint64_t) {
 void NeighbourGenerator::generate(const FrameInfo& frame, EventList& out) {
   const platform::RobotState* robot = platform_->find_robot(robot_);
   if (robot == nullptr) {  // out of the string: no body, no scans; tracks start afresh if it comes back
-    reset(0);
+    if (scanned_) reset(0);
     return;
   }
+  const Pose2 pose = robot->odometry;  // a copy, read at once
   if (scanned_) tracker_.update(scan_->last_scan(), scan_pose_, scan_time_);
-  const Pose2 pose = robot->odometry;
   scanned_ = true;
   scan_pose_ = pose;
   scan_time_ = frame.time;

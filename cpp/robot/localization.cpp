@@ -291,7 +291,10 @@ void LocalizationGenerator::reset(std::uint64_t seed) {
 
 void LocalizationGenerator::generate(const FrameInfo&, EventList& out) {
   const platform::RobotState* robot = platform_->find_robot(robot_);
-  if (robot == nullptr) return;  // out of the string: no body to localize
+  if (robot == nullptr) {  // out of the string: no body to localize; if it comes back, the filter starts afresh
+    started_ = false;
+    return;
+  }
   const platform::RobotState& s = *robot;
   const Pose2 odometry = s.odometry;
   if (!started_) {

@@ -99,7 +99,8 @@ bool path_clear(const DecisionInput& in, std::span<const double> path) {
   return true;
 }
 
-bool ClearPathMemo::clear(const DecisionInput& in, std::span<const double> path) {
+bool ClearPathMemo::clear(const DecisionInput& in) {
+  const std::span<const double> path = in.path;
   checked_ = 0;
   const std::size_t n = path.size() / 2;
   if (n < 2) {
@@ -325,7 +326,7 @@ Decision GridDecider::decide(const DecisionInput& in) {
   // Keep the plan while it is still clear and still leads to this goal.
   const std::size_t n = in.path.size() / 2;
   const bool same_goal = n >= 2 && std::hypot(in.path[2 * n - 2] - in.goal_x, in.path[2 * n - 1] - in.goal_y) < 1e-9;
-  if (same_goal && (!changed || s.clear_path.clear(in, in.path)) && follow_path(in, in.path, d)) {
+  if (same_goal && (!changed || s.clear_path.clear(in)) && follow_path(in, in.path, d)) {
     d.keep_path = true;
     return d;
   }

@@ -127,13 +127,18 @@ void SimView::draw(std::uint64_t frame, double time) {
   for (const auto& [id, points] : trajectories_) renderer_.draw_trajectory(points, id);
   for (const auto& [id, points] : paths_) renderer_.draw_path(points, id);
   std::vector<float> angles;
+  // A sensor whose robot a λ took out of the string has no body, and its scan is not drawn.
   for (const auto& laser : lasers_) {
+    const RobotState* robot = world_->find_robot(laser->robot());
+    if (robot == nullptr) continue;
     angles.assign(laser->angles().begin(), laser->angles().end());
-    renderer_.draw_scan(world_->robot(laser->robot()).pose, angles, laser->ranges(), laser->spec().max_range);
+    renderer_.draw_scan(robot->pose, angles, laser->ranges(), laser->spec().max_range);
   }
   for (const auto& kinect : kinects_) {
+    const RobotState* robot = world_->find_robot(kinect->robot());
+    if (robot == nullptr) continue;
     angles.assign(kinect->angles().begin(), kinect->angles().end());
-    renderer_.draw_scan(world_->robot(kinect->robot()).pose, angles, kinect->ranges(), kinect->camera().spec().max_range);
+    renderer_.draw_scan(robot->pose, angles, kinect->ranges(), kinect->camera().spec().max_range);
   }
   // The simulator's people (a real robot's platform has none to draw).
   if (const auto* physics = dynamic_cast<const PhysicsWorld*>(world_.get())) {
@@ -141,8 +146,7 @@ void SimView::draw(std::uint64_t frame, double time) {
   }
   // Robots displayed this frame (Table I: α(Robot) draws the robot); others are not drawn.
   for (const auto& [id, plan] : commanded_) {
-    const RobotState& st = world_->robot(id);
-    renderer_.draw_robot(st.pose, st.radius, id);
+    if (const RobotState* st = world_->find_robot(id)) renderer_.draw_robot(st->pose, st->radius, id);
   }
 }
 

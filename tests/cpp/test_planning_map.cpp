@@ -679,7 +679,7 @@ TEST(ClearPathMemo, AnswersAsPathClearWhileTheMapAndThePlanChange) {
     in.path_owner = plan;
     in.path = xy;
     const bool truth = path_clear(in, xy);
-    ASSERT_EQ(memo.clear(in, xy), truth) << "step " << step;
+    ASSERT_EQ(memo.clear(in), truth) << "step " << step;
     (truth ? steps_clear : steps_blocked) += 1;
     if (truth) {  // path_clear checked every segment from the robot's on
       checked += memo.checked();

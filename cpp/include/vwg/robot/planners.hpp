@@ -61,8 +61,8 @@ class NoWayMemo {
 /// time was a fifth of an avoiding crowd's frame.
 class ClearPathMemo {
  public:
-  /// path_clear(in, path) for `path`, the plan in.path_owner holds.
-  bool clear(const DecisionInput& in, std::span<const double> path);
+  /// path_clear(in, in.path), in.path being the plan in.path_owner holds.
+  bool clear(const DecisionInput& in);
   /// Segments checked by the last clear() (the others it knew clear).
   std::size_t checked() const { return checked_; }
 
