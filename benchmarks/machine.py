@@ -20,6 +20,8 @@ from datetime import datetime, timezone
 from pathlib import Path
 from typing import Any
 
+from vwg.machine import cpu
+
 ROOT = Path(__file__).resolve().parent.parent
 
 
@@ -31,23 +33,6 @@ def rss_mb() -> float:
         if line.startswith("Pss:"):
             return int(line.split()[1]) / 1024
     raise RuntimeError("/proc/self/smaps_rollup has no Pss line")
-
-
-def cpu() -> dict[str, Any]:
-    """The CPU as /proc/cpuinfo names it: figures differ 2-4x between machines of one name ("AMD
-    EPYC" is a Zen 3 or a Zen 4 by its family and model), and with the SIMD it has."""
-    first: dict[str, str] = {}
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if not line.strip():
-                break  # the first processor is enough
-            key, _, value = line.partition(":")
-            first[key.strip()] = value.strip()
-    except OSError:
-        return {}
-    flags = set(first.get("flags", "").split())
-    return {"cpu_model": first.get("model name", ""), "cpu_family": first.get("cpu family", ""),
-            "cpu_model_number": first.get("model", ""), "simd": [f for f in ("avx2", "avx512f") if f in flags]}
 
 
 def machine_id(described: dict[str, Any]) -> str:

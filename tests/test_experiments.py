@@ -7,6 +7,7 @@ from __future__ import annotations
 import csv
 import json
 import math
+import os
 import statistics
 import subprocess
 import sys
@@ -97,6 +98,11 @@ def test_one_section_per_test_in_order_with_its_pictures(report):
     out, text = report
     places = [text.index(h) for h in HEADINGS]
     assert places == sorted(places)
+    # The header names the CPU as /proc/cpuinfo does (read here apart), not only the architecture.
+    names = [line.partition(":")[2].strip() for line in Path("/proc/cpuinfo").read_text().splitlines()
+             if line.startswith("model name")]
+    header = text.split("\n\n")[1]
+    assert names and names[0] in header and f"{os.cpu_count()} core" in header, header
     for name in ("evolution_path_ratio", "evolution_frames", "devices_map", "simulation_odometry_noise",
                  "simulation_trajectories", "extensibility_rate", "extensibility_collisions", "environment_success"):
         assert f"]({name}.png)" in text

@@ -177,3 +177,31 @@ def test_the_page_renders_every_results_file():
     page = performance.performance_markdown(RESULTS)
     for path in RESULT_FILES:
         assert f"### `{path.stem}`" in page
+
+
+CPUINFO = """processor\t: 0
+vendor_id\t: AuthenticAMD
+cpu family\t: 25
+model\t\t: 17
+model name\t: AMD EPYC 9R14 96-Core Processor
+flags\t\t: fpu vme de pse avx avx2 bmi2 avx512f avx512dq
+
+processor\t: 1
+vendor_id\t: AuthenticAMD
+model name\t: not the first processor
+"""
+
+
+def test_the_machine_is_described_from_the_first_processor_of_cpuinfo():
+    from vwg.machine import cpu, summary
+
+    described = cpu(CPUINFO)
+    assert described == {"cpu_model": "AMD EPYC 9R14 96-Core Processor", "cpu_family": "25", "cpu_model_number": "17",
+                         "simd": ["avx2", "avx512f"]}
+    assert summary({**described, "cores": 2, "machine": "x86_64"}) == \
+        "AMD EPYC 9R14 96-Core Processor (family 25, model 17; AVX2, AVX-512F), 2 cores, x86_64"
+    # No AVX2, one core, nothing of the family: said, not left out silently.
+    assert summary({"cpu_model": "Old", "simd": [], "cores": 1}) == "Old (no AVX2), 1 core"
+    assert cpu("") == {} and summary({}) == "a CPU of unknown name"
+    # The benchmarks' results files describe the machine with the same function.
+    assert machine.cpu is cpu

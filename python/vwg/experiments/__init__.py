@@ -15,7 +15,6 @@ from __future__ import annotations
 import csv
 import datetime
 import os
-import platform
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -24,6 +23,7 @@ from typing import Any
 from vwg.experiments import devices, environment, evolution, extensibility, simulation
 from vwg.experiments.section import Section
 from vwg.experiments.simulation import SimulationConfig
+from vwg.machine import summary as machine_summary
 from vwg.sweep import SweepSpec, dask_client, run_sweep
 
 __all__ = ["CONFIGS", "Config", "run_experiments"]
@@ -169,7 +169,7 @@ def _report(config: Config, sections: list[Section], elapsed: float, reused: int
         "",
         f"Made by `vwg experiments` ({config.name} configuration) on "
         f"{datetime.datetime.now(datetime.timezone.utc).strftime('%Y-%m-%d %H:%M UTC')}: {config.runs} runs in "
-        f"{elapsed / 60:.1f} min on {platform.machine()} ({os.cpu_count()} cores), the sweeps on {where}. "
+        f"{elapsed / 60:.1f} min on {machine_summary()}, the sweeps on {where}. "
         "Every number below comes from this run" + (f", but for {reused} sweep cells kept from an earlier run "
                                                    "(--resume)." if reused else "."),
         "",
