@@ -37,33 +37,40 @@ from vwg.io.foxglove_server import FoxgloveServer
 from vwg.io.mcap_file import McapFile
 from vwg.robot.world_file import RobotWorld
 
-__all__ = ["CAMERA", "GROUND_TRUTH", "MAP", "ODOM", "PEOPLE", "PLAN", "ROBOT_MAP", "ROOMS", "SCAN", "TF", "RunTopics",
-           "Sink", "Topic", "case_topics", "open_sinks", "require_ros", "world_topics"]
+__all__ = ["CAMERA", "GROUND_TRUTH", "MAP", "ODOM", "PEOPLE", "PLAN", "ROBOT_MAP", "ROOMS", "SCAN", "TF", "RobotTopic",
+           "RunTopics", "Sink", "Topic", "case_topics", "open_sinks", "require_ros", "world_topics"]
 
 
 @dataclass(frozen=True)
 class Topic:
-    """A topic of a run: its name (``{robot}`` in a robot's own, filled by ``of``) and its message type. The
-    names live here alone: RunTopics writes them, world_topics declares them, the Foxglove layout shows them."""
+    """A topic of the run's: its name and its message type. The names live here alone: RunTopics writes them,
+    world_topics declares them, the Foxglove layout shows them."""
 
     name: str
     type: str
 
+
+@dataclass(frozen=True)
+class RobotTopic:
+    """A topic each robot has: ``of(robot)`` is robot `robot`'s name (``/robotN/...``)."""
+
+    suffix: str
+    type: str
+
     def of(self, robot: int) -> str:
-        """The name of robot `robot`'s."""
-        return self.name.format(robot=robot)
+        return f"/robot{robot}/{self.suffix}"
 
 
 MAP = Topic("/map", "nav_msgs/msg/OccupancyGrid")
 ROOMS = Topic("/rooms", "visualization_msgs/msg/MarkerArray")
 PEOPLE = Topic("/people", "visualization_msgs/msg/MarkerArray")
 TF = Topic("/tf", "tf2_msgs/msg/TFMessage")
-ODOM = Topic("/robot{robot}/odom", "nav_msgs/msg/Odometry")
-PLAN = Topic("/robot{robot}/plan", "nav_msgs/msg/Path")
-ROBOT_MAP = Topic("/robot{robot}/map", "nav_msgs/msg/OccupancyGrid")
-SCAN = Topic("/robot{robot}/scan", "sensor_msgs/msg/LaserScan")
-CAMERA = Topic("/robot{robot}/camera/image/compressed", "sensor_msgs/msg/CompressedImage")
-GROUND_TRUTH = Topic("/robot{robot}/ground_truth", "nav_msgs/msg/Odometry")
+ODOM = RobotTopic("odom", "nav_msgs/msg/Odometry")
+PLAN = RobotTopic("plan", "nav_msgs/msg/Path")
+ROBOT_MAP = RobotTopic("map", "nav_msgs/msg/OccupancyGrid")
+SCAN = RobotTopic("scan", "sensor_msgs/msg/LaserScan")
+CAMERA = RobotTopic("camera/image/compressed", "sensor_msgs/msg/CompressedImage")
+GROUND_TRUTH = RobotTopic("ground_truth", "nav_msgs/msg/Odometry")
 
 
 class Sink(Protocol):
