@@ -27,21 +27,26 @@ Decision RandomDecider::decide(const DecisionInput& in) {
   return d;
 }
 
+std::size_t nearest_path_point(std::span<const double> path, double x, double y) {
+  std::size_t nearest = 0;
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < path.size() / 2; ++i) {
+    const double dx = path[2 * i] - x, dy = path[2 * i + 1] - y, d2 = dx * dx + dy * dy;
+    if (d2 < best) {
+      best = d2;
+      nearest = i;
+    }
+  }
+  return nearest;
+}
+
 bool follow_path(const DecisionInput& in_, std::span<const double> path, Decision& out) {
   const std::size_t n = path.size() / 2;
   if (n == 0) return false;
   DecisionInput in = in_;
   in.radius = move_radius(*in_.map, *in_.geometry, in_.pose.x, in_.pose.y, in_.radius);
   // Start from the path point nearest to the robot, so points already passed are skipped.
-  std::size_t nearest = 0;
-  double best = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < n; ++i) {
-    const double d = std::hypot(path[2 * i] - in.pose.x, path[2 * i + 1] - in.pose.y);
-    if (d < best) {
-      best = d;
-      nearest = i;
-    }
-  }
+  const std::size_t nearest = nearest_path_point(path, in.pose.x, in.pose.y);
   // The farthest point ahead within reach that a straight move gets to without touching anything.
   std::size_t target = n;
   for (std::size_t i = nearest; i < n; ++i) {

@@ -67,16 +67,7 @@ namespace {
 
 /// The path point nearest to the robot: path_clear looks at the path from there on.
 std::size_t nearest_point(const DecisionInput& in, std::span<const double> path) {
-  std::size_t nearest = 0;
-  double best = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < path.size() / 2; ++i) {
-    const double d = std::hypot(path[2 * i] - in.pose.x, path[2 * i + 1] - in.pose.y);
-    if (d < best) {
-      best = d;
-      nearest = i;
-    }
-  }
-  return nearest;
+  return nearest_path_point(path, in.pose.x, in.pose.y);
 }
 
 /// The path was planned for the centre of the robot: it is checked with a slightly smaller disc, so
