@@ -1,6 +1,7 @@
 #include "vwg/robot/decider.hpp"
 
 #include <cmath>
+#include <limits>
 
 #include "vwg/geometry/pose.hpp"
 #include "vwg/random.hpp"

@@ -65,11 +65,6 @@ geometry::Cell nearest_free(const geometry::BlockedGrid& grid, geometry::Cell ce
 
 namespace {
 
-/// The path point nearest to the robot: path_clear looks at the path from there on.
-std::size_t nearest_point(const DecisionInput& in, std::span<const double> path) {
-  return nearest_path_point(path, in.pose.x, in.pose.y);
-}
-
 /// The path was planned for the centre of the robot: it is checked with a slightly smaller disc, so
 /// that the cell-centre path's corners (inside the clearance by construction) do not count.
 double path_check_radius(const DecisionInput& in) { return 0.9 * in.radius; }
@@ -84,7 +79,7 @@ bool path_clear(const DecisionInput& in, std::span<const double> path) {
   const std::size_t n = path.size() / 2;
   if (n < 2) return false;
   const double r = path_check_radius(in);
-  for (std::size_t i = nearest_point(in, path); i + 1 < n; ++i) {
+  for (std::size_t i = nearest_path_point(path, in.pose.x, in.pose.y); i + 1 < n; ++i) {
     if (!path_segment_clear(in, path, i, r)) return false;
   }
   return true;
@@ -116,7 +111,7 @@ bool ClearPathMemo::clear(const DecisionInput& in) {
   const geometry::OccupancyGrid frame = g.frame();
   const double rc = radius / g.resolution;  // as segment_clear has it
   bool clear = true;
-  const std::size_t from = nearest_point(in, path);
+  const std::size_t from = nearest_path_point(path, in.pose.x, in.pose.y);
   for (std::size_t i = from; clear && i + 1 < n; ++i) {
     if (follow && i >= from_) {
       double u0, v0, u1, v1;

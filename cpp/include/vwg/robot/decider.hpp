@@ -72,8 +72,8 @@ class RandomDecider final : public Decider {
 };
 
 /// The point of `path` (x0, y0, ...) nearest to (x, y), the first of equals; 0 for an empty path. Compared by
-/// squared distances: this runs over the whole plan at every decision, and std::hypot was 5 % of an avoiding
-/// crowd's frame.
+/// squared distances: this runs over the whole plan at every decision of an avoiding robot, and std::hypot (here
+/// and in the beams' test against the tracked neighbours) was 4 % of an avoiding crowd's CPU.
 std::size_t nearest_path_point(std::span<const double> path, double x, double y);
 
 /// The motion towards the farthest point of `path` (x0, y0, ...) within `step_length` that the
