@@ -6,7 +6,7 @@
 
 #include "vwg/error.hpp"
 #include "vwg/plan/astar.hpp"
-#include "geometry/clearance.hpp"
+#include "robot/segment_cells.hpp"
 #include "vwg/geometry/clearance_field.hpp"
 #include "vwg/plan/ompl_planner.hpp"
 
@@ -108,16 +108,12 @@ bool ClearPathMemo::clear(const DecisionInput& in) {
     });
     follow = follow && obstacles.size() <= kMostFollowed;
   }
-  const geometry::OccupancyGrid frame = g.frame();
-  const double rc = radius / g.resolution;  // as segment_clear has it
   bool clear = true;
   const std::size_t from = nearest_path_point(path, in.pose.x, in.pose.y);
   for (std::size_t i = from; clear && i + 1 < n; ++i) {
     if (follow && i >= from_) {
-      double u0, v0, u1, v1;
-      frame.world_to_grid(path[2 * i], path[2 * i + 1], u0, v0);
-      frame.world_to_grid(path[2 * i + 2], path[2 * i + 3], u1, v1);
-      const geometry::CellWindow looked_at = geometry::segment_window(u0, v0, u1, v1, rc, g.height, g.width);
+      const geometry::CellWindow looked_at =
+          segment_clear_window(g, path[2 * i], path[2 * i + 1], path[2 * i + 2], path[2 * i + 3], radius);
       if (std::none_of(obstacles.begin(), obstacles.end(), [&](geometry::Cell c) { return looked_at.holds(c.row, c.col); })) {
         continue;
       }

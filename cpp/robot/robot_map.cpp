@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "geometry/clearance.hpp"
+#include "robot/segment_cells.hpp"
 #include "vwg/error.hpp"
 
 namespace vwg::robot {
@@ -501,14 +502,19 @@ int sense_scan(MapEdit& map, const geometry::MapGeometry& g, ObstacleBits& bits,
   return changed;
 }
 
+SegmentInCells segment_in_cells(const geometry::MapGeometry& g, double x0, double y0, double x1, double y1, double radius) {
+  const geometry::OccupancyGrid f = g.frame();
+  SegmentInCells s{};
+  f.world_to_grid(x0, y0, s.u0, s.v0);
+  f.world_to_grid(x1, y1, s.u1, s.v1);
+  s.radius = radius / g.resolution;
+  return s;
+}
+
 bool segment_clear(const Blob& map, const geometry::MapGeometry& g, double x0, double y0, double x1, double y1, double radius,
                    bool unknown_blocked) {
   check(map, g);
-  const geometry::OccupancyGrid f = g.frame();
-  double u0, v0, u1, v1;
-  f.world_to_grid(x0, y0, u0, v0);
-  f.world_to_grid(x1, y1, u1, v1);
-  const double rc = radius / g.resolution;
+  const auto [u0, v0, u1, v1, rc] = segment_in_cells(g, x0, y0, x1, y1, radius);
   // Touching is allowed: `radius` already holds the margin the robot keeps (ARobotConfig::margin).
   const bool clear = geometry::segment_clear_of_blocked(u0, v0, u1, v1, rc, geometry::Touch::Allowed, g.height, g.width,
                                                         [&](int r, int c) {

@@ -16,10 +16,11 @@ from datetime import datetime, timezone
 from pathlib import Path
 from typing import Any
 
+from vwg.machine import SIMD_NAMES
+
 # The fields that describe where and how a benchmark ran, shown above its tables rather than in them.
 META = ("machine", "processor", "cpu_model", "cpu_family", "cpu_model_number", "simd", "cores", "python",
         "platform", "vwg", "bench", "machine_id", "date", "date_inferred", "command", "command_inferred", "quick")
-SIMD_NAMES = {"avx2": "AVX2", "avx512f": "AVX-512F"}
 LONG_LIST = 6  # a list longer than this is shown by its first two values and its last
 
 

@@ -395,27 +395,24 @@ class CaseStudy:
         interrupted = self.orders.interrupted
         robots = []
         for spec in self.world.robots:
+            # None: a λ took it out of the string, and the platform its body (what it drove went with it).
             state = self.sim.platform.find_robot(spec.id)
-            if state is None:  # a λ took it out of the string, and the platform its body
-                robots.append(RobotSummary(
-                    id=spec.id, room=last.get(spec.id), reached=False, distance_to_goal_m=math.inf, path_length_m=0.0,
-                    collisions=0, replans=0, commands=0, status="gone", pose_error_m=None,
-                    interrupted=spec.id in interrupted))
-                continue
             room = last.get(spec.id)
             dist = math.inf
-            if room is not None:
+            if room is not None and state is not None:
                 gx, gy = self.world.rooms[room].goal
                 dist = math.hypot(state.pose[0] - gx, state.pose[1] - gy)
-            actor = actors.get(spec.id)
+            actor = actors.get(spec.id) if state is not None else None
             error = (math.hypot(float(actor["x"]) - state.pose[0], float(actor["y"]) - state.pose[1])
-                     if actor is not None and self.sim.ground_truth else None)
+                     if actor is not None and state is not None and self.sim.ground_truth else None)
             # One definition of "reached": the robot's own (ARobot, the world's goal_tolerance).
             reached = room is not None and actor is not None and bool(actor["reached"])
             robots.append(RobotSummary(
-                id=spec.id, room=room, reached=reached,
-                distance_to_goal_m=dist, path_length_m=state.travelled, collisions=int(state.collisions),
-                replans=int(actor["replans"]) if actor is not None else 0, commands=int(state.commands),
+                id=spec.id, room=room, reached=reached, distance_to_goal_m=dist,
+                path_length_m=state.travelled if state is not None else 0.0,
+                collisions=int(state.collisions) if state is not None else 0,
+                replans=int(actor["replans"]) if actor is not None else 0,
+                commands=int(state.commands) if state is not None else 0,
                 status=self.status_of(spec.id, actor, last) if actor is not None else "gone", pose_error_m=error,
                 interrupted=spec.id in interrupted))
         ordered = [r for r in robots if r.room is not None]

@@ -250,10 +250,8 @@ def case_topics(case: Any, sinks: Iterable[Sink]) -> RunTopics:
     def truth(robot: int) -> tuple[float, float, float] | None:
         if not sim.ground_truth:
             return None
-        try:
-            return tuple(sim.robot(robot).pose)  # type: ignore[return-value]
-        except (KeyError, IndexError, ValueError):
-            return None  # gone from the platform
+        state = sim.platform.find_robot(robot)  # None: gone from the platform
+        return tuple(state.pose) if state is not None else None  # type: ignore[return-value]
 
     cameras = {g.robot: g for g in sim.made if isinstance(g, _core.CameraGenerator)}
     topics = RunTopics(case.world, sinks, truth=truth, cameras=cameras)

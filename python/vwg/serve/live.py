@@ -363,14 +363,14 @@ class LiveRun:
         actors = case.robot_actors()
         last = case.orders.last
         platform = case.sim.platform
-        present = {r.id for r in platform.robots()}
         robots = []
         lasers = {g.robot: g for g in case.sim.made if isinstance(g, (_core.LaserGenerator, ScanGenerator))}
         for n, spec in enumerate(self.world.robots):
-            if spec.id not in present:
+            state = platform.find_robot(spec.id)
+            if state is None:
                 continue  # gone from the world (a λ took it away)
             actor = actors.get(spec.id)
-            x, y, angle = platform.robot(spec.id).pose
+            x, y, angle = state.pose
             entry: dict[str, Any] = {
                 "id": spec.id, "x": round(x, 4), "y": round(y, 4), "angle": round(angle, 4),
                 "radius": spec.radius, "objective": last.get(spec.id),
