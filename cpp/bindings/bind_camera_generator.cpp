@@ -1,6 +1,12 @@
 // gCamera in Python: the generator and its image sources (simulated camera, image files, video
 // file, live camera).
+#include <array>
+#include <functional>
+#include <optional>
 #include <string>
+
+#include <pybind11/functional.h>
+#include <pybind11/stl.h>
 
 #include "sim_convert.hpp"
 #include "vwg/perception/camera_generator.hpp"
@@ -21,15 +27,30 @@ void init_camera_generator(py::module_& m) {
       .def(py::init<int>(), py::arg("device"));
   py::class_<perception::ReceivedImages, perception::ImageSource, std::shared_ptr<perception::ReceivedImages>>(
       m, "ReceivedImages",
-      "The latest compressed image (JPEG or PNG bytes) a robot's link received: push() it from any thread; "
-      "a frame gets it when it is new. Images that do not decode are dropped and counted.")
-      .def(py::init<>())
-      .def("push", [](perception::ReceivedImages& r, const py::bytes& encoded) {
+      "The latest compressed image (JPEG or PNG bytes) a robot's link received: push() it from any thread "
+      "with its stamp (the link's clock); a frame gets it when it is new. Images that do not decode are "
+      "dropped and counted. ``viewpoint(stamp)`` gives where the robot was at a stamp, (x ahead, y left, "
+      "theta) in its frame at this frame, or None: tags are placed from there, and an image whose stamp it "
+      "does not know is counted as stale and not searched.")
+      .def(py::init([](std::optional<std::function<std::optional<std::array<double, 3>>(double)>> viewpoint) {
+             perception::Viewpoint at;
+             if (viewpoint) {
+               at = [f = std::move(*viewpoint)](double stamp) -> std::optional<geometry::Pose2> {
+                 const auto p = f(stamp);
+                 if (!p) return std::nullopt;
+                 return geometry::Pose2{(*p)[0], (*p)[1], (*p)[2]};
+               };
+             }
+             return std::make_shared<perception::ReceivedImages>(std::move(at));
+           }), py::arg("viewpoint") = py::none())
+      .def("push", [](perception::ReceivedImages& r, const py::bytes& encoded, double stamp) {
              const std::string_view view(encoded);
-             r.push(std::vector<std::uint8_t>(view.begin(), view.end()));
-           }, py::arg("encoded"))
+             r.push(std::vector<std::uint8_t>(view.begin(), view.end()), stamp);
+           }, py::arg("encoded"), py::arg("stamp"))
       .def_property_readonly("received", &perception::ReceivedImages::received)
-      .def_property_readonly("dropped", &perception::ReceivedImages::dropped);
+      .def_property_readonly("dropped", &perception::ReceivedImages::dropped)
+      .def_property_readonly("stale", &perception::ReceivedImages::stale,
+                             "Images not searched: taken before the oldest pose the viewpoint knows.");
   m.def("encode_image", [](py::array_t<std::uint8_t, py::array::c_style | py::array::forcecast> image,
                            const std::string& format, int quality) {
           const bool grey = image.ndim() == 2, rgb = image.ndim() == 3 && image.shape(2) == 3;

@@ -3,11 +3,14 @@
 // the same frame path — the robots' states, collisions and settings, the motion backend, the
 // feedback generators, and the rule that turns a laser scan into eLaser events.
 #include <algorithm>
+#include <array>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "sim_convert.hpp"
+#include "vwg/geometry/pose.hpp"
 #include "vwg/platform/feedback.hpp"
 #include "vwg/platform/laser_scan.hpp"
 #include "vwg/platform/motion.hpp"
@@ -203,20 +206,35 @@ at every control tick — the same velocities from the same poses (paper test 3)
         "every platform reports poses so, and a pose carried through a link comes back bit for bit.");
 
   m.def("laser_events",
-        [](py::handle ranges, double angle_min, double angle_increment, double range_min, double range_max) {
+        [](py::handle ranges, double angle_min, double angle_increment, double range_min, double range_max,
+           std::optional<std::array<double, 3>> seen_from) {
           const FloatArray r = vector_of<FloatArray>(ranges, "ranges", kRangesDoc);
           platform::ScanEvents hits;
           platform::laser_events({r.data(), static_cast<std::size_t>(r.size())}, angle_min, angle_increment, range_min,
                                  range_max, hits);
-          return events_to_python(hits);
+          auto [dist, angle] = events_to_python(hits);
+          if (seen_from && ((*seen_from)[0] != 0.0 || (*seen_from)[1] != 0.0 || (*seen_from)[2] != 0.0)) {
+            const geometry::Pose2 from{(*seen_from)[0], (*seen_from)[1], (*seen_from)[2]};
+            double* d = dist.mutable_data();
+            double* a = angle.mutable_data();
+            for (py::ssize_t i = 0; i < dist.size(); ++i) {
+              const geometry::Polar now = geometry::seen_from(from, {d[i], a[i]});
+              d[i] = now.dist;
+              a[i] = now.bearing;
+            }
+          }
+          return std::make_pair(dist, angle);
         },
         py::arg("ranges"), py::arg("angle_min"), py::arg("angle_increment"), py::arg("range_min"), py::arg("range_max"),
+        py::arg("seen_from") = py::none(),
         R"doc(The eLaser events of a laser scan laid out as sensor_msgs/LaserScan lays it out (beam i at
 angle_min + i·angle_increment): (dist, angle), two float64 arrays, one entry for each beam that met an
 obstacle, in beam order. The one rule of the simulated and the real robots' lasers (REP 117): a reading in
 [range_min, range_max) is an obstacle; a reading >= range_max (+Inf included) is no return, as drivers
 that report no return as range_max mean it; -Inf is an obstacle at range_min; NaN and readings below
-range_min are no measurement. Ranges are taken as float32 (range_max compared as float32 too).)doc");
+range_min are no measurement. Ranges are taken as float32 (range_max compared as float32 too).
+With ``seen_from`` (x ahead, y left, theta: where the robot was when the scan was taken, in its frame
+now), each hit is given as seen from where the robot is now.)doc");
   m.def("laser_events",
         [](py::handle ranges, py::handle angles, double range_min, double range_max) {
           const FloatArray r = vector_of<FloatArray>(ranges, "ranges", kRangesDoc);

@@ -30,6 +30,9 @@ void CameraGenerator::generate(const FrameInfo& frame, EventList& out) {
   detections_.clear();
   poses_.clear();
   if (!source_->grab(frame, image_)) return;  // no image this frame (the end of a video)
+  const std::optional<geometry::Pose2> from = source_->taken_from();
+  if (!from) return;  // taken where the robot's poses do not reach: its tags cannot be placed
+  const bool moved = from->x != 0.0 || from->y != 0.0 || from->theta != 0.0;
   if (!image_.isContinuous()) image_ = image_.clone();
   detections_ = detector_.detect(image_.data, image_.cols, image_.rows, static_cast<int>(image_.step));
   for (const TagDetection& d : detections_) {
@@ -38,8 +41,9 @@ void CameraGenerator::generate(const FrameInfo& frame, EventList& out) {
     const TagPose pose = estimate_pose(d, size, settings_.intrinsics);
     poses_.push_back(pose);
     // The grid is 2D: the distance in the floor's plane (the camera frame's x-z plane).
-    const double horizontal = std::hypot(pose.translation[0], pose.translation[2]);
-    const Datum fields[] = {static_cast<std::int64_t>(d.id), horizontal, pose.bearing};
+    geometry::Polar seen{std::hypot(pose.translation[0], pose.translation[2]), pose.bearing};
+    if (moved) seen = geometry::seen_from(*from, seen);  // the image is older than the frame
+    const Datum fields[] = {static_cast<std::int64_t>(d.id), seen.dist, seen.bearing};
     out.emit(event_, fields, settings_.robot);
   }
 }

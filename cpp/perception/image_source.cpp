@@ -70,9 +70,10 @@ bool VideoSource::grab(const FrameInfo&, cv::Mat& grey) {
   return true;
 }
 
-void ReceivedImages::push(std::vector<std::uint8_t> encoded) {
+void ReceivedImages::push(std::vector<std::uint8_t> encoded, double stamp) {
   std::lock_guard lock(mutex_);
   latest_ = std::move(encoded);
+  latest_stamp_ = stamp;
   fresh_ = true;
   ++received_;
 }
@@ -83,6 +84,7 @@ bool ReceivedImages::grab(const FrameInfo&, cv::Mat& grey) {
     std::lock_guard lock(mutex_);
     if (!fresh_) return false;
     encoded.swap(latest_);
+    grabbed_stamp_ = latest_stamp_;
     fresh_ = false;
   }
   cv::Mat decoded;
@@ -98,6 +100,26 @@ bool ReceivedImages::grab(const FrameInfo&, cv::Mat& grey) {
   }
   grey = decoded;
   return true;
+}
+
+std::optional<geometry::Pose2> ReceivedImages::taken_from() {
+  if (!viewpoint_) return geometry::Pose2{};
+  double stamp;
+  {
+    std::lock_guard lock(mutex_);
+    stamp = grabbed_stamp_;
+  }
+  auto from = viewpoint_(stamp);  // outside the lock: the viewpoint takes the platform's
+  if (!from) {
+    std::lock_guard lock(mutex_);
+    ++stale_;
+  }
+  return from;
+}
+
+std::uint64_t ReceivedImages::stale() const {
+  std::lock_guard lock(mutex_);
+  return stale_;
 }
 
 std::uint64_t ReceivedImages::received() const {

@@ -3573,11 +3573,11 @@ class VideoSource(ImageSource):
         ...
 class ReceivedImages(ImageSource):
     """
-    The latest compressed image (JPEG or PNG bytes) a robot's link received: push() it from any thread; a frame gets it when it is new. Images that do not decode are dropped and counted.
+    The latest compressed image (JPEG or PNG bytes) a robot's link received: push() it from any thread with its stamp (the link's clock); a frame gets it when it is new. Images that do not decode are dropped and counted. ``viewpoint(stamp)`` gives where the robot was at a stamp, (x ahead, y left, theta) in its frame at this frame, or None: tags are placed from there, and an image whose stamp it does not know is counted as stale and not searched.
     """
-    def __init__(self) -> None:
+    def __init__(self, viewpoint: collections.abc.Callable[[float], typing.Annotated[collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex], "FixedSize(3)"] | None] | None = None) -> None:
         ...
-    def push(self, encoded: bytes) -> None:
+    def push(self, encoded: bytes, stamp: typing.SupportsFloat | typing.SupportsIndex) -> None:
         ...
     @property
     def dropped(self) -> int:
@@ -3585,6 +3585,11 @@ class ReceivedImages(ImageSource):
     @property
     def received(self) -> int:
         ...
+    @property
+    def stale(self) -> int:
+        """
+        Images not searched: taken before the oldest pose the viewpoint knows.
+        """
 class SimulatedCamera(ImageSource):
     """
     The robot's view in the simulated world (see CameraRenderer), other robots included.
@@ -3843,7 +3848,7 @@ def kld_bound(bins: typing.SupportsInt | typing.SupportsIndex, err: typing.Suppo
     KLD-sampling's bound (Fox 2003): the particles needed for `bins` occupied histogram bins.
     """
 @typing.overload
-def laser_events(ranges: typing.Any, angle_min: typing.SupportsFloat | typing.SupportsIndex, angle_increment: typing.SupportsFloat | typing.SupportsIndex, range_min: typing.SupportsFloat | typing.SupportsIndex, range_max: typing.SupportsFloat | typing.SupportsIndex) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64]]:
+def laser_events(ranges: typing.Any, angle_min: typing.SupportsFloat | typing.SupportsIndex, angle_increment: typing.SupportsFloat | typing.SupportsIndex, range_min: typing.SupportsFloat | typing.SupportsIndex, range_max: typing.SupportsFloat | typing.SupportsIndex, seen_from: typing.Annotated[collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex], "FixedSize(3)"] | None = None) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64]]:
     """
     The eLaser events of a laser scan laid out as sensor_msgs/LaserScan lays it out (beam i at
     angle_min + i·angle_increment): (dist, angle), two float64 arrays, one entry for each beam that met an
@@ -3851,6 +3856,8 @@ def laser_events(ranges: typing.Any, angle_min: typing.SupportsFloat | typing.Su
     [range_min, range_max) is an obstacle; a reading >= range_max (+Inf included) is no return, as drivers
     that report no return as range_max mean it; -Inf is an obstacle at range_min; NaN and readings below
     range_min are no measurement. Ranges are taken as float32 (range_max compared as float32 too).
+    With ``seen_from`` (x ahead, y left, theta: where the robot was when the scan was taken, in its frame
+    now), each hit is given as seen from where the robot is now.
     """
 @typing.overload
 def laser_events(ranges: typing.Any, angles: typing.Any, range_min: typing.SupportsFloat | typing.SupportsIndex, range_max: typing.SupportsFloat | typing.SupportsIndex) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64]]:

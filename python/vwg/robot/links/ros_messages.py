@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 
 __all__ = [
+    "CompressedImage",
     "LaserScan",
     "Odometry",
     "compressed_image",
@@ -197,20 +198,29 @@ def laser_scan(msg: Any) -> LaserScan:
     return LaserScan(stamp_seconds(_field(msg, "header.stamp")), angle_min, increment, readings, range_min, range_max)
 
 
-def compressed_image(msg: Any) -> bytes:
-    """The bytes of a sensor_msgs/CompressedImage (JPEG or PNG): rosbridge sends ``data`` (uint8[])
-    as base64 text; a list of byte values is read too."""
+@dataclass(frozen=True)
+class CompressedImage:
+    """A sensor_msgs/CompressedImage: its JPEG or PNG bytes, taken at `time` (its header's stamp)."""
+
+    time: float
+    data: bytes
+
+
+def compressed_image(msg: Any) -> CompressedImage:
+    """A sensor_msgs/CompressedImage (JPEG or PNG): rosbridge sends ``data`` (uint8[]) as base64 text;
+    a list of byte values is read too."""
+    time = stamp_seconds(_field(msg, "header.stamp"))
     fmt = _field(msg, "format")
     if not isinstance(fmt, str) or not any(k in fmt.lower() for k in ("jpeg", "jpg", "png")):
         raise ValueError(f"format: expected jpeg or png, got {fmt!r}")
     data = _field(msg, "data")
     if isinstance(data, str):
         try:
-            return base64.b64decode(data, validate=True)
+            return CompressedImage(time, base64.b64decode(data, validate=True))
         except ValueError:
             raise ValueError("data: not base64") from None
     if isinstance(data, list) and all(isinstance(b, int) and 0 <= b < 256 for b in data):
-        return bytes(data)
+        return CompressedImage(time, bytes(data))
     raise ValueError("data: expected base64 text or a list of bytes")
 
 

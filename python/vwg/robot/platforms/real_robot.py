@@ -30,6 +30,7 @@ flight: vwg cannot tell whether it stepped.
 
 from __future__ import annotations
 
+import bisect
 import contextlib
 import logging
 import math
@@ -38,7 +39,7 @@ import time
 import uuid
 from collections import deque
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import vwg._core as _core
@@ -46,9 +47,13 @@ from vwg.robot.links.ros_messages import LaserScan, Odometry, pose_compose, pose
 from vwg.robot.links.rosbridge_client import CallLostError, LinkError
 from vwg.robot.platform import Option
 
-__all__ = ["LINK_OPTIONS", "Fault", "FlapLimit", "RealRobotPlatform"]
+__all__ = ["LINK_OPTIONS", "ODOMETRY_KEPT", "Fault", "FlapLimit", "RealRobotPlatform"]
 
 log = logging.getLogger("vwg.robot")
+
+#: Odometry messages kept per robot to place a sensor's reading from where the robot was when it was
+#: taken (RealRobotPlatform.viewpoint): 10 s at 50 Hz, older than any image or scan still worth using.
+ODOMETRY_KEPT = 500
 
 @dataclass(frozen=True)
 class Fault:
@@ -114,6 +119,29 @@ class _Robot:
     commands: int = 0
     travelled: float = 0.0
     scan: LaserScan | None = None
+    # The odometry of the last ODOMETRY_KEPT messages (local, oldest first), and the one the frame under
+    # way took when it began: every reading of that frame is placed from the same pose.
+    history: deque[Odometry] = field(default_factory=lambda: deque(maxlen=ODOMETRY_KEPT))
+    frame_odom: Odometry | None = None
+    warned_stale: bool = False      # a reading older than the odometry kept has been logged
+
+
+def _pose_at(history: deque[Odometry], stamp: float) -> tuple[float, float, float] | None:
+    """The odometry pose at `stamp`, interpolated between the messages on either side of it (the
+    newest when it is newer than all); None when it is older than the oldest kept."""
+    if not history or stamp < history[0].time:
+        return None
+    after = bisect.bisect_left(history, stamp, key=lambda o: o.time)
+    if after == len(history):
+        newest = history[-1]
+        return newest.x, newest.y, newest.yaw
+    b = history[after]
+    if b.time == stamp or after == 0:
+        return b.x, b.y, b.yaw
+    a = history[after - 1]
+    t = (stamp - a.time) / (b.time - a.time)
+    turn = math.remainder(b.yaw - a.yaw, math.tau)  # the short way round
+    return a.x + t * (b.x - a.x), a.y + t * (b.y - a.y), math.remainder(a.yaw + t * turn, math.tau)
 
 
 class RealRobotPlatform(_core.RobotPlatform):
@@ -175,6 +203,9 @@ class RealRobotPlatform(_core.RobotPlatform):
             local = Odometry(odom.time, x, y, yaw, odom.speed, odom.turn_rate)
             if r.odom is not None:
                 r.travelled += math.hypot(local.x - r.odom.x, local.y - r.odom.y)
+            if r.history and local.time < r.history[-1].time:
+                r.history.clear()  # the robot's clock went back (it restarted): the old stamps mean nothing now
+            r.history.append(local)
             r.odom = local
             r.odom_at = time.monotonic()
             r.odom_connection = self._connection
@@ -184,6 +215,25 @@ class RealRobotPlatform(_core.RobotPlatform):
             r = self._robots.get(robot)
             if r is not None:
                 r.scan = scan
+
+    def viewpoint(self, robot: int, stamp: float) -> tuple[float, float, float] | None:
+        """Where `robot` was at `stamp` (its odometry's clock) in its frame at the frame under way: (metres
+        ahead, metres to the left, radians). An image or a scan arrives after it was taken, while the robot
+        moves on; what it saw is placed from there. None when no odometry kept is that old."""
+        with self._lock:
+            r = self._robots.get(robot)
+            now = r and (r.frame_odom or r.odom)
+            if r is None or now is None:
+                return None
+            then = _pose_at(r.history, stamp)
+            if then is None:
+                if not r.warned_stale:  # once: a sensor on another clock than the odometry would drop them all
+                    r.warned_stale = True
+                    log.warning("%s: robot %d: a reading stamped %.3f s is older than the odometry kept (from %.3f s) "
+                                "and is not used; are the sensor's stamps on the odometry's clock?", self.name(),
+                                robot, stamp, r.history[0].time)
+                return None
+            return pose_relative((now.x, now.y, now.yaw), then)
 
     def latest_scan(self, robot: int) -> LaserScan | None:
         with self._lock:
@@ -273,7 +323,13 @@ class RealRobotPlatform(_core.RobotPlatform):
         the robot's clock is stepped instead, as the simulator steps its own."""
         if self.lockstep:
             self._advance_lockstep(seconds)
-            return
+        else:
+            self._advance_wall_clock(seconds)
+        with self._lock:  # the next frame's poses: the odometry as it stands now
+            for r in self._robots.values():
+                r.frame_odom = r.odom
+
+    def _advance_wall_clock(self, seconds: float) -> None:
         self._ensure_control()
         self._frame_end = max(self._frame_end + seconds, time.monotonic() - seconds)  # a late frame does not pile up
         while True:
@@ -284,11 +340,12 @@ class RealRobotPlatform(_core.RobotPlatform):
             time.sleep(min(self.control_period, self._frame_end - now))
 
     @staticmethod
-    def _map_pose(r: _Robot) -> tuple[float, float, float]:
-        """The map pose: start ⊕ odometry (odometry starts at zero where the robot starts), at the
-        float resolution every platform reports (vwg.robot.quantize_pose; the start too, as the
-        simulator places its bodies)."""
-        local = (r.odom.x, r.odom.y, r.odom.yaw) if r.odom else (0.0, 0.0, 0.0)
+    def _map_pose(r: _Robot, odom: Odometry | None = None) -> tuple[float, float, float]:
+        """The map pose: start ⊕ odometry (by default the latest; odometry starts at zero where the robot
+        starts), at the float resolution every platform reports (vwg.robot.quantize_pose; the start too,
+        as the simulator places its bodies)."""
+        odom = odom or r.odom
+        local = (odom.x, odom.y, odom.yaw) if odom else (0.0, 0.0, 0.0)
         return _core.quantize_pose(pose_compose(_core.quantize_pose(r.settings.start), local))
 
     # ---- lockstep -------------------------------------------------------------------------------------------------
@@ -458,11 +515,12 @@ class RealRobotPlatform(_core.RobotPlatform):
         with self._lock:
             out = []
             for rid, r in self._robots.items():
-                pose = self._map_pose(r)
+                odom = r.frame_odom or r.odom  # the frame's, so that its readings and poses agree
+                pose = self._map_pose(r, odom)
                 out.append(_core.RobotState(rid, pose, pose, radius=r.settings.radius, busy=r.follower.busy,
                                             commands=r.commands, travelled=r.travelled,
-                                            speed=r.odom.speed if r.odom else 0.0,
-                                            turn_rate=r.odom.turn_rate if r.odom else 0.0))
+                                            speed=odom.speed if odom else 0.0,
+                                            turn_rate=odom.turn_rate if odom else 0.0))
             return out
 
     def take_collisions(self) -> list[_core.Collision]:

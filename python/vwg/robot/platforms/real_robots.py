@@ -6,6 +6,8 @@ The laser's events are those of the simulated laser: ``eLaser<to=robot, dist, an
 that met an obstacle, by the simulated laser's rule (REP 117, vwg._core.laser_events), in the same place of the priority
 order, for each scan that came since the last frame. The camera's are gCamera's, on the images the
 link receives (sensor_msgs/CompressedImage), with the calibration of the world file's ``camera``.
+Both are placed from where the robot was at the message's stamp, not where the frame finds it
+(RealRobotPlatform.viewpoint: the odometry of that time, against the frame's).
 """
 
 from __future__ import annotations
@@ -27,6 +29,7 @@ class ScanGenerator(_core.Generator):
         self.platform = platform
         self.robot = robot
         self.event = event
+        self.stale = 0  # scans older than the odometry kept: not used
         self._last: Any = None
 
     def generate(self, frame: _core.FrameInfo) -> list[_core.Event]:
@@ -34,9 +37,15 @@ class ScanGenerator(_core.Generator):
         if scan is None or scan is self._last:
             return []
         self._last = scan
+        # The scan came after it was taken, while the robot moved on: its hits are placed from where the
+        # robot was at its stamp.
+        taken_from = self.platform.viewpoint(self.robot, scan.time)
+        if taken_from is None:
+            self.stale += 1
+            return []
         # The simulated laser's rule (C++ platform::laser_events): the same scan, the same events.
         dist, angle = _core.laser_events(scan.ranges, scan.angle_min, scan.angle_increment, scan.range_min,
-                                         scan.range_max)
+                                         scan.range_max, seen_from=taken_from)
         return [_core.Event(self.event, self.robot, dist=d, angle=a) for d, a in zip(dist.tolist(), angle.tolist(),
                                                                                       strict=True)]
 

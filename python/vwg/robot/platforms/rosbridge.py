@@ -40,7 +40,8 @@ within ``flap_limit.seconds`` ends the run (exit status 4), as one that stays aw
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+import weakref
+from collections.abc import Callable, Mapping
 from typing import Any, ClassVar
 
 import vwg._core as _core
@@ -84,6 +85,18 @@ def topics_for(robot: int, several: bool, topics: dict[str, str] | None = None) 
     return out
 
 
+def _viewpoint_of(platform: RealRobotPlatform, robot: int) -> Callable[[float], tuple[float, float, float] | None]:
+    """platform.viewpoint for one robot, holding the platform weakly: the C++ image source that keeps it
+    is not seen by the garbage collector, so a strong reference would keep the platform alive for ever."""
+    ref = weakref.ref(platform)
+
+    def at(stamp: float) -> tuple[float, float, float] | None:
+        live = ref()
+        return None if live is None else live.viewpoint(robot, stamp)
+
+    return at
+
+
 class RosbridgePlatform(RealRobotPlatform):
     """The robots of a world on one rosbridge server."""
 
@@ -120,7 +133,8 @@ class RosbridgePlatform(RealRobotPlatform):
         super().__init__(robots, watchdog=watchdog, control_rate=control_rate, lockstep=lockstep is not None,
                          flap_limit=flap_limit)
         # Each robot's latest camera image, decoded when its gCamera asks (sensor_msgs/CompressedImage).
-        self.images = {r.id: _core.ReceivedImages() for r in robots if "camera" in r.sensors}
+        # Its tags are placed from where the robot was when the image was taken (RealRobotPlatform.viewpoint).
+        self.images = {r.id: _core.ReceivedImages(_viewpoint_of(self, r.id)) for r in robots if "camera" in r.sensors}
         # In lockstep the robot's clock stands still until it is stepped: a pong may take as long as a step.
         self.link = RosbridgeLink(url, on_message=self._on_message, on_state=self._on_link_state, reconnect=reconnect,
                                   ping_timeout=watchdog if lockstep else None)
@@ -143,7 +157,8 @@ class RosbridgePlatform(RealRobotPlatform):
         elif key == "scan":
             self.on_scan(robot, laser_scan(msg))
         elif key == "camera" and robot in self.images:
-            self.images[robot].push(compressed_image(msg))
+            image = compressed_image(msg)
+            self.images[robot].push(image.data, image.time)
 
     def _on_link_state(self, connected: bool, detail: str) -> None:
         # On the link's thread, before any message of a new connection: its odometry is stamped with it.
