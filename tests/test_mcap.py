@@ -498,3 +498,50 @@ def test_the_layout_shows_the_topics_a_run_has(office_run, tmp_path):
     assert all(schemas[t] == "sensor_msgs/msg/CompressedImage" for t in images)
     # The layout shipped with vwg is the office's.
     assert json.loads(shipped_layout().read_text()) == layout
+
+
+class _Scans:
+    """A sink that keeps the scans written to it."""
+
+    def __init__(self):
+        self.scans = []
+
+    def write(self, topic, message, log_time, latched=False):
+        if topic == "/robot1/scan":
+            self.scans.append(message)
+
+    def frame_done(self, log_time):
+        pass
+
+    def close(self):
+        pass
+
+
+@pytest.mark.parametrize(("fov", "beams", "expected"), [
+    # Beams at -pi/4, -pi/8, 0, pi/8, pi/4. A hit at 1.2 rad is past the arc's end (beam 5 of 5): a real
+    # robot's hit placed from where it was when the scan was taken may lie outside the arc now. It is left
+    # out, not wrapped round to beam 0 at the arc's other end.
+    (math.pi / 2, 5, [math.inf, math.inf, 2.0, math.inf, math.inf]),
+    # All round (8 beams from -pi, pi/4 apart), 1.2 rad rounds to beam 6 at pi/2, and 3.1 rad to beam 8,
+    # which is beam 0 again (-pi).
+    (2 * math.pi, 8, [4.0, math.inf, math.inf, math.inf, 2.0, math.inf, 3.0, math.inf]),
+])
+def test_a_scan_is_laid_on_the_world_s_beams_and_a_hit_off_a_narrow_arc_is_left_out(fov, beams, expected):
+    from vwg.robot.topics import RunTopics
+
+    world = OFFICE.with_sensor("laser", fov=fov, beams=beams)
+    sink = _Scans()
+    topics = RunTopics(world, [sink])
+
+    class Hits(vwg._core.Generator):
+        def generate(self, frame):
+            return [vwg._core.Event("eLaser", 1, dist=d, angle=a) for d, a in ((2.0, 0.0), (3.0, 1.2), (4.0, 3.1))]
+
+    alphabet = vwg.Alphabet(events=vwg.robot.platforms.sim.SIM_EVENTS, **vwg.robot.platforms.sim.MOTION_SYMBOLS)
+    engine = vwg.Engine(vwg.World(alphabet), "Robot<1>", [Hits()])
+    engine.add_observer(topics.frame)
+    engine.step()
+    [message] = sink.scans
+    decode = DecoderFactory().decoder_for("cdr", McapSchema(id=1, name=message.schema.name, encoding="ros2msg",
+                                                            data=message.schema.text.encode()))
+    assert list(decode(message.data).ranges) == expected

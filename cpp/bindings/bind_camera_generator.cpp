@@ -50,7 +50,7 @@ void init_camera_generator(py::module_& m) {
       .def_property_readonly("received", &perception::ReceivedImages::received)
       .def_property_readonly("dropped", &perception::ReceivedImages::dropped)
       .def_property_readonly("stale", &perception::ReceivedImages::stale,
-                             "Images not searched: taken before the oldest pose the viewpoint knows.");
+                             "Images not searched: taken when the viewpoint knows no pose (None).");
   m.def("encode_image", [](py::array_t<std::uint8_t, py::array::c_style | py::array::forcecast> image,
                            const std::string& format, int quality) {
           const bool grey = image.ndim() == 2, rgb = image.ndim() == 3 && image.shape(2) == 3;

@@ -3588,7 +3588,7 @@ class ReceivedImages(ImageSource):
     @property
     def stale(self) -> int:
         """
-        Images not searched: taken before the oldest pose the viewpoint knows.
+        Images not searched: taken when the viewpoint knows no pose (None).
         """
 class SimulatedCamera(ImageSource):
     """

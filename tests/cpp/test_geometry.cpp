@@ -43,6 +43,23 @@ TEST(Geometry, WrapAngleIsTheRemainderModuloTwoPi) {
   EXPECT_EQ(wrap_angle(kPi), kPi);  // a tie goes to the even quotient, 0: π stays π
 }
 
+TEST(Geometry, APointSeenFromAnEarlierPoseIsGivenFromTheRobotNow) {
+  // By hand: the robot was 1 m ahead and 2 m to the left of where it is now, turned a quarter turn to the
+  // left. It saw a point 3 m away on its right (bearing -pi/2): from there, that is its own heading
+  // turned right, i.e. the direction it faces now, so the point is 1 + 3 m ahead and 2 m left now.
+  const Polar now = seen_from(Pose2{1.0, 2.0, 0.5 * kPi}, Polar{3.0, -0.5 * kPi});
+  EXPECT_NEAR(now.dist, std::hypot(4.0, 2.0), 1e-12);
+  EXPECT_NEAR(now.bearing, std::atan2(2.0, 4.0), 1e-12);
+  // The other way round: turned a quarter turn right, a point 2 m ahead of it then is 2 m to the right now.
+  const Polar right = seen_from(Pose2{0.0, 0.0, -0.5 * kPi}, Polar{2.0, 0.0});
+  EXPECT_NEAR(right.dist, 2.0, 1e-12);
+  EXPECT_NEAR(right.bearing, -0.5 * kPi, 1e-12);
+  // Where it is now: the same point (up to rounding).
+  const Polar same = seen_from(Pose2{}, Polar{2.5, 0.7});
+  EXPECT_NEAR(same.dist, 2.5, 1e-12);
+  EXPECT_NEAR(same.bearing, 0.7, 1e-12);
+}
+
 TEST(Geometry, MapGeometryCellsAndCentres) {
   const MapGeometry g{4, 3, 0.5, {1.0, 2.0, 0.0}};
   int row = -1, col = -1;

@@ -113,6 +113,7 @@ class RunTopics:
         self.dt = world.dt
         self.laser = world.sensor_settings("laser")
         self.angle_min, self.increment = _core.beam_layout(self.laser)
+        self.full_circle = math.isclose(self.increment * self.laser.beams, 2 * math.pi)  # the beams go all round
         self.scanning = {r.id for r in world.robots if "laser" in r.sensors}
         self._belief: dict[int, tuple[float, float, float]] = {}
         self._plans: dict[int, str] = {}
@@ -213,9 +214,12 @@ class RunTopics:
             _, _, targets, fields = run
             columns = {name: column for name, _, column in fields}
             index = np.rint((np.asarray(columns["angle"]) - self.angle_min) / (self.increment or 1.0)).astype(np.int64)
+            # A full circle's beams wrap round; a narrower laser's do not: a real robot's hit placed from where
+            # it was when the scan was taken (RealRobotPlatform.viewpoint) may fall outside the arc now.
+            on_arc = np.ones(index.shape, bool) if self.full_circle else (index >= 0) & (index < beams)
             index %= beams
             for robot, out in ranges.items():
-                mine = np.asarray(targets) == robot
+                mine = (np.asarray(targets) == robot) & on_arc
                 out[index[mine]] = np.asarray(columns["dist"])[mine]
         for robot in sorted(ranges):
             self._write(SCAN.of(robot),

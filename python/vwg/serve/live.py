@@ -405,15 +405,17 @@ class LiveRun:
 
 def _scan_points(laser: Any, pose: tuple[float, float, float]) -> list[list[float]]:
     """The world points where a robot's last scan met something, by the rule of its eLaser events
-    (vwg._core.laser_events): the simulator's laser or a real robot's latest LaserScan."""
+    (vwg._core.laser_events): the simulator's laser or a real robot's latest LaserScan (placed from where the
+    robot was at its stamp)."""
     x, y, angle = pose
     if hasattr(laser, "ranges"):
         ranges, angles = _core.laser_events(laser.ranges, laser.angles, laser.spec.min_range, laser.max_range)
     else:
         scan = laser.platform.latest_scan(laser.robot)
-        if scan is None:
+        taken_from = None if scan is None else laser.platform.viewpoint(laser.robot, scan.time)
+        if taken_from is None:  # none yet, or one its ScanGenerator does not use either
             return []
         ranges, angles = _core.laser_events(scan.ranges, scan.angle_min, scan.angle_increment, scan.range_min,
-                                            scan.range_max)
+                                            scan.range_max, seen_from=taken_from)  # placed as ScanGenerator does
     a = angle + angles
     return np.round(np.stack([x + ranges * np.cos(a), y + ranges * np.sin(a)], 1), 3).tolist()

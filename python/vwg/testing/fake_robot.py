@@ -19,7 +19,9 @@ For fault tests: ``cut()`` closes every connection and refuses new ones until ``
 ``silence(robot)`` stops its odometry until ``speak(robot)``; ``flap(after, hold)`` closes every
 connection ``after`` seconds from the call and from then on each new one ``hold`` seconds after it
 opened (a link that keeps dropping); ``odometry_delay`` holds back the odometry of each new
-connection for that long (a driver that takes a moment); in lockstep, ``drop_at_step(n, done=...)``
+connection for that long (a driver that takes a moment); ``image_delay`` sends each camera image that
+many seconds after it was taken, with the stamp of when it was taken (a slow camera driver); in
+lockstep, ``drop_at_step(n, done=...)``
 drops the link at the n-th call of the step service, the step done (its answer lost) or not (the call
 lost). ``commands[robot]`` lists the (time, speed, turn rate) of every Twist received, the time on
 the server's monotonic clock, and
@@ -30,6 +32,7 @@ out, the Twists that came over it).
 from __future__ import annotations
 
 import math
+from collections import deque
 from typing import Any
 
 import vwg._core as _core
@@ -48,9 +51,14 @@ class FakeRosbridgeRobot(RosbridgeRobotServer):
 
     def __init__(self, world: RobotWorld, *, rate: float = 50.0, ros2: bool = False, cmd_timeout: float = 0.5,
                  odom_offset: tuple[float, float, float] = (0.0, 0.0, 0.0), lockstep: bool = False,
-                 physics: _core.PhysicsSettings | None = None, odometry_delay: float = 0.0) -> None:
+                 physics: _core.PhysicsSettings | None = None, odometry_delay: float = 0.0,
+                 image_delay: float = 0.0) -> None:
         super().__init__(world, rate=rate, ros2=ros2, cmd_timeout=cmd_timeout, odom_offset=odom_offset,
                          lockstep=lockstep, odometry_delay=odometry_delay)
+        # Seconds (the robot's clock) between taking a camera image and sending it, as a slow driver or
+        # network makes them: the image keeps the stamp of when it was taken.
+        self.image_delay = image_delay
+        self._images_held: deque[tuple[float, str, dict[str, Any]]] = deque()
         # The simulator's own physics (its odometry noise too: the odometry published is the noisy one).
         self.physics = _core.PhysicsWorld(world.grid, list(world.robots),
                                           physics or _core.PhysicsSettings(noise=world.noise, seed=world.seed))
@@ -93,7 +101,10 @@ class FakeRosbridgeRobot(RosbridgeRobotServer):
                     laser.min_range, laser.max_range, ros2=self.ros2)))
             if camera and self.topics[rid]["camera"] in wanted:
                 grey = self.camera.render(state.pose, [], grey=True)
-                out.append((self.topics[rid]["camera"],
-                            compressed_image_message(now, _core.encode_image(grey, "jpeg", 95), "jpeg",
-                                                     ros2=self.ros2)))
+                self._images_held.append((now + self.image_delay, self.topics[rid]["camera"],
+                                          compressed_image_message(now, _core.encode_image(grey, "jpeg", 95), "jpeg",
+                                                                   ros2=self.ros2)))
+        while self._images_held and self._images_held[0][0] <= now:
+            _, topic, image = self._images_held.popleft()
+            out.append((topic, image))
         return out

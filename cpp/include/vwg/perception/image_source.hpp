@@ -69,7 +69,7 @@ using Viewpoint = std::function<std::optional<geometry::Pose2>(double stamp)>;
 /// asks for it: a frame gets an image only when a new one has come since the last. Images that do
 /// not decode are counted and dropped (a link's message may be corrupt; the run goes on). An image
 /// arrives after it was taken, while the robot moves on: with a `viewpoint`, its tags are placed from
-/// where the robot was at the image's stamp; an image older than the poses the viewpoint knows is
+/// where the robot was at the image's stamp; an image taken when the viewpoint knows no pose is
 /// counted as stale and not searched.
 class ReceivedImages final : public ImageSource {
  public:

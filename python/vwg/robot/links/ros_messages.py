@@ -65,10 +65,15 @@ def _number(msg: Any, path: str) -> float:
 def stamp_seconds(stamp: Any) -> float:
     """A header stamp in seconds: ROS 1 ``{secs, nsecs}`` or ROS 2 ``{sec, nanosec}``."""
     if isinstance(stamp, Mapping):
+        seconds = None
         if "secs" in stamp:
-            return _number(stamp, "secs") + _number(stamp, "nsecs") * 1e-9
-        if "sec" in stamp:
-            return _number(stamp, "sec") + _number(stamp, "nanosec") * 1e-9
+            seconds = _number(stamp, "secs") + _number(stamp, "nsecs") * 1e-9
+        elif "sec" in stamp:
+            seconds = _number(stamp, "sec") + _number(stamp, "nanosec") * 1e-9
+        if seconds is not None:
+            if not math.isfinite(seconds):  # JSON parsers take NaN and Infinity; a reading needs a time
+                raise ValueError(f"stamp: expected finite seconds, got {stamp!r}")
+            return seconds
     raise ValueError(f"stamp: expected {{secs, nsecs}} or {{sec, nanosec}}, got {stamp!r}")
 
 

@@ -203,9 +203,15 @@ class RealRobotPlatform(_core.RobotPlatform):
             local = Odometry(odom.time, x, y, yaw, odom.speed, odom.turn_rate)
             if r.odom is not None:
                 r.travelled += math.hypot(local.x - r.odom.x, local.y - r.odom.y)
-            if r.history and local.time < r.history[-1].time:
-                r.history.clear()  # the robot's clock went back (it restarted): the old stamps mean nothing now
-            r.history.append(local)
+            newest = r.history[-1].time if r.history else -math.inf
+            if local.time >= newest:
+                r.history.append(local)
+            elif newest - local.time > self.watchdog:
+                # The robot's clock went back (it restarted): the old stamps mean nothing now.
+                r.history.clear()
+                r.history.append(local)
+                r.warned_stale = False
+            # else a message older than the newest (reordered, or sent twice): kept out of the history
             r.odom = local
             r.odom_at = time.monotonic()
             r.odom_connection = self._connection
@@ -219,19 +225,28 @@ class RealRobotPlatform(_core.RobotPlatform):
     def viewpoint(self, robot: int, stamp: float) -> tuple[float, float, float] | None:
         """Where `robot` was at `stamp` (its odometry's clock) in its frame at the frame under way: (metres
         ahead, metres to the left, radians). An image or a scan arrives after it was taken, while the robot
-        moves on; what it saw is placed from there. None when no odometry kept is that old."""
+        moves on; what it saw is placed from there: the pose interpolated between the odometry messages on
+        either side of the stamp, or the newest one for a stamp after it.
+
+        Placed from the frame's pose, (0, 0, 0): a stamp of 0 (a driver that does not stamp; ROS reads it as
+        "the latest"), and any reading before the robot's first odometry (the frame has it at its start).
+        None, and not used: a stamp older than the odometry kept, or more than ``watchdog`` seconds after the
+        newest (a sensor on another clock than the odometry's, which the log says once), or not finite."""
         with self._lock:
             r = self._robots.get(robot)
-            now = r and (r.frame_odom or r.odom)
-            if r is None or now is None:
+            if r is None or not math.isfinite(stamp):
                 return None
-            then = _pose_at(r.history, stamp)
+            now = r.frame_odom or r.odom
+            if now is None or stamp == 0.0:
+                return 0.0, 0.0, 0.0
+            oldest, newest = r.history[0].time, r.history[-1].time
+            then = _pose_at(r.history, stamp) if stamp <= newest + self.watchdog else None
             if then is None:
-                if not r.warned_stale:  # once: a sensor on another clock than the odometry would drop them all
+                if not r.warned_stale:  # once: a sensor on another clock than the odometry would lose every reading
                     r.warned_stale = True
-                    log.warning("%s: robot %d: a reading stamped %.3f s is older than the odometry kept (from %.3f s) "
-                                "and is not used; are the sensor's stamps on the odometry's clock?", self.name(),
-                                robot, stamp, r.history[0].time)
+                    log.warning("%s: robot %d: a reading stamped %.3f s is outside the odometry kept (%.3f to %.3f s, "
+                                "and up to the watchdog's %g s after) and is not used; are the sensor's stamps on the "
+                                "odometry's clock?", self.name(), robot, stamp, oldest, newest, self.watchdog)
                 return None
             return pose_relative((now.x, now.y, now.yaw), then)
 
@@ -327,7 +342,7 @@ class RealRobotPlatform(_core.RobotPlatform):
             self._advance_wall_clock(seconds)
         with self._lock:  # the next frame's poses: the odometry as it stands now
             for r in self._robots.values():
-                r.frame_odom = r.odom
+                r.frame_odom = r.odom  # None until its first odometry: the frame has it at its start
 
     def _advance_wall_clock(self, seconds: float) -> None:
         self._ensure_control()
@@ -515,7 +530,9 @@ class RealRobotPlatform(_core.RobotPlatform):
         with self._lock:
             out = []
             for rid, r in self._robots.items():
-                odom = r.frame_odom or r.odom  # the frame's, so that its readings and poses agree
+                # The pose and velocities of the frame (its readings are placed from them); the counters
+                # (commands, distance driven) as they stand.
+                odom = r.frame_odom or r.odom
                 pose = self._map_pose(r, odom)
                 out.append(_core.RobotState(rid, pose, pose, radius=r.settings.radius, busy=r.follower.busy,
                                             commands=r.commands, travelled=r.travelled,

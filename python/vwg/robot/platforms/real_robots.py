@@ -29,7 +29,7 @@ class ScanGenerator(_core.Generator):
         self.platform = platform
         self.robot = robot
         self.event = event
-        self.stale = 0  # scans older than the odometry kept: not used
+        self.stale = 0  # scans the platform could not place (RealRobotPlatform.viewpoint gave None): not used
         self._last: Any = None
 
     def generate(self, frame: _core.FrameInfo) -> list[_core.Event]:
