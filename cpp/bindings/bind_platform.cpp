@@ -213,7 +213,7 @@ at every control tick — the same velocities from the same poses (paper test 3)
           platform::laser_events({r.data(), static_cast<std::size_t>(r.size())}, angle_min, angle_increment, range_min,
                                  range_max, hits);
           auto [dist, angle] = events_to_python(hits);
-          if (seen_from && ((*seen_from)[0] != 0.0 || (*seen_from)[1] != 0.0 || (*seen_from)[2] != 0.0)) {
+          if (seen_from) {
             const geometry::Pose2 from{(*seen_from)[0], (*seen_from)[1], (*seen_from)[2]};
             double* d = dist.mutable_data();
             double* a = angle.mutable_data();

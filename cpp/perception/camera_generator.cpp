@@ -32,7 +32,6 @@ void CameraGenerator::generate(const FrameInfo& frame, EventList& out) {
   if (!source_->grab(frame, image_)) return;  // no image this frame (the end of a video)
   const std::optional<geometry::Pose2> from = source_->taken_from();
   if (!from) return;  // taken where the robot's poses do not reach: its tags cannot be placed
-  const bool moved = from->x != 0.0 || from->y != 0.0 || from->theta != 0.0;
   if (!image_.isContinuous()) image_ = image_.clone();
   detections_ = detector_.detect(image_.data, image_.cols, image_.rows, static_cast<int>(image_.step));
   for (const TagDetection& d : detections_) {
@@ -41,8 +40,8 @@ void CameraGenerator::generate(const FrameInfo& frame, EventList& out) {
     const TagPose pose = estimate_pose(d, size, settings_.intrinsics);
     poses_.push_back(pose);
     // The grid is 2D: the distance in the floor's plane (the camera frame's x-z plane).
-    geometry::Polar seen{std::hypot(pose.translation[0], pose.translation[2]), pose.bearing};
-    if (moved) seen = geometry::seen_from(*from, seen);  // the image is older than the frame
+    const geometry::Polar in_image{std::hypot(pose.translation[0], pose.translation[2]), pose.bearing};
+    const geometry::Polar seen = geometry::seen_from(*from, in_image);  // the image may be older than the frame
     const Datum fields[] = {static_cast<std::int64_t>(d.id), seen.dist, seen.bearing};
     out.emit(event_, fields, settings_.robot);
   }

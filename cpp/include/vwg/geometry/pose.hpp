@@ -25,7 +25,9 @@ struct Polar {
 
 /// A point seen at `seen` from `from` (where the robot was, in its frame now), as seen from where the
 /// robot is now. A real robot's image or scan arrives after it was taken, while the robot moves on.
+/// From (0, 0, 0) the point is returned as it is, bit for bit (a simulated sensor reads at the frame).
 inline Polar seen_from(const Pose2& from, const Polar& seen) {
+  if (from.x == 0.0 && from.y == 0.0 && from.theta == 0.0) return seen;
   const double ahead = seen.dist * std::cos(seen.bearing), left = seen.dist * std::sin(seen.bearing);
   const double c = std::cos(from.theta), s = std::sin(from.theta);
   const double x = from.x + c * ahead - s * left, y = from.y + s * ahead + c * left;

@@ -123,7 +123,7 @@ class _Robot:
     # way took when it began: every reading of that frame is placed from the same pose.
     history: deque[Odometry] = field(default_factory=lambda: deque(maxlen=ODOMETRY_KEPT))
     frame_odom: Odometry | None = None
-    warned_stale: bool = False      # a reading older than the odometry kept has been logged
+    warned_stale: bool = False      # a reading outside the odometry kept has been logged
 
 
 def _pose_at(history: deque[Odometry], stamp: float) -> tuple[float, float, float] | None:
