@@ -4,10 +4,12 @@ on a fake ROS robot served on 127.0.0.1, and a robot kept safe when its odometry
 from __future__ import annotations
 
 import dataclasses
+import gc
 import json
 import math
 import threading
 import time
+import weakref
 
 import numpy as np
 import pytest
@@ -181,7 +183,7 @@ def test_a_tag_in_a_late_image_is_placed_from_where_the_robot_was_when_it_was_ta
     start = (*room.goal, room.facing + math.pi)
     platform = _ScanOnly([vwg._core.RobotSettings(id=1, start=start)])
     try:
-        images = vwg._core.ReceivedImages(viewpoint=lambda stamp: platform.viewpoint(1, stamp))
+        images = vwg._core.ReceivedImages(viewpoint=platform.viewpoint_of(1))
         renderer = vwg._core.CameraRenderer(world.grid, world.rooms, world.sensor_settings("camera"))
         taken = vwg._core.encode_image(renderer.render(start, [], grey=True), "png")
         a = vwg.Alphabet(events=vwg.robot.platforms.sim.SIM_EVENTS, **vwg.robot.platforms.sim.MOTION_SYMBOLS)
@@ -206,6 +208,15 @@ def test_a_tag_in_a_late_image_is_placed_from_where_the_robot_was_when_it_was_ta
         assert engine.last_events == [] and images.stale == 1
     finally:
         platform.close()
+    # The image source holds the platform weakly: the collector cannot see through C++, and a strong
+    # reference would keep every closed platform alive.
+    gone = weakref.ref(platform)
+    del platform
+    gc.collect()
+    assert gone() is None
+    images.push(taken, 1.0)
+    engine.step()
+    assert engine.last_events == [] and images.stale == 2  # no platform: no pose to place it from
 
 
 def test_a_late_scan_is_placed_from_where_the_robot_was_when_it_was_taken(caplog):

@@ -37,8 +37,9 @@ import math
 import threading
 import time
 import uuid
+import weakref
 from collections import deque
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -249,6 +250,18 @@ class RealRobotPlatform(_core.RobotPlatform):
                                 "odometry's clock?", self.name(), robot, stamp, oldest, newest, self.watchdog)
                 return None
             return pose_relative((now.x, now.y, now.yaw), then)
+
+    def viewpoint_of(self, robot: int) -> Callable[[float], tuple[float, float, float] | None]:
+        """viewpoint for one robot, holding this platform weakly: for a C++ image source
+        (vwg._core.ReceivedImages(viewpoint=...)), which the garbage collector does not look into, so that a
+        strong reference would keep the platform alive for ever."""
+        ref = weakref.ref(self)
+
+        def at(stamp: float) -> tuple[float, float, float] | None:
+            platform = ref()
+            return None if platform is None else platform.viewpoint(robot, stamp)
+
+        return at
 
     def latest_scan(self, robot: int) -> LaserScan | None:
         with self._lock:

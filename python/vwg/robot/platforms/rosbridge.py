@@ -40,8 +40,7 @@ within ``flap_limit.seconds`` ends the run (exit status 4), as one that stays aw
 from __future__ import annotations
 
 import math
-import weakref
-from collections.abc import Callable, Mapping
+from collections.abc import Mapping
 from typing import Any, ClassVar
 
 import vwg._core as _core
@@ -85,18 +84,6 @@ def topics_for(robot: int, several: bool, topics: dict[str, str] | None = None) 
     return out
 
 
-def _viewpoint_of(platform: RealRobotPlatform, robot: int) -> Callable[[float], tuple[float, float, float] | None]:
-    """platform.viewpoint for one robot, holding the platform weakly: the C++ image source that keeps it
-    is not seen by the garbage collector, so a strong reference would keep the platform alive for ever."""
-    ref = weakref.ref(platform)
-
-    def at(stamp: float) -> tuple[float, float, float] | None:
-        live = ref()
-        return None if live is None else live.viewpoint(robot, stamp)
-
-    return at
-
-
 class RosbridgePlatform(RealRobotPlatform):
     """The robots of a world on one rosbridge server."""
 
@@ -134,7 +121,7 @@ class RosbridgePlatform(RealRobotPlatform):
                          flap_limit=flap_limit)
         # Each robot's latest camera image, decoded when its gCamera asks (sensor_msgs/CompressedImage).
         # Its tags are placed from where the robot was when the image was taken (RealRobotPlatform.viewpoint).
-        self.images = {r.id: _core.ReceivedImages(_viewpoint_of(self, r.id)) for r in robots if "camera" in r.sensors}
+        self.images = {r.id: _core.ReceivedImages(self.viewpoint_of(r.id)) for r in robots if "camera" in r.sensors}
         # In lockstep the robot's clock stands still until it is stepped: a pong may take as long as a step.
         self.link = RosbridgeLink(url, on_message=self._on_message, on_state=self._on_link_state, reconnect=reconnect,
                                   ping_timeout=watchdog if lockstep else None)
