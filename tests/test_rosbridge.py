@@ -260,6 +260,10 @@ def test_laser_events_refuse_a_bad_scan_by_its_field():
         vwg._core.laser_events([1.0], 0.0, math.nan, 0.1, 5.0)
     with pytest.raises(vwg.Error, match="2 ranges for 1 angles"):
         vwg._core.laser_events([1.0, 2.0], [0.0], 0.1, 5.0)
+    with pytest.raises(vwg.SchemaError, match="seen_from: expected finite numbers"):
+        vwg._core.laser_events([1.0], 0.0, 0.1, 0.1, 5.0, seen_from=(0.0, math.nan, 0.0))
+    with pytest.raises(vwg.SchemaError, match=r"seen_from: expected \(x, y, yaw\)"):
+        vwg._core.laser_events([1.0], 0.0, 0.1, 0.1, 5.0, seen_from=(0.0, 0.0))
 
 
 def test_topics_default_per_robot_and_take_the_robot_id():

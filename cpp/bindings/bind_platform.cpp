@@ -3,7 +3,6 @@
 // the same frame path — the robots' states, collisions and settings, the motion backend, the
 // feedback generators, and the rule that turns a laser scan into eLaser events.
 #include <algorithm>
-#include <array>
 #include <optional>
 #include <string>
 #include <utility>
@@ -207,14 +206,14 @@ at every control tick — the same velocities from the same poses (paper test 3)
 
   m.def("laser_events",
         [](py::handle ranges, double angle_min, double angle_increment, double range_min, double range_max,
-           std::optional<std::array<double, 3>> seen_from) {
+           const std::optional<PoseArg>& seen_from) {
           const FloatArray r = vector_of<FloatArray>(ranges, "ranges", kRangesDoc);
           platform::ScanEvents hits;
           platform::laser_events({r.data(), static_cast<std::size_t>(r.size())}, angle_min, angle_increment, range_min,
                                  range_max, hits);
           auto [dist, angle] = events_to_python(hits);
           if (seen_from) {
-            const geometry::Pose2 from{(*seen_from)[0], (*seen_from)[1], (*seen_from)[2]};
+            const geometry::Pose2 from = pose_from_python(*seen_from, "seen_from");
             double* d = dist.mutable_data();
             double* a = angle.mutable_data();
             for (py::ssize_t i = 0; i < dist.size(); ++i) {

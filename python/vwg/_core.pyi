@@ -3848,7 +3848,7 @@ def kld_bound(bins: typing.SupportsInt | typing.SupportsIndex, err: typing.Suppo
     KLD-sampling's bound (Fox 2003): the particles needed for `bins` occupied histogram bins.
     """
 @typing.overload
-def laser_events(ranges: typing.Any, angle_min: typing.SupportsFloat | typing.SupportsIndex, angle_increment: typing.SupportsFloat | typing.SupportsIndex, range_min: typing.SupportsFloat | typing.SupportsIndex, range_max: typing.SupportsFloat | typing.SupportsIndex, seen_from: typing.Annotated[collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex], "FixedSize(3)"] | None = None) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64]]:
+def laser_events(ranges: typing.Any, angle_min: typing.SupportsFloat | typing.SupportsIndex, angle_increment: typing.SupportsFloat | typing.SupportsIndex, range_min: typing.SupportsFloat | typing.SupportsIndex, range_max: typing.SupportsFloat | typing.SupportsIndex, seen_from: tuple[float, float, float] | None = None) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64]]:
     """
     The eLaser events of a laser scan laid out as sensor_msgs/LaserScan lays it out (beam i at
     angle_min + i·angle_increment): (dist, angle), two float64 arrays, one entry for each beam that met an

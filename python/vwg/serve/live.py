@@ -412,10 +412,9 @@ def _scan_points(laser: Any, pose: tuple[float, float, float]) -> list[list[floa
         ranges, angles = _core.laser_events(laser.ranges, laser.angles, laser.spec.min_range, laser.max_range)
     else:
         scan = laser.platform.latest_scan(laser.robot)
-        taken_from = None if scan is None else laser.platform.viewpoint(laser.robot, scan.time)
-        if taken_from is None:  # none yet, or one its ScanGenerator does not use either
+        hits = None if scan is None else laser.hits(scan)
+        if hits is None:  # none yet, or one its ScanGenerator does not use either
             return []
-        ranges, angles = _core.laser_events(scan.ranges, scan.angle_min, scan.angle_increment, scan.range_min,
-                                            scan.range_max, seen_from=taken_from)  # placed as ScanGenerator does
+        ranges, angles = hits
     a = angle + angles
     return np.round(np.stack([x + ranges * np.cos(a), y + ranges * np.sin(a)], 1), 3).tolist()

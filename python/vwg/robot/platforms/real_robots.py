@@ -14,7 +14,10 @@ from __future__ import annotations
 
 from typing import Any
 
+import numpy as np
+
 import vwg._core as _core
+from vwg.robot.links.ros_messages import LaserScan
 from vwg.robot.platform import Platform
 from vwg.robot.platforms.real_robot import RealRobotPlatform
 
@@ -37,17 +40,24 @@ class ScanGenerator(_core.Generator):
         if scan is None or scan is self._last:
             return []
         self._last = scan
-        # The scan came after it was taken, while the robot moved on: its hits are placed from where the
-        # robot was at its stamp.
-        taken_from = self.platform.viewpoint(self.robot, scan.time)
-        if taken_from is None:
+        hits = self.hits(scan)
+        if hits is None:
             self.stale += 1
             return []
-        # The simulated laser's rule (C++ platform::laser_events): the same scan, the same events.
-        dist, angle = _core.laser_events(scan.ranges, scan.angle_min, scan.angle_increment, scan.range_min,
-                                         scan.range_max, seen_from=taken_from)
+        dist, angle = hits
         return [_core.Event(self.event, self.robot, dist=d, angle=a) for d, a in zip(dist.tolist(), angle.tolist(),
                                                                                       strict=True)]
+
+    def hits(self, scan: LaserScan) -> tuple[np.ndarray, np.ndarray] | None:
+        """The (dist, angle) of each beam of `scan` that met an obstacle, by the simulated laser's rule (C++
+        platform::laser_events: the same scan, the same events), placed from where the robot was at the scan's
+        stamp: the scan came after it was taken, while the robot moved on. None when the platform cannot place
+        it (RealRobotPlatform.viewpoint)."""
+        taken_from = self.platform.viewpoint(self.robot, scan.time)
+        if taken_from is None:
+            return None
+        return _core.laser_events(scan.ranges, scan.angle_min, scan.angle_increment, scan.range_min, scan.range_max,
+                                  seen_from=taken_from)
 
 
 class RealRobots(Platform):
